@@ -1,0 +1,108 @@
+//! Step-size controllers: Hairer's PI controller (dopri5), Gustafsson's predictive controller (rodas4),
+//! halving and doubling for the Adams corrector (each change restarts its history), and the chapter's
+//! step-doubling formula h_new = h (e_max / e)^(1/(n+1)).
+
+use crate::method::Method;
+use crate::settings::{Control, Settings};
+
+const SAFE: f64 = 0.9;
+
+#[derive(Clone, Debug)]
+pub(crate) enum Controller {
+    /// A fixed step: nothing to control.
+    Fixed,
+    /// PI control on an estimator of order 4: fac = err^(1/5 - 0.75 beta) / err_old^beta, beta = 0.04.
+    Pi { facold: f64 },
+    /// fac = err^(1/4), sharpened by the ratio of the last two accepted steps and errors.
+    Predictive { last: Option<(f64, f64)> },
+    /// Halve on rejection; double after several steps with err < 1/64 (an order-4 error grows 32x when h
+    /// doubles, so 1/64 leaves a factor 2 of margin).
+    Halving { calm: usize },
+    /// The chapter's formula with n the method's order, the factor kept within [0.1, 10] (it is unbounded when
+    /// e = 0 or e is huge).
+    Doubling { order: u32 },
+    /// The method chooses its own step (euler-variable).
+    Own,
+}
+
+impl Controller {
+    pub fn for_settings(settings: &Settings) -> Self {
+        match settings.control {
+            Control::Fixed { .. } => Controller::Fixed,
+            Control::StepDoubling { .. } => Controller::Doubling { order: settings.method.order() },
+            Control::Derivative { .. } => Controller::Own,
+            Control::Tolerances { .. } => match settings.method {
+                Method::Rodas4 => Controller::Predictive { last: None },
+                Method::Am4 => Controller::Halving { calm: 0 },
+                _ => Controller::Pi { facold: 1e-4 },
+            },
+        }
+    }
+
+    /// The next step after an accepted step of size `h` with scaled error `err` (<= 1). A step without an
+    /// estimate (a multistep starting step) keeps h.
+    pub fn accepted(&mut self, err: Option<f64>, h: f64, after_rejection: bool) -> f64 {
+        let Some(err) = err else { return h };
+        let h_new = match self {
+            Controller::Fixed | Controller::Own => h,
+            Controller::Pi { facold } => {
+                const BETA: f64 = 0.04;
+                let fac11 = err.powf(0.2 - 0.75 * BETA);
+                let fac = (fac11 / facold.powf(BETA) / SAFE).clamp(0.1, 5.0);
+                *facold = err.max(1e-4);
+                h / fac
+            }
+            Controller::Predictive { last } => {
+                let mut fac = (err.powf(0.25) / SAFE).clamp(1.0 / 6.0, 5.0);
+                if let Some((h_acc, err_acc)) = *last {
+                    let gus = ((h_acc / h) * (err * err / err_acc).powf(0.25) / SAFE).clamp(1.0 / 6.0, 5.0);
+                    fac = fac.max(gus);
+                }
+                *last = Some((h, err.max(1e-2)));
+                h / fac
+            }
+            Controller::Halving { calm } => {
+                if err < 1.0 / 64.0 {
+                    *calm += 1;
+                } else {
+                    *calm = 0;
+                }
+                if *calm >= 8 {
+                    *calm = 0;
+                    2.0 * h
+                } else {
+                    h
+                }
+            }
+            Controller::Doubling { order } => h * doubling_factor(err, *order),
+        };
+        if after_rejection {
+            h_new.min(h)
+        } else {
+            h_new
+        }
+    }
+
+    /// The next attempt after a rejected step of size `h` with scaled error `err` (> 1).
+    pub fn rejected(&mut self, err: f64, h: f64, first_step: bool) -> f64 {
+        match self {
+            Controller::Fixed | Controller::Own => h,
+            Controller::Pi { .. } => h / (err.powf(0.2 - 0.75 * 0.04) / SAFE).min(5.0),
+            Controller::Predictive { .. } if first_step => 0.1 * h,
+            Controller::Predictive { .. } => h / (err.powf(0.25) / SAFE).clamp(1.0 / 6.0, 5.0),
+            Controller::Halving { calm } => {
+                *calm = 0;
+                0.5 * h
+            }
+            Controller::Doubling { order } => h * doubling_factor(err, *order),
+        }
+    }
+}
+
+/// (e_max / e)^(1/(n+1)) with err = e / e_max.
+fn doubling_factor(err: f64, order: u32) -> f64 {
+    if err <= 0.0 {
+        return 10.0;
+    }
+    err.powf(-1.0 / (order as f64 + 1.0)).clamp(0.1, 10.0)
+}

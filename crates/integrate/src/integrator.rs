@@ -1,0 +1,337 @@
+//! The driver: advances a system from its current time to a target time under the settings' step control,
+//! delivering states at requested output times, and restoring the starting state if anything fails.
+
+use crate::controller::Controller;
+use crate::error::OdeError;
+use crate::point::{eval, max_norm, Point};
+use crate::report::Report;
+use crate::settings::{Control, Settings};
+use crate::steppers::{self, Ctx, Stepper};
+use crate::system::OdeSystem;
+use std::time::Instant;
+
+/// A running integration that can be advanced repeatedly (as a world advances frame by frame). It keeps the
+/// method's state between calls: the last step size, first-same-as-last derivatives, multistep histories.
+pub struct Integrator<S: OdeSystem + ?Sized> {
+    settings: Settings,
+    stepper: Box<dyn Stepper<S>>,
+    controller: Controller,
+    ctx: Ctx,
+    cur: Point,
+    next: Point,
+    h: Option<f64>,
+    last_rejected: bool,
+    dense_buf: Vec<f64>,
+    backup: Vec<f64>,
+}
+
+/// Errors that a smaller step may cure: an adaptive control rejects the step and tries a quarter of it.
+fn recoverable(e: &OdeError) -> bool {
+    matches!(
+        e,
+        OdeError::NonFinite { .. }
+            | OdeError::Divergence { .. }
+            | OdeError::NewtonFailure { .. }
+            | OdeError::SingularMatrix { .. }
+    )
+}
+
+pub(crate) fn check_initial(dim: usize, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+    if !t0.is_finite() {
+        return Err(OdeError::invalid("t0", format!("must be finite, got {t0}")));
+    }
+    if y0.len() != dim {
+        return Err(OdeError::invalid("y0", format!("has length {}, the system has dimension {dim}", y0.len())));
+    }
+    if let Some(i) = y0.iter().position(|v| !v.is_finite()) {
+        return Err(OdeError::invalid("y0", format!("component {i} is {}", y0[i])));
+    }
+    Ok(())
+}
+
+impl<S: OdeSystem + ?Sized> Integrator<S> {
+    /// Validates the settings against the system and the initial state, and prepares the method.
+    pub fn new(sys: &mut S, settings: Settings, t0: f64, y0: &[f64]) -> Result<Self, OdeError> {
+        settings.validate(sys)?;
+        check_initial(sys.dim(), t0, y0)?;
+        let (rtol, atol) = settings.weights();
+        let stepper = steppers::build(sys, &settings)?;
+        Ok(Integrator {
+            controller: Controller::for_settings(&settings),
+            ctx: Ctx { report: Report::new(settings.method.name()), rtol, atol, newton: settings.newton },
+            stepper,
+            cur: Point::new(t0, y0),
+            next: Point::new(t0, y0),
+            h: None,
+            last_rejected: false,
+            dense_buf: vec![0.0; y0.len()],
+            backup: y0.to_vec(),
+            settings,
+        })
+    }
+
+    /// Current time.
+    pub fn time(&self) -> f64 {
+        self.cur.t
+    }
+
+    /// Current state.
+    pub fn state(&self) -> &[f64] {
+        &self.cur.y
+    }
+
+    /// What the integration has cost so far.
+    pub fn report(&self) -> &Report {
+        &self.ctx.report
+    }
+
+    /// The settings it runs with.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// The step the adaptive control proposes next (None before the first adaptive step).
+    pub fn proposed_step(&self) -> Option<f64> {
+        self.h
+    }
+
+    /// Replaces the state (after an impulse, say). Histories and cached derivatives are dropped; the proposed
+    /// step is kept.
+    pub fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), OdeError> {
+        check_initial(self.cur.y.len(), t, y)?;
+        self.cur.y.copy_from_slice(y);
+        self.cur.renew(t);
+        self.stepper.reset();
+        Ok(())
+    }
+
+    /// Advances to `t_end` exactly, calling `on_save(t, y)` for every time of `save_at` (ascending, within
+    /// [current time, t_end]). On error the time, state and proposed step are those before the call.
+    pub fn advance_to(
+        &mut self,
+        sys: &mut S,
+        t_end: f64,
+        save_at: &[f64],
+        mut on_save: impl FnMut(f64, &[f64]),
+    ) -> Result<(), OdeError> {
+        let t0 = self.cur.t;
+        if !(t_end.is_finite() && t_end >= t0) {
+            return Err(OdeError::invalid("t_end", format!("must be finite and >= the current time {t0}, got {t_end}")));
+        }
+        if sys.dim() != self.cur.y.len() {
+            return Err(OdeError::invalid("system", format!("dimension changed from {} to {}", self.cur.y.len(), sys.dim())));
+        }
+        if let Some(bad) = save_at.windows(2).position(|w| !(w[0] <= w[1])) {
+            return Err(OdeError::invalid("save_at", format!("must be ascending (entry {} is not)", bad + 1)));
+        }
+        if let Some(&s) = save_at.iter().find(|&&s| !(s >= t0 && s <= t_end)) {
+            return Err(OdeError::invalid("save_at", format!("time {s} is outside [{t0}, {t_end}]")));
+        }
+        self.backup.copy_from_slice(&self.cur.y);
+        let h0 = self.h;
+        let clock = Instant::now();
+        let result = match self.settings.control {
+            Control::Fixed { dt } => self.run_fixed(sys, dt, t_end, save_at, &mut on_save),
+            _ => self.run_adaptive(sys, t_end, save_at, &mut on_save),
+        };
+        self.ctx.report.wall_seconds += clock.elapsed().as_secs_f64();
+        if result.is_err() {
+            self.cur.y.copy_from_slice(&self.backup);
+            self.cur.renew(t0);
+            self.stepper.reset();
+            self.h = h0;
+            self.last_rejected = false;
+        }
+        result
+    }
+
+    /// Checks the state just computed: finite, and within the divergence limit.
+    fn check_next(&self, h: f64) -> Result<(), OdeError> {
+        if let Some(i) = self.next.y.iter().position(|v| !v.is_finite()) {
+            return Err(OdeError::NonFinite { t: self.next.t, what: "state", index: i });
+        }
+        let norm = max_norm(&self.next.y);
+        if norm > self.settings.divergence_limit {
+            return Err(OdeError::Divergence { t: self.next.t, norm, limit: self.settings.divergence_limit, h });
+        }
+        Ok(())
+    }
+
+    fn accept(&mut self, h: f64, local: Option<f64>) {
+        self.ctx.report.record_step(h, local);
+        self.stepper.accepted(&self.cur, &self.next, &mut self.ctx);
+    }
+
+    fn run_fixed(
+        &mut self,
+        sys: &mut S,
+        dt: f64,
+        t_end: f64,
+        saves: &[f64],
+        on_save: &mut impl FnMut(f64, &[f64]),
+    ) -> Result<(), OdeError> {
+        let mut si = 0;
+        let mut budget = self.settings.max_steps;
+        loop {
+            while si < saves.len() && saves[si] <= self.cur.t {
+                on_save(saves[si], &self.cur.y);
+                si += 1;
+            }
+            if self.cur.t >= t_end {
+                return Ok(());
+            }
+            let stop = if si < saves.len() { saves[si] } else { t_end };
+            let span = stop - self.cur.t;
+            let steps = ((span / dt) * (1.0 - 1e-12)).ceil().max(1.0);
+            if steps > budget as f64 {
+                return Err(OdeError::TooManySteps { t: self.cur.t, max_steps: self.settings.max_steps });
+            }
+            let steps = steps as usize;
+            budget -= steps;
+            let (start, h) = (self.cur.t, span / steps as f64);
+            for k in 1..=steps {
+                self.next.renew(if k == steps { stop } else { start + k as f64 * h });
+                let est = self.stepper.step(sys, &mut self.cur, h, &mut self.next, &mut self.ctx)?;
+                self.check_next(h)?;
+                self.accept(h, est.local);
+                std::mem::swap(&mut self.cur, &mut self.next);
+            }
+        }
+    }
+
+    fn run_adaptive(
+        &mut self,
+        sys: &mut S,
+        t_end: f64,
+        saves: &[f64],
+        on_save: &mut impl FnMut(f64, &[f64]),
+    ) -> Result<(), OdeError> {
+        let dense = self.settings.dense_output
+            && self.stepper.has_dense_output()
+            && !matches!(self.settings.control, Control::StepDoubling { .. });
+        let mut si = 0;
+        while si < saves.len() && saves[si] <= self.cur.t {
+            on_save(saves[si], &self.cur.y);
+            si += 1;
+        }
+        if self.cur.t >= t_end {
+            return Ok(());
+        }
+        if self.h.is_none() {
+            let h = self.initial_step(sys)?;
+            self.h = Some(h);
+        }
+        let mut attempts = 0;
+        while self.cur.t < t_end {
+            attempts += 1;
+            if attempts > self.settings.max_steps {
+                return Err(OdeError::TooManySteps { t: self.cur.t, max_steps: self.settings.max_steps });
+            }
+            let stop = if dense || si >= saves.len() { t_end } else { saves[si] };
+            let wanted = match self.stepper.own_step(sys, &mut self.cur, &mut self.ctx)? {
+                Some(h) => h,
+                None => self.h.expect("set above"),
+            }
+            .min(self.settings.max_step);
+            let hits = self.cur.t + 1.01 * wanted >= stop;
+            let h = if hits { stop - self.cur.t } else { wanted };
+            let floor = self.settings.min_step.max(16.0 * f64::EPSILON * self.cur.t.abs());
+            if h < floor && !hits {
+                return Err(OdeError::StepTooSmall { t: self.cur.t, h, min_step: floor });
+            }
+            let first = self.ctx.report.steps == 0;
+            self.next.renew(if hits { stop } else { self.cur.t + h });
+            let attempt = self
+                .stepper
+                .step(sys, &mut self.cur, h, &mut self.next, &mut self.ctx)
+                .and_then(|est| self.check_next(h).map(|_| est));
+            let est = match attempt {
+                Ok(est) if est.scaled.map_or(true, |e| !e.is_nan()) => est,
+                Ok(_) => {
+                    self.retry_smaller(h, floor, OdeError::NonFinite { t: self.cur.t, what: "error estimate", index: 0 })?;
+                    continue;
+                }
+                Err(e) if recoverable(&e) => {
+                    self.retry_smaller(h, floor, e)?;
+                    continue;
+                }
+                Err(e) => return Err(e),
+            };
+            let err = est.scaled.unwrap_or(0.0);
+            if err <= 1.0 {
+                self.accept(h, est.local);
+                let t_new = self.next.t;
+                while si < saves.len() && saves[si] <= t_new {
+                    let s = saves[si];
+                    if s == t_new || !dense {
+                        on_save(s, &self.next.y);
+                    } else {
+                        let theta = (s - self.cur.t) / h;
+                        self.stepper.dense(&self.cur, &self.next, theta, &mut self.dense_buf);
+                        on_save(s, &self.dense_buf);
+                    }
+                    si += 1;
+                }
+                std::mem::swap(&mut self.cur, &mut self.next);
+                let proposal = self.controller.accepted(est.scaled, h, self.last_rejected);
+                self.h = Some(if hits { proposal.max(wanted) } else { proposal });
+                self.last_rejected = false;
+            } else {
+                self.ctx.report.rejected += 1;
+                self.h = Some(self.controller.rejected(err, h, first));
+                self.last_rejected = true;
+            }
+        }
+        Ok(())
+    }
+
+    /// Rejects a step that failed in a way a smaller step may cure; gives up with `cause` below the floor.
+    fn retry_smaller(&mut self, h: f64, floor: f64, cause: OdeError) -> Result<(), OdeError> {
+        self.ctx.report.rejected += 1;
+        self.last_rejected = true;
+        let smaller = 0.25 * h;
+        if smaller < floor {
+            return Err(cause);
+        }
+        self.h = Some(smaller);
+        Ok(())
+    }
+
+    /// The first adaptive step: the settings' value, step doubling's `dt`, or Hairer's estimate from the sizes
+    /// of y, f and f' (one extra evaluation).
+    fn initial_step(&mut self, sys: &mut S) -> Result<f64, OdeError> {
+        if let Some(h) = self.settings.initial_step {
+            return Ok(h.min(self.settings.max_step));
+        }
+        match self.settings.control {
+            Control::StepDoubling { dt, .. } => return Ok(dt.min(self.settings.max_step)),
+            Control::Fixed { dt } => return Ok(dt),
+            Control::Derivative { .. } => return Ok(self.settings.max_step.min(1.0)),
+            Control::Tolerances { .. } => {}
+        }
+        let (rtol, atol) = (self.ctx.rtol, self.ctx.atol);
+        let order = self.settings.method.order() as f64;
+        let p = &mut self.cur;
+        p.ensure_f(sys, &mut self.ctx.report)?;
+        let (mut dnf, mut dny) = (0.0, 0.0);
+        for (y, f) in p.y.iter().zip(&p.f) {
+            let sk = atol + rtol * y.abs();
+            dnf += (f / sk).powi(2);
+            dny += (y / sk).powi(2);
+        }
+        let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
+        h = h.min(self.settings.max_step);
+        let y1: Vec<f64> = p.y.iter().zip(&p.f).map(|(y, f)| y + h * f).collect();
+        let mut f1 = vec![0.0; y1.len()];
+        eval(sys, p.t + h, &y1, &mut f1, &mut self.ctx.report)?;
+        let mut der2 = 0.0;
+        for ((a, b), y) in f1.iter().zip(&p.f).zip(&p.y) {
+            let sk = atol + rtol * y.abs();
+            der2 += ((a - b) / sk).powi(2);
+        }
+        let der2 = der2.sqrt() / h;
+        let der12 = der2.max(dnf.sqrt());
+        let h1 = if !(der12 > 1e-15) { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(1.0 / order) };
+        Ok((100.0 * h).min(h1).min(self.settings.max_step))
+    }
+}

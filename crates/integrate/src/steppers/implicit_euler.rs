@@ -1,0 +1,93 @@
+//! Implicit Euler X' = X + h f(X', t + h): the chapter's linearised step dX = (I/h - J)^-1 f(X), or full Newton
+//! iteration on the same system with the Jacobian re-evaluated at every iterate. Dense or sparse LU.
+
+use super::{Ctx, Estimate, Stepper};
+use crate::error::OdeError;
+use crate::iteration_matrix::IterationMatrix;
+use crate::point::{max_norm, Point};
+use crate::settings::NewtonMode;
+use crate::system::OdeSystem;
+
+pub(crate) struct ImplicitEuler {
+    matrix: IterationMatrix,
+    iterate: Point,
+    delta: Vec<f64>,
+}
+
+impl ImplicitEuler {
+    pub fn new<S: OdeSystem + ?Sized>(sys: &S) -> Result<Self, OdeError> {
+        let n = sys.dim();
+        Ok(ImplicitEuler { matrix: IterationMatrix::new(sys)?, iterate: Point::new(0.0, &vec![0.0; n]), delta: vec![0.0; n] })
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Stepper<S> for ImplicitEuler {
+    fn step(
+        &mut self,
+        sys: &mut S,
+        from: &mut Point,
+        h: f64,
+        to: &mut Point,
+        ctx: &mut Ctx,
+    ) -> Result<Estimate, OdeError> {
+        match ctx.newton {
+            NewtonMode::Linearised => {
+                from.ensure_f(sys, &mut ctx.report)?;
+                self.matrix.update_jacobian(sys, from, &mut ctx.report)?;
+                self.matrix.factor(1.0 / h, from.t, h, &mut ctx.report)?;
+                self.delta.copy_from_slice(&from.f);
+                self.matrix.solve(&mut self.delta, &mut ctx.report);
+                for ((o, y), d) in to.y.iter_mut().zip(&from.y).zip(&self.delta) {
+                    *o = y + d;
+                }
+            }
+            NewtonMode::Newton { tol, max_iter } => {
+                // G(X) = X - X_i - h f(X, t + h) = 0; (I/h - J(X)) dX = (X_i - X)/h + f(X).
+                let t1 = from.t + h;
+                let it = &mut self.iterate;
+                it.y.copy_from_slice(&from.y);
+                it.renew(t1);
+                let mut previous = f64::INFINITY;
+                let mut converged = false;
+                let mut norm = f64::INFINITY;
+                for k in 1..=max_iter {
+                    ctx.report.newton_iterations += 1;
+                    it.ensure_f(sys, &mut ctx.report)?;
+                    self.matrix.update_jacobian(sys, it, &mut ctx.report)?;
+                    self.matrix.factor(1.0 / h, t1, h, &mut ctx.report)?;
+                    for i in 0..self.delta.len() {
+                        self.delta[i] = (from.y[i] - it.y[i]) / h + it.f[i];
+                    }
+                    self.matrix.solve(&mut self.delta, &mut ctx.report);
+                    norm = max_norm(&self.delta) / (1.0 + max_norm(&it.y));
+                    for (x, d) in it.y.iter_mut().zip(&self.delta) {
+                        *x += d;
+                    }
+                    it.renew(t1);
+                    if !norm.is_finite() || (k > 1 && norm > 2.0 * previous) {
+                        break;
+                    }
+                    if norm <= tol {
+                        converged = true;
+                        break;
+                    }
+                    previous = norm;
+                }
+                if !converged {
+                    return Err(OdeError::NewtonFailure {
+                        t: from.t,
+                        h,
+                        iterations: max_iter.min(ctx.report.newton_iterations),
+                        residual: norm,
+                    });
+                }
+                to.y.copy_from_slice(&it.y);
+            }
+        }
+        Ok(Estimate::default())
+    }
+
+    fn reset(&mut self) {
+        self.matrix.invalidate();
+    }
+}

@@ -1,0 +1,1 @@
+pub use tumble_integrate as integrate;
