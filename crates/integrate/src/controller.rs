@@ -6,13 +6,15 @@ use crate::method::Method;
 use crate::settings::{Control, Settings};
 
 const SAFE: f64 = 0.9;
+const PI_BETA: f64 = 0.04;
 
 #[derive(Clone, Debug)]
 pub(crate) enum Controller {
     /// A fixed step: nothing to control.
     Fixed,
-    /// PI control on an estimator of order 4: fac = err^(1/5 - 0.75 beta) / err_old^beta, beta = 0.04.
-    Pi { facold: f64 },
+    /// PI control on an estimator of order 4: fac = err^(1/5 - 0.75 beta) / err_old^beta, beta = 0.04
+    /// (kept as ln err_old, so a step costs one logarithm and one exponential).
+    Pi { ln_errold: f64 },
     /// fac = err^(1/4), sharpened by the ratio of the last two accepted steps and errors.
     Predictive { last: Option<(f64, f64)> },
     /// Halve on rejection; double after several steps with err < 1/64 (an order-4 error grows 32x when h
@@ -34,28 +36,28 @@ impl Controller {
             Control::Tolerances { .. } => match settings.method {
                 Method::Rodas4 => Controller::Predictive { last: None },
                 Method::Am4 => Controller::Halving { calm: 0 },
-                _ => Controller::Pi { facold: 1e-4 },
+                _ => Controller::Pi { ln_errold: (1e-4f64).ln() },
             },
         }
     }
 
     /// The next step after an accepted step of size `h` with scaled error `err` (<= 1). A step without an
     /// estimate (a multistep starting step) keeps h.
+    #[inline]
     pub fn accepted(&mut self, err: Option<f64>, h: f64, after_rejection: bool) -> f64 {
         let Some(err) = err else { return h };
         let h_new = match self {
             Controller::Fixed | Controller::Own => h,
-            Controller::Pi { facold } => {
-                const BETA: f64 = 0.04;
-                let fac11 = err.powf(0.2 - 0.75 * BETA);
-                let fac = (fac11 / facold.powf(BETA) / SAFE).clamp(0.1, 5.0);
-                *facold = err.max(1e-4);
+            Controller::Pi { ln_errold } => {
+                let ln_err = err.max(1e-300).ln();
+                let fac = (((0.2 - 0.75 * PI_BETA) * ln_err - PI_BETA * *ln_errold).exp() / SAFE).clamp(0.1, 5.0);
+                *ln_errold = ln_err.max((1e-4f64).ln());
                 h / fac
             }
             Controller::Predictive { last } => {
-                let mut fac = (err.powf(0.25) / SAFE).clamp(1.0 / 6.0, 5.0);
+                let mut fac = (root4(err) / SAFE).clamp(1.0 / 6.0, 5.0);
                 if let Some((h_acc, err_acc)) = *last {
-                    let gus = ((h_acc / h) * (err * err / err_acc).powf(0.25) / SAFE).clamp(1.0 / 6.0, 5.0);
+                    let gus = ((h_acc / h) * root4(err * err / err_acc) / SAFE).clamp(1.0 / 6.0, 5.0);
                     fac = fac.max(gus);
                 }
                 *last = Some((h, err.max(1e-2)));
@@ -87,9 +89,9 @@ impl Controller {
     pub fn rejected(&mut self, err: f64, h: f64, first_step: bool) -> f64 {
         match self {
             Controller::Fixed | Controller::Own => h,
-            Controller::Pi { .. } => h / (err.powf(0.2 - 0.75 * 0.04) / SAFE).min(5.0),
+            Controller::Pi { .. } => h / (err.powf(0.2 - 0.75 * PI_BETA) / SAFE).min(5.0),
             Controller::Predictive { .. } if first_step => 0.1 * h,
-            Controller::Predictive { .. } => h / (err.powf(0.25) / SAFE).clamp(1.0 / 6.0, 5.0),
+            Controller::Predictive { .. } => h / (root4(err) / SAFE).clamp(1.0 / 6.0, 5.0),
             Controller::Halving { calm } => {
                 *calm = 0;
                 0.5 * h
@@ -105,4 +107,10 @@ fn doubling_factor(err: f64, order: u32) -> f64 {
         return 10.0;
     }
     err.powf(-1.0 / (order as f64 + 1.0)).clamp(0.1, 10.0)
+}
+
+/// x^(1/4) by two square roots (cheaper than powf).
+#[inline]
+fn root4(x: f64) -> f64 {
+    x.sqrt().sqrt()
 }

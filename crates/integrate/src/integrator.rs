@@ -145,16 +145,17 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         result
     }
 
-    /// Checks the state just computed: finite, and within the divergence limit.
+    /// Checks the state just computed: finite, and within the divergence limit (one comparison per component;
+    /// NaN fails it too).
     fn check_next(&self, h: f64) -> Result<(), OdeError> {
+        let limit = self.settings.divergence_limit;
+        if self.next.y.iter().all(|v| v.abs() <= limit) {
+            return Ok(());
+        }
         if let Some(i) = self.next.y.iter().position(|v| !v.is_finite()) {
             return Err(OdeError::NonFinite { t: self.next.t, what: "state", index: i });
         }
-        let norm = max_norm(&self.next.y);
-        if norm > self.settings.divergence_limit {
-            return Err(OdeError::Divergence { t: self.next.t, norm, limit: self.settings.divergence_limit, h });
-        }
-        Ok(())
+        Err(OdeError::Divergence { t: self.next.t, norm: max_norm(&self.next.y), limit, h })
     }
 
     fn accept(&mut self, h: f64, local: Option<f64>) {

@@ -10,15 +10,19 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::{factor as dense_factor, solve as dense_solve};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, Mat, MatMut, Par};
+use crate::small_lu::{self, SMALL};
+use faer::{Conj, MatMut, MatRef, Par};
 
-/// Dense storage: the Jacobian and its LU factors.
+/// Dense storage: the Jacobian and its LU factors, column-major. Matrices up to `small_lu::SMALL` are factored
+/// by a plain kernel, larger ones by faer.
 struct Dense {
+    n: usize,
     analytic: bool,
-    jac: Mat<f64>,
-    lu: Mat<f64>,
+    jac: Vec<f64>,
+    lu: Vec<f64>,
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
+    inv_diag: Vec<f64>,
     mem: MemBuffer,
 }
 
@@ -84,7 +88,8 @@ impl IterationMatrix {
         match &mut self.storage {
             Storage::Dense(d) if d.analytic => {
                 d.jac.fill(0.0);
-                sys.dense_jacobian(t, &p.y, d.jac.as_mut()).map_err(sys_err)?;
+                let n = d.n;
+                sys.dense_jacobian(t, &p.y, MatMut::from_column_major_slice_mut(&mut d.jac, n, n)).map_err(sys_err)?;
             }
             Storage::Dense(d) => {
                 p.ensure_f(sys, report)?;
@@ -97,7 +102,7 @@ impl IterationMatrix {
                     self.work_y[j] = yj;
                     let inv = 1.0 / delta;
                     for i in 0..self.n {
-                        d.jac[(i, j)] = (self.work_f[i] - p.f[i]) * inv;
+                        d.jac[j * self.n + i] = (self.work_f[i] - p.f[i]) * inv;
                     }
                 }
             }
@@ -117,7 +122,7 @@ impl IterationMatrix {
 
     fn jacobian_is_finite(&self) -> bool {
         match &self.storage {
-            Storage::Dense(d) => (0..self.n).all(|j| d.jac.col(j).iter().all(|v| v.is_finite())),
+            Storage::Dense(d) => d.jac.iter().all(|v| v.is_finite()),
             Storage::Sparse(s) => s.jac_values.iter().all(|v| v.is_finite()),
         }
     }
@@ -144,20 +149,16 @@ impl IterationMatrix {
     pub fn solve(&mut self, b: &mut [f64], report: &mut Report) {
         report.linear_solves += 1;
         let n = self.n;
-        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
         match &mut self.storage {
+            Storage::Dense(d) if n <= SMALL => small_lu::solve(&d.lu, &d.perm, &d.inv_diag, b, n),
             Storage::Dense(d) => {
                 let perm = faer::perm::PermRef::new_checked(&d.perm, &d.perm_inv, n);
-                dense_solve::solve_in_place(
-                    d.lu.as_ref(),
-                    d.lu.as_ref(),
-                    perm,
-                    rhs,
-                    Par::Seq,
-                    MemStack::new(&mut d.mem),
-                );
+                let lu = MatRef::from_column_major_slice(&d.lu, n, n);
+                let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
+                dense_solve::solve_in_place(lu, lu, perm, rhs, Par::Seq, MemStack::new(&mut d.mem));
             }
             Storage::Sparse(s) => {
+                let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
                 LuRef::new_unchecked(&s.lu_symbolic, &s.numeric).solve_in_place_with_conj(
                     Conj::No,
                     rhs,
@@ -174,25 +175,30 @@ impl Dense {
         let req = dense_factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, Default::default())
             .or(dense_solve::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq));
         Dense {
+            n,
             analytic,
-            jac: Mat::zeros(n, n),
-            lu: Mat::zeros(n, n),
+            jac: vec![0.0; n * n],
+            lu: vec![0.0; n * n],
             perm: vec![0; n],
             perm_inv: vec![0; n],
+            inv_diag: vec![0.0; n],
             mem: MemBuffer::new(req),
         }
     }
 
     fn factor(&mut self, c: f64) -> bool {
-        let n = self.jac.nrows();
-        for j in 0..n {
-            for i in 0..n {
-                self.lu[(i, j)] = -self.jac[(i, j)];
-            }
-            self.lu[(j, j)] += c;
+        let n = self.n;
+        for (l, j) in self.lu.iter_mut().zip(&self.jac) {
+            *l = -j;
+        }
+        for i in 0..n {
+            self.lu[i * n + i] += c;
+        }
+        if n <= SMALL {
+            return small_lu::factor(&mut self.lu, &mut self.perm, &mut self.inv_diag, n);
         }
         dense_factor::lu_in_place(
-            self.lu.as_mut(),
+            MatMut::from_column_major_slice_mut(&mut self.lu, n, n),
             &mut self.perm,
             &mut self.perm_inv,
             Par::Seq,
@@ -200,9 +206,9 @@ impl Dense {
             Default::default(),
         );
         (0..n).all(|i| {
-            let u = self.lu[(i, i)];
+            let u = self.lu[i * n + i];
             u.is_finite() && u != 0.0
-        }) && (0..n).all(|j| self.lu.col(j).iter().all(|v| v.is_finite()))
+        }) && self.lu.iter().all(|v| v.is_finite())
     }
 }
 

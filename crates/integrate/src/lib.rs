@@ -25,6 +25,7 @@ pub mod problems;
 mod report;
 mod second_order;
 mod settings;
+mod small_lu;
 mod solve;
 mod steppers;
 mod system;

@@ -5,7 +5,11 @@ use crate::report::Report;
 use crate::system::OdeSystem;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-static NEXT_ID: AtomicU64 = AtomicU64::new(1);
+const COUNT_MASK: u64 = (1 << 40) - 1;
+
+/// Each point takes a distinct slot once; its id is (slot << 40) | count, and a rewrite only bumps the count,
+/// so renewing costs no atomic operation while ids stay unique across all points.
+static NEXT_SLOT: AtomicU64 = AtomicU64::new(1);
 
 /// A solution point. `id` changes whenever the point is rewritten, so caches keyed by it (a Jacobian, a force)
 /// are never reused for a different state.
@@ -20,14 +24,16 @@ pub(crate) struct Point {
 
 impl Point {
     pub fn new(t: f64, y: &[f64]) -> Self {
-        Point { t, y: y.to_vec(), f: vec![0.0; y.len()], has_f: false, id: NEXT_ID.fetch_add(1, Ordering::Relaxed) }
+        let slot = NEXT_SLOT.fetch_add(1, Ordering::Relaxed);
+        Point { t, y: y.to_vec(), f: vec![0.0; y.len()], has_f: false, id: slot << 40 }
     }
 
     /// Marks the point as rewritten at time `t` (its y is about to be, or has just been, written).
+    #[inline]
     pub fn renew(&mut self, t: f64) {
         self.t = t;
         self.has_f = false;
-        self.id = NEXT_ID.fetch_add(1, Ordering::Relaxed);
+        self.id = (self.id & !COUNT_MASK) | ((self.id + 1) & COUNT_MASK);
     }
 
     /// Evaluates f(t, y) once and checks it is finite.

@@ -3,7 +3,7 @@
 
 use super::{Ctx, Estimate, Stepper};
 use crate::error::OdeError;
-use crate::point::{eval, max_norm, weighted_rms, Point};
+use crate::point::{eval, Point};
 use crate::system::OdeSystem;
 
 const C2: f64 = 1.0 / 5.0;
@@ -50,13 +50,12 @@ pub(crate) struct Dopri5 {
     k5: Vec<f64>,
     k6: Vec<f64>,
     stage: Vec<f64>,
-    err: Vec<f64>,
 }
 
 impl Dopri5 {
     pub fn new(n: usize) -> Self {
         let v = || vec![0.0; n];
-        Dopri5 { k2: v(), k3: v(), k4: v(), k5: v(), k6: v(), stage: v(), err: v() }
+        Dopri5 { k2: v(), k3: v(), k4: v(), k5: v(), k6: v(), stage: v() }
     }
 }
 
@@ -71,44 +70,52 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dopri5 {
     ) -> Result<Estimate, OdeError> {
         from.ensure_f(sys, &mut ctx.report)?;
         let t = from.t;
-        let (y, k1) = (&from.y[..], &from.f[..]);
+        let n = from.y.len();
+        // Re-slicing everything to length n lets the compiler drop the bounds checks in the stage loops.
+        let (y, k1) = (&from.y[..n], &from.f[..n]);
         let r = &mut ctx.report;
-        let Dopri5 { k2, k3, k4, k5, k6, stage, err } = self;
+        let Dopri5 { k2, k3, k4, k5, k6, stage } = self;
+        let (k2, k3, k4, k5, k6, stage) = (&mut k2[..n], &mut k3[..n], &mut k4[..n], &mut k5[..n], &mut k6[..n], &mut stage[..n]);
 
-        for i in 0..y.len() {
+        for i in 0..n {
             stage[i] = y[i] + h * A21 * k1[i];
         }
         eval(sys, t + C2 * h, stage, k2, r)?;
-        for i in 0..y.len() {
+        for i in 0..n {
             stage[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i]);
         }
         eval(sys, t + C3 * h, stage, k3, r)?;
-        for i in 0..y.len() {
+        for i in 0..n {
             stage[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]);
         }
         eval(sys, t + C4 * h, stage, k4, r)?;
-        for i in 0..y.len() {
+        for i in 0..n {
             stage[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]);
         }
         eval(sys, t + C5 * h, stage, k5, r)?;
-        for i in 0..y.len() {
+        for i in 0..n {
             stage[i] = y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
         }
         eval(sys, t + h, stage, k6, r)?;
-        for i in 0..y.len() {
-            to.y[i] = y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
+        let y1 = &mut to.y[..n];
+        for i in 0..n {
+            y1[i] = y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
         }
         // k7 = f(t + h, y_new) is the next step's k1 (first same as last).
-        eval(sys, t + h, &to.y, &mut to.f, r)?;
-        to.has_f = to.f.iter().all(|v| v.is_finite());
-        let k7 = &to.f;
-        for i in 0..y.len() {
-            err[i] = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+        eval(sys, t + h, y1, &mut to.f, r)?;
+        let k7 = &to.f[..n];
+        to.has_f = true;
+        // The embedded error h (b - b^) . k, its weighted RMS norm and its max norm, in one pass.
+        let (rtol, atol) = (ctx.rtol, ctx.atol);
+        let (mut sum, mut emax) = (0.0, 0.0_f64);
+        for i in 0..n {
+            let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            let sk = atol + rtol * y[i].abs().max(y1[i].abs());
+            sum += (e / sk) * (e / sk);
+            emax = emax.max(e.abs());
         }
-        Ok(Estimate {
-            scaled: Some(weighted_rms(err, y, &to.y, ctx.rtol, ctx.atol)),
-            local: Some(max_norm(err)),
-        })
+        // A non-finite k7 makes the error NaN, which the driver rejects; `to` is then discarded.
+        Ok(Estimate { scaled: Some((sum / n as f64).sqrt()), local: Some(emax) })
     }
 
     fn has_dense_output(&self) -> bool {

@@ -78,23 +78,26 @@ impl Rodas4 {
 
 /// out = y + sum a_j k_j.
 fn stage_point(out: &mut [f64], y: &[f64], coef: &[f64], k: &[Vec<f64>]) {
-    for i in 0..out.len() {
-        let mut s = y[i];
-        for (a, kj) in coef.iter().zip(k) {
-            s += a * kj[i];
+    out.copy_from_slice(y);
+    for (a, kj) in coef.iter().zip(k) {
+        for (o, v) in out.iter_mut().zip(kj) {
+            *o += a * v;
         }
-        out[i] = s;
     }
 }
 
-/// ki += sum c_j k_j / h + hd fx, for the stage being formed (`k[..coef.len()]` are the earlier stages).
+/// ki += sum (c_j / h) k_j + hd fx, for the stage being formed (`k[..coef.len()]` are the earlier stages).
 fn add_coupling(ki: &mut [f64], coef: &[f64], k: &[Vec<f64>], h: f64, hd: f64, fx: &[f64]) {
-    for i in 0..ki.len() {
-        let mut s = 0.0;
-        for (c, kj) in coef.iter().zip(k) {
-            s += c * kj[i];
+    for (c, kj) in coef.iter().zip(k) {
+        let c = c / h;
+        for (o, v) in ki.iter_mut().zip(kj) {
+            *o += c * v;
         }
-        ki[i] += s / h + hd * fx[i];
+    }
+    if hd != 0.0 {
+        for (o, v) in ki.iter_mut().zip(fx) {
+            *o += hd * v;
+        }
     }
 }
 
