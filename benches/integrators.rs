@@ -14,8 +14,13 @@ use tumble::integrate::{solve, Method, OdeSystem, SaveAt, Settings};
 fn lotka_volterra(c: &mut Criterion) {
     let p = problems::by_name("lotka-volterra").unwrap();
     let settings = Settings::tolerances(Method::Dopri5, 1e-8, 1e-8);
-    let mut lv = LotkaVolterra { p: [1.5, 1.0, 3.0, 1.0] };
-    let steps = solve(&mut lv, &settings, 0.0, &p.y0, p.t_end, &SaveAt::End).unwrap().report.steps;
+    let mut lv = LotkaVolterra {
+        p: [1.5, 1.0, 3.0, 1.0],
+    };
+    let steps = solve(&mut lv, &settings, 0.0, &p.y0, p.t_end, &SaveAt::End)
+        .unwrap()
+        .report
+        .steps;
     println!("lotka-volterra/dopri5 takes {steps} steps");
     let mut g = c.benchmark_group("lotka-volterra");
     g.bench_function("rhs x6 independent", |b| {
@@ -40,7 +45,17 @@ fn lotka_volterra(c: &mut Criterion) {
         })
     });
     g.bench_function("dopri5", |b| {
-        b.iter(|| solve(&mut lv, black_box(&settings), 0.0, &p.y0, p.t_end, &SaveAt::End).unwrap())
+        b.iter(|| {
+            solve(
+                &mut lv,
+                black_box(&settings),
+                0.0,
+                &p.y0,
+                p.t_end,
+                &SaveAt::End,
+            )
+            .unwrap()
+        })
     });
     g.bench_function("rk4 h=1e-3", |b| {
         let s = Settings::fixed(Method::Rk4, 1e-3);
@@ -54,9 +69,14 @@ fn kepler(c: &mut Criterion) {
     let mut g = c.benchmark_group("kepler");
     for (name, settings) in [
         ("verlet h=1e-3", Settings::fixed(Method::Verlet, 1e-3)),
-        ("dopri5 1e-8", Settings::tolerances(Method::Dopri5, 1e-8, 1e-8)),
+        (
+            "dopri5 1e-8",
+            Settings::tolerances(Method::Dopri5, 1e-8, 1e-8),
+        ),
     ] {
-        g.bench_function(name, |b| b.iter(|| solve(&mut Kepler, &settings, 0.0, &p.y0, p.t_end, &SaveAt::End).unwrap()));
+        g.bench_function(name, |b| {
+            b.iter(|| solve(&mut Kepler, &settings, 0.0, &p.y0, p.t_end, &SaveAt::End).unwrap())
+        });
     }
     g.finish();
 }
@@ -71,7 +91,17 @@ fn stiff(c: &mut Criterion) {
     let vdp = VanDerPol::problem();
     let s = Settings::tolerances(Method::Rodas4, 1e-6, 1e-6);
     g.bench_function("van-der-pol/rodas4 1e-6", |b| {
-        b.iter(|| solve(&mut VanDerPol { eps: 1e-6 }, &s, 0.0, &vdp.y0, vdp.t_end, &SaveAt::End).unwrap())
+        b.iter(|| {
+            solve(
+                &mut VanDerPol { eps: 1e-6 },
+                &s,
+                0.0,
+                &vdp.y0,
+                vdp.t_end,
+                &SaveAt::End,
+            )
+            .unwrap()
+        })
     });
     g.finish();
 }

@@ -6,17 +6,27 @@ use crate::method::Method;
 use crate::settings::{Control, Settings};
 
 const SAFE: f64 = 0.9;
-const PI_BETA: f64 = 0.04;
 
 #[derive(Clone, Debug)]
 pub(crate) enum Controller {
     /// A fixed step: nothing to control.
     Fixed,
-    /// PI control on an estimator of order 4: fac = err^(1/5 - 0.75 beta) / err_old^beta, beta = 0.04
-    /// (kept as ln err_old, so a step costs one logarithm and one exponential).
-    Pi { ln_errold: f64 },
-    /// fac = err^(1/4), sharpened by the ratio of the last two accepted steps and errors.
-    Predictive { last: Option<(f64, f64)> },
+    /// PI control: fac = err^expo / err_old^beta, h_new = h / fac within [h / max_decrease, h max_increase]
+    /// (err_old kept as its logarithm, so a step costs one logarithm and one exponential). Dopri5:
+    /// expo = 1/5 - 0.75 beta, beta = 0.04, factors 5 and 10; dop853: expo = 1/8, beta = 0, factors 3 and 6.
+    Pi {
+        ln_errold: f64,
+        expo: f64,
+        beta: f64,
+        max_decrease: f64,
+        max_increase: f64,
+    },
+    /// fac = err^(1/4) / safety, sharpened by the ratio of the last two accepted steps and errors (Gustafsson);
+    /// the step may shrink 5-fold and grow `max_increase`-fold (rodas4: 6, radau5: 8).
+    Predictive {
+        last: Option<(f64, f64)>,
+        max_increase: f64,
+    },
     /// Halve on rejection; double after several steps with err < 1/64 (an order-4 error grows 32x when h
     /// doubles, so 1/64 leaves a factor 2 of margin).
     Halving { calm: usize },
@@ -31,12 +41,34 @@ impl Controller {
     pub fn for_settings(settings: &Settings) -> Self {
         match settings.control {
             Control::Fixed { .. } => Controller::Fixed,
-            Control::StepDoubling { .. } => Controller::Doubling { order: settings.method.order() },
+            Control::StepDoubling { .. } => Controller::Doubling {
+                order: settings.method.order(),
+            },
             Control::Derivative { .. } => Controller::Own,
             Control::Tolerances { .. } => match settings.method {
-                Method::Rodas4 => Controller::Predictive { last: None },
+                Method::Rodas4 => Controller::Predictive {
+                    last: None,
+                    max_increase: 6.0,
+                },
+                Method::Radau5 => Controller::Predictive {
+                    last: None,
+                    max_increase: 8.0,
+                },
                 Method::Am4 => Controller::Halving { calm: 0 },
-                _ => Controller::Pi { ln_errold: (1e-4f64).ln() },
+                Method::Dop853 => Controller::Pi {
+                    ln_errold: (1e-4f64).ln(),
+                    expo: 1.0 / 8.0,
+                    beta: 0.0,
+                    max_decrease: 3.0,
+                    max_increase: 6.0,
+                },
+                _ => Controller::Pi {
+                    ln_errold: (1e-4f64).ln(),
+                    expo: 0.2 - 0.75 * 0.04,
+                    beta: 0.04,
+                    max_decrease: 5.0,
+                    max_increase: 10.0,
+                },
             },
         }
     }
@@ -44,20 +76,35 @@ impl Controller {
     /// The next step after an accepted step of size `h` with scaled error `err` (<= 1). A step without an
     /// estimate (a multistep starting step) keeps h.
     #[inline]
-    pub fn accepted(&mut self, err: Option<f64>, h: f64, after_rejection: bool) -> f64 {
+    pub fn accepted(
+        &mut self,
+        err: Option<f64>,
+        safety: Option<f64>,
+        h: f64,
+        after_rejection: bool,
+    ) -> f64 {
         let Some(err) = err else { return h };
+        let safe = safety.unwrap_or(SAFE);
         let h_new = match self {
             Controller::Fixed | Controller::Own => h,
-            Controller::Pi { ln_errold } => {
+            Controller::Pi {
+                ln_errold,
+                expo,
+                beta,
+                max_decrease,
+                max_increase,
+            } => {
                 let ln_err = err.max(1e-300).ln();
-                let fac = (((0.2 - 0.75 * PI_BETA) * ln_err - PI_BETA * *ln_errold).exp() / SAFE).clamp(0.1, 5.0);
+                let fac = ((*expo * ln_err - *beta * *ln_errold).exp() / safe)
+                    .clamp(1.0 / *max_increase, *max_decrease);
                 *ln_errold = ln_err.max((1e-4f64).ln());
                 h / fac
             }
-            Controller::Predictive { last } => {
-                let mut fac = (root4(err) / SAFE).clamp(1.0 / 6.0, 5.0);
+            Controller::Predictive { last, max_increase } => {
+                let mut fac = (root4(err) / safe).clamp(1.0 / *max_increase, 5.0);
                 if let Some((h_acc, err_acc)) = *last {
-                    let gus = ((h_acc / h) * root4(err * err / err_acc) / SAFE).clamp(1.0 / 6.0, 5.0);
+                    let gus = ((h_acc / h) * root4(err * err / err_acc) / safe)
+                        .clamp(1.0 / *max_increase, 5.0);
                     fac = fac.max(gus);
                 }
                 *last = Some((h, err.max(1e-2)));
@@ -86,12 +133,17 @@ impl Controller {
     }
 
     /// The next attempt after a rejected step of size `h` with scaled error `err` (> 1).
-    pub fn rejected(&mut self, err: f64, h: f64, first_step: bool) -> f64 {
+    pub fn rejected(&mut self, err: f64, safety: Option<f64>, h: f64, first_step: bool) -> f64 {
+        let safe = safety.unwrap_or(SAFE);
         match self {
             Controller::Fixed | Controller::Own => h,
-            Controller::Pi { .. } => h / (err.powf(0.2 - 0.75 * PI_BETA) / SAFE).min(5.0),
+            Controller::Pi {
+                expo, max_decrease, ..
+            } => h / (err.powf(*expo) / safe).min(*max_decrease),
             Controller::Predictive { .. } if first_step => 0.1 * h,
-            Controller::Predictive { .. } => h / (root4(err) / SAFE).clamp(1.0 / 6.0, 5.0),
+            Controller::Predictive { max_increase, .. } => {
+                h / (root4(err) / safe).clamp(1.0 / *max_increase, 5.0)
+            }
             Controller::Halving { calm } => {
                 *calm = 0;
                 0.5 * h

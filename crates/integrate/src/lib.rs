@@ -17,8 +17,9 @@
 
 mod controller;
 mod error;
+mod factorization;
 mod integrator;
-mod iteration_matrix;
+mod jacobian;
 mod method;
 mod point;
 pub mod problems;

@@ -29,11 +29,15 @@ pub enum Method {
     Verlet,
     /// Rodas4: L-stable, stiffly accurate Rosenbrock method of order 4(3) with 3rd-order dense output.
     Rodas4,
+    /// Radau IIA of order 5 (RADAU5): L-stable collocation, stage order 3, simplified Newton, dense output.
+    Radau5,
+    /// Dormand-Prince 8(5,3): explicit, order 8, for tight tolerances on non-stiff problems (no dense output).
+    Dop853,
 }
 
 impl Method {
     /// Every method, in the order the reports list them.
-    pub const ALL: [Method; 11] = [
+    pub const ALL: [Method; 13] = [
         Method::Euler,
         Method::EulerVariable,
         Method::Midpoint,
@@ -45,6 +49,8 @@ impl Method {
         Method::SymplecticEuler,
         Method::Verlet,
         Method::Rodas4,
+        Method::Radau5,
+        Method::Dop853,
     ];
 
     /// The public name (`"rk4"`, `"dopri5"`, ...).
@@ -61,16 +67,22 @@ impl Method {
             Method::SymplecticEuler => "symplectic-euler",
             Method::Verlet => "verlet",
             Method::Rodas4 => "rodas4",
+            Method::Radau5 => "radau5",
+            Method::Dop853 => "dop853",
         }
     }
 
     /// Order of accuracy of the solution.
     pub fn order(self) -> u32 {
         match self {
-            Method::Euler | Method::EulerVariable | Method::ImplicitEuler | Method::SymplecticEuler => 1,
+            Method::Euler
+            | Method::EulerVariable
+            | Method::ImplicitEuler
+            | Method::SymplecticEuler => 1,
             Method::Midpoint | Method::Verlet => 2,
             Method::Rk4 | Method::Ab4 | Method::Am4 | Method::Rodas4 => 4,
-            Method::Dopri5 => 5,
+            Method::Dopri5 | Method::Radau5 => 5,
+            Method::Dop853 => 8,
         }
     }
 
@@ -81,7 +93,10 @@ impl Method {
 
     /// Methods that solve linear systems with the Jacobian.
     pub fn uses_jacobian(self) -> bool {
-        matches!(self, Method::ImplicitEuler | Method::Rodas4)
+        matches!(
+            self,
+            Method::ImplicitEuler | Method::Rodas4 | Method::Radau5
+        )
     }
 
     /// Methods that need the system's (q, p) split.
@@ -91,12 +106,18 @@ impl Method {
 
     /// Methods with their own error estimate, usable with `Control::Tolerances`.
     pub fn has_error_estimate(self) -> bool {
-        matches!(self, Method::Dopri5 | Method::Rodas4 | Method::Am4)
+        matches!(
+            self,
+            Method::Dopri5 | Method::Rodas4 | Method::Am4 | Method::Radau5 | Method::Dop853
+        )
     }
 
     /// Methods meant for stiff problems (A- or L-stable).
     pub fn is_stiff(self) -> bool {
-        matches!(self, Method::ImplicitEuler | Method::Rodas4)
+        matches!(
+            self,
+            Method::ImplicitEuler | Method::Rodas4 | Method::Radau5
+        )
     }
 }
 
@@ -110,9 +131,16 @@ impl FromStr for Method {
     type Err = OdeError;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Method::ALL.iter().copied().find(|m| m.name() == s).ok_or_else(|| {
-            let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
-            OdeError::invalid("integrator", format!("unknown method {s:?}; expected one of {}", names.join(", ")))
-        })
+        Method::ALL
+            .iter()
+            .copied()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+                OdeError::invalid(
+                    "integrator",
+                    format!("unknown method {s:?}; expected one of {}", names.join(", ")),
+                )
+            })
     }
 }

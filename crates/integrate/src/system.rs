@@ -45,14 +45,28 @@ pub trait OdeSystem {
     }
 
     /// Fills the dense Jacobian df/dy at (t, y); called only when the structure is [`JacobianStructure::Dense`].
-    fn dense_jacobian(&mut self, _t: f64, _y: &[f64], _jac: MatMut<'_, f64>) -> Result<(), SystemError> {
-        Err(SystemError::new("dense_jacobian is not implemented by this system"))
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
+        Err(SystemError::new(
+            "dense_jacobian is not implemented by this system",
+        ))
     }
 
     /// Writes the values of the sparse Jacobian at (t, y), in the order of the pattern given by
     /// [`JacobianStructure::Sparse`]; called only for that structure.
-    fn sparse_jacobian(&mut self, _t: f64, _y: &[f64], _values: &mut [f64]) -> Result<(), SystemError> {
-        Err(SystemError::new("sparse_jacobian is not implemented by this system"))
+    fn sparse_jacobian(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _values: &mut [f64],
+    ) -> Result<(), SystemError> {
+        Err(SystemError::new(
+            "sparse_jacobian is not implemented by this system",
+        ))
     }
 
     /// True when f does not depend on t explicitly.
@@ -67,12 +81,16 @@ pub trait OdeSystem {
 
     /// Writes dq/dt (length `split().positions`); called only when [`split`](OdeSystem::split) is `Some`.
     fn position_rate(&mut self, _t: f64, _y: &[f64], _dq: &mut [f64]) -> Result<(), SystemError> {
-        Err(SystemError::new("position_rate is not implemented by this system"))
+        Err(SystemError::new(
+            "position_rate is not implemented by this system",
+        ))
     }
 
     /// Writes dp/dt (length `dim() - split().positions`); called only when [`split`](OdeSystem::split) is `Some`.
     fn velocity_rate(&mut self, _t: f64, _y: &[f64], _dp: &mut [f64]) -> Result<(), SystemError> {
-        Err(SystemError::new("velocity_rate is not implemented by this system"))
+        Err(SystemError::new(
+            "velocity_rate is not implemented by this system",
+        ))
     }
 }
 
@@ -86,10 +104,20 @@ impl<S: OdeSystem + ?Sized> OdeSystem for &mut S {
     fn jacobian_structure(&self) -> JacobianStructure {
         (**self).jacobian_structure()
     }
-    fn dense_jacobian(&mut self, t: f64, y: &[f64], jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         (**self).dense_jacobian(t, y, jac)
     }
-    fn sparse_jacobian(&mut self, t: f64, y: &[f64], values: &mut [f64]) -> Result<(), SystemError> {
+    fn sparse_jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        values: &mut [f64],
+    ) -> Result<(), SystemError> {
         (**self).sparse_jacobian(t, y, values)
     }
     fn is_autonomous(&self) -> bool {
@@ -116,10 +144,20 @@ impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
     fn jacobian_structure(&self) -> JacobianStructure {
         (**self).jacobian_structure()
     }
-    fn dense_jacobian(&mut self, t: f64, y: &[f64], jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         (**self).dense_jacobian(t, y, jac)
     }
-    fn sparse_jacobian(&mut self, t: f64, y: &[f64], values: &mut [f64]) -> Result<(), SystemError> {
+    fn sparse_jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        values: &mut [f64],
+    ) -> Result<(), SystemError> {
         (**self).sparse_jacobian(t, y, values)
     }
     fn is_autonomous(&self) -> bool {
@@ -146,7 +184,11 @@ pub struct FnSystem<F> {
 impl<F: FnMut(f64, &[f64], &mut [f64])> FnSystem<F> {
     /// A non-autonomous system of dimension `dim` with right-hand side `f`.
     pub fn new(dim: usize, f: F) -> Self {
-        Self { dim, f, autonomous: false }
+        Self {
+            dim,
+            f,
+            autonomous: false,
+        }
     }
 
     /// Declares that `f` ignores its time argument.

@@ -5,7 +5,11 @@ use common::{final_state, loglog_slope};
 use tumble_integrate::problems::DampedOscillator;
 use tumble_integrate::{solve, Method, SaveAt, Settings};
 
-const OSC: DampedOscillator = DampedOscillator { mass: 1.0, damping: 0.3, stiffness: 4.0 };
+const OSC: DampedOscillator = DampedOscillator {
+    mass: 1.0,
+    damping: 0.3,
+    stiffness: 4.0,
+};
 const T_END: f64 = 5.0;
 
 fn oscillator_error(settings: &Settings) -> f64 {
@@ -18,7 +22,7 @@ fn oscillator_error(settings: &Settings) -> f64 {
 /// (1e-13) and in the asymptotic range. The slope must be within 0.25 of the order (the tolerance).
 #[test]
 fn fixed_step_orders_match_theory() {
-    let cases: [(Method, &[f64]); 10] = [
+    let cases: [(Method, &[f64]); 12] = [
         (Method::Euler, &[0.01, 0.005, 0.0025, 0.00125]),
         (Method::Midpoint, &[0.02, 0.01, 0.005, 0.0025]),
         (Method::Rk4, &[0.05, 0.025, 0.0125, 0.00625]),
@@ -29,9 +33,14 @@ fn fixed_step_orders_match_theory() {
         (Method::SymplecticEuler, &[0.01, 0.005, 0.0025, 0.00125]),
         (Method::Verlet, &[0.02, 0.01, 0.005, 0.0025]),
         (Method::Rodas4, &[0.05, 0.025, 0.0125, 0.00625]),
+        (Method::Radau5, &[0.2, 0.1, 0.05, 0.025]),
+        (Method::Dop853, &[0.5, 0.4, 0.3, 0.2]),
     ];
     for (method, steps) in cases {
-        let errors: Vec<f64> = steps.iter().map(|&h| oscillator_error(&Settings::fixed(method, h))).collect();
+        let errors: Vec<f64> = steps
+            .iter()
+            .map(|&h| oscillator_error(&Settings::fixed(method, h)))
+            .collect();
         let slope = loglog_slope(steps, &errors);
         let order = method.order() as f64;
         assert!(
@@ -47,9 +56,18 @@ fn fixed_step_orders_match_theory() {
 fn implicit_euler_newton_matches_linearised_on_linear_problem() {
     let h = 0.01;
     let lin = oscillator_error(&Settings::fixed(Method::ImplicitEuler, h));
-    let newton = Settings::fixed(Method::ImplicitEuler, h)
-        .newton(tumble_integrate::NewtonMode::Newton { tol: 1e-10, max_iter: 8 });
-    let sol_lin = final_state(&mut OSC.clone(), &Settings::fixed(Method::ImplicitEuler, h), &[1.0, 0.0], T_END).unwrap();
+    let newton =
+        Settings::fixed(Method::ImplicitEuler, h).newton(tumble_integrate::NewtonMode::Newton {
+            tol: 1e-10,
+            max_iter: 8,
+        });
+    let sol_lin = final_state(
+        &mut OSC.clone(),
+        &Settings::fixed(Method::ImplicitEuler, h),
+        &[1.0, 0.0],
+        T_END,
+    )
+    .unwrap();
     let sol_new = final_state(&mut OSC.clone(), &newton, &[1.0, 0.0], T_END).unwrap();
     assert!((sol_lin.final_state - sol_new.final_state).norm() < 1e-12);
     assert!(lin > 0.0);
@@ -61,26 +79,54 @@ fn implicit_euler_newton_matches_linearised_on_linear_problem() {
 #[test]
 fn euler_variable_error_falls_as_sqrt_of_tolerance() {
     let eps = [1e-5, 1e-6, 1e-7, 1e-8];
-    let errors: Vec<f64> = eps.iter().map(|&e| oscillator_error(&Settings::euler_variable(e))).collect();
+    let errors: Vec<f64> = eps
+        .iter()
+        .map(|&e| oscillator_error(&Settings::euler_variable(e)))
+        .collect();
     let slope = loglog_slope(&eps, &errors);
-    assert!((slope - 0.5).abs() < 0.1, "slope {slope}, errors {errors:?}");
+    assert!(
+        (slope - 0.5).abs() < 0.1,
+        "slope {slope}, errors {errors:?}"
+    );
 }
 
-/// Dense output: Dormand-Prince's interpolant is 4th order, Rodas4's 3rd order. Interpolated states at 101 times
+/// Dense output: Dormand-Prince's interpolant is 4th order, Rodas4's and Radau5's (the collocation polynomial)
+/// 3rd order. Interpolated states at 101 times
 /// must be as accurate as the tolerance allows: within 100 x atol of the closed form (the interpolant's error is
 /// of the size of the local error, which the controller keeps near the tolerance).
 #[test]
 fn dense_output_matches_closed_form() {
     let times: Vec<f64> = (0..=100).map(|k| k as f64 * T_END / 100.0).collect();
-    for method in [Method::Dopri5, Method::Rodas4] {
+    for method in [Method::Dopri5, Method::Rodas4, Method::Radau5] {
         let atol = 1e-9;
         let settings = Settings::tolerances(method, 1e-9, atol);
-        let sol = solve(&mut OSC.clone(), &settings, 0.0, &[1.0, 0.0], T_END, &SaveAt::Times(times.clone())).unwrap();
-        let stepped = solve(&mut OSC.clone(), &settings.clone().dense_output(false), 0.0, &[1.0, 0.0], T_END, &SaveAt::Times(times.clone())).unwrap();
-        assert!(sol.report.steps < stepped.report.steps, "{method}: the outputs should be interpolated, not stepped to");
+        let sol = solve(
+            &mut OSC.clone(),
+            &settings,
+            0.0,
+            &[1.0, 0.0],
+            T_END,
+            &SaveAt::Times(times.clone()),
+        )
+        .unwrap();
+        let stepped = solve(
+            &mut OSC.clone(),
+            &settings.clone().dense_output(false),
+            0.0,
+            &[1.0, 0.0],
+            T_END,
+            &SaveAt::Times(times.clone()),
+        )
+        .unwrap();
+        assert!(
+            sol.report.steps < stepped.report.steps,
+            "{method}: the outputs should be interpolated, not stepped to"
+        );
         for (k, &t) in times.iter().enumerate() {
             let (x, v) = OSC.exact(t, 1.0, 0.0);
-            let e = (sol.states[(0, k)] - x).abs().max((sol.states[(1, k)] - v).abs());
+            let e = (sol.states[(0, k)] - x)
+                .abs()
+                .max((sol.states[(1, k)] - v).abs());
             assert!(e < 100.0 * atol, "{method} at t = {t}: error {e:e}");
         }
     }
@@ -92,7 +138,15 @@ fn dense_output_matches_closed_form() {
 fn fixed_step_outputs_are_exact_step_stops() {
     let settings = Settings::fixed(Method::Rk4, 0.01);
     let times = vec![0.0, 0.37, 1.0, 2.5];
-    let sol = solve(&mut OSC.clone(), &settings, 0.0, &[1.0, 0.0], 2.5, &SaveAt::Times(times.clone())).unwrap();
+    let sol = solve(
+        &mut OSC.clone(),
+        &settings,
+        0.0,
+        &[1.0, 0.0],
+        2.5,
+        &SaveAt::Times(times.clone()),
+    )
+    .unwrap();
     for (k, &t) in times.iter().enumerate() {
         let (x, _) = OSC.exact(t, 1.0, 0.0);
         assert!((sol.states[(0, k)] - x).abs() < 1e-8, "t = {t}");

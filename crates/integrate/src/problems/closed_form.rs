@@ -1,7 +1,7 @@
 //! Problems with closed-form solutions: Dahlquist's y' = lambda y, the damped oscillator of the chapter's particle
 //! equation, the Kepler orbit and the stiff spring.
 
-use super::{ErrorNorm, Problem};
+use super::{ErrorNorm, Problem, ProblemKind};
 use crate::error::SystemError;
 use crate::system::{JacobianStructure, OdeSystem, Split};
 use faer::MatMut;
@@ -24,7 +24,12 @@ impl OdeSystem for Dahlquist {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(&mut self, _t: f64, _y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        mut jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         jac[(0, 0)] = self.lambda;
         Ok(())
     }
@@ -86,7 +91,12 @@ impl OdeSystem for DampedOscillator {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(&mut self, _t: f64, _y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        mut jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         jac[(0, 1)] = 1.0;
         jac[(1, 0)] = -self.stiffness / self.mass;
         jac[(1, 1)] = -self.damping / self.mass;
@@ -96,7 +106,10 @@ impl OdeSystem for DampedOscillator {
         true
     }
     fn split(&self) -> Option<Split> {
-        Some(Split { positions: 1, force_depends_on_velocity: self.damping != 0.0 })
+        Some(Split {
+            positions: 1,
+            force_depends_on_velocity: self.damping != 0.0,
+        })
     }
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         dq[0] = y[1];
@@ -122,7 +135,8 @@ impl Kepler {
             t_end: 2.0 * std::f64::consts::PI,
             reference: Some(y0.clone()),
             y0,
-            stiff: false,
+            kind: ProblemKind::NonStiff,
+            atol_scale: 1.0,
             norm: ErrorNorm::Relative,
             make: || Box::new(Kepler),
         }
@@ -154,7 +168,12 @@ impl OdeSystem for Kepler {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        mut jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         let (x, z) = (y[0], y[1]);
         let r2 = x * x + z * z;
         let r = r2.sqrt();
@@ -171,7 +190,10 @@ impl OdeSystem for Kepler {
         true
     }
     fn split(&self) -> Option<Split> {
-        Some(Split { positions: 2, force_depends_on_velocity: false })
+        Some(Split {
+            positions: 2,
+            force_depends_on_velocity: false,
+        })
     }
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         dq.copy_from_slice(&y[2..]);
@@ -202,7 +224,8 @@ impl StiffSpring {
             t_end,
             y0: vec![1.0, 0.0],
             reference: Some(vec![(w * t_end).cos(), -w * (w * t_end).sin()]),
-            stiff: false,
+            kind: ProblemKind::NonStiff,
+            atol_scale: 1.0,
             norm: ErrorNorm::Relative,
             make: || Box::new(StiffSpring { stiffness: 1e8 }),
         }
@@ -221,7 +244,12 @@ impl OdeSystem for StiffSpring {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(&mut self, _t: f64, _y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        mut jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         jac[(0, 1)] = 1.0;
         jac[(1, 0)] = -self.stiffness;
         Ok(())
@@ -230,7 +258,10 @@ impl OdeSystem for StiffSpring {
         true
     }
     fn split(&self) -> Option<Split> {
-        Some(Split { positions: 1, force_depends_on_velocity: false })
+        Some(Split {
+            positions: 1,
+            force_depends_on_velocity: false,
+        })
     }
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         dq[0] = y[1];

@@ -22,6 +22,15 @@ pub enum ErrorNorm {
     Componentwise,
 }
 
+/// Whether explicit methods are of any use on a problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProblemKind {
+    /// Explicit methods are efficient.
+    NonStiff,
+    /// Explicit methods need a number of steps set by stability, not accuracy.
+    Stiff,
+}
+
 /// A test problem: the system, the interval, the initial state and the reference final state.
 pub struct Problem {
     /// Name used in reports and on the command line (`lotka-volterra`, `rober`, ...).
@@ -34,8 +43,10 @@ pub struct Problem {
     pub y0: Vec<f64>,
     /// Final state from a closed form or a published reference; `None` when it must be computed.
     pub reference: Option<Vec<f64>>,
-    /// Whether explicit methods are hopeless on it.
-    pub stiff: bool,
+    /// Stiff or not.
+    pub kind: ProblemKind,
+    /// atol = rtol x this in tolerance sweeps (components far below 1 need a smaller absolute tolerance).
+    pub atol_scale: f64,
     /// How errors are measured.
     pub norm: ErrorNorm,
     make: fn() -> Box<dyn OdeSystem + Send>,
@@ -55,9 +66,11 @@ impl Problem {
                 let den: f64 = reference.iter().map(|b| b * b).sum();
                 (num / den).sqrt()
             }
-            ErrorNorm::Componentwise => {
-                y.iter().zip(reference).map(|(a, b)| (a - b).abs() / b.abs()).fold(0.0, f64::max)
-            }
+            ErrorNorm::Componentwise => y
+                .iter()
+                .zip(reference)
+                .map(|(a, b)| (a - b).abs() / b.abs())
+                .fold(0.0, f64::max),
         }
     }
 }

@@ -1,6 +1,6 @@
 //! Non-stiff reference problems: Lotka-Volterra populations and the Arenstorf orbit.
 
-use super::{ErrorNorm, Problem};
+use super::{ErrorNorm, Problem, ProblemKind};
 use crate::error::SystemError;
 use crate::system::{JacobianStructure, OdeSystem};
 use faer::MatMut;
@@ -21,9 +21,14 @@ impl LotkaVolterra {
             t_end: 10.0,
             y0: vec![1.0, 1.0],
             reference: None,
-            stiff: false,
+            kind: ProblemKind::NonStiff,
+            atol_scale: 1.0,
             norm: ErrorNorm::Relative,
-            make: || Box::new(LotkaVolterra { p: [1.5, 1.0, 3.0, 1.0] }),
+            make: || {
+                Box::new(LotkaVolterra {
+                    p: [1.5, 1.0, 3.0, 1.0],
+                })
+            },
         }
     }
 }
@@ -42,7 +47,12 @@ impl OdeSystem for LotkaVolterra {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(&mut self, _t: f64, u: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        u: &[f64],
+        mut jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         let [a, b, c, d] = self.p;
         jac[(0, 0)] = a - b * u[1];
         jac[(0, 1)] = -b * u[0];
@@ -72,7 +82,8 @@ impl Arenstorf {
             t_end: 17.0652165601579625588917206249,
             reference: Some(y0.clone()),
             y0,
-            stiff: false,
+            kind: ProblemKind::NonStiff,
+            atol_scale: 1.0,
             norm: ErrorNorm::Relative,
             make: || Box::new(Arenstorf { mu: 0.012277471 }),
         }

@@ -1,7 +1,7 @@
 //! Stiff reference problems from the Bari/Hairer IVP test set, with analytic Jacobians and the published
 //! reference values (RADAU5 at rtol = atol = 1.1e-18).
 
-use super::{ErrorNorm, Problem};
+use super::{ErrorNorm, Problem, ProblemKind};
 use crate::error::SystemError;
 use crate::system::{JacobianStructure, OdeSystem};
 use faer::MatMut;
@@ -22,7 +22,8 @@ impl VanDerPol {
             t_end: 2.0,
             y0: vec![2.0, 0.0],
             reference: Some(vec![1.706167732170483, -0.8928097010247975]),
-            stiff: true,
+            kind: ProblemKind::Stiff,
+            atol_scale: 1.0,
             norm: ErrorNorm::Componentwise,
             make: || Box::new(VanDerPol { eps: 1e-6 }),
         }
@@ -41,7 +42,12 @@ impl OdeSystem for VanDerPol {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        mut jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         jac[(0, 1)] = 1.0;
         jac[(1, 0)] = (-2.0 * y[0] * y[1] - 1.0) / self.eps;
         jac[(1, 1)] = (1.0 - y[0] * y[0]) / self.eps;
@@ -64,8 +70,13 @@ impl Rober {
             t0: 0.0,
             t_end: 1e11,
             y0: vec![1.0, 0.0, 0.0],
-            reference: Some(vec![0.2083340149701255e-7, 0.8333360770334713e-13, 0.9999999791665050]),
-            stiff: true,
+            reference: Some(vec![
+                0.2083340149701255e-7,
+                0.8333360770334713e-13,
+                0.9999999791665050,
+            ]),
+            kind: ProblemKind::Stiff,
+            atol_scale: 1e-10,
             norm: ErrorNorm::Componentwise,
             make: || Box::new(Rober),
         }
@@ -85,7 +96,12 @@ impl OdeSystem for Rober {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        mut jac: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         jac[(0, 0)] = -0.04;
         jac[(0, 1)] = 1e4 * y[2];
         jac[(0, 2)] = 1e4 * y[1];
@@ -122,7 +138,8 @@ impl Hires {
                 0.2849998395185769e-2,
                 0.2850001604814231e-2,
             ]),
-            stiff: true,
+            kind: ProblemKind::Stiff,
+            atol_scale: 1e-4,
             norm: ErrorNorm::Componentwise,
             make: || Box::new(Hires),
         }
@@ -147,7 +164,12 @@ impl OdeSystem for Hires {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut j: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        mut j: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         j[(0, 0)] = -1.71;
         j[(0, 1)] = 0.43;
         j[(0, 2)] = 8.32;
@@ -192,8 +214,13 @@ impl Orego {
             t0: 0.0,
             t_end: 360.0,
             y0: vec![1.0, 2.0, 3.0],
-            reference: Some(vec![1.000814870318523, 1228.178521549917, 132.0554942846706]),
-            stiff: true,
+            reference: Some(vec![
+                1.000814870318523,
+                1228.178521549917,
+                132.0554942846706,
+            ]),
+            kind: ProblemKind::Stiff,
+            atol_scale: 1.0,
             norm: ErrorNorm::Componentwise,
             make: || Box::new(Orego),
         }
@@ -213,7 +240,12 @@ impl OdeSystem for Orego {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut j: MatMut<'_, f64>) -> Result<(), SystemError> {
+    fn dense_jacobian(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        mut j: MatMut<'_, f64>,
+    ) -> Result<(), SystemError> {
         j[(0, 0)] = 77.27 * (1.0 - 2.0 * 8.375e-6 * y[0] - y[1]);
         j[(0, 1)] = 77.27 * (1.0 - y[0]);
         j[(1, 0)] = -y[1] / 77.27;

@@ -3,13 +3,15 @@
 
 use super::{Ctx, Estimate, Stepper};
 use crate::error::OdeError;
-use crate::iteration_matrix::IterationMatrix;
+use crate::factorization::{Factorization, Shift};
+use crate::jacobian::Jacobian;
 use crate::point::{max_norm, Point};
 use crate::settings::NewtonMode;
 use crate::system::OdeSystem;
 
 pub(crate) struct ImplicitEuler {
-    matrix: IterationMatrix,
+    jac: Jacobian,
+    matrix: Factorization,
     iterate: Point,
     delta: Vec<f64>,
 }
@@ -17,7 +19,14 @@ pub(crate) struct ImplicitEuler {
 impl ImplicitEuler {
     pub fn new<S: OdeSystem + ?Sized>(sys: &S) -> Result<Self, OdeError> {
         let n = sys.dim();
-        Ok(ImplicitEuler { matrix: IterationMatrix::new(sys)?, iterate: Point::new(0.0, &vec![0.0; n]), delta: vec![0.0; n] })
+        let jac = Jacobian::new(sys)?;
+        let matrix = Factorization::new(&jac, Shift::Real)?;
+        Ok(ImplicitEuler {
+            jac,
+            matrix,
+            iterate: Point::new(0.0, &vec![0.0; n]),
+            delta: vec![0.0; n],
+        })
     }
 }
 
@@ -33,8 +42,9 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for ImplicitEuler {
         match ctx.newton {
             NewtonMode::Linearised => {
                 from.ensure_f(sys, &mut ctx.report)?;
-                self.matrix.update_jacobian(sys, from, &mut ctx.report)?;
-                self.matrix.factor(1.0 / h, from.t, h, &mut ctx.report)?;
+                self.jac.update(sys, from, &mut ctx.report)?;
+                self.matrix
+                    .factor(&self.jac, 1.0 / h, 0.0, from.t, h, &mut ctx.report)?;
                 self.delta.copy_from_slice(&from.f);
                 self.matrix.solve(&mut self.delta, &mut ctx.report);
                 for ((o, y), d) in to.y.iter_mut().zip(&from.y).zip(&self.delta) {
@@ -53,8 +63,9 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for ImplicitEuler {
                 for k in 1..=max_iter {
                     ctx.report.newton_iterations += 1;
                     it.ensure_f(sys, &mut ctx.report)?;
-                    self.matrix.update_jacobian(sys, it, &mut ctx.report)?;
-                    self.matrix.factor(1.0 / h, t1, h, &mut ctx.report)?;
+                    self.jac.update(sys, it, &mut ctx.report)?;
+                    self.matrix
+                        .factor(&self.jac, 1.0 / h, 0.0, t1, h, &mut ctx.report)?;
                     for i in 0..self.delta.len() {
                         self.delta[i] = (from.y[i] - it.y[i]) / h + it.f[i];
                     }
@@ -88,6 +99,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for ImplicitEuler {
     }
 
     fn reset(&mut self) {
+        self.jac.invalidate();
         self.matrix.invalidate();
     }
 }

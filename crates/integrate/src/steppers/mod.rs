@@ -2,9 +2,12 @@
 //! step control.
 
 mod adams;
+mod dop853;
+mod dop853_tableau;
 mod dopri5;
 mod explicit_rk;
 mod implicit_euler;
+mod radau5;
 mod rodas4;
 mod step_doubling;
 mod symplectic;
@@ -31,16 +34,38 @@ pub(crate) struct Estimate {
     pub scaled: Option<f64>,
     /// Absolute local error, max norm, if the method estimates it.
     pub local: Option<f64>,
+    /// The safety factor the step-size controller should use (Radau lowers it after slow Newton iterations).
+    pub safety: Option<f64>,
 }
 
 /// One method's step. `step` advances from `from` by `h` into `to` (whose `t` and id the driver has already
 /// renewed); it may evaluate `from`'s derivative and may set `to`'s (first-same-as-last).
 pub(crate) trait Stepper<S: OdeSystem + ?Sized> {
-    fn step(&mut self, sys: &mut S, from: &mut Point, h: f64, to: &mut Point, ctx: &mut Ctx)
-        -> Result<Estimate, OdeError>;
+    fn step(
+        &mut self,
+        sys: &mut S,
+        from: &mut Point,
+        h: f64,
+        to: &mut Point,
+        ctx: &mut Ctx,
+    ) -> Result<Estimate, OdeError>;
 
     /// The step from `from` to `to` was accepted.
     fn accepted(&mut self, _from: &Point, _to: &Point, _ctx: &mut Ctx) {}
+
+    /// The last attempt was rejected (by its error or by a failure a smaller step may cure).
+    fn rejected(&mut self) {}
+
+    /// After a recoverable failure, the factor by which to shrink the step (None: the driver's 1/4).
+    fn retry_factor(&self) -> Option<f64> {
+        None
+    }
+
+    /// The step to take next, given the controller's `proposal` after an accepted step of size `h` (Radau keeps h
+    /// when the change is small, so that its factorizations stay valid).
+    fn prefer_step(&self, _h: f64, proposal: f64) -> f64 {
+        proposal
+    }
 
     /// The state was changed from outside or restored: drop histories and caches.
     fn reset(&mut self) {}
@@ -54,20 +79,42 @@ pub(crate) trait Stepper<S: OdeSystem + ?Sized> {
     fn dense(&self, _from: &Point, _to: &Point, _theta: f64, _out: &mut [f64]) {}
 
     /// A step size the method picks for itself at `from` (euler-variable), before the driver's limits.
-    fn own_step(&mut self, _sys: &mut S, _from: &mut Point, _ctx: &mut Ctx) -> Result<Option<f64>, OdeError> {
+    fn own_step(
+        &mut self,
+        _sys: &mut S,
+        _from: &mut Point,
+        _ctx: &mut Ctx,
+    ) -> Result<Option<f64>, OdeError> {
         Ok(None)
     }
 }
 
 /// Builds the stepper for the settings' method, wrapped in step doubling when asked.
-pub(crate) fn build<S: OdeSystem + ?Sized>(sys: &S, settings: &Settings) -> Result<Box<dyn Stepper<S>>, OdeError> {
+pub(crate) fn build<S: OdeSystem + ?Sized>(
+    sys: &S,
+    settings: &Settings,
+) -> Result<Box<dyn Stepper<S>>, OdeError> {
     let n = sys.dim();
     Ok(match settings.method {
-        Method::Euler => finish(explicit_rk::ExplicitRk::new(&explicit_rk::EULER, n), n, settings),
-        Method::Midpoint => finish(explicit_rk::ExplicitRk::new(&explicit_rk::MIDPOINT, n), n, settings),
-        Method::Rk4 => finish(explicit_rk::ExplicitRk::new(&explicit_rk::RK4, n), n, settings),
+        Method::Euler => finish(
+            explicit_rk::ExplicitRk::new(&explicit_rk::EULER, n),
+            n,
+            settings,
+        ),
+        Method::Midpoint => finish(
+            explicit_rk::ExplicitRk::new(&explicit_rk::MIDPOINT, n),
+            n,
+            settings,
+        ),
+        Method::Rk4 => finish(
+            explicit_rk::ExplicitRk::new(&explicit_rk::RK4, n),
+            n,
+            settings,
+        ),
         Method::EulerVariable => match settings.control {
-            Control::Derivative { tolerance } => Box::new(explicit_rk::EulerVariable::new(n, tolerance)),
+            Control::Derivative { tolerance } => {
+                Box::new(explicit_rk::EulerVariable::new(n, tolerance))
+            }
             _ => unreachable!("validated: euler-variable runs under Control::Derivative"),
         },
         Method::Ab4 => Box::new(adams::Adams::new(n, false)),
@@ -75,19 +122,37 @@ pub(crate) fn build<S: OdeSystem + ?Sized>(sys: &S, settings: &Settings) -> Resu
         Method::Dopri5 => finish(dopri5::Dopri5::new(n), n, settings),
         Method::ImplicitEuler => finish(implicit_euler::ImplicitEuler::new(sys)?, n, settings),
         Method::Rodas4 => finish(rodas4::Rodas4::new(sys)?, n, settings),
+        Method::Radau5 => {
+            let (rtol, atol) = settings.weights();
+            finish(radau5::Radau5::new(sys, rtol, atol)?, n, settings)
+        }
+        Method::Dop853 => finish(dop853::Dop853::new(n), n, settings),
         Method::SymplecticEuler | Method::Verlet => {
-            let split = sys.split().expect("validated: symplectic methods need a split");
-            finish(symplectic::Symplectic::new(n, split, settings.method == Method::Verlet), n, settings)
+            let split = sys
+                .split()
+                .expect("validated: symplectic methods need a split");
+            finish(
+                symplectic::Symplectic::new(n, split, settings.method == Method::Verlet),
+                n,
+                settings,
+            )
         }
     })
 }
 
 /// Boxes a one-step method, inside the chapter's step doubling when the control asks for it.
-fn finish<S: OdeSystem + ?Sized, T: Stepper<S> + 'static>(stepper: T, n: usize, settings: &Settings) -> Box<dyn Stepper<S>> {
+fn finish<S: OdeSystem + ?Sized, T: Stepper<S> + 'static>(
+    stepper: T,
+    n: usize,
+    settings: &Settings,
+) -> Box<dyn Stepper<S>> {
     match settings.control {
-        Control::StepDoubling { tolerance, .. } => {
-            Box::new(step_doubling::StepDoubling::new(stepper, n, tolerance, settings.method.order()))
-        }
+        Control::StepDoubling { tolerance, .. } => Box::new(step_doubling::StepDoubling::new(
+            stepper,
+            n,
+            tolerance,
+            settings.method.order(),
+        )),
         _ => Box::new(stepper),
     }
 }

@@ -4,7 +4,8 @@
 
 use super::{Ctx, Estimate, Stepper};
 use crate::error::OdeError;
-use crate::iteration_matrix::IterationMatrix;
+use crate::factorization::{Factorization, Shift};
+use crate::jacobian::Jacobian;
 use crate::point::{eval, max_norm, weighted_rms, Point};
 use crate::system::OdeSystem;
 
@@ -53,7 +54,8 @@ const H34: f64 = 24.76722511418386;
 const H35: f64 = -6.594389125716872;
 
 pub(crate) struct Rodas4 {
-    matrix: IterationMatrix,
+    jac: Jacobian,
+    matrix: Factorization,
     autonomous: bool,
     /// df/dt at the point `fx_point` (zero for autonomous systems).
     fx: Vec<f64>,
@@ -65,8 +67,10 @@ pub(crate) struct Rodas4 {
 impl Rodas4 {
     pub fn new<S: OdeSystem + ?Sized>(sys: &S) -> Result<Self, OdeError> {
         let n = sys.dim();
+        let jac = Jacobian::new(sys)?;
         Ok(Rodas4 {
-            matrix: IterationMatrix::new(sys)?,
+            matrix: Factorization::new(&jac, Shift::Real)?,
+            jac,
             autonomous: sys.is_autonomous(),
             fx: vec![0.0; n],
             fx_point: None,
@@ -111,7 +115,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Rodas4 {
         ctx: &mut Ctx,
     ) -> Result<Estimate, OdeError> {
         from.ensure_f(sys, &mut ctx.report)?;
-        self.matrix.update_jacobian(sys, from, &mut ctx.report)?;
+        self.jac.update(sys, from, &mut ctx.report)?;
         let t = from.t;
         if !self.autonomous && self.fx_point != Some(from.id) {
             let delta = (f64::EPSILON * t.abs().max(1e-5)).sqrt();
@@ -121,10 +125,13 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Rodas4 {
             }
             self.fx_point = Some(from.id);
         }
-        self.matrix.factor(1.0 / (h * GAMMA), t, h, &mut ctx.report)?;
+        self.matrix
+            .factor(&self.jac, 1.0 / (h * GAMMA), 0.0, t, h, &mut ctx.report)?;
         let r = &mut ctx.report;
         let (y, fx) = (&from.y[..], &self.fx[..]);
-        let Rodas4 { matrix, k, stage, .. } = self;
+        let Rodas4 {
+            matrix, k, stage, ..
+        } = self;
 
         // Stage 1.
         for i in 0..y.len() {
@@ -166,10 +173,15 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Rodas4 {
         for i in 0..y.len() {
             to.y[i] = stage[i] + k[5][i];
         }
-        Ok(Estimate { scaled: Some(weighted_rms(&k[5], y, &to.y, ctx.rtol, ctx.atol)), local: Some(max_norm(&k[5])) })
+        Ok(Estimate {
+            scaled: Some(weighted_rms(&k[5], y, &to.y, ctx.rtol, ctx.atol)),
+            local: Some(max_norm(&k[5])),
+            safety: None,
+        })
     }
 
     fn reset(&mut self) {
+        self.jac.invalidate();
         self.matrix.invalidate();
         self.fx_point = None;
     }

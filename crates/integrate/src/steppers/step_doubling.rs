@@ -52,10 +52,22 @@ impl<S: OdeSystem + ?Sized, T: Stepper<S>> Stepper<S> for StepDoubling<T> {
             e2 += *d * *d;
         }
         let e = e2.sqrt();
-        Ok(Estimate { scaled: Some(e / self.tolerance), local: Some(max_norm(&self.diff) / self.richardson) })
+        Ok(Estimate {
+            scaled: Some(e / self.tolerance),
+            local: Some(max_norm(&self.diff) / self.richardson),
+            safety: None,
+        })
     }
 
     fn reset(&mut self) {
         self.inner.reset();
+    }
+
+    fn rejected(&mut self) {
+        self.inner.rejected();
+    }
+
+    fn retry_factor(&self) -> Option<f64> {
+        self.inner.retry_factor()
     }
 }

@@ -15,6 +15,11 @@ pub fn loglog_slope(x: &[f64], y: &[f64]) -> f64 {
 }
 
 /// Final state of a solve from t0 = 0.
-pub fn final_state(sys: &mut impl OdeSystem, settings: &Settings, y0: &[f64], t_end: f64) -> Result<Solution, OdeError> {
+pub fn final_state(
+    sys: &mut impl OdeSystem,
+    settings: &Settings,
+    y0: &[f64],
+    t_end: f64,
+) -> Result<Solution, OdeError> {
     solve(sys, settings, 0.0, y0, t_end, &SaveAt::End)
 }
