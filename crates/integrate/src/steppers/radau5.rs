@@ -76,6 +76,7 @@ pub(crate) struct Radau5 {
     /// Divided differences of the last accepted step's collocation polynomial.
     cont: [Vec<f64>; 3],
     h_old: Option<f64>,
+    /// Reciprocal error weights 1 / (atol' + rtol' |y|) of the current step.
     scal: Vec<f64>,
     stage: Vec<f64>,
     pair: Vec<f64>,
@@ -122,8 +123,13 @@ impl Radau5 {
         })
     }
 
+    /// Weighted RMS norm (`scal` holds the reciprocal weights 1 / (atol' + rtol' |y|)).
     fn rms(&self, v: &[f64]) -> f64 {
-        let s: f64 = v.iter().zip(&self.scal).map(|(x, s)| (x / s).powi(2)).sum();
+        let s: f64 = v
+            .iter()
+            .zip(&self.scal)
+            .map(|(x, w)| (x * w) * (x * w))
+            .sum();
         (s / v.len() as f64).sqrt()
     }
 
@@ -174,8 +180,8 @@ impl Radau5 {
         for newt in 1..=NIT {
             ctx.report.newton_iterations += 1;
             for (k, c) in [C1, C2, 1.0].into_iter().enumerate() {
-                for i in 0..n {
-                    self.stage[i] = from.y[i] + self.z[k][i];
+                for ((s, y), z) in self.stage.iter_mut().zip(&from.y).zip(&self.z[k]) {
+                    *s = y + z;
                 }
                 eval(
                     sys,
@@ -186,25 +192,32 @@ impl Radau5 {
                 )?;
             }
             // Right-hand sides of the decoupled systems: T^-1 F - (Lambda / h) W.
-            for i in 0..n {
-                let (a1, a2, a3) = (self.f[0][i], self.f[1][i], self.f[2][i]);
-                let g: [f64; 3] =
-                    std::array::from_fn(|r| TI[r][0] * a1 + TI[r][1] * a2 + TI[r][2] * a3);
-                let (w1, w2, w3) = (self.w[0][i], self.w[1][i], self.w[2][i]);
-                self.err[i] = g[0] - fac1 * w1;
-                self.pair[i] = g[1] - (alphn * w2 - betan * w3);
-                self.pair[n + i] = g[2] - (betan * w2 + alphn * w3);
+            {
+                let (f1, f2, f3) = (&self.f[0][..n], &self.f[1][..n], &self.f[2][..n]);
+                let (w1, w2, w3) = (&self.w[0][..n], &self.w[1][..n], &self.w[2][..n]);
+                let (re, im) = self.pair.split_at_mut(n);
+                let (r1, re, im) = (&mut self.err[..n], &mut re[..n], &mut im[..n]);
+                for i in 0..n {
+                    let (a1, a2, a3) = (f1[i], f2[i], f3[i]);
+                    let g1 = TI[0][0] * a1 + TI[0][1] * a2 + TI[0][2] * a3;
+                    let g2 = TI[1][0] * a1 + TI[1][1] * a2 + TI[1][2] * a3;
+                    let g3 = TI[2][0] * a1 + TI[2][1] * a2 + TI[2][2] * a3;
+                    r1[i] = g1 - fac1 * w1[i];
+                    re[i] = g2 - (alphn * w2[i] - betan * w3[i]);
+                    im[i] = g3 - (betan * w2[i] + alphn * w3[i]);
+                }
             }
             self.real.solve(&mut self.err, &mut ctx.report);
             self.complex.solve(&mut self.pair, &mut ctx.report);
-            let mut dyno = 0.0;
-            for i in 0..n {
-                let s = self.scal[i];
-                dyno += (self.err[i] / s).powi(2)
-                    + (self.pair[i] / s).powi(2)
-                    + (self.pair[n + i] / s).powi(2);
-            }
-            let dyno = (dyno / (3 * n) as f64).sqrt();
+            let dyno = {
+                let (re, im) = self.pair.split_at(n);
+                let (r1, re, im, w) = (&self.err[..n], &re[..n], &im[..n], &self.scal[..n]);
+                let mut sum = 0.0;
+                for i in 0..n {
+                    sum += (r1[i] * r1[i] + re[i] * re[i] + im[i] * im[i]) * (w[i] * w[i]);
+                }
+                (sum / (3 * n) as f64).sqrt()
+            };
             if !dyno.is_finite() {
                 self.retry = 0.5;
                 for (k, c) in [C1, C2, 1.0].into_iter().enumerate() {
@@ -242,13 +255,21 @@ impl Radau5 {
                 }
             }
             dynold = dyno.max(f64::EPSILON);
-            for i in 0..n {
-                self.w[0][i] += self.err[i];
-                self.w[1][i] += self.pair[i];
-                self.w[2][i] += self.pair[n + i];
-                let (w1, w2, w3) = (self.w[0][i], self.w[1][i], self.w[2][i]);
-                for r in 0..3 {
-                    self.z[r][i] = T[r][0] * w1 + T[r][1] * w2 + T[r][2] * w3;
+            {
+                let (re, im) = self.pair.split_at(n);
+                let (d1, d2, d3) = (&self.err[..n], &re[..n], &im[..n]);
+                let [w1, w2, w3] = &mut self.w;
+                let [z1, z2, z3] = &mut self.z;
+                let (w1, w2, w3) = (&mut w1[..n], &mut w2[..n], &mut w3[..n]);
+                let (z1, z2, z3) = (&mut z1[..n], &mut z2[..n], &mut z3[..n]);
+                for i in 0..n {
+                    let (a, b, c) = (w1[i] + d1[i], w2[i] + d2[i], w3[i] + d3[i]);
+                    w1[i] = a;
+                    w2[i] = b;
+                    w3[i] = c;
+                    z1[i] = T[0][0] * a + T[0][1] * b + T[0][2] * c;
+                    z2[i] = T[1][0] * a + T[1][1] * b + T[1][2] * c;
+                    z3[i] = T[2][0] * a + T[2][1] * b + T[2][2] * c;
                 }
             }
             if self.faccon * dyno <= self.fnewt {
@@ -272,7 +293,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Radau5 {
         from.ensure_f(sys, &mut ctx.report)?;
         let n = from.y.len();
         for (s, y) in self.scal.iter_mut().zip(&from.y) {
-            *s = self.atol + self.rtol * y.abs();
+            *s = 1.0 / (self.atol + self.rtol * y.abs());
         }
         let stale_ok =
             !self.first && !self.rejected_last && self.theta <= THET && self.jac.is_evaluated();
