@@ -5,27 +5,89 @@
 /// Largest dimension factored here; larger dense matrices go to faer.
 pub(crate) const SMALL: usize = 16;
 
-/// Factors the column-major n x n matrix `a` in place (unit lower L below the diagonal, U on and above),
-/// recording row interchanges in `piv` and the reciprocals of U's diagonal in `inv_diag`. Returns false if a
-/// pivot is zero or not finite.
-pub(crate) fn factor(a: &mut [f64], piv: &mut [usize], inv_diag: &mut [f64], n: usize) -> bool {
+/// How `c - a b` is computed: separately rounded, or fused (one instruction on CPUs with FMA).
+trait Arith {
+    fn mul_sub(a: f64, b: f64, c: f64) -> f64;
+}
+
+struct Plain;
+impl Arith for Plain {
+    #[inline(always)]
+    fn mul_sub(a: f64, b: f64, c: f64) -> f64 {
+        c - a * b
+    }
+}
+
+struct Fused;
+impl Arith for Fused {
+    #[inline(always)]
+    fn mul_sub(a: f64, b: f64, c: f64) -> f64 {
+        (-a).mul_add(b, c)
+    }
+}
+
+/// Whether this CPU has AVX2 and FMA: the kernels then run a copy compiled for them (detected once at run time,
+/// so the library stays portable; results differ from the portable copy in the last bits only).
+#[inline]
+fn fused() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("fma") && std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Defines a public kernel that dispatches to a copy compiled for AVX2 + FMA when the CPU has them.
+macro_rules! dispatch {
+    ($(#[$doc:meta])* fn $name:ident => $generic:ident ( $($arg:ident : $ty:ty),* ) $(-> $ret:ty)?) => {
+        $(#[$doc])*
+        #[allow(clippy::too_many_arguments)]
+        pub(crate) fn $name($($arg: $ty),*) $(-> $ret)? {
+            #[cfg(target_arch = "x86_64")]
+            {
+                #[target_feature(enable = "avx2,fma")]
+                unsafe fn with_fma($($arg: $ty),*) $(-> $ret)? {
+                    $generic::<Fused>($($arg),*)
+                }
+                if fused() {
+                    // SAFETY: the CPU was just checked for AVX2 and FMA.
+                    return unsafe { with_fma($($arg),*) };
+                }
+            }
+            $generic::<Plain>($($arg),*)
+        }
+    };
+}
+
+dispatch! {
+    /// Factors the column-major n x n matrix `a` in place (unit lower L below the diagonal, U on and above),
+    /// recording row interchanges in `piv` and the reciprocals of U's diagonal in `inv_diag`. Returns false if a
+    /// pivot is zero or not finite.
+    fn factor => factor_any(a: &mut [f64], piv: &mut [usize], inv_diag: &mut [f64], n: usize) -> bool
+}
+
+#[inline(always)]
+fn factor_any<A: Arith>(a: &mut [f64], piv: &mut [usize], inv_diag: &mut [f64], n: usize) -> bool {
     // A constant n lets the compiler unroll the loops completely (tiny loops are otherwise dominated by the
     // bookkeeping of vectorised loops and their remainders).
     match n {
-        1 => factor_n(a, piv, inv_diag, 1),
-        2 => factor_n(a, piv, inv_diag, 2),
-        3 => factor_n(a, piv, inv_diag, 3),
-        4 => factor_n(a, piv, inv_diag, 4),
-        5 => factor_n(a, piv, inv_diag, 5),
-        6 => factor_n(a, piv, inv_diag, 6),
-        7 => factor_n(a, piv, inv_diag, 7),
-        8 => factor_n(a, piv, inv_diag, 8),
-        _ => factor_n(a, piv, inv_diag, n),
+        1 => factor_n::<A>(a, piv, inv_diag, 1),
+        2 => factor_n::<A>(a, piv, inv_diag, 2),
+        3 => factor_n::<A>(a, piv, inv_diag, 3),
+        4 => factor_n::<A>(a, piv, inv_diag, 4),
+        5 => factor_n::<A>(a, piv, inv_diag, 5),
+        6 => factor_n::<A>(a, piv, inv_diag, 6),
+        7 => factor_n::<A>(a, piv, inv_diag, 7),
+        8 => factor_n::<A>(a, piv, inv_diag, 8),
+        _ => factor_n::<A>(a, piv, inv_diag, n),
     }
 }
 
 #[inline(always)]
-fn factor_n(a: &mut [f64], piv: &mut [usize], inv_diag: &mut [f64], n: usize) -> bool {
+fn factor_n<A: Arith>(a: &mut [f64], piv: &mut [usize], inv_diag: &mut [f64], n: usize) -> bool {
     let (a, piv, inv_diag) = (&mut a[..n * n], &mut piv[..n], &mut inv_diag[..n]);
     for k in 0..n {
         let col = k * n;
@@ -56,30 +118,35 @@ fn factor_n(a: &mut [f64], piv: &mut [usize], inv_diag: &mut [f64], n: usize) ->
             // No test for akj == 0: for small n a mispredicted branch costs more than the arithmetic it saves.
             let akj = a[j * n + k];
             for i in k + 1..n {
-                a[j * n + i] -= a[col + i] * akj;
+                a[j * n + i] = A::mul_sub(a[col + i], akj, a[j * n + i]);
             }
         }
     }
     true
 }
 
-/// Solves A x = b in place with the factors from [`factor`].
-pub(crate) fn solve(a: &[f64], piv: &[usize], inv_diag: &[f64], b: &mut [f64], n: usize) {
+dispatch! {
+    /// Solves A x = b in place with the factors from [`factor`].
+    fn solve => solve_any(a: &[f64], piv: &[usize], inv_diag: &[f64], b: &mut [f64], n: usize)
+}
+
+#[inline(always)]
+fn solve_any<A: Arith>(a: &[f64], piv: &[usize], inv_diag: &[f64], b: &mut [f64], n: usize) {
     match n {
-        1 => solve_n(a, piv, inv_diag, b, 1),
-        2 => solve_n(a, piv, inv_diag, b, 2),
-        3 => solve_n(a, piv, inv_diag, b, 3),
-        4 => solve_n(a, piv, inv_diag, b, 4),
-        5 => solve_n(a, piv, inv_diag, b, 5),
-        6 => solve_n(a, piv, inv_diag, b, 6),
-        7 => solve_n(a, piv, inv_diag, b, 7),
-        8 => solve_n(a, piv, inv_diag, b, 8),
-        _ => solve_n(a, piv, inv_diag, b, n),
+        1 => solve_n::<A>(a, piv, inv_diag, b, 1),
+        2 => solve_n::<A>(a, piv, inv_diag, b, 2),
+        3 => solve_n::<A>(a, piv, inv_diag, b, 3),
+        4 => solve_n::<A>(a, piv, inv_diag, b, 4),
+        5 => solve_n::<A>(a, piv, inv_diag, b, 5),
+        6 => solve_n::<A>(a, piv, inv_diag, b, 6),
+        7 => solve_n::<A>(a, piv, inv_diag, b, 7),
+        8 => solve_n::<A>(a, piv, inv_diag, b, 8),
+        _ => solve_n::<A>(a, piv, inv_diag, b, n),
     }
 }
 
 #[inline(always)]
-fn solve_n(a: &[f64], piv: &[usize], inv_diag: &[f64], b: &mut [f64], n: usize) {
+fn solve_n<A: Arith>(a: &[f64], piv: &[usize], inv_diag: &[f64], b: &mut [f64], n: usize) {
     let (a, piv, inv_diag, b) = (&a[..n * n], &piv[..n], &inv_diag[..n], &mut b[..n]);
     for k in 0..n {
         b.swap(k, piv[k]);
@@ -87,21 +154,28 @@ fn solve_n(a: &[f64], piv: &[usize], inv_diag: &[f64], b: &mut [f64], n: usize) 
     for k in 0..n {
         let bk = b[k];
         for i in k + 1..n {
-            b[i] -= a[k * n + i] * bk;
+            b[i] = A::mul_sub(a[k * n + i], bk, b[i]);
         }
     }
     for k in (0..n).rev() {
         b[k] *= inv_diag[k];
         let bk = b[k];
         for i in 0..k {
-            b[i] -= a[k * n + i] * bk;
+            b[i] = A::mul_sub(a[k * n + i], bk, b[i]);
         }
     }
 }
 
-/// Factors the complex column-major n x n matrix (re + i im) in place, as [`factor`] does for real matrices;
-/// `inv_re`, `inv_im` receive the reciprocals of U's diagonal.
-pub(crate) fn factor_complex(
+dispatch! {
+    /// Factors the complex column-major n x n matrix (re + i im) in place, as [`factor`] does for real matrices;
+    /// `inv_re`, `inv_im` receive the reciprocals of U's diagonal.
+    fn factor_complex => factor_complex_any(
+        re: &mut [f64], im: &mut [f64], piv: &mut [usize], inv_re: &mut [f64], inv_im: &mut [f64], n: usize
+    ) -> bool
+}
+
+#[inline(always)]
+fn factor_complex_any<A: Arith>(
     re: &mut [f64],
     im: &mut [f64],
     piv: &mut [usize],
@@ -110,20 +184,20 @@ pub(crate) fn factor_complex(
     n: usize,
 ) -> bool {
     match n {
-        1 => factor_complex_n(re, im, piv, inv_re, inv_im, 1),
-        2 => factor_complex_n(re, im, piv, inv_re, inv_im, 2),
-        3 => factor_complex_n(re, im, piv, inv_re, inv_im, 3),
-        4 => factor_complex_n(re, im, piv, inv_re, inv_im, 4),
-        5 => factor_complex_n(re, im, piv, inv_re, inv_im, 5),
-        6 => factor_complex_n(re, im, piv, inv_re, inv_im, 6),
-        7 => factor_complex_n(re, im, piv, inv_re, inv_im, 7),
-        8 => factor_complex_n(re, im, piv, inv_re, inv_im, 8),
-        _ => factor_complex_n(re, im, piv, inv_re, inv_im, n),
+        1 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 1),
+        2 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 2),
+        3 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 3),
+        4 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 4),
+        5 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 5),
+        6 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 6),
+        7 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 7),
+        8 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 8),
+        _ => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, n),
     }
 }
 
 #[inline(always)]
-fn factor_complex_n(
+fn factor_complex_n<A: Arith>(
     re: &mut [f64],
     im: &mut [f64],
     piv: &mut [usize],
@@ -168,16 +242,25 @@ fn factor_complex_n(
             let (ar, ai) = (re[j * n + k], im[j * n + k]);
             for i in k + 1..n {
                 let (lr, li) = (re[col + i], im[col + i]);
-                re[j * n + i] -= lr * ar - li * ai;
-                im[j * n + i] -= lr * ai + li * ar;
+                re[j * n + i] = A::mul_sub(lr, ar, A::mul_sub(-li, ai, re[j * n + i]));
+                im[j * n + i] = A::mul_sub(lr, ai, A::mul_sub(li, ar, im[j * n + i]));
             }
         }
     }
     true
 }
 
-/// Solves (re + i im) x = b in place, b = br + i bi, with the factors from [`factor_complex`].
-pub(crate) fn solve_complex(
+dispatch! {
+    /// Solves (re + i im) x = b in place, b = br + i bi, with the factors from [`factor_complex`].
+    fn solve_complex => solve_complex_any(
+        re: &[f64], im: &[f64], piv: &[usize], inv_re: &[f64], inv_im: &[f64], br: &mut [f64], bi: &mut [f64],
+        n: usize
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn solve_complex_any<A: Arith>(
     re: &[f64],
     im: &[f64],
     piv: &[usize],
@@ -188,21 +271,21 @@ pub(crate) fn solve_complex(
     n: usize,
 ) {
     match n {
-        1 => solve_complex_n(re, im, piv, inv_re, inv_im, br, bi, 1),
-        2 => solve_complex_n(re, im, piv, inv_re, inv_im, br, bi, 2),
-        3 => solve_complex_n(re, im, piv, inv_re, inv_im, br, bi, 3),
-        4 => solve_complex_n(re, im, piv, inv_re, inv_im, br, bi, 4),
-        5 => solve_complex_n(re, im, piv, inv_re, inv_im, br, bi, 5),
-        6 => solve_complex_n(re, im, piv, inv_re, inv_im, br, bi, 6),
-        7 => solve_complex_n(re, im, piv, inv_re, inv_im, br, bi, 7),
-        8 => solve_complex_n(re, im, piv, inv_re, inv_im, br, bi, 8),
-        _ => solve_complex_n(re, im, piv, inv_re, inv_im, br, bi, n),
+        1 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 1),
+        2 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 2),
+        3 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 3),
+        4 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 4),
+        5 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 5),
+        6 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 6),
+        7 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 7),
+        8 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 8),
+        _ => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, n),
     }
 }
 
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn solve_complex_n(
+fn solve_complex_n<A: Arith>(
     re: &[f64],
     im: &[f64],
     piv: &[usize],
@@ -222,8 +305,8 @@ fn solve_complex_n(
         let (xr, xi) = (br[k], bi[k]);
         for i in k + 1..n {
             let (lr, li) = (re[k * n + i], im[k * n + i]);
-            br[i] -= lr * xr - li * xi;
-            bi[i] -= lr * xi + li * xr;
+            br[i] = A::mul_sub(lr, xr, A::mul_sub(-li, xi, br[i]));
+            bi[i] = A::mul_sub(lr, xi, A::mul_sub(li, xr, bi[i]));
         }
     }
     for k in (0..n).rev() {
@@ -236,8 +319,8 @@ fn solve_complex_n(
         bi[k] = xi;
         for i in 0..k {
             let (ur, ui) = (re[k * n + i], im[k * n + i]);
-            br[i] -= ur * xr - ui * xi;
-            bi[i] -= ur * xi + ui * xr;
+            br[i] = A::mul_sub(ur, xr, A::mul_sub(-ui, xi, br[i]));
+            bi[i] = A::mul_sub(ur, xi, A::mul_sub(ui, xr, bi[i]));
         }
     }
 }
