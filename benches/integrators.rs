@@ -8,7 +8,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
-use tumble::integrate::problems::{self, Kepler, LotkaVolterra, Rober, VanDerPol};
+use tumble::integrate::problems::{self, Kepler, LotkaVolterra};
 use tumble::integrate::{solve, Method, OdeSystem, SaveAt, Settings};
 
 fn lotka_volterra(c: &mut Criterion) {
@@ -73,6 +73,10 @@ fn kepler(c: &mut Criterion) {
             "dopri5 1e-8",
             Settings::tolerances(Method::Dopri5, 1e-8, 1e-8),
         ),
+        (
+            "dop853 1e-10",
+            Settings::tolerances(Method::Dop853, 1e-10, 1e-10),
+        ),
     ] {
         g.bench_function(name, |b| {
             b.iter(|| solve(&mut Kepler, &settings, 0.0, &p.y0, p.t_end, &SaveAt::End).unwrap())
@@ -81,28 +85,55 @@ fn kepler(c: &mut Criterion) {
     g.finish();
 }
 
-fn stiff(c: &mut Criterion) {
-    let mut g = c.benchmark_group("stiff");
-    let rober = Rober::problem();
-    let s = Settings::tolerances(Method::Rodas4, 1e-6, 1e-14);
-    g.bench_function("rober/rodas4 1e-6", |b| {
-        b.iter(|| solve(&mut Rober, &s, 0.0, &rober.y0, rober.t_end, &SaveAt::End).unwrap())
-    });
-    let vdp = VanDerPol::problem();
-    let s = Settings::tolerances(Method::Rodas4, 1e-6, 1e-6);
-    g.bench_function("van-der-pol/rodas4 1e-6", |b| {
+/// Solves one stiff reference problem under the given settings.
+fn bench_stiff(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    settings: Settings,
+) {
+    let problem = problems::by_name(name.split('/').next().unwrap()).unwrap();
+    g.bench_function(name, |b| {
         b.iter(|| {
             solve(
-                &mut VanDerPol { eps: 1e-6 },
-                &s,
+                &mut problem.system(),
+                &settings,
                 0.0,
-                &vdp.y0,
-                vdp.t_end,
+                &problem.y0,
+                problem.t_end,
                 &SaveAt::End,
             )
             .unwrap()
         })
     });
+}
+
+fn stiff(c: &mut Criterion) {
+    let mut g = c.benchmark_group("stiff");
+    bench_stiff(
+        &mut g,
+        "rober/rodas4 1e-6",
+        Settings::tolerances(Method::Rodas4, 1e-6, 1e-16),
+    );
+    bench_stiff(
+        &mut g,
+        "rober/radau5 1e-8",
+        Settings::tolerances(Method::Radau5, 1e-8, 1e-18),
+    );
+    bench_stiff(
+        &mut g,
+        "van-der-pol/rodas4 1e-6",
+        Settings::tolerances(Method::Rodas4, 1e-6, 1e-6),
+    );
+    bench_stiff(
+        &mut g,
+        "van-der-pol/radau5 1e-6",
+        Settings::tolerances(Method::Radau5, 1e-6, 1e-6),
+    );
+    bench_stiff(
+        &mut g,
+        "hires/radau5 1e-8",
+        Settings::tolerances(Method::Radau5, 1e-8, 1e-12),
+    );
     g.finish();
 }
 

@@ -306,7 +306,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                 .step(sys, &mut self.cur, h, &mut self.next, &mut self.ctx)
                 .and_then(|est| self.check_next(h).map(|_| est));
             let est = match attempt {
-                Ok(est) if est.scaled.map_or(true, |e| !e.is_nan()) => est,
+                Ok(est) if est.scaled.is_none_or(|e| !e.is_nan()) => est,
                 Ok(_) => {
                     self.retry_smaller(
                         h,

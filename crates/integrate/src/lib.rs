@@ -15,6 +15,14 @@
 //! assert!((sol.final_state[0] - (-1.0f64).exp()).abs() < 1e-9);
 //! ```
 
+// Negated comparisons (`!(x > 0.0)`) are how the checks here also reject NaN; published reference values keep
+// the digits they were published with; the numerical kernels index several arrays in one loop.
+#![allow(
+    clippy::neg_cmp_op_on_partial_ord,
+    clippy::excessive_precision,
+    clippy::needless_range_loop
+)]
+
 mod controller;
 mod error;
 mod factorization;
