@@ -14,13 +14,8 @@ use tumble::integrate::{solve, Method, OdeSystem, SaveAt, Settings};
 fn lotka_volterra(c: &mut Criterion) {
     let p = problems::by_name("lotka-volterra").unwrap();
     let settings = Settings::tolerances(Method::Dopri5, 1e-8, 1e-8);
-    let mut lv = LotkaVolterra {
-        p: [1.5, 1.0, 3.0, 1.0],
-    };
-    let steps = solve(&mut lv, &settings, 0.0, &p.y0, p.t_end, &SaveAt::End)
-        .unwrap()
-        .report
-        .steps;
+    let mut lv = LotkaVolterra { p: [1.5, 1.0, 3.0, 1.0] };
+    let steps = solve(&mut lv, &settings, 0.0, &p.y0, p.t_end, &SaveAt::End).unwrap().report.steps;
     println!("lotka-volterra/dopri5 takes {steps} steps");
     let mut g = c.benchmark_group("lotka-volterra");
     g.bench_function("rhs x6 independent", |b| {
@@ -45,17 +40,7 @@ fn lotka_volterra(c: &mut Criterion) {
         })
     });
     g.bench_function("dopri5", |b| {
-        b.iter(|| {
-            solve(
-                &mut lv,
-                black_box(&settings),
-                0.0,
-                &p.y0,
-                p.t_end,
-                &SaveAt::End,
-            )
-            .unwrap()
-        })
+        b.iter(|| solve(&mut lv, black_box(&settings), 0.0, &p.y0, p.t_end, &SaveAt::End).unwrap())
     });
     g.bench_function("rk4 h=1e-3", |b| {
         let s = Settings::fixed(Method::Rk4, 1e-3);
@@ -69,14 +54,8 @@ fn kepler(c: &mut Criterion) {
     let mut g = c.benchmark_group("kepler");
     for (name, settings) in [
         ("verlet h=1e-3", Settings::fixed(Method::Verlet, 1e-3)),
-        (
-            "dopri5 1e-8",
-            Settings::tolerances(Method::Dopri5, 1e-8, 1e-8),
-        ),
-        (
-            "dop853 1e-10",
-            Settings::tolerances(Method::Dop853, 1e-10, 1e-10),
-        ),
+        ("dopri5 1e-8", Settings::tolerances(Method::Dopri5, 1e-8, 1e-8)),
+        ("dop853 1e-10", Settings::tolerances(Method::Dop853, 1e-10, 1e-10)),
     ] {
         g.bench_function(name, |b| {
             b.iter(|| solve(&mut Kepler, &settings, 0.0, &p.y0, p.t_end, &SaveAt::End).unwrap())
@@ -93,47 +72,17 @@ fn bench_stiff(
 ) {
     let problem = problems::by_name(name.split('/').next().unwrap()).unwrap();
     g.bench_function(name, |b| {
-        b.iter(|| {
-            solve(
-                &mut problem.system(),
-                &settings,
-                0.0,
-                &problem.y0,
-                problem.t_end,
-                &SaveAt::End,
-            )
-            .unwrap()
-        })
+        b.iter(|| solve(&mut problem.system(), &settings, 0.0, &problem.y0, problem.t_end, &SaveAt::End).unwrap())
     });
 }
 
 fn stiff(c: &mut Criterion) {
     let mut g = c.benchmark_group("stiff");
-    bench_stiff(
-        &mut g,
-        "rober/rodas4 1e-6",
-        Settings::tolerances(Method::Rodas4, 1e-6, 1e-16),
-    );
-    bench_stiff(
-        &mut g,
-        "rober/radau5 1e-8",
-        Settings::tolerances(Method::Radau5, 1e-8, 1e-18),
-    );
-    bench_stiff(
-        &mut g,
-        "van-der-pol/rodas4 1e-6",
-        Settings::tolerances(Method::Rodas4, 1e-6, 1e-6),
-    );
-    bench_stiff(
-        &mut g,
-        "van-der-pol/radau5 1e-6",
-        Settings::tolerances(Method::Radau5, 1e-6, 1e-6),
-    );
-    bench_stiff(
-        &mut g,
-        "hires/radau5 1e-8",
-        Settings::tolerances(Method::Radau5, 1e-8, 1e-12),
-    );
+    bench_stiff(&mut g, "rober/rodas4 1e-6", Settings::tolerances(Method::Rodas4, 1e-6, 1e-16));
+    bench_stiff(&mut g, "rober/radau5 1e-8", Settings::tolerances(Method::Radau5, 1e-8, 1e-18));
+    bench_stiff(&mut g, "van-der-pol/rodas4 1e-6", Settings::tolerances(Method::Rodas4, 1e-6, 1e-6));
+    bench_stiff(&mut g, "van-der-pol/radau5 1e-6", Settings::tolerances(Method::Radau5, 1e-6, 1e-6));
+    bench_stiff(&mut g, "hires/radau5 1e-8", Settings::tolerances(Method::Radau5, 1e-8, 1e-12));
     g.finish();
 }
 

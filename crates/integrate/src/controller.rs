@@ -14,19 +14,10 @@ pub(crate) enum Controller {
     /// PI control: fac = err^expo / err_old^beta, h_new = h / fac within [h / max_decrease, h max_increase]
     /// (err_old kept as its logarithm, so a step costs one logarithm and one exponential). Dopri5:
     /// expo = 1/5 - 0.75 beta, beta = 0.04, factors 5 and 10; dop853: expo = 1/8, beta = 0, factors 3 and 6.
-    Pi {
-        ln_errold: f64,
-        expo: f64,
-        beta: f64,
-        max_decrease: f64,
-        max_increase: f64,
-    },
+    Pi { ln_errold: f64, expo: f64, beta: f64, max_decrease: f64, max_increase: f64 },
     /// fac = err^(1/4) / safety, sharpened by the ratio of the last two accepted steps and errors (Gustafsson);
     /// the step may shrink 5-fold and grow `max_increase`-fold (rodas4: 6, radau5: 8).
-    Predictive {
-        last: Option<(f64, f64)>,
-        max_increase: f64,
-    },
+    Predictive { last: Option<(f64, f64)>, max_increase: f64 },
     /// Halve on rejection; double after several steps with err < 1/64 (an order-4 error grows 32x when h
     /// doubles, so 1/64 leaves a factor 2 of margin).
     Halving { calm: usize },
@@ -41,19 +32,11 @@ impl Controller {
     pub fn for_settings(settings: &Settings) -> Self {
         match settings.control {
             Control::Fixed { .. } => Controller::Fixed,
-            Control::StepDoubling { .. } => Controller::Doubling {
-                order: settings.method.order(),
-            },
+            Control::StepDoubling { .. } => Controller::Doubling { order: settings.method.order() },
             Control::Derivative { .. } => Controller::Own,
             Control::Tolerances { .. } => match settings.method {
-                Method::Rodas4 => Controller::Predictive {
-                    last: None,
-                    max_increase: 6.0,
-                },
-                Method::Radau5 => Controller::Predictive {
-                    last: None,
-                    max_increase: 8.0,
-                },
+                Method::Rodas4 => Controller::Predictive { last: None, max_increase: 6.0 },
+                Method::Radau5 => Controller::Predictive { last: None, max_increase: 8.0 },
                 Method::Am4 => Controller::Halving { calm: 0 },
                 Method::Dop853 => Controller::Pi {
                     ln_errold: (1e-4f64).ln(),
@@ -76,35 +59,22 @@ impl Controller {
     /// The next step after an accepted step of size `h` with scaled error `err` (<= 1). A step without an
     /// estimate (a multistep starting step) keeps h.
     #[inline]
-    pub fn accepted(
-        &mut self,
-        err: Option<f64>,
-        safety: Option<f64>,
-        h: f64,
-        after_rejection: bool,
-    ) -> f64 {
+    pub fn accepted(&mut self, err: Option<f64>, safety: Option<f64>, h: f64, after_rejection: bool) -> f64 {
         let Some(err) = err else { return h };
         let safe = safety.unwrap_or(SAFE);
         let h_new = match self {
             Controller::Fixed | Controller::Own => h,
-            Controller::Pi {
-                ln_errold,
-                expo,
-                beta,
-                max_decrease,
-                max_increase,
-            } => {
+            Controller::Pi { ln_errold, expo, beta, max_decrease, max_increase } => {
                 let ln_err = err.max(1e-300).ln();
-                let fac = ((*expo * ln_err - *beta * *ln_errold).exp() / safe)
-                    .clamp(1.0 / *max_increase, *max_decrease);
+                let fac =
+                    ((*expo * ln_err - *beta * *ln_errold).exp() / safe).clamp(1.0 / *max_increase, *max_decrease);
                 *ln_errold = ln_err.max((1e-4f64).ln());
                 h / fac
             }
             Controller::Predictive { last, max_increase } => {
                 let mut fac = (root4(err) / safe).clamp(1.0 / *max_increase, 5.0);
                 if let Some((h_acc, err_acc)) = *last {
-                    let gus = ((h_acc / h) * root4(err * err / err_acc) / safe)
-                        .clamp(1.0 / *max_increase, 5.0);
+                    let gus = ((h_acc / h) * root4(err * err / err_acc) / safe).clamp(1.0 / *max_increase, 5.0);
                     fac = fac.max(gus);
                 }
                 *last = Some((h, err.max(1e-2)));
@@ -137,13 +107,9 @@ impl Controller {
         let safe = safety.unwrap_or(SAFE);
         match self {
             Controller::Fixed | Controller::Own => h,
-            Controller::Pi {
-                expo, max_decrease, ..
-            } => h / (err.powf(*expo) / safe).min(*max_decrease),
+            Controller::Pi { expo, max_decrease, .. } => h / (err.powf(*expo) / safe).min(*max_decrease),
             Controller::Predictive { .. } if first_step => 0.1 * h,
-            Controller::Predictive { max_increase, .. } => {
-                h / (root4(err) / safe).clamp(1.0 / *max_increase, 5.0)
-            }
+            Controller::Predictive { max_increase, .. } => h / (root4(err) / safe).clamp(1.0 / *max_increase, 5.0),
             Controller::Halving { calm } => {
                 *calm = 0;
                 0.5 * h

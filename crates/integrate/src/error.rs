@@ -12,9 +12,7 @@ pub struct SystemError {
 impl SystemError {
     /// A system error with the given message.
     pub fn new(message: impl Into<String>) -> Self {
-        Self {
-            message: message.into(),
-        }
+        Self { message: message.into() }
     }
 }
 
@@ -36,32 +34,15 @@ pub enum OdeError {
     /// `name` is the argument's name as the caller spelled it.
     InvalidArgument { name: &'static str, reason: String },
     /// The method cannot be used on this system or with this step control.
-    Unsupported {
-        method: &'static str,
-        reason: String,
-    },
+    Unsupported { method: &'static str, reason: String },
     /// A state component or a derivative became NaN or infinite.
-    NonFinite {
-        t: f64,
-        what: &'static str,
-        index: usize,
-    },
+    NonFinite { t: f64, what: &'static str, index: usize },
     /// The state grew past the divergence limit: the method is unstable at this step size.
-    Divergence {
-        t: f64,
-        norm: f64,
-        limit: f64,
-        h: f64,
-    },
+    Divergence { t: f64, norm: f64, limit: f64, h: f64 },
     /// The step-size controller asked for a step below the minimum step.
     StepTooSmall { t: f64, h: f64, min_step: f64 },
     /// Newton's iteration of an implicit method did not converge.
-    NewtonFailure {
-        t: f64,
-        h: f64,
-        iterations: usize,
-        residual: f64,
-    },
+    NewtonFailure { t: f64, h: f64, iterations: usize, residual: f64 },
     /// The iteration matrix `I/(h gamma) - J` is singular.
     SingularMatrix { t: f64, h: f64 },
     /// More steps than `max_steps` were needed.
@@ -72,10 +53,7 @@ pub enum OdeError {
 
 impl OdeError {
     pub(crate) fn invalid(name: &'static str, reason: impl Into<String>) -> Self {
-        OdeError::InvalidArgument {
-            name,
-            reason: reason.into(),
-        }
+        OdeError::InvalidArgument { name, reason: reason.into() }
     }
 }
 
@@ -97,17 +75,9 @@ impl fmt::Display for OdeError {
                  the method is unstable at step h = {h:e}"
             ),
             OdeError::StepTooSmall { t, h, min_step } => {
-                write!(
-                    f,
-                    "step size {h:e} fell below the minimum {min_step:e} at t = {t:e}"
-                )
+                write!(f, "step size {h:e} fell below the minimum {min_step:e} at t = {t:e}")
             }
-            OdeError::NewtonFailure {
-                t,
-                h,
-                iterations,
-                residual,
-            } => write!(
+            OdeError::NewtonFailure { t, h, iterations, residual } => write!(
                 f,
                 "Newton iteration failed at t = {t:e} with h = {h:e}: no convergence after \
                  {iterations} iterations (last correction norm {residual:e})"
@@ -116,10 +86,7 @@ impl fmt::Display for OdeError {
                 write!(f, "singular iteration matrix at t = {t:e} with h = {h:e}")
             }
             OdeError::TooManySteps { t, max_steps } => {
-                write!(
-                    f,
-                    "more than {max_steps} steps needed; stopped at t = {t:e}"
-                )
+                write!(f, "more than {max_steps} steps needed; stopped at t = {t:e}")
             }
             OdeError::System { t, message } => {
                 write!(f, "system evaluation failed at t = {t:e}: {message}")

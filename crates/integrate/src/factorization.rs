@@ -69,24 +69,11 @@ impl Factorization {
         let dim = if shift == Shift::Complex { 2 * n } else { n };
         let storage = match &jac.values {
             Values::Dense { .. } => {
-                let req = dense_factor::lu_in_place_scratch::<usize, f64>(
-                    dim,
-                    dim,
-                    Par::Seq,
-                    Default::default(),
-                )
-                .or(dense_solve::solve_in_place_scratch::<usize, f64>(
-                    dim,
-                    1,
-                    Par::Seq,
-                ));
+                let req = dense_factor::lu_in_place_scratch::<usize, f64>(dim, dim, Par::Seq, Default::default())
+                    .or(dense_solve::solve_in_place_scratch::<usize, f64>(dim, 1, Par::Seq));
                 Storage::Dense(Box::new(DenseLu {
                     lu: vec![0.0; dim * dim],
-                    lu_im: if shift == Shift::Complex && n <= SMALL {
-                        vec![0.0; n * n]
-                    } else {
-                        Vec::new()
-                    },
+                    lu_im: if shift == Shift::Complex && n <= SMALL { vec![0.0; n * n] } else { Vec::new() },
                     inv_im: vec![0.0; n],
                     perm: vec![0; dim],
                     perm_inv: vec![0; dim],
@@ -94,17 +81,9 @@ impl Factorization {
                     mem: MemBuffer::new(req),
                 }))
             }
-            Values::Sparse { pattern, .. } => {
-                Storage::Sparse(Box::new(SparseLu::new(n, pattern, shift)?))
-            }
+            Values::Sparse { pattern, .. } => Storage::Sparse(Box::new(SparseLu::new(n, pattern, shift)?)),
         };
-        Ok(Factorization {
-            shift,
-            n,
-            dim,
-            storage,
-            factored: None,
-        })
+        Ok(Factorization { shift, n, dim, storage, factored: None })
     }
 
     /// Forgets the factors.
@@ -147,20 +126,9 @@ impl Factorization {
         match &mut self.storage {
             Storage::Dense(d) if self.shift == Shift::Complex && n <= SMALL => {
                 let (br, bi) = x.split_at_mut(n);
-                small_lu::solve_complex(
-                    &d.lu,
-                    &d.lu_im,
-                    &d.perm,
-                    &d.inv_diag,
-                    &d.inv_im,
-                    br,
-                    bi,
-                    n,
-                );
+                small_lu::solve_complex(&d.lu, &d.lu_im, &d.perm, &d.inv_diag, &d.inv_im, br, bi, n);
             }
-            Storage::Dense(d) if dim <= SMALL => {
-                small_lu::solve(&d.lu, &d.perm, &d.inv_diag, x, dim)
-            }
+            Storage::Dense(d) if dim <= SMALL => small_lu::solve(&d.lu, &d.perm, &d.inv_diag, x, dim),
             Storage::Dense(d) => {
                 let perm = faer::perm::PermRef::new_checked(&d.perm, &d.perm_inv, dim);
                 let lu = MatRef::from_column_major_slice(&d.lu, dim, dim);
@@ -181,18 +149,8 @@ impl Factorization {
 }
 
 impl DenseLu {
-    fn factor(
-        &mut self,
-        jac: &Jacobian,
-        shift: Shift,
-        n: usize,
-        dim: usize,
-        a: f64,
-        b: f64,
-    ) -> bool {
-        let Values::Dense { values: j, .. } = &jac.values else {
-            unreachable!("dense factors of a dense Jacobian")
-        };
+    fn factor(&mut self, jac: &Jacobian, shift: Shift, n: usize, dim: usize, a: f64, b: f64) -> bool {
+        let Values::Dense { values: j, .. } = &jac.values else { unreachable!("dense factors of a dense Jacobian") };
         let lu = &mut self.lu;
         match shift {
             Shift::Real => {
@@ -259,19 +217,11 @@ impl SparseLu {
         let mut pairs: Vec<Pair<usize, usize>> = Vec::new();
         for k in 0..blocks {
             let o = k * n;
-            pairs.extend(pattern.iter().map(|&(row, col)| Pair {
-                row: row + o,
-                col: col + o,
-            }));
-            pairs.extend((0..n).map(|i| Pair {
-                row: i + o,
-                col: i + o,
-            }));
+            pairs.extend(pattern.iter().map(|&(row, col)| Pair { row: row + o, col: col + o }));
+            pairs.extend((0..n).map(|i| Pair { row: i + o, col: i + o }));
         }
         if shift == Shift::Complex {
-            pairs.extend(
-                (0..n).flat_map(|i| [Pair { row: i, col: n + i }, Pair { row: n + i, col: i }]),
-            );
+            pairs.extend((0..n).flat_map(|i| [Pair { row: i, col: n + i }, Pair { row: n + i, col: i }]));
         }
         let dim = blocks * n;
         let (symbolic, _) = SymbolicSparseColMat::try_new_from_indices(dim, dim, &pairs)
@@ -279,10 +229,7 @@ impl SparseLu {
         let slot = |row: usize, col: usize| -> usize {
             let start = symbolic.col_ptr()[col];
             let rows = &symbolic.row_idx()[start..symbolic.col_ptr()[col + 1]];
-            start
-                + rows
-                    .binary_search(&row)
-                    .expect("every entry is in the pattern")
+            start + rows.binary_search(&row).expect("every entry is in the pattern")
         };
         let second = |row: usize, col: usize| {
             if blocks == 2 {
@@ -291,24 +238,14 @@ impl SparseLu {
                 usize::MAX
             }
         };
-        let jac_slots = pattern
-            .iter()
-            .map(|&(i, j)| [slot(i, j), second(i, j)])
-            .collect();
+        let jac_slots = pattern.iter().map(|&(i, j)| [slot(i, j), second(i, j)]).collect();
         let diag_slots = (0..dim).map(|i| slot(i, i)).collect();
-        let coupling_slots = if blocks == 2 {
-            (0..n).map(|i| (slot(i, n + i), slot(n + i, i))).collect()
-        } else {
-            Vec::new()
-        };
+        let coupling_slots =
+            if blocks == 2 { (0..n).map(|i| (slot(i, n + i), slot(n + i, i))).collect() } else { Vec::new() };
         let nnz = symbolic.row_idx().len();
-        let lu_symbolic =
-            factorize_symbolic_lu(symbolic.as_ref(), Default::default()).map_err(|e| {
-                OdeError::invalid("jacobian pattern", format!("symbolic LU failed: {e:?}"))
-            })?;
-        let factor_mem = MemBuffer::new(
-            lu_symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
-        );
+        let lu_symbolic = factorize_symbolic_lu(symbolic.as_ref(), Default::default())
+            .map_err(|e| OdeError::invalid("jacobian pattern", format!("symbolic LU failed: {e:?}")))?;
+        let factor_mem = MemBuffer::new(lu_symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()));
         let solve_mem = MemBuffer::new(lu_symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         Ok(SparseLu {
             symbolic,
@@ -324,9 +261,7 @@ impl SparseLu {
     }
 
     fn factor(&mut self, jac: &Jacobian, shift: Shift, a: f64, b: f64) -> bool {
-        let Values::Sparse { values, .. } = &jac.values else {
-            unreachable!("sparse factors of a sparse Jacobian")
-        };
+        let Values::Sparse { values, .. } = &jac.values else { unreachable!("sparse factors of a sparse Jacobian") };
         self.w.fill(0.0);
         for (slots, &v) in self.jac_slots.iter().zip(values) {
             self.w[slots[0]] -= v;

@@ -41,16 +41,10 @@ pub(crate) fn check_initial(dim: usize, t0: f64, y0: &[f64]) -> Result<(), OdeEr
         return Err(OdeError::invalid("t0", format!("must be finite, got {t0}")));
     }
     if y0.len() != dim {
-        return Err(OdeError::invalid(
-            "y0",
-            format!("has length {}, the system has dimension {dim}", y0.len()),
-        ));
+        return Err(OdeError::invalid("y0", format!("has length {}, the system has dimension {dim}", y0.len())));
     }
     if let Some(i) = y0.iter().position(|v| !v.is_finite()) {
-        return Err(OdeError::invalid(
-            "y0",
-            format!("component {i} is {}", y0[i]),
-        ));
+        return Err(OdeError::invalid("y0", format!("component {i} is {}", y0[i])));
     }
     Ok(())
 }
@@ -64,12 +58,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         let stepper = steppers::build(sys, &settings)?;
         Ok(Integrator {
             controller: Controller::for_settings(&settings),
-            ctx: Ctx {
-                report: Report::new(settings.method.name()),
-                rtol,
-                atol,
-                newton: settings.newton,
-            },
+            ctx: Ctx { report: Report::new(settings.method.name()), rtol, atol, newton: settings.newton },
             stepper,
             cur: Point::new(t0, y0),
             next: Point::new(t0, y0),
@@ -135,24 +124,14 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         if sys.dim() != self.cur.y.len() {
             return Err(OdeError::invalid(
                 "system",
-                format!(
-                    "dimension changed from {} to {}",
-                    self.cur.y.len(),
-                    sys.dim()
-                ),
+                format!("dimension changed from {} to {}", self.cur.y.len(), sys.dim()),
             ));
         }
         if let Some(bad) = save_at.windows(2).position(|w| !(w[0] <= w[1])) {
-            return Err(OdeError::invalid(
-                "save_at",
-                format!("must be ascending (entry {} is not)", bad + 1),
-            ));
+            return Err(OdeError::invalid("save_at", format!("must be ascending (entry {} is not)", bad + 1)));
         }
         if let Some(&s) = save_at.iter().find(|&&s| !(s >= t0 && s <= t_end)) {
-            return Err(OdeError::invalid(
-                "save_at",
-                format!("time {s} is outside [{t0}, {t_end}]"),
-            ));
+            return Err(OdeError::invalid("save_at", format!("time {s} is outside [{t0}, {t_end}]")));
         }
         self.backup.copy_from_slice(&self.cur.y);
         let h0 = self.h;
@@ -180,18 +159,9 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             return Ok(());
         }
         if let Some(i) = self.next.y.iter().position(|v| !v.is_finite()) {
-            return Err(OdeError::NonFinite {
-                t: self.next.t,
-                what: "state",
-                index: i,
-            });
+            return Err(OdeError::NonFinite { t: self.next.t, what: "state", index: i });
         }
-        Err(OdeError::Divergence {
-            t: self.next.t,
-            norm: max_norm(&self.next.y),
-            limit,
-            h,
-        })
+        Err(OdeError::Divergence { t: self.next.t, norm: max_norm(&self.next.y), limit, h })
     }
 
     fn accept(&mut self, h: f64, local: Option<f64>) {
@@ -221,23 +191,14 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             let span = stop - self.cur.t;
             let steps = ((span / dt) * (1.0 - 1e-12)).ceil().max(1.0);
             if steps > budget as f64 {
-                return Err(OdeError::TooManySteps {
-                    t: self.cur.t,
-                    max_steps: self.settings.max_steps,
-                });
+                return Err(OdeError::TooManySteps { t: self.cur.t, max_steps: self.settings.max_steps });
             }
             let steps = steps as usize;
             budget -= steps;
             let (start, h) = (self.cur.t, span / steps as f64);
             for k in 1..=steps {
-                self.next.renew(if k == steps {
-                    stop
-                } else {
-                    start + k as f64 * h
-                });
-                let est =
-                    self.stepper
-                        .step(sys, &mut self.cur, h, &mut self.next, &mut self.ctx)?;
+                self.next.renew(if k == steps { stop } else { start + k as f64 * h });
+                let est = self.stepper.step(sys, &mut self.cur, h, &mut self.next, &mut self.ctx)?;
                 self.check_next(h)?;
                 self.accept(h, est.local);
                 std::mem::swap(&mut self.cur, &mut self.next);
@@ -271,16 +232,9 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         while self.cur.t < t_end {
             attempts += 1;
             if attempts > self.settings.max_steps {
-                return Err(OdeError::TooManySteps {
-                    t: self.cur.t,
-                    max_steps: self.settings.max_steps,
-                });
+                return Err(OdeError::TooManySteps { t: self.cur.t, max_steps: self.settings.max_steps });
             }
-            let stop = if dense || si >= saves.len() {
-                t_end
-            } else {
-                saves[si]
-            };
+            let stop = if dense || si >= saves.len() { t_end } else { saves[si] };
             let wanted = match self.stepper.own_step(sys, &mut self.cur, &mut self.ctx)? {
                 Some(h) => h,
                 None => self.h.expect("set above"),
@@ -288,16 +242,9 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             .min(self.settings.max_step);
             let hits = self.cur.t + 1.01 * wanted >= stop;
             let h = if hits { stop - self.cur.t } else { wanted };
-            let floor = self
-                .settings
-                .min_step
-                .max(16.0 * f64::EPSILON * self.cur.t.abs());
+            let floor = self.settings.min_step.max(16.0 * f64::EPSILON * self.cur.t.abs());
             if h < floor && !hits {
-                return Err(OdeError::StepTooSmall {
-                    t: self.cur.t,
-                    h,
-                    min_step: floor,
-                });
+                return Err(OdeError::StepTooSmall { t: self.cur.t, h, min_step: floor });
             }
             let first = self.ctx.report.steps == 0;
             self.next.renew(if hits { stop } else { self.cur.t + h });
@@ -311,11 +258,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                     self.retry_smaller(
                         h,
                         floor,
-                        OdeError::NonFinite {
-                            t: self.cur.t,
-                            what: "error estimate",
-                            index: 0,
-                        },
+                        OdeError::NonFinite { t: self.cur.t, what: "error estimate", index: 0 },
                     )?;
                     continue;
                 }
@@ -335,16 +278,13 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                         on_save(s, &self.next.y);
                     } else {
                         let theta = (s - self.cur.t) / h;
-                        self.stepper
-                            .dense(&self.cur, &self.next, theta, &mut self.dense_buf);
+                        self.stepper.dense(&self.cur, &self.next, theta, &mut self.dense_buf);
                         on_save(s, &self.dense_buf);
                     }
                     si += 1;
                 }
                 std::mem::swap(&mut self.cur, &mut self.next);
-                let proposal =
-                    self.controller
-                        .accepted(est.scaled, est.safety, h, self.last_rejected);
+                let proposal = self.controller.accepted(est.scaled, est.safety, h, self.last_rejected);
                 let proposal = self.stepper.prefer_step(h, proposal);
                 self.h = Some(if hits { proposal.max(wanted) } else { proposal });
                 self.last_rejected = false;
@@ -393,11 +333,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             dnf += (f / sk).powi(2);
             dny += (y / sk).powi(2);
         }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-            1e-6
-        } else {
-            (dny / dnf).sqrt() * 0.01
-        };
+        let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
         h = h.min(self.settings.max_step);
         let y1: Vec<f64> = p.y.iter().zip(&p.f).map(|(y, f)| y + h * f).collect();
         let mut f1 = vec![0.0; y1.len()];
@@ -409,11 +345,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         }
         let der2 = der2.sqrt() / h;
         let der12 = der2.max(dnf.sqrt());
-        let h1 = if !(der12 > 1e-15) {
-            (h * 1e-3).max(1e-6)
-        } else {
-            (0.01 / der12).powf(1.0 / order)
-        };
+        let h1 = if !(der12 > 1e-15) { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(1.0 / order) };
         Ok((100.0 * h).min(h1).min(self.settings.max_step))
     }
 }

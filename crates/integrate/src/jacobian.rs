@@ -12,10 +12,7 @@ pub(crate) enum Values {
     /// Column-major n x n.
     Dense { analytic: bool, values: Vec<f64> },
     /// Values in the order of the system's pattern (repeated entries are summed by the factorizations).
-    Sparse {
-        pattern: Vec<(usize, usize)>,
-        values: Vec<f64>,
-    },
+    Sparse { pattern: Vec<(usize, usize)>, values: Vec<f64> },
 }
 
 pub(crate) struct Jacobian {
@@ -33,14 +30,8 @@ impl Jacobian {
     pub fn new<S: OdeSystem + ?Sized>(sys: &S) -> Result<Self, OdeError> {
         let n = sys.dim();
         let values = match sys.jacobian_structure() {
-            JacobianStructure::FiniteDifference => Values::Dense {
-                analytic: false,
-                values: vec![0.0; n * n],
-            },
-            JacobianStructure::Dense => Values::Dense {
-                analytic: true,
-                values: vec![0.0; n * n],
-            },
+            JacobianStructure::FiniteDifference => Values::Dense { analytic: false, values: vec![0.0; n * n] },
+            JacobianStructure::Dense => Values::Dense { analytic: true, values: vec![0.0; n * n] },
             JacobianStructure::Sparse(pattern) => {
                 if let Some(&(i, j)) = pattern.iter().find(|&&(i, j)| i >= n || j >= n) {
                     return Err(OdeError::invalid(
@@ -52,14 +43,7 @@ impl Jacobian {
                 Values::Sparse { pattern, values }
             }
         };
-        Ok(Jacobian {
-            n,
-            values,
-            point: None,
-            version: 0,
-            work_y: vec![0.0; n],
-            work_f: vec![0.0; n],
-        })
+        Ok(Jacobian { n, values, point: None, version: 0, work_y: vec![0.0; n], work_f: vec![0.0; n] })
     }
 
     /// Whether the values were evaluated at this point.
@@ -91,24 +75,14 @@ impl Jacobian {
             return Ok(());
         }
         let t = p.t;
-        let sys_err = |e: SystemError| OdeError::System {
-            t,
-            message: e.message,
-        };
+        let sys_err = |e: SystemError| OdeError::System { t, message: e.message };
         let n = self.n;
         match &mut self.values {
-            Values::Dense {
-                analytic: true,
-                values,
-            } => {
+            Values::Dense { analytic: true, values } => {
                 values.fill(0.0);
-                sys.dense_jacobian(t, &p.y, MatMut::from_column_major_slice_mut(values, n, n))
-                    .map_err(sys_err)?;
+                sys.dense_jacobian(t, &p.y, MatMut::from_column_major_slice_mut(values, n, n)).map_err(sys_err)?;
             }
-            Values::Dense {
-                analytic: false,
-                values,
-            } => {
+            Values::Dense { analytic: false, values } => {
                 p.ensure_f(sys, report)?;
                 self.work_y.copy_from_slice(&p.y);
                 for j in 0..n {
@@ -129,11 +103,7 @@ impl Jacobian {
         }
         let (Values::Dense { values, .. } | Values::Sparse { values, .. }) = &self.values;
         if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(OdeError::NonFinite {
-                t,
-                what: "Jacobian entry",
-                index: i,
-            });
+            return Err(OdeError::NonFinite { t, what: "Jacobian entry", index: i });
         }
         report.jacobians += 1;
         self.point = Some(p.id);

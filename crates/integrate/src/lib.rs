@@ -17,11 +17,7 @@
 
 // Negated comparisons (`!(x > 0.0)`) are how the checks here also reject NaN; published reference values keep
 // the digits they were published with; the numerical kernels index several arrays in one loop.
-#![allow(
-    clippy::neg_cmp_op_on_partial_ord,
-    clippy::excessive_precision,
-    clippy::needless_range_loop
-)]
+#![allow(clippy::neg_cmp_op_on_partial_ord, clippy::excessive_precision, clippy::needless_range_loop)]
 
 mod controller;
 mod error;

@@ -75,10 +75,7 @@ impl Method {
     /// Order of accuracy of the solution.
     pub fn order(self) -> u32 {
         match self {
-            Method::Euler
-            | Method::EulerVariable
-            | Method::ImplicitEuler
-            | Method::SymplecticEuler => 1,
+            Method::Euler | Method::EulerVariable | Method::ImplicitEuler | Method::SymplecticEuler => 1,
             Method::Midpoint | Method::Verlet => 2,
             Method::Rk4 | Method::Ab4 | Method::Am4 | Method::Rodas4 => 4,
             Method::Dopri5 | Method::Radau5 => 5,
@@ -93,10 +90,7 @@ impl Method {
 
     /// Methods that solve linear systems with the Jacobian.
     pub fn uses_jacobian(self) -> bool {
-        matches!(
-            self,
-            Method::ImplicitEuler | Method::Rodas4 | Method::Radau5
-        )
+        matches!(self, Method::ImplicitEuler | Method::Rodas4 | Method::Radau5)
     }
 
     /// Methods that need the system's (q, p) split.
@@ -106,18 +100,12 @@ impl Method {
 
     /// Methods with their own error estimate, usable with `Control::Tolerances`.
     pub fn has_error_estimate(self) -> bool {
-        matches!(
-            self,
-            Method::Dopri5 | Method::Rodas4 | Method::Am4 | Method::Radau5 | Method::Dop853
-        )
+        matches!(self, Method::Dopri5 | Method::Rodas4 | Method::Am4 | Method::Radau5 | Method::Dop853)
     }
 
     /// Methods meant for stiff problems (A- or L-stable).
     pub fn is_stiff(self) -> bool {
-        matches!(
-            self,
-            Method::ImplicitEuler | Method::Rodas4 | Method::Radau5
-        )
+        matches!(self, Method::ImplicitEuler | Method::Rodas4 | Method::Radau5)
     }
 }
 
@@ -131,16 +119,9 @@ impl FromStr for Method {
     type Err = OdeError;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Method::ALL
-            .iter()
-            .copied()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
-                OdeError::invalid(
-                    "integrator",
-                    format!("unknown method {s:?}; expected one of {}", names.join(", ")),
-                )
-            })
+        Method::ALL.iter().copied().find(|m| m.name() == s).ok_or_else(|| {
+            let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+            OdeError::invalid("integrator", format!("unknown method {s:?}; expected one of {}", names.join(", ")))
+        })
     }
 }

@@ -25,13 +25,7 @@ pub(crate) struct Point {
 impl Point {
     pub fn new(t: f64, y: &[f64]) -> Self {
         let slot = NEXT_SLOT.fetch_add(1, Ordering::Relaxed);
-        Point {
-            t,
-            y: y.to_vec(),
-            f: vec![0.0; y.len()],
-            has_f: false,
-            id: slot << 40,
-        }
+        Point { t, y: y.to_vec(), f: vec![0.0; y.len()], has_f: false, id: slot << 40 }
     }
 
     /// Marks the point as rewritten at time `t` (its y is about to be, or has just been, written).
@@ -43,19 +37,11 @@ impl Point {
     }
 
     /// Evaluates f(t, y) once and checks it is finite.
-    pub fn ensure_f<S: OdeSystem + ?Sized>(
-        &mut self,
-        sys: &mut S,
-        report: &mut Report,
-    ) -> Result<(), OdeError> {
+    pub fn ensure_f<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, report: &mut Report) -> Result<(), OdeError> {
         if !self.has_f {
             eval(sys, self.t, &self.y, &mut self.f, report)?;
             if let Some(i) = self.f.iter().position(|v| !v.is_finite()) {
-                return Err(OdeError::NonFinite {
-                    t: self.t,
-                    what: "derivative",
-                    index: i,
-                });
+                return Err(OdeError::NonFinite { t: self.t, what: "derivative", index: i });
             }
             self.has_f = true;
         }
@@ -73,10 +59,7 @@ pub(crate) fn eval<S: OdeSystem + ?Sized>(
     report: &mut Report,
 ) -> Result<(), OdeError> {
     report.rhs_evals += 1;
-    sys.rhs(t, y, dy).map_err(|e| OdeError::System {
-        t,
-        message: e.message,
-    })
+    sys.rhs(t, y, dy).map_err(|e| OdeError::System { t, message: e.message })
 }
 
 /// Weighted RMS norm of `e` with weights `atol + rtol max(|y0|, |y1|)` (Hairer's error norm).

@@ -69,11 +69,7 @@ impl Report {
 impl fmt::Display for Report {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "method           {}", self.method)?;
-        writeln!(
-            f,
-            "steps            {} accepted, {} rejected",
-            self.steps, self.rejected
-        )?;
+        writeln!(f, "steps            {} accepted, {} rejected", self.steps, self.rejected)?;
         writeln!(f, "rhs evaluations  {}", self.rhs_evals)?;
         writeln!(
             f,
@@ -81,11 +77,7 @@ impl fmt::Display for Report {
             self.jacobians, self.factorizations, self.linear_solves, self.newton_iterations
         )?;
         if self.steps > 0 {
-            writeln!(
-                f,
-                "step size        {:.3e} .. {:.3e}",
-                self.min_step, self.max_step
-            )?;
+            writeln!(f, "step size        {:.3e} .. {:.3e}", self.min_step, self.max_step)?;
         }
         writeln!(f, "wall time        {:.6} s", self.wall_seconds)?;
         match self.error_estimate {

@@ -10,13 +10,7 @@ pub trait SecondOrderSystem {
     fn dof(&self) -> usize;
 
     /// Writes the acceleration a(t, x, v) into `a`.
-    fn acceleration(
-        &mut self,
-        t: f64,
-        x: &[f64],
-        v: &[f64],
-        a: &mut [f64],
-    ) -> Result<(), SystemError>;
+    fn acceleration(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) -> Result<(), SystemError>;
 
     /// Whether the acceleration depends on v (damping, gyroscopic terms). Default: true, the safe answer.
     fn depends_on_velocity(&self) -> bool {
@@ -51,10 +45,7 @@ impl<S: SecondOrderSystem> OdeSystem for FirstOrder<S> {
     }
 
     fn split(&self) -> Option<Split> {
-        Some(Split {
-            positions: self.0.dof(),
-            force_depends_on_velocity: self.0.depends_on_velocity(),
-        })
+        Some(Split { positions: self.0.dof(), force_depends_on_velocity: self.0.depends_on_velocity() })
     }
 
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {

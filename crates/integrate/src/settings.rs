@@ -147,18 +147,10 @@ impl Settings {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(OdeError::invalid(
-                    name,
-                    format!("must be finite and > 0, got {v}"),
-                ))
+                Err(OdeError::invalid(name, format!("must be finite and > 0, got {v}")))
             }
         };
-        let unsupported = |reason: &str| {
-            Err(OdeError::Unsupported {
-                method: m.name(),
-                reason: reason.into(),
-            })
-        };
+        let unsupported = |reason: &str| Err(OdeError::Unsupported { method: m.name(), reason: reason.into() });
         match self.control {
             Control::Fixed { dt } => {
                 positive("dt", dt)?;
@@ -169,22 +161,14 @@ impl Settings {
             Control::Tolerances { rtol, atol } => {
                 for (name, v) in [("rtol", rtol), ("atol", atol)] {
                     if !(v.is_finite() && v >= 0.0) {
-                        return Err(OdeError::invalid(
-                            name,
-                            format!("must be finite and >= 0, got {v}"),
-                        ));
+                        return Err(OdeError::invalid(name, format!("must be finite and >= 0, got {v}")));
                     }
                 }
                 if rtol < 1e-15 && atol == 0.0 {
-                    return Err(OdeError::invalid(
-                        "rtol",
-                        "rtol < 1e-15 with atol = 0 cannot be met in f64",
-                    ));
+                    return Err(OdeError::invalid("rtol", "rtol < 1e-15 with atol = 0 cannot be met in f64"));
                 }
                 if !m.has_error_estimate() {
-                    return unsupported(
-                        "it has no error estimate; use a fixed step or step doubling",
-                    );
+                    return unsupported("it has no error estimate; use a fixed step or step doubling");
                 }
             }
             Control::StepDoubling { tolerance, dt } => {
@@ -214,16 +198,10 @@ impl Settings {
             return Err(OdeError::invalid("max_steps", "must be >= 1"));
         }
         if !(self.min_step.is_finite() && self.min_step >= 0.0) {
-            return Err(OdeError::invalid(
-                "min_step",
-                format!("must be finite and >= 0, got {}", self.min_step),
-            ));
+            return Err(OdeError::invalid("min_step", format!("must be finite and >= 0, got {}", self.min_step)));
         }
         if !(self.max_step > 0.0) || self.max_step < self.min_step {
-            return Err(OdeError::invalid(
-                "max_step",
-                format!("must be > 0 and >= min_step, got {}", self.max_step),
-            ));
+            return Err(OdeError::invalid("max_step", format!("must be > 0 and >= min_step, got {}", self.max_step)));
         }
         if let Some(h0) = self.initial_step {
             positive("initial_step", h0)?;
@@ -233,16 +211,9 @@ impl Settings {
         }
         if m.needs_split() {
             match system.split() {
-                None => {
-                    return unsupported(
-                        "it needs a (q, p) split: implement OdeSystem::split or use FirstOrder",
-                    )
-                }
+                None => return unsupported("it needs a (q, p) split: implement OdeSystem::split or use FirstOrder"),
                 Some(s) if s.positions > system.dim() => {
-                    return Err(OdeError::invalid(
-                        "split",
-                        "more positions than the state has",
-                    ));
+                    return Err(OdeError::invalid("split", "more positions than the state has"));
                 }
                 Some(_) => {}
             }

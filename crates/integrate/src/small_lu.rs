@@ -5,6 +5,24 @@
 /// Largest dimension factored here; larger dense matrices go to faer.
 pub(crate) const SMALL: usize = 16;
 
+/// Calls `$kernel::<$arith>(args.., n)` with n as a literal for n = 1..=8, so that each small size gets its own
+/// fully unrolled copy, and with the run-time n otherwise.
+macro_rules! unrolled {
+    ($kernel:ident::<$arith:ty>($($arg:expr),*; $n:expr)) => {
+        match $n {
+            1 => $kernel::<$arith>($($arg,)* 1),
+            2 => $kernel::<$arith>($($arg,)* 2),
+            3 => $kernel::<$arith>($($arg,)* 3),
+            4 => $kernel::<$arith>($($arg,)* 4),
+            5 => $kernel::<$arith>($($arg,)* 5),
+            6 => $kernel::<$arith>($($arg,)* 6),
+            7 => $kernel::<$arith>($($arg,)* 7),
+            8 => $kernel::<$arith>($($arg,)* 8),
+            n => $kernel::<$arith>($($arg,)* n),
+        }
+    };
+}
+
 /// How `c - a b` is computed: separately rounded, or fused (one instruction on CPUs with FMA).
 trait Arith {
     fn mul_sub(a: f64, b: f64, c: f64) -> f64;
@@ -73,17 +91,7 @@ dispatch! {
 fn factor_any<A: Arith>(a: &mut [f64], piv: &mut [usize], inv_diag: &mut [f64], n: usize) -> bool {
     // A constant n lets the compiler unroll the loops completely (tiny loops are otherwise dominated by the
     // bookkeeping of vectorised loops and their remainders).
-    match n {
-        1 => factor_n::<A>(a, piv, inv_diag, 1),
-        2 => factor_n::<A>(a, piv, inv_diag, 2),
-        3 => factor_n::<A>(a, piv, inv_diag, 3),
-        4 => factor_n::<A>(a, piv, inv_diag, 4),
-        5 => factor_n::<A>(a, piv, inv_diag, 5),
-        6 => factor_n::<A>(a, piv, inv_diag, 6),
-        7 => factor_n::<A>(a, piv, inv_diag, 7),
-        8 => factor_n::<A>(a, piv, inv_diag, 8),
-        _ => factor_n::<A>(a, piv, inv_diag, n),
-    }
+    unrolled!(factor_n::<A>(a, piv, inv_diag; n))
 }
 
 #[inline(always)]
@@ -132,17 +140,7 @@ dispatch! {
 
 #[inline(always)]
 fn solve_any<A: Arith>(a: &[f64], piv: &[usize], inv_diag: &[f64], b: &mut [f64], n: usize) {
-    match n {
-        1 => solve_n::<A>(a, piv, inv_diag, b, 1),
-        2 => solve_n::<A>(a, piv, inv_diag, b, 2),
-        3 => solve_n::<A>(a, piv, inv_diag, b, 3),
-        4 => solve_n::<A>(a, piv, inv_diag, b, 4),
-        5 => solve_n::<A>(a, piv, inv_diag, b, 5),
-        6 => solve_n::<A>(a, piv, inv_diag, b, 6),
-        7 => solve_n::<A>(a, piv, inv_diag, b, 7),
-        8 => solve_n::<A>(a, piv, inv_diag, b, 8),
-        _ => solve_n::<A>(a, piv, inv_diag, b, n),
-    }
+    unrolled!(solve_n::<A>(a, piv, inv_diag, b; n))
 }
 
 #[inline(always)]
@@ -183,17 +181,7 @@ fn factor_complex_any<A: Arith>(
     inv_im: &mut [f64],
     n: usize,
 ) -> bool {
-    match n {
-        1 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 1),
-        2 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 2),
-        3 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 3),
-        4 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 4),
-        5 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 5),
-        6 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 6),
-        7 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 7),
-        8 => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, 8),
-        _ => factor_complex_n::<A>(re, im, piv, inv_re, inv_im, n),
-    }
+    unrolled!(factor_complex_n::<A>(re, im, piv, inv_re, inv_im; n))
 }
 
 #[inline(always)]
@@ -270,17 +258,7 @@ fn solve_complex_any<A: Arith>(
     bi: &mut [f64],
     n: usize,
 ) {
-    match n {
-        1 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 1),
-        2 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 2),
-        3 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 3),
-        4 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 4),
-        5 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 5),
-        6 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 6),
-        7 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 7),
-        8 => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, 8),
-        _ => solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi, n),
-    }
+    unrolled!(solve_complex_n::<A>(re, im, piv, inv_re, inv_im, br, bi; n))
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -311,10 +289,7 @@ fn solve_complex_n<A: Arith>(
     }
     for k in (0..n).rev() {
         let (xr, xi) = (br[k], bi[k]);
-        let (xr, xi) = (
-            xr * inv_re[k] - xi * inv_im[k],
-            xr * inv_im[k] + xi * inv_re[k],
-        );
+        let (xr, xi) = (xr * inv_re[k] - xi * inv_im[k], xr * inv_im[k] + xi * inv_re[k]);
         br[k] = xr;
         bi[k] = xi;
         for i in 0..k {
@@ -335,9 +310,7 @@ mod tests {
         let n = 7;
         let mut seed = 12345u64;
         let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
         };
         let a: Vec<f64> = (0..n * n).map(|_| rnd()).collect();
@@ -363,18 +336,14 @@ mod tests {
         let n = 6;
         let mut seed = 777u64;
         let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
         };
         let (ar, ai): (Vec<f64>, Vec<f64>) = (0..n * n).map(|_| (rnd(), rnd())).unzip();
         let (br, bi): (Vec<f64>, Vec<f64>) = (0..n).map(|_| (rnd(), rnd())).unzip();
         let (mut lr, mut li, mut piv) = (ar.clone(), ai.clone(), vec![0; n]);
         let (mut vr, mut vi) = (vec![0.0; n], vec![0.0; n]);
-        assert!(factor_complex(
-            &mut lr, &mut li, &mut piv, &mut vr, &mut vi, n
-        ));
+        assert!(factor_complex(&mut lr, &mut li, &mut piv, &mut vr, &mut vi, n));
         let (mut xr, mut xi) = (br.clone(), bi.clone());
         solve_complex(&lr, &li, &piv, &vr, &vi, &mut xr, &mut xi, n);
         for i in 0..n {
@@ -384,10 +353,7 @@ mod tests {
                 sr += a * xr[j] - b * xi[j];
                 si += a * xi[j] + b * xr[j];
             }
-            assert!(
-                (sr - br[i]).abs() < 1e-12 && (si - bi[i]).abs() < 1e-12,
-                "row {i}"
-            );
+            assert!((sr - br[i]).abs() < 1e-12 && (si - bi[i]).abs() < 1e-12, "row {i}");
         }
     }
 }

@@ -38,17 +38,11 @@ impl SaveAt {
             SaveAt::Times(v) => Ok(v.clone()),
             SaveAt::Every(dt) => {
                 if !(dt.is_finite() && *dt > 0.0) {
-                    return Err(OdeError::invalid(
-                        "save_at",
-                        format!("Every(dt) needs a finite dt > 0, got {dt}"),
-                    ));
+                    return Err(OdeError::invalid("save_at", format!("Every(dt) needs a finite dt > 0, got {dt}")));
                 }
                 let count = ((t_end - t0) / dt * (1.0 + 1e-12)).floor();
                 if count > 1e8 {
-                    return Err(OdeError::invalid(
-                        "save_at",
-                        format!("Every({dt}) asks for {count:e} outputs"),
-                    ));
+                    return Err(OdeError::invalid("save_at", format!("Every({dt}) asks for {count:e} outputs")));
                 }
                 let mut v: Vec<f64> = (0..=count as usize).map(|k| t0 + k as f64 * dt).collect();
                 match v.last_mut() {
@@ -72,10 +66,7 @@ pub fn solve<S: OdeSystem + ?Sized>(
     save_at: &SaveAt,
 ) -> Result<Solution, OdeError> {
     if !(t_end.is_finite() && t_end >= t0) {
-        return Err(OdeError::invalid(
-            "t_end",
-            format!("must be finite and >= t0 = {t0}, got {t_end}"),
-        ));
+        return Err(OdeError::invalid("t_end", format!("must be finite and >= t0 = {t0}, got {t_end}")));
     }
     let mut integrator = Integrator::new(sys, settings.clone(), t0, y0)?;
     let times = save_at.times(t0, t_end)?;

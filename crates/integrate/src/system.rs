@@ -45,28 +45,14 @@ pub trait OdeSystem {
     }
 
     /// Fills the dense Jacobian df/dy at (t, y); called only when the structure is [`JacobianStructure::Dense`].
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        _y: &[f64],
-        _jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
-        Err(SystemError::new(
-            "dense_jacobian is not implemented by this system",
-        ))
+    fn dense_jacobian(&mut self, _t: f64, _y: &[f64], _jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+        Err(SystemError::new("dense_jacobian is not implemented by this system"))
     }
 
     /// Writes the values of the sparse Jacobian at (t, y), in the order of the pattern given by
     /// [`JacobianStructure::Sparse`]; called only for that structure.
-    fn sparse_jacobian(
-        &mut self,
-        _t: f64,
-        _y: &[f64],
-        _values: &mut [f64],
-    ) -> Result<(), SystemError> {
-        Err(SystemError::new(
-            "sparse_jacobian is not implemented by this system",
-        ))
+    fn sparse_jacobian(&mut self, _t: f64, _y: &[f64], _values: &mut [f64]) -> Result<(), SystemError> {
+        Err(SystemError::new("sparse_jacobian is not implemented by this system"))
     }
 
     /// True when f does not depend on t explicitly.
@@ -81,98 +67,51 @@ pub trait OdeSystem {
 
     /// Writes dq/dt (length `split().positions`); called only when [`split`](OdeSystem::split) is `Some`.
     fn position_rate(&mut self, _t: f64, _y: &[f64], _dq: &mut [f64]) -> Result<(), SystemError> {
-        Err(SystemError::new(
-            "position_rate is not implemented by this system",
-        ))
+        Err(SystemError::new("position_rate is not implemented by this system"))
     }
 
     /// Writes dp/dt (length `dim() - split().positions`); called only when [`split`](OdeSystem::split) is `Some`.
     fn velocity_rate(&mut self, _t: f64, _y: &[f64], _dp: &mut [f64]) -> Result<(), SystemError> {
-        Err(SystemError::new(
-            "velocity_rate is not implemented by this system",
-        ))
+        Err(SystemError::new("velocity_rate is not implemented by this system"))
     }
 }
 
-impl<S: OdeSystem + ?Sized> OdeSystem for &mut S {
-    fn dim(&self) -> usize {
-        (**self).dim()
-    }
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
-        (**self).rhs(t, y, dy)
-    }
-    fn jacobian_structure(&self) -> JacobianStructure {
-        (**self).jacobian_structure()
-    }
-    fn dense_jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
-        (**self).dense_jacobian(t, y, jac)
-    }
-    fn sparse_jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        values: &mut [f64],
-    ) -> Result<(), SystemError> {
-        (**self).sparse_jacobian(t, y, values)
-    }
-    fn is_autonomous(&self) -> bool {
-        (**self).is_autonomous()
-    }
-    fn split(&self) -> Option<Split> {
-        (**self).split()
-    }
-    fn position_rate(&mut self, t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
-        (**self).position_rate(t, y, dq)
-    }
-    fn velocity_rate(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
-        (**self).velocity_rate(t, y, dp)
-    }
+/// Forwards every method of [`OdeSystem`] through a pointer type (`&mut S`, `Box<S>`).
+macro_rules! forward_ode_system {
+    ($($pointer:ty),*) => {$(
+        impl<S: OdeSystem + ?Sized> OdeSystem for $pointer {
+            fn dim(&self) -> usize {
+                (**self).dim()
+            }
+            fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
+                (**self).rhs(t, y, dy)
+            }
+            fn jacobian_structure(&self) -> JacobianStructure {
+                (**self).jacobian_structure()
+            }
+            fn dense_jacobian(&mut self, t: f64, y: &[f64], jac: MatMut<'_, f64>) -> Result<(), SystemError> {
+                (**self).dense_jacobian(t, y, jac)
+            }
+            fn sparse_jacobian(&mut self, t: f64, y: &[f64], values: &mut [f64]) -> Result<(), SystemError> {
+                (**self).sparse_jacobian(t, y, values)
+            }
+            fn is_autonomous(&self) -> bool {
+                (**self).is_autonomous()
+            }
+            fn split(&self) -> Option<Split> {
+                (**self).split()
+            }
+            fn position_rate(&mut self, t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
+                (**self).position_rate(t, y, dq)
+            }
+            fn velocity_rate(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
+                (**self).velocity_rate(t, y, dp)
+            }
+        }
+    )*};
 }
 
-impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
-    fn dim(&self) -> usize {
-        (**self).dim()
-    }
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
-        (**self).rhs(t, y, dy)
-    }
-    fn jacobian_structure(&self) -> JacobianStructure {
-        (**self).jacobian_structure()
-    }
-    fn dense_jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
-        (**self).dense_jacobian(t, y, jac)
-    }
-    fn sparse_jacobian(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        values: &mut [f64],
-    ) -> Result<(), SystemError> {
-        (**self).sparse_jacobian(t, y, values)
-    }
-    fn is_autonomous(&self) -> bool {
-        (**self).is_autonomous()
-    }
-    fn split(&self) -> Option<Split> {
-        (**self).split()
-    }
-    fn position_rate(&mut self, t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
-        (**self).position_rate(t, y, dq)
-    }
-    fn velocity_rate(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
-        (**self).velocity_rate(t, y, dp)
-    }
-}
+forward_ode_system!(&mut S, Box<S>);
 
 /// A system from a closure: `FnSystem::new(dim, |t, y, dy| { ... })`. Its Jacobian comes from finite differences.
 pub struct FnSystem<F> {
@@ -184,11 +123,7 @@ pub struct FnSystem<F> {
 impl<F: FnMut(f64, &[f64], &mut [f64])> FnSystem<F> {
     /// A non-autonomous system of dimension `dim` with right-hand side `f`.
     pub fn new(dim: usize, f: F) -> Self {
-        Self {
-            dim,
-            f,
-            autonomous: false,
-        }
+        Self { dim, f, autonomous: false }
     }
 
     /// Declares that `f` ignores its time argument.

@@ -61,14 +61,7 @@ impl Run {
     pub fn csv_row(&self) -> String {
         format!(
             "{},{},{:e},{:e},{:e},{},{},{}",
-            self.problem,
-            self.method,
-            self.param,
-            self.error,
-            self.seconds,
-            self.rhs_evals,
-            self.steps,
-            self.rejected
+            self.problem, self.method, self.param, self.error, self.seconds, self.rhs_evals, self.steps, self.rejected
         )
     }
 
@@ -87,11 +80,7 @@ impl Run {
             seconds: f[4].parse().ok()?,
             rhs_evals: f[5].parse().ok()?,
             steps: f[6].parse().ok()?,
-            rejected: if f[7].is_empty() {
-                0
-            } else {
-                f[7].parse().ok()?
-            },
+            rejected: if f[7].is_empty() { 0 } else { f[7].parse().ok()? },
         })
     }
 }
@@ -126,11 +115,7 @@ pub fn curves(problem: &Problem) -> Vec<Curve> {
         doubling: true,
         sweep: Sweep::Tolerances(tolerances(from, to)),
     };
-    let mut v = vec![
-        tol(Method::Rodas4, 3, 11),
-        tol(Method::Radau5, 3, 12),
-        fixed(Method::ImplicitEuler, 6, 18),
-    ];
+    let mut v = vec![tol(Method::Rodas4, 3, 11), tol(Method::Radau5, 3, 12), fixed(Method::ImplicitEuler, 6, 18)];
     if problem.kind == ProblemKind::Stiff {
         v.push(doubled(Method::ImplicitEuler, 2, 8));
         return v;
@@ -146,15 +131,8 @@ pub fn curves(problem: &Problem) -> Vec<Curve> {
         fixed(Method::Ab4, 6, 16),
         fixed(Method::Am4, 6, 16),
     ]);
-    if problem
-        .system()
-        .split()
-        .is_some_and(|s| !s.force_depends_on_velocity)
-    {
-        v.extend([
-            fixed(Method::SymplecticEuler, 8, 20),
-            fixed(Method::Verlet, 7, 18),
-        ]);
+    if problem.system().split().is_some_and(|s| !s.force_depends_on_velocity) {
+        v.extend([fixed(Method::SymplecticEuler, 8, 20), fixed(Method::Verlet, 7, 18)]);
     }
     v
 }
@@ -165,9 +143,7 @@ pub fn settings(problem: &Problem, curve: &Curve, param: f64) -> Settings {
     match (&curve.sweep, curve.doubling, curve.method) {
         (Sweep::Tolerances(_), true, m) => Settings::step_doubling(m, param, h(100.0)),
         (Sweep::Tolerances(_), false, Method::EulerVariable) => Settings::euler_variable(param),
-        (Sweep::Tolerances(_), false, m) => {
-            Settings::tolerances(m, param, param * problem.atol_scale)
-        }
+        (Sweep::Tolerances(_), false, m) => Settings::tolerances(m, param, param * problem.atol_scale),
         (Sweep::Steps(_), _, m) => Settings::fixed(m, param),
     }
     .max_steps(5_000_000)
@@ -180,19 +156,10 @@ pub fn reference(problem: &Problem) -> Result<Vec<f64>, OdeError> {
         return Ok(r.clone());
     }
     let settings = match problem.kind {
-        ProblemKind::Stiff => {
-            Settings::tolerances(Method::Rodas4, 1e-13, 1e-13 * problem.atol_scale)
-        }
+        ProblemKind::Stiff => Settings::tolerances(Method::Rodas4, 1e-13, 1e-13 * problem.atol_scale),
         _ => Settings::tolerances(Method::Dopri5, 1e-14, 1e-14 * problem.atol_scale),
     };
-    let sol = solve(
-        &mut problem.system(),
-        &settings,
-        problem.t0,
-        &problem.y0,
-        problem.t_end,
-        &SaveAt::End,
-    )?;
+    let sol = solve(&mut problem.system(), &settings, problem.t0, &problem.y0, problem.t_end, &SaveAt::End)?;
     Ok(sol.final_state.as_slice().to_vec())
 }
 
@@ -209,14 +176,7 @@ pub fn measure(
     let run_once = || {
         let mut sys = problem.system();
         let start = Instant::now();
-        let sol = solve(
-            &mut sys,
-            settings,
-            problem.t0,
-            &problem.y0,
-            problem.t_end,
-            &SaveAt::End,
-        )?;
+        let sol = solve(&mut sys, settings, problem.t0, &problem.y0, problem.t_end, &SaveAt::End)?;
         Ok::<_, OdeError>((start.elapsed().as_secs_f64(), sol))
     };
     let (first, sol) = run_once()?;
@@ -250,10 +210,7 @@ pub fn sweep_problem(
     for curve in curves(problem) {
         let params: Vec<f64> = match &curve.sweep {
             Sweep::Tolerances(t) => t.clone(),
-            Sweep::Steps(n) => n
-                .iter()
-                .map(|&n| (problem.t_end - problem.t0) / n as f64)
-                .collect(),
+            Sweep::Steps(n) => n.iter().map(|&n| (problem.t_end - problem.t0) / n as f64).collect(),
         };
         for param in params {
             let s = settings(problem, &curve, param);
@@ -281,10 +238,7 @@ pub fn best_time_at(runs: &[Run], error: f64) -> Option<(f64, String)> {
         }
     };
     for label in labels {
-        let curve: Vec<&Run> = runs
-            .iter()
-            .filter(|r| r.method == label && r.error > 0.0)
-            .collect();
+        let curve: Vec<&Run> = runs.iter().filter(|r| r.method == label && r.error > 0.0).collect();
         for r in curve.iter().filter(|r| r.error <= error) {
             offer(r.seconds, label);
         }
@@ -292,10 +246,7 @@ pub fn best_time_at(runs: &[Run], error: f64) -> Option<(f64, String)> {
             let (a, b) = (w[0], w[1]);
             if (a.error - error) * (b.error - error) < 0.0 {
                 let s = (error.ln() - a.error.ln()) / (b.error.ln() - a.error.ln());
-                offer(
-                    (a.seconds.ln() + s * (b.seconds.ln() - a.seconds.ln())).exp(),
-                    label,
-                );
+                offer((a.seconds.ln() + s * (b.seconds.ln() - a.seconds.ln())).exp(), label);
             }
         }
     }
@@ -322,20 +273,13 @@ mod tests {
     /// Interpolation in log-log between bracketing points; points below the target count at their own time.
     #[test]
     fn best_time_interpolates_and_takes_the_fastest() {
-        let runs = vec![
-            run("a", 1e-2, 1.0),
-            run("a", 1e-4, 100.0),
-            run("b", 1e-6, 5.0),
-        ];
+        let runs = vec![run("a", 1e-2, 1.0), run("a", 1e-4, 100.0), run("b", 1e-6, 5.0)];
         let (t, label) = best_time_at(&runs, 1e-3).unwrap();
         assert_eq!(label, "b");
         assert!((t - 5.0).abs() < 1e-12);
         let (t, label) = best_time_at(&runs[..2], 1e-3).unwrap();
         assert_eq!(label, "a");
-        assert!(
-            (t - 10.0).abs() < 1e-9,
-            "halfway in log error is halfway in log time: {t}"
-        );
+        assert!((t - 10.0).abs() < 1e-9, "halfway in log error is halfway in log time: {t}");
         assert!(best_time_at(&runs, 1e-7).is_none());
     }
 }

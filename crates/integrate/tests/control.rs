@@ -6,11 +6,7 @@ use common::final_state;
 use tumble_integrate::problems::DampedOscillator;
 use tumble_integrate::*;
 
-const OSC: DampedOscillator = DampedOscillator {
-    mass: 1.0,
-    damping: 0.3,
-    stiffness: 4.0,
-};
+const OSC: DampedOscillator = DampedOscillator { mass: 1.0, damping: 0.3, stiffness: 4.0 };
 
 fn osc_error(settings: &Settings) -> (f64, Report) {
     let (x, v) = OSC.exact(5.0, 1.0, 0.0);
@@ -27,10 +23,7 @@ fn step_doubling_around_every_one_step_method() {
     for method in Method::ALL.into_iter().filter(|m| m.is_one_step()) {
         let (loose, r1) = osc_error(&Settings::step_doubling(method, 1e-5, 0.1));
         let (tight, r2) = osc_error(&Settings::step_doubling(method, 1e-9, 0.1));
-        assert!(
-            tight * 10.0 < loose,
-            "{method}: error {loose:e} at 1e-5, {tight:e} at 1e-9"
-        );
+        assert!(tight * 10.0 < loose, "{method}: error {loose:e} at 1e-5, {tight:e} at 1e-9");
         assert!(r2.steps > r1.steps, "{method}");
         assert!(r1.error_estimate.is_some());
     }
@@ -43,10 +36,7 @@ fn step_doubling_error_tracks_tolerance() {
     let tol = 1e-8;
     let (err, report) = osc_error(&Settings::step_doubling(Method::Rk4, tol, 0.1));
     let bound = report.steps as f64 * tol;
-    assert!(
-        err < bound,
-        "global error {err:e} exceeds steps x e_max = {bound:e}"
-    );
+    assert!(err < bound, "global error {err:e} exceeds steps x e_max = {bound:e}");
     let estimate = report.error_estimate.unwrap();
     assert!(estimate > 0.0 && estimate < bound);
 }
@@ -77,11 +67,7 @@ fn explicit_methods_build_no_jacobian() {
         if method.uses_jacobian() {
             assert!(r.jacobians > 0 && r.factorizations > 0, "{method}: {r:?}");
         } else {
-            assert_eq!(
-                (r.jacobians, r.factorizations, r.linear_solves),
-                (0, 0, 0),
-                "{method}"
-            );
+            assert_eq!((r.jacobians, r.factorizations, r.linear_solves), (0, 0, 0), "{method}");
         }
     }
 }
@@ -141,21 +127,11 @@ impl OdeSystem for Chain {
     fn jacobian_structure(&self) -> JacobianStructure {
         self.jac.clone()
     }
-    fn sparse_jacobian(
-        &mut self,
-        _t: f64,
-        _y: &[f64],
-        values: &mut [f64],
-    ) -> Result<(), SystemError> {
+    fn sparse_jacobian(&mut self, _t: f64, _y: &[f64], values: &mut [f64]) -> Result<(), SystemError> {
         values.copy_from_slice(&self.values());
         Ok(())
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        _y: &[f64],
-        mut jac: faer::MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, _y: &[f64], mut jac: faer::MatMut<'_, f64>) -> Result<(), SystemError> {
         for (&(i, j), v) in Chain::pattern(self.n).iter().zip(self.values()) {
             jac[(i, j)] += v;
         }
@@ -175,68 +151,26 @@ impl OdeSystem for Chain {
 #[test]
 fn sparse_dense_and_finite_difference_jacobians_agree() {
     let n = 40;
-    let y0: Vec<f64> = (0..2 * n)
-        .map(|i| if i < n { (i as f64 * 0.3).sin() } else { 0.0 })
-        .collect();
-    for settings in [
-        Settings::fixed(Method::ImplicitEuler, 0.01),
-        Settings::tolerances(Method::Rodas4, 1e-8, 1e-10),
-    ] {
+    let y0: Vec<f64> = (0..2 * n).map(|i| if i < n { (i as f64 * 0.3).sin() } else { 0.0 }).collect();
+    for settings in [Settings::fixed(Method::ImplicitEuler, 0.01), Settings::tolerances(Method::Rodas4, 1e-8, 1e-10)] {
         let run = |jac: JacobianStructure| {
-            let mut chain = Chain {
-                n,
-                k: 1e4,
-                c: 0.5,
-                jac,
-            };
+            let mut chain = Chain { n, k: 1e4, c: 0.5, jac };
             final_state(&mut chain, &settings, &y0, 1.0).unwrap()
         };
         let sparse = run(JacobianStructure::Sparse(Chain::pattern(n)));
         let dense = run(JacobianStructure::Dense);
         let fd = run(JacobianStructure::FiniteDifference);
         let scale = dense.final_state.amax();
-        assert!(
-            (&sparse.final_state - &dense.final_state).amax() < 1e-12 * scale.max(1.0),
-            "{}",
-            settings.method
-        );
-        assert!(
-            (&fd.final_state - &dense.final_state).amax() < 1e-5 * scale.max(1.0),
-            "{}",
-            settings.method
-        );
-        assert!(
-            fd.report.rhs_evals > dense.report.rhs_evals + 2 * n,
-            "{}: FD costs evaluations",
-            settings.method
-        );
+        assert!((&sparse.final_state - &dense.final_state).amax() < 1e-12 * scale.max(1.0), "{}", settings.method);
+        assert!((&fd.final_state - &dense.final_state).amax() < 1e-5 * scale.max(1.0), "{}", settings.method);
+        assert!(fd.report.rhs_evals > dense.report.rhs_evals + 2 * n, "{}: FD costs evaluations", settings.method);
     }
 }
 
 /// A sparse pattern entry outside the matrix is refused when the integrator is built.
 #[test]
 fn sparse_pattern_out_of_range_is_refused() {
-    let mut chain = Chain {
-        n: 3,
-        k: 1.0,
-        c: 0.0,
-        jac: JacobianStructure::Sparse(vec![(0, 7)]),
-    };
-    let e = final_state(
-        &mut chain,
-        &Settings::fixed(Method::ImplicitEuler, 0.1),
-        &[0.0; 6],
-        1.0,
-    )
-    .unwrap_err();
-    assert!(
-        matches!(
-            e,
-            OdeError::InvalidArgument {
-                name: "jacobian pattern",
-                ..
-            }
-        ),
-        "{e:?}"
-    );
+    let mut chain = Chain { n: 3, k: 1.0, c: 0.0, jac: JacobianStructure::Sparse(vec![(0, 7)]) };
+    let e = final_state(&mut chain, &Settings::fixed(Method::ImplicitEuler, 0.1), &[0.0; 6], 1.0).unwrap_err();
+    assert!(matches!(e, OdeError::InvalidArgument { name: "jacobian pattern", .. }), "{e:?}");
 }

@@ -5,11 +5,7 @@ use common::{final_state, loglog_slope};
 use tumble_integrate::problems::DampedOscillator;
 use tumble_integrate::{solve, Method, SaveAt, Settings};
 
-const OSC: DampedOscillator = DampedOscillator {
-    mass: 1.0,
-    damping: 0.3,
-    stiffness: 4.0,
-};
+const OSC: DampedOscillator = DampedOscillator { mass: 1.0, damping: 0.3, stiffness: 4.0 };
 const T_END: f64 = 5.0;
 
 fn oscillator_error(settings: &Settings) -> f64 {
@@ -37,10 +33,7 @@ fn fixed_step_orders_match_theory() {
         (Method::Dop853, &[0.5, 0.4, 0.3, 0.2]),
     ];
     for (method, steps) in cases {
-        let errors: Vec<f64> = steps
-            .iter()
-            .map(|&h| oscillator_error(&Settings::fixed(method, h)))
-            .collect();
+        let errors: Vec<f64> = steps.iter().map(|&h| oscillator_error(&Settings::fixed(method, h))).collect();
         let slope = loglog_slope(steps, &errors);
         let order = method.order() as f64;
         assert!(
@@ -56,18 +49,10 @@ fn fixed_step_orders_match_theory() {
 fn implicit_euler_newton_matches_linearised_on_linear_problem() {
     let h = 0.01;
     let lin = oscillator_error(&Settings::fixed(Method::ImplicitEuler, h));
-    let newton =
-        Settings::fixed(Method::ImplicitEuler, h).newton(tumble_integrate::NewtonMode::Newton {
-            tol: 1e-10,
-            max_iter: 8,
-        });
-    let sol_lin = final_state(
-        &mut OSC.clone(),
-        &Settings::fixed(Method::ImplicitEuler, h),
-        &[1.0, 0.0],
-        T_END,
-    )
-    .unwrap();
+    let newton = Settings::fixed(Method::ImplicitEuler, h)
+        .newton(tumble_integrate::NewtonMode::Newton { tol: 1e-10, max_iter: 8 });
+    let sol_lin =
+        final_state(&mut OSC.clone(), &Settings::fixed(Method::ImplicitEuler, h), &[1.0, 0.0], T_END).unwrap();
     let sol_new = final_state(&mut OSC.clone(), &newton, &[1.0, 0.0], T_END).unwrap();
     assert!((sol_lin.final_state - sol_new.final_state).norm() < 1e-12);
     assert!(lin > 0.0);
@@ -79,15 +64,9 @@ fn implicit_euler_newton_matches_linearised_on_linear_problem() {
 #[test]
 fn euler_variable_error_falls_as_sqrt_of_tolerance() {
     let eps = [1e-5, 1e-6, 1e-7, 1e-8];
-    let errors: Vec<f64> = eps
-        .iter()
-        .map(|&e| oscillator_error(&Settings::euler_variable(e)))
-        .collect();
+    let errors: Vec<f64> = eps.iter().map(|&e| oscillator_error(&Settings::euler_variable(e))).collect();
     let slope = loglog_slope(&eps, &errors);
-    assert!(
-        (slope - 0.5).abs() < 0.1,
-        "slope {slope}, errors {errors:?}"
-    );
+    assert!((slope - 0.5).abs() < 0.1, "slope {slope}, errors {errors:?}");
 }
 
 /// Dense output: Dormand-Prince's interpolant is 4th order, Rodas4's and Radau5's (the collocation polynomial)
@@ -100,15 +79,7 @@ fn dense_output_matches_closed_form() {
     for method in [Method::Dopri5, Method::Rodas4, Method::Radau5] {
         let atol = 1e-9;
         let settings = Settings::tolerances(method, 1e-9, atol);
-        let sol = solve(
-            &mut OSC.clone(),
-            &settings,
-            0.0,
-            &[1.0, 0.0],
-            T_END,
-            &SaveAt::Times(times.clone()),
-        )
-        .unwrap();
+        let sol = solve(&mut OSC.clone(), &settings, 0.0, &[1.0, 0.0], T_END, &SaveAt::Times(times.clone())).unwrap();
         let stepped = solve(
             &mut OSC.clone(),
             &settings.clone().dense_output(false),
@@ -124,9 +95,7 @@ fn dense_output_matches_closed_form() {
         );
         for (k, &t) in times.iter().enumerate() {
             let (x, v) = OSC.exact(t, 1.0, 0.0);
-            let e = (sol.states[(0, k)] - x)
-                .abs()
-                .max((sol.states[(1, k)] - v).abs());
+            let e = (sol.states[(0, k)] - x).abs().max((sol.states[(1, k)] - v).abs());
             assert!(e < 100.0 * atol, "{method} at t = {t}: error {e:e}");
         }
     }
@@ -138,15 +107,7 @@ fn dense_output_matches_closed_form() {
 fn fixed_step_outputs_are_exact_step_stops() {
     let settings = Settings::fixed(Method::Rk4, 0.01);
     let times = vec![0.0, 0.37, 1.0, 2.5];
-    let sol = solve(
-        &mut OSC.clone(),
-        &settings,
-        0.0,
-        &[1.0, 0.0],
-        2.5,
-        &SaveAt::Times(times.clone()),
-    )
-    .unwrap();
+    let sol = solve(&mut OSC.clone(), &settings, 0.0, &[1.0, 0.0], 2.5, &SaveAt::Times(times.clone())).unwrap();
     for (k, &t) in times.iter().enumerate() {
         let (x, _) = OSC.exact(t, 1.0, 0.0);
         assert!((sol.states[(0, k)] - x).abs() < 1e-8, "t = {t}");

@@ -10,15 +10,7 @@ const SIX_DIGITS: f64 = 5e-7;
 fn run(name: &str, settings: &Settings) -> (f64, tumble_integrate::Report) {
     let p = problems::by_name(name).unwrap();
     let reference = p.reference.clone().unwrap();
-    let sol = solve(
-        &mut p.system(),
-        settings,
-        p.t0,
-        &p.y0,
-        p.t_end,
-        &SaveAt::End,
-    )
-    .unwrap();
+    let sol = solve(&mut p.system(), settings, p.t0, &p.y0, p.t_end, &SaveAt::End).unwrap();
     (p.error(sol.final_state.as_slice(), &reference), sol.report)
 }
 
@@ -27,21 +19,10 @@ fn run(name: &str, settings: &Settings) -> (f64, tumble_integrate::Report) {
 #[test]
 fn stiff_methods_reproduce_the_stiff_test_set() {
     for method in [Method::Rodas4, Method::Radau5] {
-        for (name, atol) in [
-            ("van-der-pol", 1e-10),
-            ("rober", 1e-18),
-            ("hires", 1e-10),
-            ("orego", 1e-10),
-        ] {
+        for (name, atol) in [("van-der-pol", 1e-10), ("rober", 1e-18), ("hires", 1e-10), ("orego", 1e-10)] {
             let (err, report) = run(name, &Settings::tolerances(method, 1e-8, atol));
-            assert!(
-                err < SIX_DIGITS,
-                "{method} on {name}: componentwise relative error {err:e}"
-            );
-            assert!(
-                report.jacobians > 0 && report.factorizations > 0,
-                "{name}: {report:?}"
-            );
+            assert!(err < SIX_DIGITS, "{method} on {name}: componentwise relative error {err:e}");
+            assert!(report.jacobians > 0 && report.factorizations > 0, "{name}: {report:?}");
         }
     }
 }
@@ -50,10 +31,7 @@ fn stiff_methods_reproduce_the_stiff_test_set() {
 /// takes steps (Rodas4 needs one per step).
 #[test]
 fn radau5_reuses_jacobians() {
-    let (_, radau) = run(
-        "van-der-pol",
-        &Settings::tolerances(Method::Radau5, 1e-8, 1e-10),
-    );
+    let (_, radau) = run("van-der-pol", &Settings::tolerances(Method::Radau5, 1e-8, 1e-10));
     assert!(radau.jacobians < radau.steps, "{radau:?}");
 }
 
@@ -64,10 +42,7 @@ fn dormand_prince_reproduces_the_nonstiff_references() {
     for method in [Method::Dopri5, Method::Dop853] {
         for name in ["arenstorf", "kepler", "stiff-spring"] {
             let (err, _) = run(name, &Settings::tolerances(method, 1e-11, 1e-11));
-            assert!(
-                err < SIX_DIGITS,
-                "{method} on {name}: relative error {err:e}"
-            );
+            assert!(err < SIX_DIGITS, "{method} on {name}: relative error {err:e}");
         }
     }
 }
@@ -78,9 +53,7 @@ fn dormand_prince_reproduces_the_nonstiff_references() {
 #[test]
 fn dopri5_lotka_volterra_invariant_and_agreement() {
     let p = problems::by_name("lotka-volterra").unwrap();
-    let lv = LotkaVolterra {
-        p: [1.5, 1.0, 3.0, 1.0],
-    };
+    let lv = LotkaVolterra { p: [1.5, 1.0, 3.0, 1.0] };
     let [a, b, c, d] = lv.p;
     let v = |u: &[f64]| d * u[0] - c * u[0].ln() + b * u[1] - a * u[1].ln();
     let sol = solve(
@@ -95,22 +68,9 @@ fn dopri5_lotka_volterra_invariant_and_agreement() {
     let v0 = v(&p.y0);
     for k in 0..sol.times.len() {
         let vk = v(sol.states.column(k).as_slice());
-        assert!(
-            ((vk - v0) / v0).abs() < 1e-8,
-            "t = {}: invariant drifted by {:e}",
-            sol.times[k],
-            (vk - v0) / v0
-        );
+        assert!(((vk - v0) / v0).abs() < 1e-8, "t = {}: invariant drifted by {:e}", sol.times[k], (vk - v0) / v0);
     }
-    let rk4 = solve(
-        &mut lv.clone(),
-        &Settings::fixed(Method::Rk4, 1e-4),
-        0.0,
-        &p.y0,
-        p.t_end,
-        &SaveAt::End,
-    )
-    .unwrap();
+    let rk4 = solve(&mut lv.clone(), &Settings::fixed(Method::Rk4, 1e-4), 0.0, &p.y0, p.t_end, &SaveAt::End).unwrap();
     let err = p.error(sol.final_state.as_slice(), rk4.final_state.as_slice());
     assert!(err < SIX_DIGITS, "dopri5 vs rk4: {err:e}");
 }

@@ -1,9 +1,7 @@
 //! The second-order form x'' = a(t, x, v) through the `FirstOrder` adapter: every method accepts it, and the
 //! symplectic ones use its (x, v) split.
 
-use tumble_integrate::{
-    solve, FirstOrder, Method, SaveAt, SecondOrderSystem, Settings, SystemError,
-};
+use tumble_integrate::{solve, FirstOrder, Method, SaveAt, SecondOrderSystem, Settings, SystemError};
 
 /// The pendulum x'' = -sin x: energy E = v^2/2 - cos x is conserved.
 struct Pendulum;
@@ -12,13 +10,7 @@ impl SecondOrderSystem for Pendulum {
     fn dof(&self) -> usize {
         1
     }
-    fn acceleration(
-        &mut self,
-        _t: f64,
-        x: &[f64],
-        _v: &[f64],
-        a: &mut [f64],
-    ) -> Result<(), SystemError> {
+    fn acceleration(&mut self, _t: f64, x: &[f64], _v: &[f64], a: &mut [f64]) -> Result<(), SystemError> {
         a[0] = -x[0].sin();
         Ok(())
     }
@@ -47,24 +39,10 @@ fn pendulum_energy_through_first_order_adapter() {
         (Settings::fixed(Method::Verlet, 0.01), 1e-4),
         (Settings::tolerances(Method::Radau5, 1e-10, 1e-10), 1e-7),
     ] {
-        let sol = solve(
-            &mut FirstOrder(Pendulum),
-            &settings,
-            0.0,
-            &y0,
-            100.0,
-            &SaveAt::Every(1.0),
-        )
-        .unwrap();
+        let sol = solve(&mut FirstOrder(Pendulum), &settings, 0.0, &y0, 100.0, &SaveAt::Every(1.0)).unwrap();
         for k in 0..sol.times.len() {
             let e = energy(sol.states.column(k).as_slice());
-            assert!(
-                (e - e0).abs() < tol,
-                "{} at t = {}: energy error {:e}",
-                settings.method,
-                sol.times[k],
-                e - e0
-            );
+            assert!((e - e0).abs() < tol, "{} at t = {}: energy error {:e}", settings.method, sol.times[k], e - e0);
         }
     }
 }
@@ -74,15 +52,7 @@ fn pendulum_energy_through_first_order_adapter() {
 #[test]
 fn first_order_adapter_is_the_chapter_reduction() {
     let settings = Settings::fixed(Method::Rk4, 0.01);
-    let a = solve(
-        &mut FirstOrder(Pendulum),
-        &settings,
-        0.0,
-        &[1.0, 0.5],
-        3.0,
-        &SaveAt::End,
-    )
-    .unwrap();
+    let a = solve(&mut FirstOrder(Pendulum), &settings, 0.0, &[1.0, 0.5], 3.0, &SaveAt::End).unwrap();
     let mut manual = tumble_integrate::FnSystem::new(2, |_, y: &[f64], dy: &mut [f64]| {
         dy[0] = y[1];
         dy[1] = -y[0].sin();

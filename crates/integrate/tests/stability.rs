@@ -36,14 +36,8 @@ fn explicit_methods_decay_below_their_limit_and_grow_above() {
     ] {
         let below = magnitude_after(method, 0.99 * limit, 5000);
         let above = magnitude_after(method, 1.01 * limit, 5000);
-        assert!(
-            below < 1e-6,
-            "{method}: |y| = {below:e} just below its limit"
-        );
-        assert!(
-            above > 1e6,
-            "{method}: |y| = {above:e} just above its limit"
-        );
+        assert!(below < 1e-6, "{method}: |y| = {below:e} just below its limit");
+        assert!(above > 1e6, "{method}: |y| = {above:e} just above its limit");
     }
 }
 
@@ -54,15 +48,9 @@ fn explicit_methods_decay_below_their_limit_and_grow_above() {
 fn implicit_methods_decay_at_huge_steps() {
     for method in [Method::ImplicitEuler, Method::Rodas4, Method::Radau5] {
         for h in [1.0, 1e6] {
-            let one = solve(
-                &mut Dahlquist { lambda: LAMBDA },
-                &Settings::fixed(method, h),
-                0.0,
-                &[1.0],
-                h,
-                &SaveAt::End,
-            )
-            .unwrap();
+            let one =
+                solve(&mut Dahlquist { lambda: LAMBDA }, &Settings::fixed(method, h), 0.0, &[1.0], h, &SaveAt::End)
+                    .unwrap();
             let ten = solve(
                 &mut Dahlquist { lambda: LAMBDA },
                 &Settings::fixed(method, h),
@@ -74,10 +62,7 @@ fn implicit_methods_decay_at_huge_steps() {
             .unwrap();
             let (y1, y10) = (one.final_state[0].abs(), ten.final_state[0].abs());
             assert!(y1 < 1e-5, "{method} h = {h}: |y1| = {y1:e}");
-            assert!(
-                y10 <= y1,
-                "{method} h = {h}: |y10| = {y10:e} > |y1| = {y1:e}"
-            );
+            assert!(y10 <= y1, "{method} h = {h}: |y10| = {y10:e} > |y1| = {y1:e}");
         }
     }
 }
@@ -91,49 +76,19 @@ fn stiff_spring_euler_always_unstable_rk4_stable_below_limit() {
     let energy = |y: &[f64]| 0.5 * y[1] * y[1] + 0.5 * 1e8 * y[0] * y[0];
     let e0 = energy(&[1.0, 0.0]);
     for h in [1e-5, 1e-6] {
-        let sol = solve(
-            &mut spring(),
-            &Settings::fixed(Method::Euler, h),
-            0.0,
-            &[1.0, 0.0],
-            0.1,
-            &SaveAt::End,
-        )
-        .unwrap();
+        let sol =
+            solve(&mut spring(), &Settings::fixed(Method::Euler, h), 0.0, &[1.0, 0.0], 0.1, &SaveAt::End).unwrap();
         // 0.1/h steps, each multiplying the energy by 1 + (h w)^2.
         let growth = energy(sol.final_state.as_slice()) / e0;
         let expected = (1.0 + (h * 1e4f64).powi(2)).powf(0.1 / h);
-        assert!(
-            (growth / expected - 1.0).abs() < 1e-6,
-            "h = {h}: growth {growth:e}, expected {expected:e}"
-        );
+        assert!((growth / expected - 1.0).abs() < 1e-6, "h = {h}: growth {growth:e}, expected {expected:e}");
         assert!(growth > 1.0);
     }
     // 250 steps: RK4's energy factor per step is |R(i h w)|^2, 0.866 at h w = 2.8 and 1.171 at 2.86.
-    let stable = solve(
-        &mut spring(),
-        &Settings::fixed(Method::Rk4, 2.8e-4),
-        0.0,
-        &[1.0, 0.0],
-        0.07,
-        &SaveAt::End,
-    )
-    .unwrap();
-    assert!(
-        energy(stable.final_state.as_slice()) < 0.9 * e0,
-        "RK4 at h w = 2.8 must lose energy"
-    );
-    let unstable = solve(
-        &mut spring(),
-        &Settings::fixed(Method::Rk4, 2.86e-4),
-        0.0,
-        &[1.0, 0.0],
-        0.0715,
-        &SaveAt::End,
-    )
-    .unwrap();
-    assert!(
-        energy(unstable.final_state.as_slice()) > 2.0 * e0,
-        "RK4 at h w = 2.86 must gain energy"
-    );
+    let stable =
+        solve(&mut spring(), &Settings::fixed(Method::Rk4, 2.8e-4), 0.0, &[1.0, 0.0], 0.07, &SaveAt::End).unwrap();
+    assert!(energy(stable.final_state.as_slice()) < 0.9 * e0, "RK4 at h w = 2.8 must lose energy");
+    let unstable =
+        solve(&mut spring(), &Settings::fixed(Method::Rk4, 2.86e-4), 0.0, &[1.0, 0.0], 0.0715, &SaveAt::End).unwrap();
+    assert!(energy(unstable.final_state.as_slice()) > 2.0 * e0, "RK4 at h w = 2.86 must gain energy");
 }

@@ -27,12 +27,7 @@ struct Args {
 }
 
 fn parse_args() -> Result<Args, String> {
-    let mut args = Args {
-        out: PathBuf::new(),
-        problems: vec![],
-        peers: vec![],
-        budget: 0.05,
-    };
+    let mut args = Args { out: PathBuf::new(), problems: vec![], peers: vec![], budget: 0.05 };
     let mut it = std::env::args().skip(1);
     let mut out = None;
     while let Some(a) = it.next() {
@@ -49,21 +44,14 @@ fn parse_args() -> Result<Args, String> {
     args.out = out.ok_or("--out DIR is required")?;
     let known: Vec<&str> = problems::all().iter().map(|p| p.name).collect();
     if let Some(bad) = args.problems.iter().find(|p| !known.contains(&p.as_str())) {
-        return Err(format!(
-            "unknown problem {bad}; known: {}",
-            known.join(", ")
-        ));
+        return Err(format!("unknown problem {bad}; known: {}", known.join(", ")));
     }
     Ok(args)
 }
 
 fn read_runs(path: &PathBuf) -> Result<Vec<Run>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(text
-        .lines()
-        .skip(1)
-        .filter_map(Run::parse_csv_row)
-        .collect())
+    Ok(text.lines().skip(1).filter_map(Run::parse_csv_row).collect())
 }
 
 fn main() {
@@ -75,11 +63,7 @@ fn main() {
         }
     };
     std::fs::create_dir_all(&args.out).expect("create the output directory");
-    let peers: Vec<Run> = args
-        .peers
-        .iter()
-        .flat_map(|p| read_runs(p).unwrap_or_else(|e| panic!("{e}")))
-        .collect();
+    let peers: Vec<Run> = args.peers.iter().flat_map(|p| read_runs(p).unwrap_or_else(|e| panic!("{e}"))).collect();
     let selected: Vec<_> = problems::all()
         .into_iter()
         .filter(|p| args.problems.is_empty() || args.problems.iter().any(|n| n == p.name))
@@ -90,21 +74,15 @@ fn main() {
     for problem in &selected {
         eprint!("{:15}", problem.name);
         let mut skipped = 0;
-        let runs = sweep_problem(problem, Duration::from_secs_f64(args.budget), |_, _, _| {
-            skipped += 1
-        })
-        .unwrap_or_else(|e| panic!("{}: reference failed: {e}", problem.name));
+        let runs = sweep_problem(problem, Duration::from_secs_f64(args.budget), |_, _, _| skipped += 1)
+            .unwrap_or_else(|e| panic!("{}: reference failed: {e}", problem.name));
         eprintln!(
             "{} points ({} left out: unstable, over budget or error > 1), {:.1} s",
             runs.len(),
             skipped,
             clock.elapsed().as_secs_f64()
         );
-        let peer_runs: Vec<Run> = peers
-            .iter()
-            .filter(|r| r.problem == problem.name)
-            .cloned()
-            .collect();
+        let peer_runs: Vec<Run> = peers.iter().filter(|r| r.problem == problem.name).cloned().collect();
         let png = args.out.join(format!("{}.png", problem.name));
         plot::work_precision(&png, problem.name, &runs, &peer_runs)
             .unwrap_or_else(|e| panic!("plot {}: {e}", png.display()));
@@ -117,19 +95,9 @@ fn main() {
     for r in &all {
         writeln!(f, "{}", r.csv_row()).unwrap();
     }
-    println!(
-        "wrote {} ({} points) and {} plots to {}",
-        csv.display(),
-        all.len(),
-        selected.len(),
-        args.out.display()
-    );
+    println!("wrote {} ({} points) and {} plots to {}", csv.display(), all.len(), selected.len(), args.out.display());
     if !peers.is_empty() {
-        let table = comparison(
-            &selected.iter().map(|p| p.name).collect::<Vec<_>>(),
-            &all,
-            &peers,
-        );
+        let table = comparison(&selected.iter().map(|p| p.name).collect::<Vec<_>>(), &all, &peers);
         print!("{table}");
         std::fs::write(args.out.join("comparison.md"), &table).expect("write comparison.md");
     }
@@ -138,25 +106,16 @@ fn main() {
 /// For each problem and each error level 1e-3 .. 1e-10 that both sides reach: our best time, the peer's best
 /// time, and their ratio.
 fn comparison(problems: &[&str], ours: &[Run], peers: &[Run]) -> String {
-    let mut s = String::from("| problem | error | ours (best method) | peer (best method) | peer / ours |\n|---|---|---|---|---|\n");
+    let mut s = String::from(
+        "| problem | error | ours (best method) | peer (best method) | peer / ours |\n|---|---|---|---|---|\n",
+    );
     for &name in problems {
         let mine: Vec<Run> = ours.iter().filter(|r| r.problem == name).cloned().collect();
-        let theirs: Vec<Run> = peers
-            .iter()
-            .filter(|r| r.problem == name)
-            .cloned()
-            .collect();
+        let theirs: Vec<Run> = peers.iter().filter(|r| r.problem == name).cloned().collect();
         for k in 3..=10 {
             let e = 10f64.powi(-k);
-            if let (Some((a, am)), Some((b, bm))) =
-                (best_time_at(&mine, e), best_time_at(&theirs, e))
-            {
-                s += &format!(
-                    "| {name} | 1e-{k} | {:.3e} s ({am}) | {:.3e} s ({bm}) | {:.0} |\n",
-                    a,
-                    b,
-                    b / a
-                );
+            if let (Some((a, am)), Some((b, bm))) = (best_time_at(&mine, e), best_time_at(&theirs, e)) {
+                s += &format!("| {name} | 1e-{k} | {:.3e} s ({am}) | {:.3e} s ({bm}) | {:.0} |\n", a, b, b / a);
             }
         }
     }

@@ -20,16 +20,11 @@ fn curves(runs: &[Run]) -> Vec<(String, Vec<(f64, f64)>)> {
 }
 
 fn decade_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
-        (lo.min(v), hi.max(v))
-    });
+    let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
     if !lo.is_finite() {
         return (1e-6, 1.0);
     }
-    (
-        10f64.powf(lo.log10().floor()),
-        10f64.powf(hi.log10().ceil().max(lo.log10().floor() + 1.0)),
-    )
+    (10f64.powf(lo.log10().floor()), 10f64.powf(hi.log10().ceil().max(lo.log10().floor() + 1.0)))
 }
 
 pub fn work_precision(
@@ -39,24 +34,17 @@ pub fn work_precision(
     peers: &[Run],
 ) -> Result<(), Box<dyn std::error::Error>> {
     FONT.call_once(|| {
-        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
-            .ok();
+        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular()).ok();
     });
     let (ours, peers) = (curves(ours), curves(peers));
-    let all = ours
-        .iter()
-        .chain(&peers)
-        .flat_map(|(_, p)| p.iter().copied());
+    let all = ours.iter().chain(&peers).flat_map(|(_, p)| p.iter().copied());
     let (xlo, xhi) = decade_range(all.clone().map(|p| p.0));
     let (ylo, yhi) = decade_range(all.map(|p| p.1));
 
     let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("{problem}: error against run time"),
-            ("sans-serif", 24),
-        )
+        .caption(format!("{problem}: error against run time"), ("sans-serif", 24))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(70)
@@ -74,28 +62,16 @@ pub fn work_precision(
         chart
             .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?
             .label(label.as_str())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 22, y)], color.stroke_width(2))
-            });
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], color.stroke_width(2)));
         chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))?;
     }
     for (i, (label, pts)) in peers.iter().enumerate() {
         let color = Palette99::pick(ours.len() + i).to_rgba();
         chart
-            .draw_series(DashedLineSeries::new(
-                pts.clone(),
-                8,
-                5,
-                color.stroke_width(2),
-            ))?
+            .draw_series(DashedLineSeries::new(pts.clone(), 8, 5, color.stroke_width(2)))?
             .label(label.as_str())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 22, y)], color.stroke_width(1))
-            });
-        chart.draw_series(
-            pts.iter()
-                .map(|&p| TriangleMarker::new(p, 5, color.filled())),
-        )?;
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], color.stroke_width(1)));
+        chart.draw_series(pts.iter().map(|&p| TriangleMarker::new(p, 5, color.filled())))?;
     }
     chart
         .configure_series_labels()

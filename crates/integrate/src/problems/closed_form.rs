@@ -24,12 +24,7 @@ impl OdeSystem for Dahlquist {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        _y: &[f64],
-        mut jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, _y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
         jac[(0, 0)] = self.lambda;
         Ok(())
     }
@@ -91,12 +86,7 @@ impl OdeSystem for DampedOscillator {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        _y: &[f64],
-        mut jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, _y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
         jac[(0, 1)] = 1.0;
         jac[(1, 0)] = -self.stiffness / self.mass;
         jac[(1, 1)] = -self.damping / self.mass;
@@ -106,10 +96,7 @@ impl OdeSystem for DampedOscillator {
         true
     }
     fn split(&self) -> Option<Split> {
-        Some(Split {
-            positions: 1,
-            force_depends_on_velocity: self.damping != 0.0,
-        })
+        Some(Split { positions: 1, force_depends_on_velocity: self.damping != 0.0 })
     }
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         dq[0] = y[1];
@@ -168,12 +155,7 @@ impl OdeSystem for Kepler {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        mut jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
         let (x, z) = (y[0], y[1]);
         let r2 = x * x + z * z;
         let r = r2.sqrt();
@@ -190,10 +172,7 @@ impl OdeSystem for Kepler {
         true
     }
     fn split(&self) -> Option<Split> {
-        Some(Split {
-            positions: 2,
-            force_depends_on_velocity: false,
-        })
+        Some(Split { positions: 2, force_depends_on_velocity: false })
     }
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         dq.copy_from_slice(&y[2..]);
@@ -244,12 +223,7 @@ impl OdeSystem for StiffSpring {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        _y: &[f64],
-        mut jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, _y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
         jac[(0, 1)] = 1.0;
         jac[(1, 0)] = -self.stiffness;
         Ok(())
@@ -258,10 +232,7 @@ impl OdeSystem for StiffSpring {
         true
     }
     fn split(&self) -> Option<Split> {
-        Some(Split {
-            positions: 1,
-            force_depends_on_velocity: false,
-        })
+        Some(Split { positions: 1, force_depends_on_velocity: false })
     }
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         dq[0] = y[1];

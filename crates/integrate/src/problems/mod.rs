@@ -66,11 +66,9 @@ impl Problem {
                 let den: f64 = reference.iter().map(|b| b * b).sum();
                 (num / den).sqrt()
             }
-            ErrorNorm::Componentwise => y
-                .iter()
-                .zip(reference)
-                .map(|(a, b)| (a - b).abs() / b.abs())
-                .fold(0.0, f64::max),
+            ErrorNorm::Componentwise => {
+                y.iter().zip(reference).map(|(a, b)| (a - b).abs() / b.abs()).fold(0.0, f64::max)
+            }
         }
     }
 }

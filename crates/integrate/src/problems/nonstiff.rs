@@ -24,11 +24,7 @@ impl LotkaVolterra {
             kind: ProblemKind::NonStiff,
             atol_scale: 1.0,
             norm: ErrorNorm::Relative,
-            make: || {
-                Box::new(LotkaVolterra {
-                    p: [1.5, 1.0, 3.0, 1.0],
-                })
-            },
+            make: || Box::new(LotkaVolterra { p: [1.5, 1.0, 3.0, 1.0] }),
         }
     }
 }
@@ -47,12 +43,7 @@ impl OdeSystem for LotkaVolterra {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        u: &[f64],
-        mut jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, u: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
         let [a, b, c, d] = self.p;
         jac[(0, 0)] = a - b * u[1];
         jac[(0, 1)] = -b * u[0];

@@ -42,12 +42,7 @@ impl OdeSystem for VanDerPol {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        mut jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
         jac[(0, 1)] = 1.0;
         jac[(1, 0)] = (-2.0 * y[0] * y[1] - 1.0) / self.eps;
         jac[(1, 1)] = (1.0 - y[0] * y[0]) / self.eps;
@@ -70,11 +65,7 @@ impl Rober {
             t0: 0.0,
             t_end: 1e11,
             y0: vec![1.0, 0.0, 0.0],
-            reference: Some(vec![
-                0.2083340149701255e-7,
-                0.8333360770334713e-13,
-                0.9999999791665050,
-            ]),
+            reference: Some(vec![0.2083340149701255e-7, 0.8333360770334713e-13, 0.9999999791665050]),
             kind: ProblemKind::Stiff,
             atol_scale: 1e-10,
             norm: ErrorNorm::Componentwise,
@@ -96,12 +87,7 @@ impl OdeSystem for Rober {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        mut jac: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut jac: MatMut<'_, f64>) -> Result<(), SystemError> {
         jac[(0, 0)] = -0.04;
         jac[(0, 1)] = 1e4 * y[2];
         jac[(0, 2)] = 1e4 * y[1];
@@ -164,12 +150,7 @@ impl OdeSystem for Hires {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        mut j: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut j: MatMut<'_, f64>) -> Result<(), SystemError> {
         j[(0, 0)] = -1.71;
         j[(0, 1)] = 0.43;
         j[(0, 2)] = 8.32;
@@ -214,11 +195,7 @@ impl Orego {
             t0: 0.0,
             t_end: 360.0,
             y0: vec![1.0, 2.0, 3.0],
-            reference: Some(vec![
-                1.000814870318523,
-                1228.178521549917,
-                132.0554942846706,
-            ]),
+            reference: Some(vec![1.000814870318523, 1228.178521549917, 132.0554942846706]),
             kind: ProblemKind::Stiff,
             atol_scale: 1.0,
             norm: ErrorNorm::Componentwise,
@@ -240,12 +217,7 @@ impl OdeSystem for Orego {
     fn jacobian_structure(&self) -> JacobianStructure {
         JacobianStructure::Dense
     }
-    fn dense_jacobian(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        mut j: MatMut<'_, f64>,
-    ) -> Result<(), SystemError> {
+    fn dense_jacobian(&mut self, _t: f64, y: &[f64], mut j: MatMut<'_, f64>) -> Result<(), SystemError> {
         j[(0, 0)] = 77.27 * (1.0 - 2.0 * 8.375e-6 * y[0] - y[1]);
         j[(0, 1)] = 77.27 * (1.0 - y[0]);
         j[(1, 0)] = -y[1] / 77.27;

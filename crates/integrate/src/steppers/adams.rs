@@ -62,20 +62,13 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Adams {
         let (f0, [f1, f2, f3]) = (&from.f, &self.back);
         let c = h / 24.0;
         for i in 0..f0.len() {
-            self.predicted[i] =
-                from.y[i] + c * (55.0 * f0[i] - 59.0 * f1[i] + 37.0 * f2[i] - 9.0 * f3[i]);
+            self.predicted[i] = from.y[i] + c * (55.0 * f0[i] - 59.0 * f1[i] + 37.0 * f2[i] - 9.0 * f3[i]);
         }
         if !self.corrector {
             to.y.copy_from_slice(&self.predicted);
             return Ok(Estimate::default());
         }
-        eval(
-            sys,
-            from.t + h,
-            &self.predicted,
-            &mut self.fpred,
-            &mut ctx.report,
-        )?;
+        eval(sys, from.t + h, &self.predicted, &mut self.fpred, &mut ctx.report)?;
         for i in 0..f0.len() {
             to.y[i] = from.y[i] + c * (9.0 * self.fpred[i] + 19.0 * f0[i] - 5.0 * f1[i] + f2[i]);
             self.err[i] = MILNE * (to.y[i] - self.predicted[i]);

@@ -15,10 +15,7 @@ pub(crate) struct Dop853 {
 
 impl Dop853 {
     pub fn new(n: usize) -> Self {
-        Dop853 {
-            k: vec![vec![0.0; n]; STAGES - 1],
-            stage: vec![0.0; n],
-        }
+        Dop853 { k: vec![vec![0.0; n]; STAGES - 1], stage: vec![0.0; n] }
     }
 }
 
@@ -47,13 +44,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dop853 {
                     *s += ha * v;
                 }
             }
-            eval(
-                sys,
-                from.t + C[i] * h,
-                stage,
-                &mut self.k[i - 1],
-                &mut ctx.report,
-            )?;
+            eval(sys, from.t + C[i] * h, stage, &mut self.k[i - 1], &mut ctx.report)?;
         }
         let y1 = &mut to.y[..n];
         y1.copy_from_slice(y);
@@ -71,10 +62,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dop853 {
         let (rtol, atol) = (ctx.rtol, ctx.atol);
         let (mut s5, mut s3, mut emax) = (0.0, 0.0, 0.0_f64);
         for i in 0..n {
-            let (mut e5, mut e3) = (
-                E5[0] * f0[i] + E5[STAGES] * to.f[i],
-                E3[0] * f0[i] + E3[STAGES] * to.f[i],
-            );
+            let (mut e5, mut e3) = (E5[0] * f0[i] + E5[STAGES] * to.f[i], E3[0] * f0[i] + E3[STAGES] * to.f[i]);
             for j in 1..STAGES {
                 e5 += E5[j] * self.k[j - 1][i];
                 e3 += E3[j] * self.k[j - 1][i];
@@ -84,16 +72,8 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dop853 {
             s3 += (e3 / sk).powi(2);
             emax = emax.max((h * e5).abs());
         }
-        let deno = if s5 + 0.01 * s3 > 0.0 {
-            s5 + 0.01 * s3
-        } else {
-            1.0
-        };
+        let deno = if s5 + 0.01 * s3 > 0.0 { s5 + 0.01 * s3 } else { 1.0 };
         let err = h.abs() * s5 / (deno * n as f64).sqrt();
-        Ok(Estimate {
-            scaled: Some(err),
-            local: Some(emax),
-            safety: None,
-        })
+        Ok(Estimate { scaled: Some(err), local: Some(emax), safety: None })
     }
 }

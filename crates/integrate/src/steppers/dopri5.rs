@@ -55,14 +55,7 @@ pub(crate) struct Dopri5 {
 impl Dopri5 {
     pub fn new(n: usize) -> Self {
         let v = || vec![0.0; n];
-        Dopri5 {
-            k2: v(),
-            k3: v(),
-            k4: v(),
-            k5: v(),
-            k6: v(),
-            stage: v(),
-        }
+        Dopri5 { k2: v(), k3: v(), k4: v(), k5: v(), k6: v(), stage: v() }
     }
 }
 
@@ -81,22 +74,9 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dopri5 {
         // Re-slicing everything to length n lets the compiler drop the bounds checks in the stage loops.
         let (y, k1) = (&from.y[..n], &from.f[..n]);
         let r = &mut ctx.report;
-        let Dopri5 {
-            k2,
-            k3,
-            k4,
-            k5,
-            k6,
-            stage,
-        } = self;
-        let (k2, k3, k4, k5, k6, stage) = (
-            &mut k2[..n],
-            &mut k3[..n],
-            &mut k4[..n],
-            &mut k5[..n],
-            &mut k6[..n],
-            &mut stage[..n],
-        );
+        let Dopri5 { k2, k3, k4, k5, k6, stage } = self;
+        let (k2, k3, k4, k5, k6, stage) =
+            (&mut k2[..n], &mut k3[..n], &mut k4[..n], &mut k5[..n], &mut k6[..n], &mut stage[..n]);
 
         for i in 0..n {
             stage[i] = y[i] + h * A21 * k1[i];
@@ -115,14 +95,12 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dopri5 {
         }
         eval(sys, t + C5 * h, stage, k5, r)?;
         for i in 0..n {
-            stage[i] =
-                y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
+            stage[i] = y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
         }
         eval(sys, t + h, stage, k6, r)?;
         let y1 = &mut to.y[..n];
         for i in 0..n {
-            y1[i] =
-                y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
+            y1[i] = y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
         }
         // k7 = f(t + h, y_new) is the next step's k1 (first same as last).
         eval(sys, t + h, y1, &mut to.f, r)?;
@@ -132,18 +110,13 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dopri5 {
         let (rtol, atol) = (ctx.rtol, ctx.atol);
         let (mut sum, mut emax) = (0.0, 0.0_f64);
         for i in 0..n {
-            let e =
-                h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            let e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
             let sk = atol + rtol * y[i].abs().max(y1[i].abs());
             sum += (e / sk) * (e / sk);
             emax = emax.max(e.abs());
         }
         // A non-finite k7 makes the error NaN, which the driver rejects; `to` is then discarded.
-        Ok(Estimate {
-            scaled: Some((sum / n as f64).sqrt()),
-            local: Some(emax),
-            safety: None,
-        })
+        Ok(Estimate { scaled: Some((sum / n as f64).sqrt()), local: Some(emax), safety: None })
     }
 
     fn has_dense_output(&self) -> bool {
@@ -158,13 +131,8 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dopri5 {
             let ydiff = y1[i] - y0[i];
             let bspl = h * k1[i] - ydiff;
             let c4 = ydiff - h * k7[i] - bspl;
-            let c5 = h
-                * (D1 * k1[i]
-                    + D3 * self.k3[i]
-                    + D4 * self.k4[i]
-                    + D5 * self.k5[i]
-                    + D6 * self.k6[i]
-                    + D7 * k7[i]);
+            let c5 =
+                h * (D1 * k1[i] + D3 * self.k3[i] + D4 * self.k4[i] + D5 * self.k5[i] + D6 * self.k6[i] + D7 * k7[i]);
             out[i] = y0[i] + theta * (ydiff + th1 * (bspl + theta * (c4 + th1 * c5)));
         }
     }

@@ -14,19 +14,11 @@ pub(crate) struct Tableau {
 }
 
 /// X' = X + h f(X, t).
-pub(crate) const EULER: Tableau = Tableau {
-    a: &[&[]],
-    b: &[1.0],
-    c: &[0.0],
-};
+pub(crate) const EULER: Tableau = Tableau { a: &[&[]], b: &[1.0], c: &[0.0] };
 
 /// X' = X + h f(X + h/2 f(X, t), t + h/2). (The chapter evaluates the middle stage at t; for non-autonomous
 /// systems the midpoint rule needs t + h/2.)
-pub(crate) const MIDPOINT: Tableau = Tableau {
-    a: &[&[], &[0.5]],
-    b: &[0.0, 1.0],
-    c: &[0.0, 0.5],
-};
+pub(crate) const MIDPOINT: Tableau = Tableau { a: &[&[], &[0.5]], b: &[0.0, 1.0], c: &[0.0, 0.5] };
 
 /// Classical RK4. The chapter prints K4 = h f(X + K3/2, t + h); the correct stage is K4 = h f(X + K3, t + h).
 pub(crate) const RK4: Tableau = Tableau {
@@ -60,11 +52,7 @@ pub(crate) struct ExplicitRk {
 impl ExplicitRk {
     pub fn new(tableau: &'static Tableau, n: usize) -> Self {
         let stages = tableau.b.len();
-        ExplicitRk {
-            tableau,
-            k: vec![vec![0.0; n]; stages - 1],
-            stage: vec![0.0; n],
-        }
+        ExplicitRk { tableau, k: vec![vec![0.0; n]; stages - 1], stage: vec![0.0; n] }
     }
 
     /// The step itself, shared with the multistep starter.
@@ -80,13 +68,7 @@ impl ExplicitRk {
         let tab = self.tableau;
         for i in 1..tab.b.len() {
             combine(&mut self.stage, &from.y, h, tab.a[i], &from.f, &self.k);
-            eval(
-                sys,
-                from.t + tab.c[i] * h,
-                &self.stage,
-                &mut self.k[i - 1],
-                &mut ctx.report,
-            )?;
+            eval(sys, from.t + tab.c[i] * h, &self.stage, &mut self.k[i - 1], &mut ctx.report)?;
         }
         combine(&mut to.y, &from.y, h, tab.b, &from.f, &self.k);
         Ok(())
@@ -119,22 +101,12 @@ pub(crate) struct EulerVariable {
 
 impl EulerVariable {
     pub fn new(n: usize, tolerance: f64) -> Self {
-        EulerVariable {
-            tolerance,
-            dfdt_norm: 0.0,
-            probe: vec![0.0; n],
-            fprobe: vec![0.0; n],
-        }
+        EulerVariable { tolerance, dfdt_norm: 0.0, probe: vec![0.0; n], fprobe: vec![0.0; n] }
     }
 }
 
 impl<S: OdeSystem + ?Sized> Stepper<S> for EulerVariable {
-    fn own_step(
-        &mut self,
-        sys: &mut S,
-        from: &mut Point,
-        ctx: &mut Ctx,
-    ) -> Result<Option<f64>, OdeError> {
+    fn own_step(&mut self, sys: &mut S, from: &mut Point, ctx: &mut Ctx) -> Result<Option<f64>, OdeError> {
         from.ensure_f(sys, &mut ctx.report)?;
         let ymax = from.y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         let fmax = from.f.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
@@ -142,29 +114,15 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for EulerVariable {
         for ((p, y), f) in self.probe.iter_mut().zip(&from.y).zip(&from.f) {
             *p = y + d * f;
         }
-        eval(
-            sys,
-            from.t + d,
-            &self.probe,
-            &mut self.fprobe,
-            &mut ctx.report,
-        )?;
+        eval(sys, from.t + d, &self.probe, &mut self.fprobe, &mut ctx.report)?;
         for (g, f) in self.fprobe.iter_mut().zip(&from.f) {
             *g = (*g - f) / d;
         }
         self.dfdt_norm = norm2(&self.fprobe);
         if !self.dfdt_norm.is_finite() {
-            return Err(OdeError::NonFinite {
-                t: from.t,
-                what: "derivative df/dt",
-                index: 0,
-            });
+            return Err(OdeError::NonFinite { t: from.t, what: "derivative df/dt", index: 0 });
         }
-        Ok(Some(if self.dfdt_norm > 0.0 {
-            (2.0 * self.tolerance / self.dfdt_norm).sqrt()
-        } else {
-            f64::INFINITY
-        }))
+        Ok(Some(if self.dfdt_norm > 0.0 { (2.0 * self.tolerance / self.dfdt_norm).sqrt() } else { f64::INFINITY }))
     }
 
     fn step(
@@ -179,10 +137,6 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for EulerVariable {
         for ((o, y), f) in to.y.iter_mut().zip(&from.y).zip(&from.f) {
             *o = y + h * f;
         }
-        Ok(Estimate {
-            scaled: None,
-            local: Some(0.5 * h * h * self.dfdt_norm),
-            safety: None,
-        })
+        Ok(Estimate { scaled: None, local: Some(0.5 * h * h * self.dfdt_norm), safety: None })
     }
 }

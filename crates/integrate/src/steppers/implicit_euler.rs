@@ -21,12 +21,7 @@ impl ImplicitEuler {
         let n = sys.dim();
         let jac = Jacobian::new(sys)?;
         let matrix = Factorization::new(&jac, Shift::Real)?;
-        Ok(ImplicitEuler {
-            jac,
-            matrix,
-            iterate: Point::new(0.0, &vec![0.0; n]),
-            delta: vec![0.0; n],
-        })
+        Ok(ImplicitEuler { jac, matrix, iterate: Point::new(0.0, &vec![0.0; n]), delta: vec![0.0; n] })
     }
 }
 
@@ -43,8 +38,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for ImplicitEuler {
             NewtonMode::Linearised => {
                 from.ensure_f(sys, &mut ctx.report)?;
                 self.jac.update(sys, from, &mut ctx.report)?;
-                self.matrix
-                    .factor(&self.jac, 1.0 / h, 0.0, from.t, h, &mut ctx.report)?;
+                self.matrix.factor(&self.jac, 1.0 / h, 0.0, from.t, h, &mut ctx.report)?;
                 self.delta.copy_from_slice(&from.f);
                 self.matrix.solve(&mut self.delta, &mut ctx.report);
                 for ((o, y), d) in to.y.iter_mut().zip(&from.y).zip(&self.delta) {
@@ -64,8 +58,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for ImplicitEuler {
                     ctx.report.newton_iterations += 1;
                     it.ensure_f(sys, &mut ctx.report)?;
                     self.jac.update(sys, it, &mut ctx.report)?;
-                    self.matrix
-                        .factor(&self.jac, 1.0 / h, 0.0, t1, h, &mut ctx.report)?;
+                    self.matrix.factor(&self.jac, 1.0 / h, 0.0, t1, h, &mut ctx.report)?;
                     for i in 0..self.delta.len() {
                         self.delta[i] = (from.y[i] - it.y[i]) / h + it.f[i];
                     }

@@ -79,42 +79,20 @@ pub(crate) trait Stepper<S: OdeSystem + ?Sized> {
     fn dense(&self, _from: &Point, _to: &Point, _theta: f64, _out: &mut [f64]) {}
 
     /// A step size the method picks for itself at `from` (euler-variable), before the driver's limits.
-    fn own_step(
-        &mut self,
-        _sys: &mut S,
-        _from: &mut Point,
-        _ctx: &mut Ctx,
-    ) -> Result<Option<f64>, OdeError> {
+    fn own_step(&mut self, _sys: &mut S, _from: &mut Point, _ctx: &mut Ctx) -> Result<Option<f64>, OdeError> {
         Ok(None)
     }
 }
 
 /// Builds the stepper for the settings' method, wrapped in step doubling when asked.
-pub(crate) fn build<S: OdeSystem + ?Sized>(
-    sys: &S,
-    settings: &Settings,
-) -> Result<Box<dyn Stepper<S>>, OdeError> {
+pub(crate) fn build<S: OdeSystem + ?Sized>(sys: &S, settings: &Settings) -> Result<Box<dyn Stepper<S>>, OdeError> {
     let n = sys.dim();
     Ok(match settings.method {
-        Method::Euler => finish(
-            explicit_rk::ExplicitRk::new(&explicit_rk::EULER, n),
-            n,
-            settings,
-        ),
-        Method::Midpoint => finish(
-            explicit_rk::ExplicitRk::new(&explicit_rk::MIDPOINT, n),
-            n,
-            settings,
-        ),
-        Method::Rk4 => finish(
-            explicit_rk::ExplicitRk::new(&explicit_rk::RK4, n),
-            n,
-            settings,
-        ),
+        Method::Euler => finish(explicit_rk::ExplicitRk::new(&explicit_rk::EULER, n), n, settings),
+        Method::Midpoint => finish(explicit_rk::ExplicitRk::new(&explicit_rk::MIDPOINT, n), n, settings),
+        Method::Rk4 => finish(explicit_rk::ExplicitRk::new(&explicit_rk::RK4, n), n, settings),
         Method::EulerVariable => match settings.control {
-            Control::Derivative { tolerance } => {
-                Box::new(explicit_rk::EulerVariable::new(n, tolerance))
-            }
+            Control::Derivative { tolerance } => Box::new(explicit_rk::EulerVariable::new(n, tolerance)),
             _ => unreachable!("validated: euler-variable runs under Control::Derivative"),
         },
         Method::Ab4 => Box::new(adams::Adams::new(n, false)),
@@ -128,14 +106,8 @@ pub(crate) fn build<S: OdeSystem + ?Sized>(
         }
         Method::Dop853 => finish(dop853::Dop853::new(n), n, settings),
         Method::SymplecticEuler | Method::Verlet => {
-            let split = sys
-                .split()
-                .expect("validated: symplectic methods need a split");
-            finish(
-                symplectic::Symplectic::new(n, split, settings.method == Method::Verlet),
-                n,
-                settings,
-            )
+            let split = sys.split().expect("validated: symplectic methods need a split");
+            finish(symplectic::Symplectic::new(n, split, settings.method == Method::Verlet), n, settings)
         }
     })
 }
@@ -147,12 +119,9 @@ fn finish<S: OdeSystem + ?Sized, T: Stepper<S> + 'static>(
     settings: &Settings,
 ) -> Box<dyn Stepper<S>> {
     match settings.control {
-        Control::StepDoubling { tolerance, .. } => Box::new(step_doubling::StepDoubling::new(
-            stepper,
-            n,
-            tolerance,
-            settings.method.order(),
-        )),
+        Control::StepDoubling { tolerance, .. } => {
+            Box::new(step_doubling::StepDoubling::new(stepper, n, tolerance, settings.method.order()))
+        }
         _ => Box::new(stepper),
     }
 }

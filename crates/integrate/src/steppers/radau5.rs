@@ -28,34 +28,14 @@ const ALPHA: f64 = 2.681082873627752;
 const BETA: f64 = 3.050430199247411;
 /// T and T^-1 with T^-1 A^-1 T = diag(gamma, [[alpha, -beta], [beta, alpha]]).
 const T: [[f64; 3]; 3] = [
-    [
-        9.1232394870892942792e-02,
-        -0.14125529502095420843,
-        -3.0029194105147424492e-02,
-    ],
-    [
-        0.24171793270710701896,
-        0.20412935229379993199,
-        0.38294211275726193779,
-    ],
+    [9.1232394870892942792e-02, -0.14125529502095420843, -3.0029194105147424492e-02],
+    [0.24171793270710701896, 0.20412935229379993199, 0.38294211275726193779],
     [0.96604818261509293619, 1.0, 0.0],
 ];
 const TI: [[f64; 3]; 3] = [
-    [
-        4.3255798900631553510,
-        0.33919925181580986954,
-        0.54177053993587487119,
-    ],
-    [
-        -4.1787185915519047273,
-        -0.32768282076106238708,
-        0.47662355450055045196,
-    ],
-    [
-        -0.50287263494578687595,
-        2.5719269498556054292,
-        -0.59603920482822492497,
-    ],
+    [4.3255798900631553510, 0.33919925181580986954, 0.54177053993587487119],
+    [-4.1787185915519047273, -0.32768282076106238708, 0.47662355450055045196],
+    [-0.50287263494578687595, 2.5719269498556054292, -0.59603920482822492497],
 ];
 /// Newton iterations allowed per step.
 const NIT: usize = 7;
@@ -125,11 +105,7 @@ impl Radau5 {
 
     /// Weighted RMS norm (`scal` holds the reciprocal weights 1 / (atol' + rtol' |y|)).
     fn rms(&self, v: &[f64]) -> f64 {
-        let s: f64 = v
-            .iter()
-            .zip(&self.scal)
-            .map(|(x, w)| (x * w) * (x * w))
-            .sum();
+        let s: f64 = v.iter().zip(&self.scal).map(|(x, w)| (x * w) * (x * w)).sum();
         (s / v.len() as f64).sqrt()
     }
 
@@ -171,25 +147,14 @@ impl Radau5 {
         self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
         self.theta = THET;
         let (mut dynold, mut thqold) = (0.0, 0.0);
-        let fail = |t, iterations, residual| OdeError::NewtonFailure {
-            t,
-            h,
-            iterations,
-            residual,
-        };
+        let fail = |t, iterations, residual| OdeError::NewtonFailure { t, h, iterations, residual };
         for newt in 1..=NIT {
             ctx.report.newton_iterations += 1;
             for (k, c) in [C1, C2, 1.0].into_iter().enumerate() {
                 for ((s, y), z) in self.stage.iter_mut().zip(&from.y).zip(&self.z[k]) {
                     *s = y + z;
                 }
-                eval(
-                    sys,
-                    from.t + c * h,
-                    &self.stage,
-                    &mut self.f[k],
-                    &mut ctx.report,
-                )?;
+                eval(sys, from.t + c * h, &self.stage, &mut self.f[k], &mut ctx.report)?;
             }
             // Right-hand sides of the decoupled systems: T^-1 F - (Lambda / h) W.
             {
@@ -222,27 +187,18 @@ impl Radau5 {
                 self.retry = 0.5;
                 for (k, c) in [C1, C2, 1.0].into_iter().enumerate() {
                     if let Some(i) = self.f[k].iter().position(|v| !v.is_finite()) {
-                        return Err(OdeError::NonFinite {
-                            t: from.t + c * h,
-                            what: "derivative",
-                            index: i,
-                        });
+                        return Err(OdeError::NonFinite { t: from.t + c * h, what: "derivative", index: i });
                     }
                 }
                 return Err(fail(from.t, newt, dyno));
             }
             if newt > 1 && newt < NIT {
                 let thq = dyno / dynold;
-                self.theta = if newt == 2 {
-                    thq
-                } else {
-                    (thq * thqold).sqrt()
-                };
+                self.theta = if newt == 2 { thq } else { (thq * thqold).sqrt() };
                 thqold = thq;
                 if self.theta < 0.99 {
                     self.faccon = self.theta / (1.0 - self.theta);
-                    let dyth =
-                        self.faccon * dyno * self.theta.powi((NIT - 1 - newt) as i32) / self.fnewt;
+                    let dyth = self.faccon * dyno * self.theta.powi((NIT - 1 - newt) as i32) / self.fnewt;
                     if dyth >= 1.0 {
                         // Convergence too slow to finish in time: retry with a step it can finish.
                         let qnewt = dyth.clamp(1e-4, 20.0);
@@ -295,16 +251,13 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Radau5 {
         for (s, y) in self.scal.iter_mut().zip(&from.y) {
             *s = 1.0 / (self.atol + self.rtol * y.abs());
         }
-        let stale_ok =
-            !self.first && !self.rejected_last && self.theta <= THET && self.jac.is_evaluated();
+        let stale_ok = !self.first && !self.rejected_last && self.theta <= THET && self.jac.is_evaluated();
         if !self.jac.is_at(from) && !stale_ok {
             self.jac.update(sys, from, &mut ctx.report)?;
         }
         self.retry = 0.5;
-        self.real
-            .factor(&self.jac, GAMMA / h, 0.0, from.t, h, &mut ctx.report)?;
-        self.complex
-            .factor(&self.jac, ALPHA / h, BETA / h, from.t, h, &mut ctx.report)?;
+        self.real.factor(&self.jac, GAMMA / h, 0.0, from.t, h, &mut ctx.report)?;
+        self.complex.factor(&self.jac, ALPHA / h, BETA / h, from.t, h, &mut ctx.report)?;
         self.start_stages(h);
         let newt = self.newton(sys, from, h, ctx)?;
 
@@ -334,11 +287,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Radau5 {
         let local = self.err.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         // Fewer Newton iterations allow a bolder step (RADAU5's fac = min(safe, cfac / (newt + 2 nit))).
         let safety = (0.9f64).min(0.9 * (1 + 2 * NIT) as f64 / (newt + 2 * NIT) as f64);
-        Ok(Estimate {
-            scaled: Some(err),
-            local: Some(local),
-            safety: Some(safety),
-        })
+        Ok(Estimate { scaled: Some(err), local: Some(local), safety: Some(safety) })
     }
 
     fn accepted(&mut self, from: &Point, to: &Point, _ctx: &mut Ctx) {
@@ -394,9 +343,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Radau5 {
     fn dense(&self, _from: &Point, to: &Point, theta: f64, out: &mut [f64]) {
         let s = theta - 1.0;
         for i in 0..out.len() {
-            out[i] = to.y[i]
-                + s * (self.cont[0][i]
-                    + (s - C2M1) * (self.cont[1][i] + (s - C1M1) * self.cont[2][i]));
+            out[i] = to.y[i] + s * (self.cont[0][i] + (s - C2M1) * (self.cont[1][i] + (s - C1M1) * self.cont[2][i]));
         }
     }
 }

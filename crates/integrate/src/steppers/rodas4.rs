@@ -125,13 +125,10 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Rodas4 {
             }
             self.fx_point = Some(from.id);
         }
-        self.matrix
-            .factor(&self.jac, 1.0 / (h * GAMMA), 0.0, t, h, &mut ctx.report)?;
+        self.matrix.factor(&self.jac, 1.0 / (h * GAMMA), 0.0, t, h, &mut ctx.report)?;
         let r = &mut ctx.report;
         let (y, fx) = (&from.y[..], &self.fx[..]);
-        let Rodas4 {
-            matrix, k, stage, ..
-        } = self;
+        let Rodas4 { matrix, k, stage, .. } = self;
 
         // Stage 1.
         for i in 0..y.len() {

@@ -30,33 +30,13 @@ impl Symplectic {
         }
     }
 
-    fn force<S: OdeSystem + ?Sized>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        y: &[f64],
-        ctx: &mut Ctx,
-    ) -> Result<(), OdeError> {
+    fn force<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, t: f64, y: &[f64], ctx: &mut Ctx) -> Result<(), OdeError> {
         ctx.report.rhs_evals += 1;
-        sys.velocity_rate(t, y, &mut self.force)
-            .map_err(|e| OdeError::System {
-                t,
-                message: e.message,
-            })
+        sys.velocity_rate(t, y, &mut self.force).map_err(|e| OdeError::System { t, message: e.message })
     }
 
-    fn drift<S: OdeSystem + ?Sized>(
-        &mut self,
-        sys: &mut S,
-        t: f64,
-        y: &mut [f64],
-        h: f64,
-    ) -> Result<(), OdeError> {
-        sys.position_rate(t, y, &mut self.rate)
-            .map_err(|e| OdeError::System {
-                t,
-                message: e.message,
-            })?;
+    fn drift<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, t: f64, y: &mut [f64], h: f64) -> Result<(), OdeError> {
+        sys.position_rate(t, y, &mut self.rate).map_err(|e| OdeError::System { t, message: e.message })?;
         for (q, r) in y[..self.split.positions].iter_mut().zip(&self.rate) {
             *q += h * r;
         }
@@ -103,11 +83,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Symplectic {
         }
         self.kick(&mut to.y, 0.5 * h);
         // The force just evaluated at (q_new, p_half) is the force at (q_new, p_new) when it ignores velocity.
-        self.force_point = if self.split.force_depends_on_velocity {
-            None
-        } else {
-            Some(to.id)
-        };
+        self.force_point = if self.split.force_depends_on_velocity { None } else { Some(to.id) };
         Ok(Estimate::default())
     }
 
