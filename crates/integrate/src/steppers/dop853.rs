@@ -2,6 +2,7 @@
 //! blends the 5th- and 3rd-order differences: err = h ||e5||^2 / sqrt(||e5||^2 + 0.01 ||e3||^2).
 
 use super::dop853_tableau::{A, B, C, E3, E5, STAGES};
+use super::explicit_rk::combine;
 use super::{Ctx, Estimate, Stepper};
 use crate::error::OdeError;
 use crate::point::{eval, Point};
@@ -32,31 +33,11 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dop853 {
         let n = from.y.len();
         let (y, f0) = (&from.y[..n], &from.f[..n]);
         for i in 1..STAGES {
-            let stage = &mut self.stage[..n];
-            stage.copy_from_slice(y);
-            for (j, &a) in A[i].iter().enumerate() {
-                if a == 0.0 {
-                    continue;
-                }
-                let kj = if j == 0 { f0 } else { &self.k[j - 1][..n] };
-                let ha = h * a;
-                for (s, v) in stage.iter_mut().zip(kj) {
-                    *s += ha * v;
-                }
-            }
-            eval(sys, from.t + C[i] * h, stage, &mut self.k[i - 1], &mut ctx.report)?;
+            combine(&mut self.stage, y, h, A[i], f0, &self.k);
+            eval(sys, from.t + C[i] * h, &self.stage, &mut self.k[i - 1], &mut ctx.report)?;
         }
-        let y1 = &mut to.y[..n];
-        y1.copy_from_slice(y);
-        for (j, &b) in B.iter().enumerate() {
-            if b == 0.0 {
-                continue;
-            }
-            let kj = if j == 0 { f0 } else { &self.k[j - 1][..n] };
-            for (o, v) in y1.iter_mut().zip(kj) {
-                *o += h * b * v;
-            }
-        }
+        combine(&mut to.y, y, h, &B, f0, &self.k);
+        let y1 = &to.y[..n];
         eval(sys, from.t + h, y1, &mut to.f, &mut ctx.report)?;
         to.has_f = true;
         let (rtol, atol) = (ctx.rtol, ctx.atol);

@@ -28,7 +28,7 @@ pub(crate) const RK4: Tableau = Tableau {
 };
 
 /// y + h sum_j coef[j] k_j, where k_0 is `f0` and k_j (j >= 1) is `ks[j - 1]`; zero coefficients are skipped.
-fn combine(out: &mut [f64], y: &[f64], h: f64, coef: &[f64], f0: &[f64], ks: &[Vec<f64>]) {
+pub(crate) fn combine(out: &mut [f64], y: &[f64], h: f64, coef: &[f64], f0: &[f64], ks: &[Vec<f64>]) {
     out.copy_from_slice(y);
     for (j, &a) in coef.iter().enumerate() {
         if a == 0.0 {
