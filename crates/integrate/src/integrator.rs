@@ -20,6 +20,7 @@ pub struct Integrator<S: OdeSystem + ?Sized> {
     cur: Point,
     next: Point,
     h: Option<f64>,
+    last_step: Option<f64>,
     last_rejected: bool,
     dense_buf: Vec<f64>,
     backup: Vec<f64>,
@@ -63,6 +64,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             cur: Point::new(t0, y0),
             next: Point::new(t0, y0),
             h: None,
+            last_step: None,
             last_rejected: false,
             dense_buf: vec![0.0; y0.len()],
             backup: y0.to_vec(),
@@ -88,6 +90,11 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
     /// The settings it runs with.
     pub fn settings(&self) -> &Settings {
         &self.settings
+    }
+
+    /// The size of the last accepted step (None before the first).
+    pub fn last_step(&self) -> Option<f64> {
+        self.last_step
     }
 
     /// The step the adaptive control proposes next (None before the first adaptive step).
@@ -164,9 +171,16 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         Err(OdeError::Divergence { t: self.next.t, norm: max_norm(&self.next.y), limit, h })
     }
 
-    fn accept(&mut self, h: f64, local: Option<f64>) {
+    /// Books an accepted step, then lets the system project the new state (a changed state loses its cached
+    /// derivative).
+    fn accept(&mut self, sys: &mut S, h: f64, local: Option<f64>) {
         self.ctx.report.record_step(h, local);
         self.stepper.accepted(&self.cur, &self.next, &mut self.ctx);
+        self.last_step = Some(h);
+        if sys.project(self.next.t, &mut self.next.y) {
+            let t = self.next.t;
+            self.next.renew(t);
+        }
     }
 
     fn run_fixed(
@@ -200,7 +214,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                 self.next.renew(if k == steps { stop } else { start + k as f64 * h });
                 let est = self.stepper.step(sys, &mut self.cur, h, &mut self.next, &mut self.ctx)?;
                 self.check_next(h)?;
-                self.accept(h, est.local);
+                self.accept(sys, h, est.local);
                 std::mem::swap(&mut self.cur, &mut self.next);
             }
         }
@@ -270,7 +284,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             };
             let err = est.scaled.unwrap_or(0.0);
             if err <= 1.0 {
-                self.accept(h, est.local);
+                self.accept(sys, h, est.local);
                 let t_new = self.next.t;
                 while si < saves.len() && saves[si] <= t_new {
                     let s = saves[si];

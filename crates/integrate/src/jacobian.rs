@@ -11,8 +11,49 @@ use faer::MatMut;
 pub(crate) enum Values {
     /// Column-major n x n.
     Dense { analytic: bool, values: Vec<f64> },
-    /// Values in the order of the system's pattern (repeated entries are summed by the factorizations).
-    Sparse { pattern: Vec<(usize, usize)>, values: Vec<f64> },
+    /// Values in the order of the system's pattern (repeated entries are summed by the factorizations); filled
+    /// by the system, or by coloured finite differences when `coloring` is present.
+    Sparse { pattern: Vec<(usize, usize)>, values: Vec<f64>, coloring: Option<Coloring> },
+}
+
+/// Columns grouped so that no two columns of a group share a row; for each column, the pattern entries (index,
+/// row) its difference quotient fills (each (row, column) pair once, so repeated pattern entries are not counted
+/// twice).
+pub(crate) struct Coloring {
+    groups: Vec<Vec<usize>>,
+    entries: Vec<Vec<(usize, usize)>>,
+}
+
+impl Coloring {
+    /// Greedy colouring of the column intersection graph, columns taken in order.
+    fn new(n: usize, pattern: &[(usize, usize)]) -> Self {
+        let mut entries: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
+        let mut rows_of: Vec<Vec<usize>> = vec![Vec::new(); n];
+        let mut cols_of_row: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (k, &(row, col)) in pattern.iter().enumerate() {
+            if !rows_of[col].contains(&row) {
+                rows_of[col].push(row);
+                entries[col].push((k, row));
+                cols_of_row[row].push(col);
+            }
+        }
+        let mut color = vec![usize::MAX; n];
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut forbidden: Vec<usize> = Vec::new();
+        for c in 0..n {
+            forbidden.clear();
+            for &row in &rows_of[c] {
+                forbidden.extend(cols_of_row[row].iter().map(|&o| color[o]).filter(|&k| k != usize::MAX));
+            }
+            let k = (0..).find(|k| !forbidden.contains(k)).expect("a free colour exists");
+            color[c] = k;
+            if k == groups.len() {
+                groups.push(Vec::new());
+            }
+            groups[k].push(c);
+        }
+        Coloring { groups, entries }
+    }
 }
 
 pub(crate) struct Jacobian {
@@ -32,7 +73,7 @@ impl Jacobian {
         let values = match sys.jacobian_structure() {
             JacobianStructure::FiniteDifference => Values::Dense { analytic: false, values: vec![0.0; n * n] },
             JacobianStructure::Dense => Values::Dense { analytic: true, values: vec![0.0; n * n] },
-            JacobianStructure::Sparse(pattern) => {
+            JacobianStructure::Sparse(pattern) | JacobianStructure::SparseFiniteDifference(pattern) => {
                 if let Some(&(i, j)) = pattern.iter().find(|&&(i, j)| i >= n || j >= n) {
                     return Err(OdeError::invalid(
                         "jacobian pattern",
@@ -40,7 +81,9 @@ impl Jacobian {
                     ));
                 }
                 let values = vec![0.0; pattern.len()];
-                Values::Sparse { pattern, values }
+                let coloring = matches!(sys.jacobian_structure(), JacobianStructure::SparseFiniteDifference(_))
+                    .then(|| Coloring::new(n, &pattern));
+                Values::Sparse { pattern, values, coloring }
             }
         };
         Ok(Jacobian { n, values, point: None, version: 0, work_y: vec![0.0; n], work_f: vec![0.0; n] })
@@ -96,9 +139,27 @@ impl Jacobian {
                     }
                 }
             }
-            Values::Sparse { values, .. } => {
+            Values::Sparse { values, coloring: None, .. } => {
                 values.fill(0.0);
                 sys.sparse_jacobian(t, &p.y, values).map_err(sys_err)?;
+            }
+            Values::Sparse { values, coloring: Some(coloring), .. } => {
+                p.ensure_f(sys, report)?;
+                values.fill(0.0);
+                self.work_y.copy_from_slice(&p.y);
+                for group in &coloring.groups {
+                    for &c in group {
+                        self.work_y[c] = p.y[c] + (f64::EPSILON * p.y[c].abs().max(1e-5)).sqrt();
+                    }
+                    eval(sys, t, &self.work_y, &mut self.work_f, report)?;
+                    for &c in group {
+                        let delta = self.work_y[c] - p.y[c];
+                        self.work_y[c] = p.y[c];
+                        for &(k, row) in &coloring.entries[c] {
+                            values[k] = (self.work_f[row] - p.f[row]) / delta;
+                        }
+                    }
+                }
             }
         }
         let (Values::Dense { values, .. } | Values::Sparse { values, .. }) = &self.values;

@@ -14,6 +14,10 @@ pub enum JacobianStructure {
     /// [`OdeSystem::sparse_jacobian`] in the same order. Repeated entries are summed. Implicit methods then use a
     /// sparse LU whose symbolic analysis is done once.
     Sparse(Vec<(usize, usize)>),
+    /// A sparse Jacobian with this pattern (a superset of the nonzeros), formed by finite differences: columns
+    /// that share no row are perturbed together (Curtis-Powell-Reid colouring), so a banded or mesh-like system
+    /// costs a few dozen evaluations whatever its size.
+    SparseFiniteDifference(Vec<(usize, usize)>),
 }
 
 /// A partition y = (q, p) for the symplectic methods: the first `positions` components are positions (their rate
@@ -74,6 +78,12 @@ pub trait OdeSystem {
     fn velocity_rate(&mut self, _t: f64, _y: &[f64], _dp: &mut [f64]) -> Result<(), SystemError> {
         Err(SystemError::new("velocity_rate is not implemented by this system"))
     }
+
+    /// Called after every accepted step with the new state, so a system can project it back onto its manifold
+    /// (tumble renormalises orientation quaternions). Returns whether `y` was changed.
+    fn project(&mut self, _t: f64, _y: &mut [f64]) -> bool {
+        false
+    }
 }
 
 /// Forwards every method of [`OdeSystem`] through a pointer type (`&mut S`, `Box<S>`).
@@ -106,6 +116,9 @@ macro_rules! forward_ode_system {
             }
             fn velocity_rate(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
                 (**self).velocity_rate(t, y, dp)
+            }
+            fn project(&mut self, t: f64, y: &mut [f64]) -> bool {
+                (**self).project(t, y)
             }
         }
     )*};

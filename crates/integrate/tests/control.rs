@@ -160,11 +160,32 @@ fn sparse_dense_and_finite_difference_jacobians_agree() {
         let sparse = run(JacobianStructure::Sparse(Chain::pattern(n)));
         let dense = run(JacobianStructure::Dense);
         let fd = run(JacobianStructure::FiniteDifference);
+        let colored = run(JacobianStructure::SparseFiniteDifference(Chain::pattern(n)));
         let scale = dense.final_state.amax();
         assert!((&sparse.final_state - &dense.final_state).amax() < 1e-12 * scale.max(1.0), "{}", settings.method);
         assert!((&fd.final_state - &dense.final_state).amax() < 1e-5 * scale.max(1.0), "{}", settings.method);
+        assert!((&colored.final_state - &dense.final_state).amax() < 1e-5 * scale.max(1.0), "{}", settings.method);
         assert!(fd.report.rhs_evals > dense.report.rhs_evals + 2 * n, "{}: FD costs evaluations", settings.method);
     }
+}
+
+/// Coloured finite differences cost a number of evaluations per Jacobian set by the pattern's shape, not by the
+/// size: the chain's columns touch at most three neighbouring rows blocks, so 40 and 400 masses need the same
+/// number of colours, while dense differences need one evaluation per unknown.
+#[test]
+fn colored_finite_differences_cost_does_not_grow_with_size() {
+    let per_jacobian = |n: usize, jac: JacobianStructure| {
+        let mut chain = Chain { n, k: 1e4, c: 0.5, jac };
+        let y0: Vec<f64> = (0..2 * n).map(|i| if i < n { (i as f64 * 0.3).sin() } else { 0.0 }).collect();
+        let r = final_state(&mut chain, &Settings::fixed(Method::ImplicitEuler, 0.01), &y0, 0.1).unwrap().report;
+        // Implicit Euler (linearised) evaluates f once a step besides the Jacobian.
+        (r.rhs_evals - r.steps) / r.jacobians
+    };
+    let small = per_jacobian(40, JacobianStructure::SparseFiniteDifference(Chain::pattern(40)));
+    let large = per_jacobian(400, JacobianStructure::SparseFiniteDifference(Chain::pattern(400)));
+    assert_eq!(small, large);
+    assert!(small <= 10, "{small} colours for a chain");
+    assert_eq!(per_jacobian(40, JacobianStructure::FiniteDifference), 80);
 }
 
 /// A sparse pattern entry outside the matrix is refused when the integrator is built.
@@ -173,4 +194,42 @@ fn sparse_pattern_out_of_range_is_refused() {
     let mut chain = Chain { n: 3, k: 1.0, c: 0.0, jac: JacobianStructure::Sparse(vec![(0, 7)]) };
     let e = final_state(&mut chain, &Settings::fixed(Method::ImplicitEuler, 0.1), &[0.0; 6], 1.0).unwrap_err();
     assert!(matches!(e, OdeError::InvalidArgument { name: "jacobian pattern", .. }), "{e:?}");
+}
+
+/// Rotation on the unit circle, y' = (-y2, y1), with a projection back onto |y| = 1 after every step: explicit
+/// Euler alone spirals outwards (|y| grows by sqrt(1 + h^2) a step); with the projection the norm is 1 to
+/// round-off, and the system saw one projection per accepted step.
+#[test]
+fn projection_after_every_accepted_step() {
+    struct Circle {
+        projections: usize,
+        project: bool,
+    }
+    impl OdeSystem for Circle {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
+            dy[0] = -y[1];
+            dy[1] = y[0];
+            Ok(())
+        }
+        fn project(&mut self, _t: f64, y: &mut [f64]) -> bool {
+            if !self.project {
+                return false;
+            }
+            self.projections += 1;
+            let r = (y[0] * y[0] + y[1] * y[1]).sqrt();
+            y.iter_mut().for_each(|v| *v /= r);
+            true
+        }
+    }
+    let settings = Settings::fixed(Method::Euler, 0.01);
+    let mut free = Circle { projections: 0, project: false };
+    let drift = final_state(&mut free, &settings, &[1.0, 0.0], 10.0).unwrap().final_state.norm();
+    assert!((drift - (1.0f64 + 1e-4).powf(500.0)).abs() < 1e-9, "unprojected norm {drift}");
+    let mut held = Circle { projections: 0, project: true };
+    let sol = final_state(&mut held, &settings, &[1.0, 0.0], 10.0).unwrap();
+    assert!((sol.final_state.norm() - 1.0).abs() < 1e-15);
+    assert_eq!(held.projections, sol.report.steps);
 }
