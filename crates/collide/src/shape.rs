@@ -1,0 +1,169 @@
+//! Shapes: sphere, box, capsule, cylinder (both along the body's z axis), convex hull, static triangle mesh and
+//! half-space, validated on construction.
+
+use crate::convert::{point_from_parry, point_to_parry};
+use crate::error::{positive, ShapeError};
+use nalgebra::{Point3, Unit, Vector3};
+use parry3d_f64::shape::{ConvexPolyhedron, TriMesh as ParryTriMesh};
+use std::sync::Arc;
+
+/// A convex polyhedron: the hull of a point cloud.
+#[derive(Clone, Debug)]
+pub struct ConvexHull {
+    pub(crate) polyhedron: Arc<ConvexPolyhedron>,
+}
+
+impl ConvexHull {
+    /// The hull's vertices.
+    pub fn vertices(&self) -> Vec<Point3<f64>> {
+        self.polyhedron.points().iter().map(|&p| point_from_parry(p)).collect()
+    }
+}
+
+/// A triangle mesh; static bodies only (it has no volume to give mass).
+#[derive(Clone, Debug)]
+pub struct TriMesh {
+    pub(crate) mesh: Arc<ParryTriMesh>,
+}
+
+impl TriMesh {
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.mesh.indices().len()
+    }
+}
+
+/// A collision and mass shape in its body's frame.
+#[derive(Clone, Debug)]
+pub enum Shape {
+    /// A ball of this radius, centred at the origin.
+    Sphere { radius: f64 },
+    /// A box with these half extents along x, y, z.
+    Cuboid { half_extents: Vector3<f64> },
+    /// A capsule: a segment from -half_height to +half_height along z, swept by a ball of this radius.
+    Capsule { half_height: f64, radius: f64 },
+    /// A cylinder from -half_height to +half_height along z.
+    Cylinder { half_height: f64, radius: f64 },
+    /// A convex hull.
+    ConvexHull(ConvexHull),
+    /// A triangle mesh (static only).
+    TriMesh(TriMesh),
+    /// The half-space below the plane through the origin with this outward normal (a ground; static only).
+    HalfSpace { normal: Unit<Vector3<f64>> },
+}
+
+fn finite_point(name: &'static str, i: usize, p: &Point3<f64>) -> Result<(), ShapeError> {
+    if p.iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(ShapeError::new(name, format!("point {i} is not finite: {p:?}")))
+    }
+}
+
+impl Shape {
+    /// A sphere; `radius` > 0.
+    pub fn sphere(radius: f64) -> Result<Shape, ShapeError> {
+        Ok(Shape::Sphere { radius: positive("radius", radius)? })
+    }
+
+    /// A box; every half extent > 0.
+    pub fn cuboid(half_extents: Vector3<f64>) -> Result<Shape, ShapeError> {
+        for (axis, v) in ["x", "y", "z"].iter().zip(half_extents.iter()) {
+            if !(v.is_finite() && *v > 0.0) {
+                return Err(ShapeError::new("half_extents", format!("the {axis} half extent must be finite and > 0, got {v}")));
+            }
+        }
+        Ok(Shape::Cuboid { half_extents })
+    }
+
+    /// A capsule along z; `half_height` > 0 (a zero one is a sphere), `radius` > 0.
+    pub fn capsule(half_height: f64, radius: f64) -> Result<Shape, ShapeError> {
+        Ok(Shape::Capsule { half_height: positive("half_height", half_height)?, radius: positive("radius", radius)? })
+    }
+
+    /// A cylinder along z; `half_height` > 0, `radius` > 0.
+    pub fn cylinder(half_height: f64, radius: f64) -> Result<Shape, ShapeError> {
+        Ok(Shape::Cylinder { half_height: positive("half_height", half_height)?, radius: positive("radius", radius)? })
+    }
+
+    /// The convex hull of `points`: at least four finite points not all in one plane.
+    pub fn convex_hull(points: &[Point3<f64>]) -> Result<Shape, ShapeError> {
+        for (i, p) in points.iter().enumerate() {
+            finite_point("points", i, p)?;
+        }
+        if points.len() < 4 {
+            return Err(ShapeError::new("points", format!("a hull needs at least 4 points, got {}", points.len())));
+        }
+        let pts: Vec<_> = points.iter().map(point_to_parry).collect();
+        let polyhedron = ConvexPolyhedron::from_convex_hull(&pts)
+            .filter(|p| p.points().len() >= 4 && !flat(p))
+            .ok_or_else(|| ShapeError::new("points", "the points are coplanar (or collinear): their hull has no volume"))?;
+        Ok(Shape::ConvexHull(ConvexHull { polyhedron: Arc::new(polyhedron) }))
+    }
+
+    /// A triangle mesh from vertices and triangles (indices into `vertices`); static bodies only.
+    pub fn trimesh(vertices: &[Point3<f64>], triangles: &[[u32; 3]]) -> Result<Shape, ShapeError> {
+        for (i, p) in vertices.iter().enumerate() {
+            finite_point("vertices", i, p)?;
+        }
+        if triangles.is_empty() {
+            return Err(ShapeError::new("triangles", "at least one triangle is needed"));
+        }
+        if let Some((i, t)) = triangles.iter().enumerate().find(|(_, t)| t.iter().any(|&k| k as usize >= vertices.len())) {
+            return Err(ShapeError::new(
+                "triangles",
+                format!("triangle {i} {t:?} refers past the {} vertices", vertices.len()),
+            ));
+        }
+        let mesh = ParryTriMesh::new(vertices.iter().map(point_to_parry).collect(), triangles.to_vec())
+            .map_err(|e| ShapeError::new("triangles", format!("{e:?}")))?;
+        Ok(Shape::TriMesh(TriMesh { mesh: Arc::new(mesh) }))
+    }
+
+    /// A half-space with the given outward normal (normalised here; it must be finite and nonzero).
+    pub fn half_space(normal: Vector3<f64>) -> Result<Shape, ShapeError> {
+        let n = normal.norm();
+        if !(n.is_finite() && n > 0.0) {
+            return Err(ShapeError::new("normal", format!("must be finite and nonzero, got {normal:?}")));
+        }
+        Ok(Shape::HalfSpace { normal: Unit::new_normalize(normal) })
+    }
+
+    /// Whether only static bodies may carry this shape (it has no finite volume).
+    pub fn is_static_only(&self) -> bool {
+        matches!(self, Shape::TriMesh(_) | Shape::HalfSpace { .. })
+    }
+
+    /// The shape's name, for messages.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Shape::Sphere { .. } => "sphere",
+            Shape::Cuboid { .. } => "box",
+            Shape::Capsule { .. } => "capsule",
+            Shape::Cylinder { .. } => "cylinder",
+            Shape::ConvexHull(_) => "convex hull",
+            Shape::TriMesh(_) => "triangle mesh",
+            Shape::HalfSpace { .. } => "half-space",
+        }
+    }
+}
+
+/// Whether a polyhedron is flat: all its vertices within 1e-12 (relative to its size) of the plane of its first
+/// three non-collinear ones.
+fn flat(p: &ConvexPolyhedron) -> bool {
+    let pts: Vec<Vector3<f64>> = p.points().iter().map(|&v| point_from_parry(v).coords).collect();
+    let size = pts.iter().map(|v| (v - pts[0]).norm()).fold(0.0, f64::max);
+    let o = pts[0];
+    let normal = pts
+        .iter()
+        .skip(1)
+        .flat_map(|a| pts.iter().skip(2).map(move |b| (a - o).cross(&(b - o))))
+        .max_by(|x, y| x.norm().total_cmp(&y.norm()));
+    match normal {
+        Some(n) if n.norm() > 1e-12 * size * size => {
+            let n = n.normalize();
+            pts.iter().all(|v| (v - pts[0]).dot(&n).abs() <= 1e-12 * size)
+        }
+        _ => true,
+    }
+}
