@@ -1,1 +1,54 @@
+//! tumble: particles and rigid bodies for physically based animation.
+//!
+//! A [`World`] holds particles (the chapter's m x'' + d x' + h x = sum F), rigid bodies (state x, q, P, L with a
+//! unit quaternion), springs and loads, and steps them with any method of [`integrate`] (tumble-integrate). It
+//! compiles its contents into a state vector that holds only what they need, reports what every step cost, and
+//! leaves itself unchanged when a step fails.
+//!
+//! ```
+//! use nalgebra::Vector3;
+//! use tumble::{ParticleBuilder, World};
+//! let mut world = World::new();
+//! let p = world.add_particle(ParticleBuilder::new(1.0).velocity(Vector3::new(1.0, 0.0, 5.0))).unwrap();
+//! world.step(1.0).unwrap();
+//! let x = world.particle(p).unwrap().position();
+//! assert!((x.z - (5.0 - 0.5 * 9.81)).abs() < 1e-9);
+//! ```
+
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod body;
+mod dynamics;
+mod energy;
+mod error;
+mod handle;
+mod layout;
+mod load;
+mod model;
+mod particle;
+mod plan;
+mod report;
+mod run;
+pub mod scenes;
+mod spring;
+mod world;
+mod world_jacobian;
+
+pub use body::{RigidBody, RigidBodyBuilder};
+pub use error::WorldError;
+pub use handle::Handle;
+pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
+pub use model::ForceCounters;
+pub use particle::{Particle, ParticleBuilder};
+pub use plan::Plan;
+pub use report::WorldReport;
+pub use run::{Run, RunArrays};
+pub use spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
+pub use world::{SpringJacobian, World};
+
+/// Shapes and mass properties (tumble-collide).
+pub use tumble_collide as collide;
+pub use tumble_collide::Shape;
+/// The integrators (tumble-integrate).
 pub use tumble_integrate as integrate;
+pub use tumble_integrate::{Method, Settings};

@@ -30,7 +30,11 @@ impl Shape {
                 let p = Cylinder::new(*half_height, *radius).mass_properties(density);
                 let i = matrix_from_parry(p.reconstruct_inertia_matrix());
                 let r = Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
-                return Ok(MassProperties { mass: p.mass(), local_com: Vector3::zeros(), inertia: r * i * r.transpose() });
+                return Ok(MassProperties {
+                    mass: p.mass(),
+                    local_com: Vector3::zeros(),
+                    inertia: r * i * r.transpose(),
+                });
             }
             Shape::ConvexHull(h) => h.polyhedron.mass_properties(density),
             Shape::TriMesh(_) | Shape::HalfSpace { .. } => {
@@ -41,6 +45,10 @@ impl Shape {
             }
         };
         let inertia = matrix_from_parry(props.reconstruct_inertia_matrix());
-        Ok(MassProperties { mass: props.mass(), local_com: from_parry(props.local_com), inertia: 0.5 * (inertia + inertia.transpose()) })
+        Ok(MassProperties {
+            mass: props.mass(),
+            local_com: from_parry(props.local_com),
+            inertia: 0.5 * (inertia + inertia.transpose()),
+        })
     }
 }

@@ -70,7 +70,10 @@ impl Shape {
     pub fn cuboid(half_extents: Vector3<f64>) -> Result<Shape, ShapeError> {
         for (axis, v) in ["x", "y", "z"].iter().zip(half_extents.iter()) {
             if !(v.is_finite() && *v > 0.0) {
-                return Err(ShapeError::new("half_extents", format!("the {axis} half extent must be finite and > 0, got {v}")));
+                return Err(ShapeError::new(
+                    "half_extents",
+                    format!("the {axis} half extent must be finite and > 0, got {v}"),
+                ));
             }
         }
         Ok(Shape::Cuboid { half_extents })
@@ -95,9 +98,10 @@ impl Shape {
             return Err(ShapeError::new("points", format!("a hull needs at least 4 points, got {}", points.len())));
         }
         let pts: Vec<_> = points.iter().map(point_to_parry).collect();
-        let polyhedron = ConvexPolyhedron::from_convex_hull(&pts)
-            .filter(|p| p.points().len() >= 4 && !flat(p))
-            .ok_or_else(|| ShapeError::new("points", "the points are coplanar (or collinear): their hull has no volume"))?;
+        let polyhedron =
+            ConvexPolyhedron::from_convex_hull(&pts).filter(|p| p.points().len() >= 4 && !flat(p)).ok_or_else(
+                || ShapeError::new("points", "the points are coplanar (or collinear): their hull has no volume"),
+            )?;
         Ok(Shape::ConvexHull(ConvexHull { polyhedron: Arc::new(polyhedron) }))
     }
 
@@ -109,7 +113,9 @@ impl Shape {
         if triangles.is_empty() {
             return Err(ShapeError::new("triangles", "at least one triangle is needed"));
         }
-        if let Some((i, t)) = triangles.iter().enumerate().find(|(_, t)| t.iter().any(|&k| k as usize >= vertices.len())) {
+        if let Some((i, t)) =
+            triangles.iter().enumerate().find(|(_, t)| t.iter().any(|&k| k as usize >= vertices.len()))
+        {
             return Err(ShapeError::new(
                 "triangles",
                 format!("triangle {i} {t:?} refers past the {} vertices", vertices.len()),

@@ -93,7 +93,12 @@ fn degenerate_shapes_are_refused_by_name() {
     assert_eq!(name_of(Shape::cuboid(Vector3::new(1.0, 1.0, f64::INFINITY)).unwrap_err()), "half_extents");
     assert_eq!(name_of(Shape::capsule(0.0, 1.0).unwrap_err()), "half_height");
     assert_eq!(name_of(Shape::cylinder(1.0, -2.0).unwrap_err()), "radius");
-    let square = [Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0), Point3::new(1.0, 1.0, 0.0)];
+    let square = [
+        Point3::new(0.0, 0.0, 0.0),
+        Point3::new(1.0, 0.0, 0.0),
+        Point3::new(0.0, 1.0, 0.0),
+        Point3::new(1.0, 1.0, 0.0),
+    ];
     assert_eq!(name_of(Shape::convex_hull(&square).unwrap_err()), "points");
     assert_eq!(name_of(Shape::convex_hull(&square[..3]).unwrap_err()), "points");
     let line: Vec<_> = (0..6).map(|k| Point3::new(k as f64, 0.0, 0.0)).collect();

@@ -45,6 +45,8 @@ pub enum OdeError {
     NewtonFailure { t: f64, h: f64, iterations: usize, residual: f64 },
     /// The iteration matrix `I/(h gamma) - J` is singular.
     SingularMatrix { t: f64, h: f64 },
+    /// The iterative linear solver did not reach its tolerance.
+    LinearSolve { t: f64, h: f64, iterations: usize, residual: f64 },
     /// More steps than `max_steps` were needed.
     TooManySteps { t: f64, max_steps: usize },
     /// The system's own evaluation failed.
@@ -85,6 +87,11 @@ impl fmt::Display for OdeError {
             OdeError::SingularMatrix { t, h } => {
                 write!(f, "singular iteration matrix at t = {t:e} with h = {h:e}")
             }
+            OdeError::LinearSolve { t, h, iterations, residual } => write!(
+                f,
+                "iterative linear solve failed at t = {t:e} with h = {h:e}: relative residual {residual:e} after \
+                 {iterations} iterations"
+            ),
             OdeError::TooManySteps { t, max_steps } => {
                 write!(f, "more than {max_steps} steps needed; stopped at t = {t:e}")
             }

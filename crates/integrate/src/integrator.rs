@@ -21,6 +21,7 @@ pub struct Integrator<S: OdeSystem + ?Sized> {
     next: Point,
     h: Option<f64>,
     last_step: Option<f64>,
+    step_log: Option<Vec<(f64, f64)>>,
     last_rejected: bool,
     dense_buf: Vec<f64>,
     backup: Vec<f64>,
@@ -34,6 +35,7 @@ fn recoverable(e: &OdeError) -> bool {
             | OdeError::Divergence { .. }
             | OdeError::NewtonFailure { .. }
             | OdeError::SingularMatrix { .. }
+            | OdeError::LinearSolve { .. }
     )
 }
 
@@ -65,6 +67,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             next: Point::new(t0, y0),
             h: None,
             last_step: None,
+            step_log: None,
             last_rejected: false,
             dense_buf: vec![0.0; y0.len()],
             backup: y0.to_vec(),
@@ -92,6 +95,21 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         &self.settings
     }
 
+    /// Returns the report so far and starts a new one (for callers that report per call).
+    pub fn take_report(&mut self) -> Report {
+        std::mem::replace(&mut self.ctx.report, Report::new(self.settings.method.name()))
+    }
+
+    /// Starts or stops recording (time, size) of every accepted step.
+    pub fn log_steps(&mut self, on: bool) {
+        self.step_log = on.then(Vec::new);
+    }
+
+    /// The (time at the end of the step, step size) pairs recorded since the last call.
+    pub fn take_step_log(&mut self) -> Vec<(f64, f64)> {
+        self.step_log.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+
     /// The size of the last accepted step (None before the first).
     pub fn last_step(&self) -> Option<f64> {
         self.last_step
@@ -112,14 +130,15 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         Ok(())
     }
 
-    /// Advances to `t_end` exactly, calling `on_save(t, y)` for every time of `save_at` (ascending, within
-    /// [current time, t_end]). On error the time, state and proposed step are those before the call.
+    /// Advances to `t_end` exactly, calling `on_save(sys, t, y)` for every time of `save_at` (ascending, within
+    /// [current time, t_end]); the system is lent to it read-only, to compute derived quantities. On error the time,
+    /// state and proposed step are those before the call.
     pub fn advance_to(
         &mut self,
         sys: &mut S,
         t_end: f64,
         save_at: &[f64],
-        mut on_save: impl FnMut(f64, &[f64]),
+        mut on_save: impl FnMut(&S, f64, &[f64]),
     ) -> Result<(), OdeError> {
         let t0 = self.cur.t;
         if !(t_end.is_finite() && t_end >= t0) {
@@ -177,6 +196,9 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         self.ctx.report.record_step(h, local);
         self.stepper.accepted(&self.cur, &self.next, &mut self.ctx);
         self.last_step = Some(h);
+        if let Some(log) = &mut self.step_log {
+            log.push((self.next.t, h));
+        }
         if sys.project(self.next.t, &mut self.next.y) {
             let t = self.next.t;
             self.next.renew(t);
@@ -189,13 +211,13 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         dt: f64,
         t_end: f64,
         saves: &[f64],
-        on_save: &mut impl FnMut(f64, &[f64]),
+        on_save: &mut impl FnMut(&S, f64, &[f64]),
     ) -> Result<(), OdeError> {
         let mut si = 0;
         let mut budget = self.settings.max_steps;
         loop {
             while si < saves.len() && saves[si] <= self.cur.t {
-                on_save(saves[si], &self.cur.y);
+                on_save(sys, saves[si], &self.cur.y);
                 si += 1;
             }
             if self.cur.t >= t_end {
@@ -225,14 +247,14 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         sys: &mut S,
         t_end: f64,
         saves: &[f64],
-        on_save: &mut impl FnMut(f64, &[f64]),
+        on_save: &mut impl FnMut(&S, f64, &[f64]),
     ) -> Result<(), OdeError> {
         let dense = self.settings.dense_output
             && self.stepper.has_dense_output()
             && !matches!(self.settings.control, Control::StepDoubling { .. });
         let mut si = 0;
         while si < saves.len() && saves[si] <= self.cur.t {
-            on_save(saves[si], &self.cur.y);
+            on_save(sys, saves[si], &self.cur.y);
             si += 1;
         }
         if self.cur.t >= t_end {
@@ -289,11 +311,11 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                 while si < saves.len() && saves[si] <= t_new {
                     let s = saves[si];
                     if s == t_new || !dense {
-                        on_save(s, &self.next.y);
+                        on_save(sys, s, &self.next.y);
                     } else {
                         let theta = (s - self.cur.t) / h;
                         self.stepper.dense(&self.cur, &self.next, theta, &mut self.dense_buf);
-                        on_save(s, &self.dense_buf);
+                        on_save(sys, s, &self.dense_buf);
                     }
                     si += 1;
                 }

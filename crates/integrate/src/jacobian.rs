@@ -89,6 +89,15 @@ impl Jacobian {
         Ok(Jacobian { n, values, point: None, version: 0, work_y: vec![0.0; n], work_f: vec![0.0; n] })
     }
 
+    /// The sparse pattern and its values, for a sparse Jacobian.
+    #[allow(clippy::type_complexity)]
+    pub fn sparse(&self) -> Option<(&[(usize, usize)], &[f64])> {
+        match &self.values {
+            Values::Sparse { pattern, values, .. } => Some((pattern, values)),
+            Values::Dense { .. } => None,
+        }
+    }
+
     /// Whether the values were evaluated at this point.
     pub fn is_at(&self, p: &Point) -> bool {
         self.point == Some(p.id)

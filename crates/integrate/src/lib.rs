@@ -27,6 +27,7 @@ mod jacobian;
 mod method;
 mod point;
 pub mod problems;
+mod reduced;
 mod report;
 mod second_order;
 mod settings;
@@ -41,7 +42,7 @@ pub use integrator::Integrator;
 pub use method::Method;
 pub use report::Report;
 pub use second_order::{FirstOrder, SecondOrderSystem};
-pub use settings::{Control, NewtonMode, Settings};
+pub use settings::{Control, LinearSolver, NewtonMode, Settings};
 pub use solve::{solve, SaveAt, Solution};
 pub use system::{FnSystem, JacobianStructure, OdeSystem, Split};
 

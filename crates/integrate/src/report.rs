@@ -20,8 +20,10 @@ pub struct Report {
     pub factorizations: usize,
     /// Solves with a factorized iteration matrix.
     pub linear_solves: usize,
-    /// Newton iterations (implicit Euler in Newton mode).
+    /// Newton iterations (implicit Euler in Newton mode, Radau5).
     pub newton_iterations: usize,
+    /// Iterations of the iterative linear solver.
+    pub krylov_iterations: usize,
     /// Restarts of a multistep history (AB4, AM4) after a change of step.
     pub restarts: usize,
     /// Smallest accepted step (infinity before the first step).
@@ -48,11 +50,40 @@ impl Report {
             factorizations: 0,
             linear_solves: 0,
             newton_iterations: 0,
+            krylov_iterations: 0,
             restarts: 0,
             min_step: f64::INFINITY,
             max_step: 0.0,
             wall_seconds: 0.0,
             error_estimate: None,
+        }
+    }
+
+    /// An empty report for `method`.
+    pub fn empty(method: &'static str) -> Self {
+        Report::new(method)
+    }
+
+    /// Adds another report's counts, step range, time and error estimate to this one.
+    pub fn merge(&mut self, o: &Report) {
+        self.steps += o.steps;
+        self.rejected += o.rejected;
+        self.rhs_evals += o.rhs_evals;
+        self.jacobians += o.jacobians;
+        self.factorizations += o.factorizations;
+        self.linear_solves += o.linear_solves;
+        self.newton_iterations += o.newton_iterations;
+        self.krylov_iterations += o.krylov_iterations;
+        self.restarts += o.restarts;
+        self.min_step = self.min_step.min(o.min_step);
+        self.max_step = self.max_step.max(o.max_step);
+        self.wall_seconds += o.wall_seconds;
+        self.error_estimate = match (self.error_estimate, o.error_estimate) {
+            (None, None) => None,
+            (a, b) => Some(a.unwrap_or(0.0) + b.unwrap_or(0.0)),
+        };
+        if self.steps == o.steps {
+            self.method = o.method;
         }
     }
 
@@ -73,8 +104,8 @@ impl fmt::Display for Report {
         writeln!(f, "rhs evaluations  {}", self.rhs_evals)?;
         writeln!(
             f,
-            "linear algebra   {} jacobians, {} factorizations, {} solves, {} newton iterations",
-            self.jacobians, self.factorizations, self.linear_solves, self.newton_iterations
+            "linear algebra   {} jacobians, {} factorizations, {} solves, {} newton iterations, {} krylov iterations",
+            self.jacobians, self.factorizations, self.linear_solves, self.newton_iterations, self.krylov_iterations
         )?;
         if self.steps > 0 {
             writeln!(f, "step size        {:.3e} .. {:.3e}", self.min_step, self.max_step)?;

@@ -45,7 +45,11 @@ impl<S: SecondOrderSystem> OdeSystem for FirstOrder<S> {
     }
 
     fn split(&self) -> Option<Split> {
-        Some(Split { positions: self.0.dof(), force_depends_on_velocity: self.0.depends_on_velocity() })
+        Some(Split {
+            positions: self.0.dof(),
+            force_depends_on_velocity: self.0.depends_on_velocity(),
+            kinematic_identity: true,
+        })
     }
 
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {

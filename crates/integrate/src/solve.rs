@@ -72,7 +72,7 @@ pub fn solve<S: OdeSystem + ?Sized>(
     let times = save_at.times(t0, t_end)?;
     let n = y0.len();
     let mut data = Vec::with_capacity(times.len() * n);
-    integrator.advance_to(sys, t_end, &times, |_, y| data.extend_from_slice(y))?;
+    integrator.advance_to(sys, t_end, &times, |_, _, y| data.extend_from_slice(y))?;
     Ok(Solution {
         states: DMatrix::from_vec(n, times.len(), data),
         times,

@@ -160,14 +160,14 @@ fn failed_advance_restores_time_and_state() {
     ] {
         let mut sys = poisoned();
         let mut integ = Integrator::new(&mut sys, settings.clone(), 0.0, &[1.0]).unwrap();
-        integ.advance_to(&mut sys, 0.3, &[], |_, _| {}).unwrap();
+        integ.advance_to(&mut sys, 0.3, &[], |_, _, _| {}).unwrap();
         let (t, y) = (integ.time(), integ.state().to_vec());
-        let e = integ.advance_to(&mut sys, 1.0, &[], |_, _| {}).unwrap_err();
+        let e = integ.advance_to(&mut sys, 1.0, &[], |_, _, _| {}).unwrap_err();
         assert!(matches!(e, OdeError::NonFinite { .. }), "{}: {e:?}", settings.method);
         assert_eq!(integ.time(), t, "{}", settings.method);
         assert_eq!(integ.state(), &y[..], "{}", settings.method);
         // It can still go on to where the system is healthy, and matches exp(-t).
-        integ.advance_to(&mut sys, 0.5, &[], |_, _| {}).unwrap();
+        integ.advance_to(&mut sys, 0.5, &[], |_, _, _| {}).unwrap();
         assert!((integ.state()[0] - (-0.5f64).exp()).abs() < 1e-6, "{}", settings.method);
     }
 }

@@ -96,7 +96,7 @@ impl OdeSystem for DampedOscillator {
         true
     }
     fn split(&self) -> Option<Split> {
-        Some(Split { positions: 1, force_depends_on_velocity: self.damping != 0.0 })
+        Some(Split { positions: 1, force_depends_on_velocity: self.damping != 0.0, kinematic_identity: true })
     }
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         dq[0] = y[1];
@@ -172,7 +172,7 @@ impl OdeSystem for Kepler {
         true
     }
     fn split(&self) -> Option<Split> {
-        Some(Split { positions: 2, force_depends_on_velocity: false })
+        Some(Split { positions: 2, force_depends_on_velocity: false, kinematic_identity: true })
     }
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         dq.copy_from_slice(&y[2..]);
@@ -232,7 +232,7 @@ impl OdeSystem for StiffSpring {
         true
     }
     fn split(&self) -> Option<Split> {
-        Some(Split { positions: 1, force_depends_on_velocity: false })
+        Some(Split { positions: 1, force_depends_on_velocity: false, kinematic_identity: true })
     }
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         dq[0] = y[1];

@@ -1,27 +1,38 @@
 //! Implicit Euler X' = X + h f(X', t + h): the chapter's linearised step dX = (I/h - J)^-1 f(X), or full Newton
-//! iteration on the same system with the Jacobian re-evaluated at every iterate. Dense or sparse LU.
+//! iteration on the same system with the Jacobian re-evaluated at every iterate. Dense or sparse LU; a sparse
+//! mechanical system (dq/dt = p) takes the linearised step in its velocities alone (`reduced.rs`), by sparse LU
+//! or BiCGSTAB.
 
 use super::{Ctx, Estimate, Stepper};
 use crate::error::OdeError;
 use crate::factorization::{Factorization, Shift};
 use crate::jacobian::Jacobian;
 use crate::point::{max_norm, Point};
-use crate::settings::NewtonMode;
+use crate::reduced::Reduced;
+use crate::settings::{LinearSolver, NewtonMode};
 use crate::system::OdeSystem;
 
 pub(crate) struct ImplicitEuler {
     jac: Jacobian,
     matrix: Factorization,
+    /// The velocity-only form, when the system allows it.
+    reduced: Option<Reduced>,
     iterate: Point,
     delta: Vec<f64>,
 }
 
 impl ImplicitEuler {
-    pub fn new<S: OdeSystem + ?Sized>(sys: &S) -> Result<Self, OdeError> {
+    pub fn new<S: OdeSystem + ?Sized>(sys: &S, solver: LinearSolver) -> Result<Self, OdeError> {
         let n = sys.dim();
         let jac = Jacobian::new(sys)?;
         let matrix = Factorization::new(&jac, Shift::Real)?;
-        Ok(ImplicitEuler { jac, matrix, iterate: Point::new(0.0, &vec![0.0; n]), delta: vec![0.0; n] })
+        let reduced = match (sys.split(), jac.sparse()) {
+            (Some(split), Some((pattern, _))) if split.kinematic_identity && 2 * split.positions == n => {
+                Some(Reduced::new(n, split.positions, pattern, solver)?)
+            }
+            _ => None,
+        };
+        Ok(ImplicitEuler { jac, matrix, reduced, iterate: Point::new(0.0, &vec![0.0; n]), delta: vec![0.0; n] })
     }
 }
 
@@ -35,6 +46,18 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for ImplicitEuler {
         ctx: &mut Ctx,
     ) -> Result<Estimate, OdeError> {
         match ctx.newton {
+            NewtonMode::Linearised if self.reduced.is_some() => {
+                from.ensure_f(sys, &mut ctx.report)?;
+                self.jac.update(sys, from, &mut ctx.report)?;
+                let q = from.y.len() / 2;
+                let (_, values) = self.jac.sparse().expect("the reduced form needs a sparse Jacobian");
+                let reduced = self.reduced.as_mut().expect("checked");
+                reduced.solve_step(values, &from.y, &from.f, h, &mut self.delta[q..], from.t, &mut ctx.report)?;
+                for i in 0..q {
+                    to.y[i] = from.y[i] + h * (from.y[q + i] + self.delta[q + i]);
+                    to.y[q + i] = from.y[q + i] + self.delta[q + i];
+                }
+            }
             NewtonMode::Linearised => {
                 from.ensure_f(sys, &mut ctx.report)?;
                 self.jac.update(sys, from, &mut ctx.report)?;

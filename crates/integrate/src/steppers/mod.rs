@@ -98,7 +98,7 @@ pub(crate) fn build<S: OdeSystem + ?Sized>(sys: &S, settings: &Settings) -> Resu
         Method::Ab4 => Box::new(adams::Adams::new(n, false)),
         Method::Am4 => Box::new(adams::Adams::new(n, true)),
         Method::Dopri5 => finish(dopri5::Dopri5::new(n), n, settings),
-        Method::ImplicitEuler => finish(implicit_euler::ImplicitEuler::new(sys)?, n, settings),
+        Method::ImplicitEuler => finish(implicit_euler::ImplicitEuler::new(sys, settings.linear_solver)?, n, settings),
         Method::Rodas4 => finish(rodas4::Rodas4::new(sys)?, n, settings),
         Method::Radau5 => {
             let (rtol, atol) = settings.weights();

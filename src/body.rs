@@ -1,0 +1,302 @@
+//! Rigid bodies: mass, body-frame inertia tensor about the centre of mass, and the state (x, q, P, L) of the
+//! chapter with a unit quaternion in place of the rotation matrix.
+
+use crate::error::{check_finite, check_scalar, WorldError};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use tumble_collide::Shape;
+
+/// A rigid body in a world. Its position is that of its centre of mass; build one with [`RigidBodyBuilder`].
+#[derive(Clone, Debug)]
+pub struct RigidBody {
+    pub(crate) mass: f64,
+    pub(crate) inertia: Matrix3<f64>,
+    pub(crate) inv_inertia: Matrix3<f64>,
+    pub(crate) shape: Option<Shape>,
+    pub(crate) shape_offset: Vector3<f64>,
+    pub(crate) position: Vector3<f64>,
+    pub(crate) orientation: UnitQuaternion<f64>,
+    pub(crate) momentum: Vector3<f64>,
+    pub(crate) angular_momentum: Vector3<f64>,
+    pub(crate) linear_damping: f64,
+    pub(crate) angular_damping: f64,
+    pub(crate) restitution: f64,
+    pub(crate) friction: f64,
+    pub(crate) is_static: bool,
+}
+
+impl RigidBody {
+    /// Mass M (infinite for a static body).
+    pub fn mass(&self) -> f64 {
+        if self.is_static {
+            f64::INFINITY
+        } else {
+            self.mass
+        }
+    }
+    /// Inertia tensor about the centre of mass, body axes.
+    pub fn inertia(&self) -> Matrix3<f64> {
+        self.inertia
+    }
+    /// World inertia tensor I(t) = R I_body R^T.
+    pub fn world_inertia(&self) -> Matrix3<f64> {
+        let r = self.orientation.to_rotation_matrix();
+        r.matrix() * self.inertia * r.matrix().transpose()
+    }
+    /// Centre-of-mass position x.
+    pub fn position(&self) -> Vector3<f64> {
+        self.position
+    }
+    /// Orientation q (body to world).
+    pub fn orientation(&self) -> UnitQuaternion<f64> {
+        self.orientation
+    }
+    /// Linear momentum P.
+    pub fn momentum(&self) -> Vector3<f64> {
+        self.momentum
+    }
+    /// Angular momentum L about the centre of mass, world axes.
+    pub fn angular_momentum(&self) -> Vector3<f64> {
+        self.angular_momentum
+    }
+    /// Velocity v = P / M.
+    pub fn velocity(&self) -> Vector3<f64> {
+        if self.is_static {
+            Vector3::zeros()
+        } else {
+            self.momentum / self.mass
+        }
+    }
+    /// Angular velocity w = I(t)^-1 L.
+    pub fn angular_velocity(&self) -> Vector3<f64> {
+        if self.is_static {
+            return Vector3::zeros();
+        }
+        let r = self.orientation.to_rotation_matrix();
+        r.matrix() * self.inv_inertia * r.matrix().transpose() * self.angular_momentum
+    }
+    /// Velocity of a world point r attached to the body: w x (r - x) + v.
+    pub fn point_velocity(&self, r: Vector3<f64>) -> Vector3<f64> {
+        self.angular_velocity().cross(&(r - self.position)) + self.velocity()
+    }
+    /// World position of a point given in the body frame (relative to the centre of mass).
+    pub fn world_point(&self, local: Vector3<f64>) -> Vector3<f64> {
+        self.position + self.orientation * local
+    }
+    /// The collision shape, if any.
+    pub fn shape(&self) -> Option<&Shape> {
+        self.shape.as_ref()
+    }
+    /// Where the shape's own origin sits in the body frame (-centre of mass of the shape).
+    pub fn shape_offset(&self) -> Vector3<f64> {
+        self.shape_offset
+    }
+    /// Whether the body is static (immovable, not integrated).
+    pub fn is_static(&self) -> bool {
+        self.is_static
+    }
+    /// Coefficient of restitution (used by contact).
+    pub fn restitution(&self) -> f64 {
+        self.restitution
+    }
+    /// Coefficient of friction (used by contact).
+    pub fn friction(&self) -> f64 {
+        self.friction
+    }
+}
+
+/// Describes a rigid body to add.
+#[derive(Clone, Debug)]
+pub struct RigidBodyBuilder {
+    mass: Option<f64>,
+    inertia: Option<Matrix3<f64>>,
+    density: Option<f64>,
+    shape: Option<Shape>,
+    is_static: bool,
+    position: Vector3<f64>,
+    orientation: UnitQuaternion<f64>,
+    velocity: Vector3<f64>,
+    angular_velocity: Vector3<f64>,
+    linear_damping: f64,
+    angular_damping: f64,
+    restitution: f64,
+    friction: f64,
+}
+
+impl RigidBodyBuilder {
+    fn empty() -> Self {
+        RigidBodyBuilder {
+            mass: None,
+            inertia: None,
+            density: None,
+            shape: None,
+            is_static: false,
+            position: Vector3::zeros(),
+            orientation: UnitQuaternion::identity(),
+            velocity: Vector3::zeros(),
+            angular_velocity: Vector3::zeros(),
+            linear_damping: 0.0,
+            angular_damping: 0.0,
+            restitution: 0.5,
+            friction: 0.5,
+        }
+    }
+
+    /// A dynamic body with the given mass and body-frame inertia tensor (symmetric positive definite).
+    pub fn new(mass: f64, inertia: Matrix3<f64>) -> Self {
+        RigidBodyBuilder { mass: Some(mass), inertia: Some(inertia), ..Self::empty() }
+    }
+
+    /// A dynamic body whose mass properties come from `shape` at `density`.
+    pub fn from_shape(shape: Shape, density: f64) -> Self {
+        RigidBodyBuilder { shape: Some(shape), density: Some(density), ..Self::empty() }
+    }
+
+    /// A dynamic body shaped `shape` with total mass `mass` (the shape's inertia scaled to that mass).
+    pub fn from_shape_with_mass(shape: Shape, mass: f64) -> Self {
+        RigidBodyBuilder { shape: Some(shape), mass: Some(mass), ..Self::empty() }
+    }
+
+    /// A static body: immovable, not integrated; it may carry any shape and anchor springs.
+    pub fn fixed(shape: Option<Shape>) -> Self {
+        RigidBodyBuilder { shape, is_static: true, ..Self::empty() }
+    }
+
+    /// Sets the collision shape of a body whose mass and inertia were given directly.
+    pub fn shape(mut self, shape: Shape) -> Self {
+        self.shape = Some(shape);
+        self
+    }
+    /// Initial centre-of-mass position.
+    pub fn position(mut self, p: Vector3<f64>) -> Self {
+        self.position = p;
+        self
+    }
+    /// Initial orientation.
+    pub fn orientation(mut self, q: UnitQuaternion<f64>) -> Self {
+        self.orientation = q;
+        self
+    }
+    /// Initial velocity of the centre of mass.
+    pub fn velocity(mut self, v: Vector3<f64>) -> Self {
+        self.velocity = v;
+        self
+    }
+    /// Initial angular velocity (world axes).
+    pub fn angular_velocity(mut self, w: Vector3<f64>) -> Self {
+        self.angular_velocity = w;
+        self
+    }
+    /// Linear damping c (force -c v).
+    pub fn linear_damping(mut self, c: f64) -> Self {
+        self.linear_damping = c;
+        self
+    }
+    /// Angular damping c (torque -c w).
+    pub fn angular_damping(mut self, c: f64) -> Self {
+        self.angular_damping = c;
+        self
+    }
+    /// Coefficient of restitution in [0, 1] (used by contact).
+    pub fn restitution(mut self, e: f64) -> Self {
+        self.restitution = e;
+        self
+    }
+    /// Coefficient of friction >= 0 (used by contact).
+    pub fn friction(mut self, mu: f64) -> Self {
+        self.friction = mu;
+        self
+    }
+
+    /// Resolves the mass properties and checks every field.
+    pub(crate) fn build(self) -> Result<RigidBody, WorldError> {
+        check_finite("position", self.position.iter())?;
+        check_finite("orientation", self.orientation.coords.iter())?;
+        check_finite("velocity", self.velocity.iter())?;
+        check_finite("angular_velocity", self.angular_velocity.iter())?;
+        check_scalar("linear_damping", self.linear_damping, false)?;
+        check_scalar("angular_damping", self.angular_damping, false)?;
+        if !(0.0..=1.0).contains(&self.restitution) {
+            return Err(WorldError::invalid("restitution", format!("must be in [0, 1], got {}", self.restitution)));
+        }
+        check_scalar("friction", self.friction, false)?;
+        let (mass, inertia, offset) = if self.is_static {
+            (f64::INFINITY, Matrix3::identity(), Vector3::zeros())
+        } else {
+            self.mass_properties()?
+        };
+        let inv_inertia = if self.is_static { Matrix3::zeros() } else { check_inertia(&inertia)? };
+        let (momentum, angular_momentum) = if self.is_static {
+            (Vector3::zeros(), Vector3::zeros())
+        } else {
+            let r = self.orientation.to_rotation_matrix();
+            (mass * self.velocity, r.matrix() * inertia * r.matrix().transpose() * self.angular_velocity)
+        };
+        Ok(RigidBody {
+            mass,
+            inertia,
+            inv_inertia,
+            shape: self.shape,
+            shape_offset: offset,
+            position: self.position,
+            orientation: self.orientation,
+            momentum,
+            angular_momentum,
+            linear_damping: self.linear_damping,
+            angular_damping: self.angular_damping,
+            restitution: self.restitution,
+            friction: self.friction,
+            is_static: self.is_static,
+        })
+    }
+
+    /// (mass, inertia about the centre of mass, shape origin in the body frame).
+    fn mass_properties(&self) -> Result<(f64, Matrix3<f64>, Vector3<f64>), WorldError> {
+        match (&self.shape, self.mass, self.inertia, self.density) {
+            (_, Some(m), Some(i), None) => Ok((check_scalar("mass", m, true)?, i, Vector3::zeros())),
+            (Some(shape), m, None, d) => {
+                if shape.is_static_only() {
+                    return Err(WorldError::invalid(
+                        "shape",
+                        format!("a {} has no volume: it can only belong to a static body", shape.kind()),
+                    ));
+                }
+                let props = match (m, d) {
+                    (None, Some(d)) => shape.mass_properties(check_scalar("density", d, true)?)?,
+                    (Some(m), None) => {
+                        let unit = shape.mass_properties(1.0)?;
+                        let scale = check_scalar("mass", m, true)? / unit.mass;
+                        tumble_collide::MassProperties {
+                            mass: m,
+                            local_com: unit.local_com,
+                            inertia: unit.inertia * scale,
+                        }
+                    }
+                    _ => return Err(WorldError::invalid("density", "give either density or mass, not both")),
+                };
+                Ok((props.mass, props.inertia, -props.local_com))
+            }
+            (_, _, Some(_), _) => Err(WorldError::invalid("inertia", "an inertia tensor needs a mass and no density")),
+            (None, _, None, _) => {
+                Err(WorldError::invalid("shape", "a dynamic body needs a shape or a mass and inertia"))
+            }
+        }
+    }
+}
+
+/// The inverse of an inertia tensor that is finite, symmetric and positive definite.
+fn check_inertia(i: &Matrix3<f64>) -> Result<Matrix3<f64>, WorldError> {
+    check_finite("inertia", i.iter())?;
+    let scale = i.amax();
+    if (i - i.transpose()).amax() > 1e-12 * scale {
+        return Err(WorldError::invalid("inertia", format!("must be symmetric, got {i}")));
+    }
+    let sym = 0.5 * (i + i.transpose());
+    let eig = sym.symmetric_eigenvalues();
+    if !(eig.min() > 1e-12 * scale) {
+        return Err(WorldError::invalid(
+            "inertia",
+            format!("must be positive definite; its eigenvalues are {:?}", eig.as_slice()),
+        ));
+    }
+    sym.try_inverse().ok_or_else(|| WorldError::invalid("inertia", "is singular"))
+}

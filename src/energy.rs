@@ -1,0 +1,55 @@
+//! Energy and momenta of a state: kinetic energy of particles and bodies (1/2 m v^2, 1/2 P^2 / M + 1/2 L . w);
+//! potential energy of gravity, springs and the particles' restoring terms; linear momentum; angular momentum
+//! about the origin.
+
+use crate::layout::get3;
+use crate::model::Model;
+use nalgebra::Vector3;
+
+impl Model {
+    pub(crate) fn kinetic_energy(&self, y: &[f64]) -> f64 {
+        let l = self.layout;
+        let particles: f64 =
+            self.particles.iter().enumerate().map(|(i, p)| 0.5 * p.mass * get3(y, l.pv(i)).norm_squared()).sum();
+        let bodies: f64 = (0..l.bodies)
+            .map(|j| {
+                let k = self.body_kin(y, j);
+                0.5 * get3(y, l.bp(j)).norm_squared() * self.bodies[j].inv_mass + 0.5 * get3(y, l.bl(j)).dot(&k.omega)
+            })
+            .sum();
+        particles + bodies
+    }
+
+    pub(crate) fn potential_energy(&self, y: &[f64]) -> f64 {
+        let l = self.layout;
+        let mut u = 0.0;
+        for (i, p) in self.particles.iter().enumerate() {
+            let x = get3(y, l.px(i));
+            u -= p.mass * self.gravity.dot(&x);
+            u += 0.5 * p.stiffness * (x - p.anchor).norm_squared();
+        }
+        for (j, b) in self.bodies.iter().enumerate() {
+            u -= b.mass * self.gravity.dot(&get3(y, l.bx(j)));
+        }
+        let kin: Vec<_> = (0..l.bodies).map(|j| self.body_kin(y, j)).collect();
+        for s in &self.springs {
+            let (pa, _, _) = self.end_state(&kin, y, s.a);
+            let (pb, _, _) = self.end_state(&kin, y, s.b);
+            u += 0.5 * s.k * ((pa - pb).norm() - s.l0).powi(2);
+        }
+        u
+    }
+
+    pub(crate) fn momentum(&self, y: &[f64]) -> Vector3<f64> {
+        let l = self.layout;
+        let p: Vector3<f64> = self.particles.iter().enumerate().map(|(i, p)| get3(y, l.pv(i)) * p.mass).sum();
+        p + (0..l.bodies).map(|j| get3(y, l.bp(j))).sum::<Vector3<f64>>()
+    }
+
+    pub(crate) fn angular_momentum(&self, y: &[f64]) -> Vector3<f64> {
+        let l = self.layout;
+        let p: Vector3<f64> =
+            self.particles.iter().enumerate().map(|(i, p)| get3(y, l.px(i)).cross(&(get3(y, l.pv(i)) * p.mass))).sum();
+        p + (0..l.bodies).map(|j| get3(y, l.bx(j)).cross(&get3(y, l.bp(j))) + get3(y, l.bl(j))).sum::<Vector3<f64>>()
+    }
+}

@@ -1,0 +1,242 @@
+//! The compiled model: the world's contents as flat arrays in state order, with handles resolved to indices.
+//! It is rebuilt when the world's structure changes and is the `OdeSystem` the integrators step.
+
+use crate::body::RigidBody;
+use crate::handle::Arena;
+use crate::layout::{get3, get_quat, set3, set_quat, Layout};
+use crate::load::{ForceCallback, Load, Target};
+use crate::particle::Particle;
+use crate::spring::{Attachment, BodyHandle, ParticleHandle, Spring};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use std::collections::HashMap;
+
+pub(crate) struct ParticleProps {
+    pub mass: f64,
+    pub inv_mass: f64,
+    pub damping: f64,
+    pub stiffness: f64,
+    pub anchor: Vector3<f64>,
+}
+
+pub(crate) struct BodyProps {
+    pub mass: f64,
+    pub inv_mass: f64,
+    pub inv_inertia: Matrix3<f64>,
+    pub linear_damping: f64,
+    pub angular_damping: f64,
+}
+
+/// A spring end resolved to a state index, or to a fixed world point (static bodies included).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum End {
+    Particle(usize),
+    Body(usize, Vector3<f64>),
+    Point(Vector3<f64>),
+}
+
+pub(crate) struct CompiledSpring {
+    pub a: End,
+    pub b: End,
+    pub k: f64,
+    pub c: f64,
+    pub l0: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum On {
+    Particle(usize),
+    Body(usize),
+}
+
+pub(crate) enum CompiledLoad {
+    Force { on: On, force: Vector3<f64>, at: Option<Vector3<f64>> },
+    Torque { body: usize, torque: Vector3<f64> },
+    Callback { on: On, callback: ForceCallback },
+}
+
+/// A body's rotation, angular and linear velocity at the current right-hand side.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BodyKin {
+    pub rot: Matrix3<f64>,
+    pub omega: Vector3<f64>,
+    pub velocity: Vector3<f64>,
+}
+
+/// How many times each force loop ran (a loop over nothing is never entered).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ForceCounters {
+    /// Right-hand-side evaluations of the world.
+    pub evaluations: usize,
+    /// Spring force evaluations (one per spring per evaluation).
+    pub spring_evaluations: usize,
+    /// Constant force and torque evaluations.
+    pub load_evaluations: usize,
+    /// User callback calls.
+    pub callback_calls: usize,
+    /// Quaternion renormalisations after accepted steps.
+    pub projections: usize,
+}
+
+impl std::ops::AddAssign for ForceCounters {
+    fn add_assign(&mut self, o: Self) {
+        self.evaluations += o.evaluations;
+        self.spring_evaluations += o.spring_evaluations;
+        self.load_evaluations += o.load_evaluations;
+        self.callback_calls += o.callback_calls;
+        self.projections += o.projections;
+    }
+}
+
+/// How the Jacobian is formed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum JacobianKind {
+    /// Particles, springs and constant loads only: analytic sparse blocks.
+    Analytic,
+    /// Bodies or callbacks: coloured finite differences over the coupling pattern.
+    Colored,
+}
+
+pub(crate) struct Model {
+    pub layout: Layout,
+    pub gravity: Vector3<f64>,
+    pub particles: Vec<ParticleProps>,
+    pub bodies: Vec<BodyProps>,
+    pub springs: Vec<CompiledSpring>,
+    pub loads: Vec<CompiledLoad>,
+    pub kin: Vec<BodyKin>,
+    pub counters: ForceCounters,
+    pub jacobian: JacobianKind,
+    /// Use the semidefinite spring blocks (see `world_jacobian.rs`).
+    pub definite_springs: bool,
+    pub velocity_dependent: bool,
+}
+
+/// A compiled model with the handles of its rows: particles and dynamic bodies in state order.
+pub(crate) struct Compiled {
+    pub model: Model,
+    pub particles: Vec<ParticleHandle>,
+    pub bodies: Vec<BodyHandle>,
+}
+
+pub(crate) fn compile(
+    gravity: Vector3<f64>,
+    particles: &Arena<Particle>,
+    bodies: &Arena<RigidBody>,
+    springs: &Arena<Spring>,
+    loads: &Arena<Load>,
+) -> Compiled {
+    let particle_handles: Vec<ParticleHandle> = particles.iter().map(|(h, _)| h).collect();
+    let body_handles: Vec<BodyHandle> = bodies.iter().filter(|(_, b)| !b.is_static).map(|(h, _)| h).collect();
+    let p_index: HashMap<ParticleHandle, usize> = particle_handles.iter().enumerate().map(|(i, &h)| (h, i)).collect();
+    let b_index: HashMap<BodyHandle, usize> = body_handles.iter().enumerate().map(|(i, &h)| (h, i)).collect();
+    let layout = Layout { particles: particle_handles.len(), bodies: body_handles.len() };
+    let end = |a: &Attachment| match *a {
+        Attachment::Particle(h) => End::Particle(p_index[&h]),
+        Attachment::Body(h, local) => match b_index.get(&h) {
+            Some(&j) => End::Body(j, local),
+            None => End::Point(bodies.get(h).expect("validated on insertion").world_point(local)),
+        },
+        Attachment::Point(p) => End::Point(p),
+    };
+    let on = |t: Target| match t {
+        Target::Particle(h) => On::Particle(p_index[&h]),
+        Target::Body(h) => On::Body(b_index[&h]),
+    };
+    let particle_props: Vec<ParticleProps> = particles
+        .iter()
+        .map(|(_, p)| ParticleProps {
+            mass: p.mass,
+            inv_mass: 1.0 / p.mass,
+            damping: p.damping,
+            stiffness: p.stiffness,
+            anchor: p.anchor,
+        })
+        .collect();
+    let body_props: Vec<BodyProps> = body_handles
+        .iter()
+        .map(|&h| {
+            let b = bodies.get(h).expect("live");
+            BodyProps {
+                mass: b.mass,
+                inv_mass: 1.0 / b.mass,
+                inv_inertia: b.inv_inertia,
+                linear_damping: b.linear_damping,
+                angular_damping: b.angular_damping,
+            }
+        })
+        .collect();
+    let compiled_springs: Vec<CompiledSpring> = springs
+        .iter()
+        .map(|(_, s)| CompiledSpring { a: end(&s.a), b: end(&s.b), k: s.stiffness, c: s.damping, l0: s.rest_length })
+        .collect();
+    let compiled_loads: Vec<CompiledLoad> = loads
+        .iter()
+        .map(|(_, l)| match l {
+            Load::Force { target, force, at } => CompiledLoad::Force { on: on(*target), force: *force, at: *at },
+            Load::Torque { body, torque } => CompiledLoad::Torque { body: b_index[body], torque: *torque },
+            Load::Callback { target, callback } => {
+                CompiledLoad::Callback { on: on(*target), callback: callback.clone() }
+            }
+        })
+        .collect();
+    let has_callbacks = compiled_loads.iter().any(|l| matches!(l, CompiledLoad::Callback { .. }));
+    let velocity_dependent = has_callbacks
+        || particle_props.iter().any(|p| p.damping > 0.0)
+        || body_props.iter().any(|b| b.linear_damping > 0.0 || b.angular_damping > 0.0)
+        || compiled_springs.iter().any(|s| s.c > 0.0);
+    let model = Model {
+        layout,
+        gravity,
+        kin: vec![
+            BodyKin { rot: Matrix3::identity(), omega: Vector3::zeros(), velocity: Vector3::zeros() };
+            body_props.len()
+        ],
+        particles: particle_props,
+        bodies: body_props,
+        springs: compiled_springs,
+        loads: compiled_loads,
+        counters: ForceCounters::default(),
+        jacobian: if layout.bodies > 0 || has_callbacks { JacobianKind::Colored } else { JacobianKind::Analytic },
+        definite_springs: false,
+        velocity_dependent,
+    };
+    Compiled { model, particles: particle_handles, bodies: body_handles }
+}
+
+impl Compiled {
+    /// The state vector of the arenas' current contents.
+    pub fn pack(&self, particles: &Arena<Particle>, bodies: &Arena<RigidBody>) -> Vec<f64> {
+        let l = self.model.layout;
+        let mut y = vec![0.0; l.dim()];
+        for (i, &h) in self.particles.iter().enumerate() {
+            let p = particles.get(h).expect("live");
+            set3(&mut y, l.px(i), &p.position);
+            set3(&mut y, l.pv(i), &p.velocity);
+        }
+        for (j, &h) in self.bodies.iter().enumerate() {
+            let b = bodies.get(h).expect("live");
+            set3(&mut y, l.bx(j), &b.position);
+            set_quat(&mut y, l.bq(j), &b.orientation);
+            set3(&mut y, l.bp(j), &b.momentum);
+            set3(&mut y, l.bl(j), &b.angular_momentum);
+        }
+        y
+    }
+
+    /// Writes a state vector back into the arenas.
+    pub fn unpack(&self, y: &[f64], particles: &mut Arena<Particle>, bodies: &mut Arena<RigidBody>) {
+        let l = self.model.layout;
+        for (i, &h) in self.particles.iter().enumerate() {
+            let p = particles.get_mut(h).expect("live");
+            p.position = get3(y, l.px(i));
+            p.velocity = get3(y, l.pv(i));
+        }
+        for (j, &h) in self.bodies.iter().enumerate() {
+            let b = bodies.get_mut(h).expect("live");
+            b.position = get3(y, l.bx(j));
+            b.orientation = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
+            b.momentum = get3(y, l.bp(j));
+            b.angular_momentum = get3(y, l.bl(j));
+        }
+    }
+}

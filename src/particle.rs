@@ -1,0 +1,101 @@
+//! Particles: point masses obeying the chapter's m x'' + d x' + h (x - anchor) = sum F.
+
+use crate::error::{check_finite, check_scalar, WorldError};
+use nalgebra::Vector3;
+
+/// A particle in a world. Its state is read here; build one with [`ParticleBuilder`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Particle {
+    pub(crate) mass: f64,
+    pub(crate) position: Vector3<f64>,
+    pub(crate) velocity: Vector3<f64>,
+    pub(crate) damping: f64,
+    pub(crate) stiffness: f64,
+    pub(crate) anchor: Vector3<f64>,
+}
+
+impl Particle {
+    /// Mass m.
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+    /// Position x.
+    pub fn position(&self) -> Vector3<f64> {
+        self.position
+    }
+    /// Velocity v.
+    pub fn velocity(&self) -> Vector3<f64> {
+        self.velocity
+    }
+    /// Damping d of the chapter's equation.
+    pub fn damping(&self) -> f64 {
+        self.damping
+    }
+    /// Restoring stiffness h of the chapter's equation.
+    pub fn stiffness(&self) -> f64 {
+        self.stiffness
+    }
+    /// The point the restoring term pulls towards (the origin, as in the chapter, unless set).
+    pub fn anchor(&self) -> Vector3<f64> {
+        self.anchor
+    }
+}
+
+/// Describes a particle to add: `ParticleBuilder::new(mass).position(p).velocity(v)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParticleBuilder {
+    particle: Particle,
+}
+
+impl ParticleBuilder {
+    /// A particle of mass `mass` at rest at the origin, without damping or restoring force.
+    pub fn new(mass: f64) -> Self {
+        ParticleBuilder {
+            particle: Particle {
+                mass,
+                position: Vector3::zeros(),
+                velocity: Vector3::zeros(),
+                damping: 0.0,
+                stiffness: 0.0,
+                anchor: Vector3::zeros(),
+            },
+        }
+    }
+    /// Initial position.
+    pub fn position(mut self, p: Vector3<f64>) -> Self {
+        self.particle.position = p;
+        self
+    }
+    /// Initial velocity.
+    pub fn velocity(mut self, v: Vector3<f64>) -> Self {
+        self.particle.velocity = v;
+        self
+    }
+    /// Damping d (force -d v).
+    pub fn damping(mut self, d: f64) -> Self {
+        self.particle.damping = d;
+        self
+    }
+    /// Restoring stiffness h (force -h (x - anchor)).
+    pub fn stiffness(mut self, h: f64) -> Self {
+        self.particle.stiffness = h;
+        self
+    }
+    /// The restoring term's anchor point.
+    pub fn anchor(mut self, a: Vector3<f64>) -> Self {
+        self.particle.anchor = a;
+        self
+    }
+
+    /// Checks every field and returns the particle.
+    pub(crate) fn build(self) -> Result<Particle, WorldError> {
+        let p = self.particle;
+        check_scalar("mass", p.mass, true)?;
+        check_finite("position", p.position.iter())?;
+        check_finite("velocity", p.velocity.iter())?;
+        check_scalar("damping", p.damping, false)?;
+        check_scalar("stiffness", p.stiffness, false)?;
+        check_finite("anchor", p.anchor.iter())?;
+        Ok(p)
+    }
+}

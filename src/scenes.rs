@@ -1,0 +1,109 @@
+//! Built-in scenes: a cloth pinned at two corners, and a heavy top spinning on a pivot. Examples, benchmarks,
+//! tests and the Python module's default job start from them.
+
+use crate::body::RigidBodyBuilder;
+use crate::error::WorldError;
+use crate::particle::ParticleBuilder;
+use crate::spring::{Attachment, BodyHandle, ParticleHandle, SpringBuilder};
+use crate::world::World;
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use tumble_integrate::{Method, Settings};
+
+/// A square cloth of n x n particles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cloth {
+    /// Particles along a side.
+    pub n: usize,
+    /// Side length (m).
+    pub size: f64,
+    /// Total mass (kg).
+    pub mass: f64,
+    /// Stiffness of structural and shear springs (N/m).
+    pub stiffness: f64,
+    /// Damping of every spring (N s/m).
+    pub damping: f64,
+    /// Stiffness of the springs pinning two corners to their starting points (N/m).
+    pub pin_stiffness: f64,
+}
+
+impl Default for Cloth {
+    fn default() -> Self {
+        Cloth { n: 16, size: 1.0, mass: 0.5, stiffness: 1e3, damping: 0.5, pin_stiffness: 1e4 }
+    }
+}
+
+impl Cloth {
+    /// Builds the cloth horizontally at height 1 m, corners (0, 0) and (size, 0) pinned, with structural springs
+    /// between neighbours and shear springs across every cell, stepped by implicit Euler at 1/240 s.
+    pub fn build(&self) -> Result<(World, Vec<ParticleHandle>), WorldError> {
+        let n = self.n;
+        if n < 2 {
+            return Err(WorldError::invalid("n", format!("a cloth needs at least 2 particles a side, got {n}")));
+        }
+        let mut w = World::new();
+        w.set_integrator(Settings::fixed(Method::ImplicitEuler, 1.0 / 240.0))?;
+        let spacing = self.size / (n - 1) as f64;
+        let m = self.mass / (n * n) as f64;
+        let mut ps = Vec::with_capacity(n * n);
+        for j in 0..n {
+            for i in 0..n {
+                let x = Vector3::new(i as f64 * spacing, j as f64 * spacing, 1.0);
+                ps.push(w.add_particle(ParticleBuilder::new(m).position(x))?);
+            }
+        }
+        let at = |i: usize, j: usize| ps[j * n + i];
+        let spring = |a, b| {
+            SpringBuilder::new(Attachment::Particle(a), Attachment::Particle(b))
+                .stiffness(self.stiffness)
+                .damping(self.damping)
+        };
+        for j in 0..n {
+            for i in 0..n {
+                if i + 1 < n {
+                    w.add_spring(spring(at(i, j), at(i + 1, j)))?;
+                }
+                if j + 1 < n {
+                    w.add_spring(spring(at(i, j), at(i, j + 1)))?;
+                }
+                if i + 1 < n && j + 1 < n {
+                    w.add_spring(spring(at(i, j), at(i + 1, j + 1)))?;
+                    w.add_spring(spring(at(i + 1, j), at(i, j + 1)))?;
+                }
+            }
+        }
+        for corner in [at(0, 0), at(n - 1, 0)] {
+            let x = w.particle(corner)?.position();
+            w.add_spring(
+                SpringBuilder::new(Attachment::Particle(corner), Attachment::Point(x))
+                    .stiffness(self.pin_stiffness)
+                    .damping(self.damping)
+                    .rest_length(0.0),
+            )?;
+        }
+        Ok((w, ps))
+    }
+}
+
+/// A heavy symmetric top: mass 1 kg, moments I1 = I2 = 0.02 and I3 = 0.04 kg m^2, centre of mass 0.1 m from its
+/// tip, which a stiff damped spring (zero rest length) holds at the origin. Tilted 0.3 rad, spinning at 40 rad/s
+/// about its axis; gravity makes it precess at about M g l / (I3 spin) = 0.61 rad/s. Stepped by Radau5 at 1e-8.
+pub fn spinning_top() -> Result<(World, BodyHandle), WorldError> {
+    let (mass, i1, i3, arm, spin, tilt) = (1.0, 0.02, 0.04, 0.1, 40.0, 0.3);
+    let mut w = World::new();
+    w.set_integrator(Settings::tolerances(Method::Radau5, 1e-8, 1e-8))?;
+    let q = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), tilt);
+    let axis = q * Vector3::z();
+    let top = w.add_body(
+        RigidBodyBuilder::new(mass, Matrix3::from_diagonal(&Vector3::new(i1, i1, i3)))
+            .position(axis * arm)
+            .orientation(q)
+            .angular_velocity(axis * spin),
+    )?;
+    w.add_spring(
+        SpringBuilder::new(Attachment::Body(top, Vector3::new(0.0, 0.0, -arm)), Attachment::Point(Vector3::zeros()))
+            .stiffness(1e5)
+            .damping(50.0)
+            .rest_length(0.0),
+    )?;
+    Ok((w, top))
+}
