@@ -6,7 +6,7 @@ use crate::error::WorldError;
 use crate::particle::ParticleBuilder;
 use crate::spring::{Attachment, BodyHandle, ParticleHandle, SpringBuilder};
 use crate::world::World;
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use tumble_integrate::{Method, Settings};
 
 /// A square cloth of n x n particles.
@@ -86,13 +86,15 @@ impl Cloth {
 
 /// A heavy symmetric top: mass 1 kg, moments I1 = I2 = 0.02 and I3 = 0.04 kg m^2, centre of mass 0.1 m from its
 /// tip, which a stiff damped spring (zero rest length) holds at the origin. Tilted 0.3 rad, spinning at 40 rad/s
-/// about its axis; gravity makes it precess at about M g l / (I3 spin) = 0.61 rad/s. Stepped by Radau5 at 1e-8.
+/// about its axis; gravity makes it precess at about 0.618 rad/s (the slow root of
+/// I1 cos(theta) W^2 - I3 w3 W + M g l = 0). Stepped by Radau5 at 1e-8.
 pub fn spinning_top() -> Result<(World, BodyHandle), WorldError> {
-    let (mass, i1, i3, arm, spin, tilt) = (1.0, 0.02, 0.04, 0.1, 40.0, 0.3);
+    let (mass, i1, i3, arm, spin, tilt): (f64, f64, f64, f64, f64, f64) = (1.0, 0.02, 0.04, 0.1, 40.0, 0.3);
     let mut w = World::new();
     w.set_integrator(Settings::tolerances(Method::Radau5, 1e-8, 1e-8))?;
-    let q = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), tilt);
-    let axis = q * Vector3::z();
+    // Written out as the Python scene (and the bindings) build it, so both give the same numbers bit for bit.
+    let q = UnitQuaternion::new_normalize(Quaternion::new((tilt / 2.0).cos(), (tilt / 2.0).sin(), 0.0, 0.0));
+    let axis = Vector3::new(0.0, -tilt.sin(), tilt.cos());
     let top = w.add_body(
         RigidBodyBuilder::new(mass, Matrix3::from_diagonal(&Vector3::new(i1, i1, i3)))
             .position(axis * arm)

@@ -579,20 +579,28 @@ impl World {
         let e = self.engine()?;
         let y0 = e.integrator.state().to_vec();
         e.integrator.log_steps(true);
+        // Pause about a hundred times to report progress; pausing does not shorten a step, so the run takes the
+        // same steps as one call would.
         let chunk = times.len().div_ceil(100).max(1);
         let mut outcome = Ok(());
-        for (k, frames) in times.chunks(chunk).enumerate() {
-            let last = *frames.last().expect("chunks are not empty");
-            let result = e.integrator.advance_to(&mut e.compiled.model, last, frames, |m, t, y| run.record(m, t, y));
+        let mut done = 0;
+        while done < times.len() {
+            let pause = times[(done + chunk).min(times.len()) - 1];
+            let result = e
+                .integrator
+                .advance_until(&mut e.compiled.model, t_end, pause, &times[done..], |m, t, y| run.record(m, t, y));
             for (t, h) in e.integrator.take_step_log() {
                 run.step_times.push(t);
                 run.step_sizes.push(h);
             }
-            if let Err(err) = result {
-                outcome = Err(WorldError::from(err));
-                break;
+            match result {
+                Ok(delivered) => done += delivered,
+                Err(err) => {
+                    outcome = Err(WorldError::from(err));
+                    break;
+                }
             }
-            if !control(((k + 1) * chunk).min(times.len()) as f64 / times.len() as f64) {
+            if !control(done as f64 / times.len() as f64) {
                 outcome = Err(WorldError::Interrupted);
                 break;
             }
@@ -606,4 +614,11 @@ impl World {
         self.store_state();
         Ok(run)
     }
+}
+
+/// A world can be moved to another thread (the Python module runs it with the interpreter lock released).
+#[allow(dead_code)]
+fn world_is_send() {
+    fn is_send<T: Send>() {}
+    is_send::<World>();
 }

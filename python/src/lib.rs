@@ -1,1 +1,35 @@
+//! tumble's Python module `tumble._tumble`: the World, shapes and handles, numpy arrays in and out. The package
+//! `tumble` (python/tumble/) wraps it with `Run`, `Report`, plots, previews and glTF export.
 
+use pyo3::prelude::*;
+
+mod convert;
+mod handles;
+mod shapes;
+mod world;
+
+pyo3::create_exception!(
+    tumble,
+    SimulationError,
+    pyo3::exceptions::PyRuntimeError,
+    "A step could not be completed (divergence, solver failure, a callback's exception); the world is unchanged."
+);
+
+#[pymodule]
+fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<world::PyWorld>()?;
+    m.add_class::<shapes::PyShape>()?;
+    m.add_class::<shapes::Sphere>()?;
+    m.add_class::<shapes::PyBox>()?;
+    m.add_class::<shapes::Capsule>()?;
+    m.add_class::<shapes::Cylinder>()?;
+    m.add_class::<shapes::ConvexHull>()?;
+    m.add_class::<shapes::TriMesh>()?;
+    m.add_class::<handles::PyParticleHandle>()?;
+    m.add_class::<handles::PyBodyHandle>()?;
+    m.add_class::<handles::PySpringHandle>()?;
+    m.add_class::<handles::PyLoadHandle>()?;
+    m.add("SimulationError", m.py().get_type::<SimulationError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -4,6 +4,7 @@
 mod convert;
 mod error;
 mod mass;
+mod mesh;
 mod shape;
 
 pub use error::ShapeError;

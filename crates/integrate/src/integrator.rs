@@ -14,7 +14,7 @@ use std::time::Instant;
 /// method's state between calls: the last step size, first-same-as-last derivatives, multistep histories.
 pub struct Integrator<S: OdeSystem + ?Sized> {
     settings: Settings,
-    stepper: Box<dyn Stepper<S>>,
+    stepper: Box<dyn Stepper<S> + Send>,
     controller: Controller,
     ctx: Ctx,
     cur: Point,
@@ -138,8 +138,34 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         sys: &mut S,
         t_end: f64,
         save_at: &[f64],
-        mut on_save: impl FnMut(&S, f64, &[f64]),
+        on_save: impl FnMut(&S, f64, &[f64]),
     ) -> Result<(), OdeError> {
+        self.advance(sys, t_end, t_end, save_at, on_save).map(|_| ())
+    }
+
+    /// Like [`advance_to`](Integrator::advance_to), but returns as soon as the integration has passed `pause_at`
+    /// (never going beyond `t_end`), without shortening a step to land on it; returns how many of `save_at` were
+    /// delivered (those up to the time reached). Calling it again with the rest continues the same integration,
+    /// so a long run can be reported on in chunks without extra steps.
+    pub fn advance_until(
+        &mut self,
+        sys: &mut S,
+        t_end: f64,
+        pause_at: f64,
+        save_at: &[f64],
+        on_save: impl FnMut(&S, f64, &[f64]),
+    ) -> Result<usize, OdeError> {
+        self.advance(sys, t_end, pause_at.min(t_end), save_at, on_save)
+    }
+
+    fn advance(
+        &mut self,
+        sys: &mut S,
+        t_end: f64,
+        pause_at: f64,
+        save_at: &[f64],
+        mut on_save: impl FnMut(&S, f64, &[f64]),
+    ) -> Result<usize, OdeError> {
         let t0 = self.cur.t;
         if !(t_end.is_finite() && t_end >= t0) {
             return Err(OdeError::invalid(
@@ -163,8 +189,8 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         let h0 = self.h;
         let clock = Instant::now();
         let result = match self.settings.control {
-            Control::Fixed { dt } => self.run_fixed(sys, dt, t_end, save_at, &mut on_save),
-            _ => self.run_adaptive(sys, t_end, save_at, &mut on_save),
+            Control::Fixed { dt } => self.run_fixed(sys, dt, t_end, pause_at, save_at, &mut on_save),
+            _ => self.run_adaptive(sys, t_end, pause_at, save_at, &mut on_save),
         };
         self.ctx.report.wall_seconds += clock.elapsed().as_secs_f64();
         if result.is_err() {
@@ -205,14 +231,17 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         }
     }
 
+    /// Fixed steps; every save is a stop, and the run pauses at the first stop at or past `pause_at`. Returns the
+    /// number of saves delivered.
     fn run_fixed(
         &mut self,
         sys: &mut S,
         dt: f64,
         t_end: f64,
+        pause_at: f64,
         saves: &[f64],
         on_save: &mut impl FnMut(&S, f64, &[f64]),
-    ) -> Result<(), OdeError> {
+    ) -> Result<usize, OdeError> {
         let mut si = 0;
         let mut budget = self.settings.max_steps;
         loop {
@@ -220,8 +249,8 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                 on_save(sys, saves[si], &self.cur.y);
                 si += 1;
             }
-            if self.cur.t >= t_end {
-                return Ok(());
+            if self.cur.t >= pause_at {
+                return Ok(si);
             }
             let stop = if si < saves.len() { saves[si] } else { t_end };
             let span = stop - self.cur.t;
@@ -242,13 +271,16 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         }
     }
 
+    /// Adaptive steps toward `t_end` (the only hard stop besides saves without dense output), pausing once past
+    /// `pause_at`. Returns the number of saves delivered.
     fn run_adaptive(
         &mut self,
         sys: &mut S,
         t_end: f64,
+        pause_at: f64,
         saves: &[f64],
         on_save: &mut impl FnMut(&S, f64, &[f64]),
-    ) -> Result<(), OdeError> {
+    ) -> Result<usize, OdeError> {
         let dense = self.settings.dense_output
             && self.stepper.has_dense_output()
             && !matches!(self.settings.control, Control::StepDoubling { .. });
@@ -257,15 +289,15 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             on_save(sys, saves[si], &self.cur.y);
             si += 1;
         }
-        if self.cur.t >= t_end {
-            return Ok(());
+        if self.cur.t >= pause_at {
+            return Ok(si);
         }
         if self.h.is_none() {
             let h = self.initial_step(sys)?;
             self.h = Some(h);
         }
         let mut attempts = 0;
-        while self.cur.t < t_end {
+        while self.cur.t < pause_at {
             attempts += 1;
             if attempts > self.settings.max_steps {
                 return Err(OdeError::TooManySteps { t: self.cur.t, max_steps: self.settings.max_steps });
@@ -331,7 +363,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                 self.last_rejected = true;
             }
         }
-        Ok(())
+        Ok(si)
     }
 
     /// Rejects a step that failed in a way a smaller step may cure; gives up with `cause` below the floor.

@@ -269,3 +269,25 @@ fn projection_after_every_accepted_step() {
     assert!((sol.final_state.norm() - 1.0).abs() < 1e-15);
     assert_eq!(held.projections, sol.report.steps);
 }
+
+/// Pausing with `advance_until` does not change the integration: ten pauses give bit for bit the outputs, final
+/// state and step count of one `advance_to` (dense output fills the outputs between steps either way).
+#[test]
+fn pausing_does_not_change_the_integration() {
+    let times: Vec<f64> = (0..=100).map(|k| k as f64 * 0.05).collect();
+    let settings = Settings::tolerances(Method::Dopri5, 1e-8, 1e-10);
+    let mut sys = OSC;
+    let mut whole = Integrator::new(&mut sys, settings.clone(), 0.0, &[1.0, 0.0]).unwrap();
+    let mut a = Vec::new();
+    whole.advance_to(&mut sys, 5.0, &times, |_, t, y| a.push((t, y.to_vec()))).unwrap();
+    let mut paused = Integrator::new(&mut sys, settings, 0.0, &[1.0, 0.0]).unwrap();
+    let (mut b, mut done) = (Vec::new(), 0);
+    while done < times.len() {
+        let pause = times[(done + 10).min(times.len()) - 1];
+        done += paused.advance_until(&mut sys, 5.0, pause, &times[done..], |_, t, y| b.push((t, y.to_vec()))).unwrap();
+    }
+    assert_eq!(a, b);
+    assert_eq!(whole.state(), paused.state());
+    assert_eq!(whole.time(), 5.0);
+    assert_eq!(whole.report().steps, paused.report().steps);
+}

@@ -85,7 +85,10 @@ pub(crate) trait Stepper<S: OdeSystem + ?Sized> {
 }
 
 /// Builds the stepper for the settings' method, wrapped in step doubling when asked.
-pub(crate) fn build<S: OdeSystem + ?Sized>(sys: &S, settings: &Settings) -> Result<Box<dyn Stepper<S>>, OdeError> {
+pub(crate) fn build<S: OdeSystem + ?Sized>(
+    sys: &S,
+    settings: &Settings,
+) -> Result<Box<dyn Stepper<S> + Send>, OdeError> {
     let n = sys.dim();
     Ok(match settings.method {
         Method::Euler => finish(explicit_rk::ExplicitRk::new(&explicit_rk::EULER, n), n, settings),
@@ -113,11 +116,11 @@ pub(crate) fn build<S: OdeSystem + ?Sized>(sys: &S, settings: &Settings) -> Resu
 }
 
 /// Boxes a one-step method, inside the chapter's step doubling when the control asks for it.
-fn finish<S: OdeSystem + ?Sized, T: Stepper<S> + 'static>(
+fn finish<S: OdeSystem + ?Sized, T: Stepper<S> + Send + 'static>(
     stepper: T,
     n: usize,
     settings: &Settings,
-) -> Box<dyn Stepper<S>> {
+) -> Box<dyn Stepper<S> + Send> {
     match settings.control {
         Control::StepDoubling { tolerance, .. } => {
             Box::new(step_doubling::StepDoubling::new(stepper, n, tolerance, settings.method.order()))

@@ -1,0 +1,153 @@
+//! Shapes as Python classes: `Sphere`, `Box`, `Capsule`, `Cylinder`, `ConvexHull`, `TriMesh`, all subclasses of
+//! `Shape`, validated on construction (ValueError naming the argument).
+
+use crate::convert::{array, invalid, points as to_points, vec3};
+use numpy::PyArrayMethods;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use tumble::Shape;
+
+/// A collision and mass shape (base class).
+#[pyclass(module = "tumble._tumble", name = "Shape", subclass, frozen)]
+pub struct PyShape {
+    pub shape: Shape,
+}
+
+fn shape_err(e: tumble::collide::ShapeError) -> PyErr {
+    invalid(e.name, e.reason)
+}
+
+#[pymethods]
+impl PyShape {
+    /// Mass properties at `density`: a dict with `mass`, `center_of_mass` (3,) and `inertia` (3, 3) about the
+    /// centre of mass, in the shape's frame.
+    fn mass_properties<'py>(&self, py: Python<'py>, density: f64) -> PyResult<Bound<'py, PyDict>> {
+        let p = self.shape.mass_properties(density).map_err(shape_err)?;
+        let d = PyDict::new(py);
+        d.set_item("mass", p.mass)?;
+        d.set_item("center_of_mass", array(py, p.local_com.as_slice().to_vec(), &[3])?)?;
+        d.set_item("inertia", array(py, p.inertia.transpose().as_slice().to_vec(), &[3, 3])?)?;
+        Ok(d)
+    }
+
+    /// The surface as (vertices (V, 3), triangles (T, 3)) in the shape's frame.
+    #[pyo3(signature = (subdivisions = 24, extent = 10.0))]
+    fn triangle_mesh<'py>(
+        &self,
+        py: Python<'py>,
+        subdivisions: u32,
+        extent: f64,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let (v, t) = self.shape.triangle_mesh(subdivisions, extent);
+        let nv = v.len();
+        let nt = t.len();
+        let verts = array(py, v.iter().flat_map(|p| [p.x, p.y, p.z]).collect(), &[nv, 3])?;
+        let tris: Vec<u32> = t.into_iter().flatten().collect();
+        let tris = numpy::PyArray1::from_vec(py, tris).reshape(vec![nt, 3])?.into_any();
+        Ok((verts, tris))
+    }
+
+    /// The shape's kind: "sphere", "box", "capsule", "cylinder", "convex hull", "triangle mesh", "half-space".
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.shape.kind()
+    }
+
+    fn __repr__(&self) -> String {
+        match &self.shape {
+            Shape::Sphere { radius } => format!("Sphere(radius={radius})"),
+            Shape::Cuboid { half_extents: h } => format!("Box(half_extents=({}, {}, {}))", h.x, h.y, h.z),
+            Shape::Capsule { half_height, radius } => format!("Capsule(half_height={half_height}, radius={radius})"),
+            Shape::Cylinder { half_height, radius } => format!("Cylinder(half_height={half_height}, radius={radius})"),
+            Shape::ConvexHull(h) => format!("ConvexHull({} vertices)", h.vertices().len()),
+            Shape::TriMesh(m) => format!("TriMesh({} triangles)", m.triangle_count()),
+            Shape::HalfSpace { normal } => format!("HalfSpace(normal=({}, {}, {}))", normal.x, normal.y, normal.z),
+        }
+    }
+}
+
+/// A sphere of the given radius.
+#[pyclass(module = "tumble._tumble", extends = PyShape, frozen)]
+pub struct Sphere;
+
+#[pymethods]
+impl Sphere {
+    #[new]
+    fn new(radius: f64) -> PyResult<PyClassInitializer<Self>> {
+        Ok(PyClassInitializer::from(PyShape { shape: Shape::sphere(radius).map_err(shape_err)? }).add_subclass(Sphere))
+    }
+}
+
+/// A box with half extents (x, y, z).
+#[pyclass(module = "tumble._tumble", name = "Box", extends = PyShape, frozen)]
+pub struct PyBox;
+
+#[pymethods]
+impl PyBox {
+    #[new]
+    fn new(half_extents: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let h = vec3("half_extents", half_extents)?;
+        Ok(PyClassInitializer::from(PyShape { shape: Shape::cuboid(h).map_err(shape_err)? }).add_subclass(PyBox))
+    }
+}
+
+/// A capsule along z: a segment from -half_height to +half_height swept by a ball of the radius.
+#[pyclass(module = "tumble._tumble", extends = PyShape, frozen)]
+pub struct Capsule;
+
+#[pymethods]
+impl Capsule {
+    #[new]
+    fn new(half_height: f64, radius: f64) -> PyResult<PyClassInitializer<Self>> {
+        Ok(PyClassInitializer::from(PyShape { shape: Shape::capsule(half_height, radius).map_err(shape_err)? })
+            .add_subclass(Capsule))
+    }
+}
+
+/// A cylinder along z from -half_height to +half_height.
+#[pyclass(module = "tumble._tumble", extends = PyShape, frozen)]
+pub struct Cylinder;
+
+#[pymethods]
+impl Cylinder {
+    #[new]
+    fn new(half_height: f64, radius: f64) -> PyResult<PyClassInitializer<Self>> {
+        Ok(PyClassInitializer::from(PyShape { shape: Shape::cylinder(half_height, radius).map_err(shape_err)? })
+            .add_subclass(Cylinder))
+    }
+}
+
+/// The convex hull of an (N, 3) point cloud (at least 4 points, not coplanar).
+#[pyclass(module = "tumble._tumble", extends = PyShape, frozen)]
+pub struct ConvexHull;
+
+#[pymethods]
+impl ConvexHull {
+    #[new]
+    fn new(points: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let p = to_points("points", points)?;
+        Ok(PyClassInitializer::from(PyShape { shape: Shape::convex_hull(&p).map_err(shape_err)? })
+            .add_subclass(ConvexHull))
+    }
+}
+
+/// A triangle mesh (static bodies only): vertices (V, 3) and triangles (T, 3) of vertex indices.
+#[pyclass(module = "tumble._tumble", extends = PyShape, frozen)]
+pub struct TriMesh;
+
+#[pymethods]
+impl TriMesh {
+    #[new]
+    fn new(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let v = to_points("vertices", vertices)?;
+        let t: Vec<[u32; 3]> = triangles
+            .extract()
+            .or_else(|_| {
+                let a: numpy::PyReadonlyArray2<'_, i64> = triangles.extract()?;
+                a.as_array().rows().into_iter().map(|r| Ok([r[0] as u32, r[1] as u32, r[2] as u32])).collect()
+            })
+            .map_err(|_: PyErr| invalid("triangles", "expected (T, 3) non-negative vertex indices"))?;
+        Ok(PyClassInitializer::from(PyShape { shape: Shape::trimesh(&v, &t).map_err(shape_err)? })
+            .add_subclass(TriMesh))
+    }
+}

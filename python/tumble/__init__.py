@@ -1,0 +1,59 @@
+"""tumble: particles and rigid bodies for physically based animation, with honest error reports.
+
+>>> import tumble
+>>> w = tumble.World(gravity=(0.0, 0.0, -9.81), integrator="dopri5", rtol=1e-8, atol=1e-10)
+>>> p = w.add_particle(mass=1.0, position=(0, 0, 1), velocity=(1, 0, 0))
+>>> b = w.add_body(tumble.Box(half_extents=(0.5, 0.5, 0.5)), density=1000.0, position=(0, 0, 2))
+>>> run = w.run(duration=1.0, frame_interval=1 / 60)
+>>> run.particle_positions.shape, run.body_positions.shape
+((61, 1, 3), (61, 1, 3))
+
+State comes back as numpy arrays (``w.particles.positions`` is (P, 3)); runs return a :class:`Run` with frames,
+energy, momenta, every accepted step size and a :class:`Report` of what the run cost. Bad arguments raise
+``ValueError`` naming the argument; a step that cannot be completed raises :class:`SimulationError` (a
+``RuntimeError``) and leaves the world as it was before the call.
+"""
+
+from __future__ import annotations
+
+from ._tumble import (
+    BodyHandle,
+    Box,
+    Capsule,
+    ConvexHull,
+    Cylinder,
+    LoadHandle,
+    ParticleHandle,
+    Shape,
+    SimulationError,
+    Sphere,
+    SpringHandle,
+    TriMesh,
+    __version__,
+)
+from ._report import Report
+from ._run import Run
+from ._world import BodiesView, ParticlesView, World
+from . import scenes
+
+__all__ = [
+    "World",
+    "Run",
+    "Report",
+    "ParticlesView",
+    "BodiesView",
+    "Shape",
+    "Sphere",
+    "Box",
+    "Capsule",
+    "Cylinder",
+    "ConvexHull",
+    "TriMesh",
+    "ParticleHandle",
+    "BodyHandle",
+    "SpringHandle",
+    "LoadHandle",
+    "SimulationError",
+    "scenes",
+    "__version__",
+]

@@ -1,0 +1,98 @@
+"""Figures of a run: energy and step size over time, and an animated 3-D preview. Uses matplotlib's object API
+(no pyplot state), so it works without a display."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+if TYPE_CHECKING:
+    from ._run import Run
+
+
+def plot_run(run: "Run", path: str | Path | None) -> Figure:
+    fig = Figure(figsize=(9, 6.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    energy, steps = fig.subplots(2, 1, sharex=True)
+    energy.plot(run.times, run.kinetic_energy, label="kinetic")
+    energy.plot(run.times, run.potential_energy, label="potential")
+    energy.plot(run.times, run.energy, label="total", color="black", linewidth=2)
+    energy.set_ylabel("energy (J)")
+    energy.legend(loc="best")
+    energy.grid(True, alpha=0.3)
+    r = run.report
+    energy.set_title(
+        f"{r.method}: {r.steps} steps ({r.rejected} rejected), {r.rhs_evals} evaluations, {r.wall_seconds:.3g} s"
+    )
+    if len(run.step_sizes):
+        steps.semilogy(run.step_times, run.step_sizes, ".", markersize=3)
+    steps.set_ylabel("step size (s)")
+    steps.set_xlabel("time (s)")
+    steps.grid(True, which="both", alpha=0.3)
+    if path is not None:
+        fig.savefig(path, dpi=120)
+    return fig
+
+
+def _rotation(q: np.ndarray) -> np.ndarray:
+    w, x, y, z = q
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
+    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter, writers  # noqa: PLC0415
+
+    suffix = path.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise ValueError(f"invalid argument `path`: write a .gif or .mp4, got {path.name!r}")
+    if suffix == ".mp4" and not writers.is_available("ffmpeg"):
+        raise RuntimeError("an .mp4 preview needs ffmpeg on the PATH; write a .gif instead")
+    frame_dt = float(np.median(np.diff(run.times))) if run.frames > 1 else 1.0
+    fps = fps or min(30.0, 1.0 / frame_dt)
+    stride = max(1, round(1.0 / (fps * frame_dt)))
+    frames = list(range(0, run.frames, stride))
+    points = np.concatenate([run.particle_positions.reshape(-1, 3), run.body_positions.reshape(-1, 3)])
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    centre, half = (lo + hi) / 2, max(float((hi - lo).max()) / 2, 0.5)
+    axis_length = 0.3 * half
+
+    fig = Figure(figsize=(size, size))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(projection="3d")
+    ax.set_box_aspect((1, 1, 1))
+
+    def draw(k: int):
+        ax.cla()
+        for i, c in enumerate("xyz"):
+            getattr(ax, f"set_{c}lim")(centre[i] - half, centre[i] + half)
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+        ax.set_zlabel("z")
+        f = frames[k]
+        if run.particle_positions.shape[1]:
+            p = run.particle_positions[f]
+            ax.scatter(p[:, 0], p[:, 1], p[:, 2], s=6, color="tab:blue")
+        for b in range(run.body_positions.shape[1]):
+            x = run.body_positions[f, b]
+            ax.scatter([x[0]], [x[1]], [x[2]], s=30, color="black")
+            r = _rotation(run.body_orientations[f, b])
+            for j, colour in enumerate(("tab:red", "tab:green", "tab:blue")):
+                e = x + axis_length * r[:, j]
+                ax.plot([x[0], e[0]], [x[1], e[1]], [x[2], e[2]], color=colour)
+        ax.set_title(f"t = {run.times[f]:.3f} s")
+        return []
+
+    animation = FuncAnimation(fig, draw, frames=len(frames), blit=False)
+    writer = PillowWriter(fps=fps) if suffix == ".gif" else FFMpegWriter(fps=fps)
+    animation.save(str(path), writer=writer)
+    return path

@@ -1,0 +1,122 @@
+"""``tumble.World``: the Rust world with numpy views of its state, reports as dataclasses and runs as ``Run``."""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from ._progress import Progress, progress as _progress
+from ._report import Report
+from ._run import Run
+from ._tumble import World as _World
+
+
+class ParticlesView:
+    """The particles' state as (P, 3) arrays, in the order of ``handles``."""
+
+    def __init__(self, world: "World") -> None:
+        self._world = world
+
+    @property
+    def positions(self) -> np.ndarray:
+        """(P, 3) positions."""
+        return self._world._particle_positions()
+
+    @property
+    def velocities(self) -> np.ndarray:
+        """(P, 3) velocities."""
+        return self._world._particle_velocities()
+
+    @property
+    def handles(self) -> list:
+        """The particles' handles, in row order."""
+        return self._world.particle_handles()
+
+    def __len__(self) -> int:
+        return len(self._world.particle_handles())
+
+
+class BodiesView:
+    """The bodies' state as arrays, in the order of ``handles`` (static bodies included)."""
+
+    def __init__(self, world: "World") -> None:
+        self._world = world
+
+    @property
+    def positions(self) -> np.ndarray:
+        """(B, 3) centre-of-mass positions."""
+        return self._world._body_positions()
+
+    @property
+    def orientations(self) -> np.ndarray:
+        """(B, 4) orientations as quaternions (w, x, y, z)."""
+        return self._world._body_orientations()
+
+    @property
+    def velocities(self) -> np.ndarray:
+        """(B, 3) velocities."""
+        return self._world._body_velocities()
+
+    @property
+    def angular_velocities(self) -> np.ndarray:
+        """(B, 3) angular velocities (world axes)."""
+        return self._world._body_angular_velocities()
+
+    @property
+    def handles(self) -> list:
+        """The bodies' handles, in row order."""
+        return self._world.body_handles()
+
+    def __len__(self) -> int:
+        return len(self._world.body_handles())
+
+
+class World(_World):
+    """A world of particles and rigid bodies.
+
+    ``World(gravity=(0, 0, -9.81), integrator="dopri5", rtol=None, atol=None, dt=None, step_doubling=False,
+    tolerance=None, mode="accurate", linear_solver="direct", newton=False, max_steps=None)``
+
+    ``integrator`` is one of "euler", "euler-variable", "midpoint", "rk4", "ab4", "am4", "implicit-euler",
+    "dopri5", "dop853", "symplectic-euler", "verlet", "rodas4", "radau5". Methods with an error estimate (dopri5,
+    dop853, rodas4, radau5, am4) control it to ``rtol``/``atol`` (default 1e-6/1e-9) unless only ``dt`` is given;
+    the others take fixed steps of ``dt`` (default 1/240 s). ``step_doubling=True`` wraps a one-step method in the
+    chapter's step doubling with per-step error ``tolerance``. ``linear_solver="iterative"`` solves implicit Euler's
+    sparse systems by BiCGSTAB (for large cloths); ``newton=True`` iterates implicit Euler to convergence.
+    """
+
+    @property
+    def particles(self) -> ParticlesView:
+        """The particles' state as arrays."""
+        return ParticlesView(self)
+
+    @property
+    def bodies(self) -> BodiesView:
+        """The bodies' state as arrays."""
+        return BodiesView(self)
+
+    @property
+    def report(self) -> Report:
+        """Everything the world's steps have cost so far."""
+        return Report(**self._report())
+
+    def run(
+        self,
+        duration: float,
+        frame_interval: float = 1.0 / 60.0,
+        progress: bool | Callable[[float], None] = False,
+    ) -> Run:
+        """Runs for ``duration`` seconds, recording a frame every ``frame_interval`` (and at the end).
+
+        The interpreter lock is released while the world steps. ``progress=True`` shows a progress bar (tqdm if
+        installed); a callable is called with the fraction done. Ctrl-C stops the run and restores the world.
+        Raises SimulationError, leaving the world unchanged, if a step cannot be completed.
+        """
+        shown = _progress(progress)
+        try:
+            data = self._run(duration, frame_interval, shown)
+        finally:
+            if isinstance(shown, Progress):
+                shown.close()
+        return Run.from_dict(data, self._body_shapes())
