@@ -108,6 +108,15 @@ fn attachment(
     }
 }
 
+/// A (count, W) array from rows.
+fn rows<'py, const W: usize>(
+    py: Python<'py>,
+    count: usize,
+    items: impl Iterator<Item = [f64; W]>,
+) -> PyResult<Bound<'py, PyAny>> {
+    array(py, items.flatten().collect(), &[count, W])
+}
+
 /// The report as a plain dict (the package wraps it in `tumble.Report`).
 pub fn report_dict<'py>(py: Python<'py>, r: &WorldReport) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -590,45 +599,45 @@ impl PyWorld {
 
     /// (P, 3) particle positions.
     fn _particle_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self.r().particles().flat_map(|(_, p)| p.position().as_slice().to_vec()).collect();
-        array(py, v, &[self.r().particle_count(), 3])
+        let w = self.r();
+        rows(py, w.particle_count(), w.particles().map(|(_, p)| p.position().into()))
     }
 
     /// (P, 3) particle velocities.
     fn _particle_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self.r().particles().flat_map(|(_, p)| p.velocity().as_slice().to_vec()).collect();
-        array(py, v, &[self.r().particle_count(), 3])
+        let w = self.r();
+        rows(py, w.particle_count(), w.particles().map(|(_, p)| p.velocity().into()))
     }
 
     /// (B, 3) body positions.
     fn _body_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self.r().bodies().flat_map(|(_, b)| b.position().as_slice().to_vec()).collect();
-        array(py, v, &[self.r().body_count(), 3])
+        let w = self.r();
+        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.position().into()))
     }
 
     /// (B, 4) body orientations (w, x, y, z).
     fn _body_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self
-            .r()
-            .bodies()
-            .flat_map(|(_, b)| {
+        let w = self.r();
+        rows(
+            py,
+            w.body_count(),
+            w.bodies().map(|(_, b)| {
                 let q: UnitQuaternion<f64> = b.orientation();
                 [q.w, q.i, q.j, q.k]
-            })
-            .collect();
-        array(py, v, &[self.r().body_count(), 4])
+            }),
+        )
     }
 
     /// (B, 3) body velocities.
     fn _body_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self.r().bodies().flat_map(|(_, b)| b.velocity().as_slice().to_vec()).collect();
-        array(py, v, &[self.r().body_count(), 3])
+        let w = self.r();
+        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.velocity().into()))
     }
 
     /// (B, 3) body angular velocities.
     fn _body_angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self.r().bodies().flat_map(|(_, b)| b.angular_velocity().as_slice().to_vec()).collect();
-        array(py, v, &[self.r().body_count(), 3])
+        let w = self.r();
+        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.angular_velocity().into()))
     }
 
     /// The bodies' shapes (None where a body has none) and each shape's origin in its body frame, in array order.
