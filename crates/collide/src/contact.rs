@@ -1,0 +1,142 @@
+//! Contact geometry of a touching or interpenetrating pair, from parry's contact manifolds: points on both surfaces, a
+//! common normal, signed distance and the kind of contact. As in the chapter, contacts of polyhedra are vertex-face or
+//! edge-edge; the degenerate kinds (vertex-vertex, vertex-edge) are folded into vertex-face. A point of a curved
+//! surface acts as a vertex against a face and as a face against a vertex or an edge.
+
+use crate::aabb::check_pose;
+use crate::convert::{from_parry, point_from_parry};
+use crate::error::ShapeError;
+use crate::geometry::ParryView;
+use crate::proximity::unsupported_pair;
+use crate::shape::Shape;
+use nalgebra::{Isometry3, Point3, Unit, Vector3};
+use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
+use parry3d_f64::shape::FeatureId;
+
+/// The feature of a shape that carries a contact point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Feature {
+    /// A vertex (parry's id).
+    Vertex(u32),
+    /// An edge (parry's id).
+    Edge(u32),
+    /// A face (parry's id).
+    Face(u32),
+    /// A point of a curved surface (sphere, capsule).
+    Curved,
+    /// Not known (parry's deepest-point fallback).
+    Unknown,
+}
+
+/// The kind of a contact in the chapter's terms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactKind {
+    /// A vertex of A (or a point of its curved surface) on a face of B; normal = B's face normal.
+    VertexFace,
+    /// A face of A against a vertex of B; normal = A's face normal.
+    FaceVertex,
+    /// An edge of A crossing an edge of B; normal = the cross product of the edges.
+    EdgeEdge,
+    /// Two curved surfaces (sphere on sphere, say); normal = their common normal.
+    Curved,
+}
+
+/// One contact point of a pair (A, B), in world coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// The point of A's surface.
+    pub point_a: Point3<f64>,
+    /// The point of B's surface.
+    pub point_b: Point3<f64>,
+    /// Unit normal from A toward B.
+    pub normal: Unit<Vector3<f64>>,
+    /// Signed distance `normal . (point_b - point_a)`: positive apart, negative interpenetrating.
+    pub distance: f64,
+    /// The kind of contact.
+    pub kind: ContactKind,
+    /// A's feature.
+    pub feature_a: Feature,
+    /// B's feature.
+    pub feature_b: Feature,
+}
+
+fn feature(shape: &Shape, id: FeatureId) -> Feature {
+    if matches!(shape, Shape::Sphere { .. } | Shape::Capsule { .. }) {
+        return Feature::Curved;
+    }
+    match id {
+        FeatureId::Vertex(i) => Feature::Vertex(i),
+        FeatureId::Edge(i) => Feature::Edge(i),
+        FeatureId::Face(i) => Feature::Face(i),
+        _ => Feature::Unknown,
+    }
+}
+
+fn kind(a: Feature, b: Feature) -> ContactKind {
+    use Feature::*;
+    match (a, b) {
+        (Edge(_), Edge(_)) => ContactKind::EdgeEdge,
+        (Curved, Curved) => ContactKind::Curved,
+        (Face(_) | Curved, Vertex(_) | Edge(_)) | (Face(_), Curved) => ContactKind::FaceVertex,
+        // A vertex on a face, and the folded kinds: vertex-vertex, vertex-edge, edge-face, face-face, unknown.
+        (Edge(_), Vertex(_)) => ContactKind::FaceVertex,
+        _ => ContactKind::VertexFace,
+    }
+}
+
+/// The contact points of `a` at `pose_a` and `b` at `pose_b` closer than `prediction` (>= 0; 0 = touching or
+/// interpenetrating only). Duplicate points (both shapes' vertices at one place) are reported once, and parry's
+/// deepest-point fallback only when it adds depth.
+pub fn contacts(
+    a: &Shape,
+    pose_a: &Isometry3<f64>,
+    b: &Shape,
+    pose_b: &Isometry3<f64>,
+    prediction: f64,
+) -> Result<Vec<Contact>, ShapeError> {
+    check_pose("pose_a", pose_a)?;
+    check_pose("pose_b", pose_b)?;
+    if !(prediction.is_finite() && prediction >= 0.0) {
+        return Err(ShapeError::new("prediction", format!("must be finite and >= 0, got {prediction}")));
+    }
+    let (va, vb) = (ParryView::of(a), ParryView::of(b));
+    let (pa, pb) = (va.pose(pose_a), vb.pose(pose_b));
+    let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
+    DefaultQueryDispatcher
+        .contact_manifolds(&pa.inv_mul(&pb), va.as_dyn(), vb.as_dyn(), prediction, &mut manifolds, &mut None)
+        .map_err(|_| unsupported_pair(a, b))?;
+    let mut out: Vec<Contact> = Vec::new();
+    for m in &manifolds {
+        let sa = m.subshape_poses.as_ref().and_then(|s| s.pos1).map_or(pa, |s| pa * s);
+        let sb = m.subshape_poses.as_ref().and_then(|s| s.pos2).map_or(pb, |s| pb * s);
+        let Some(normal) = Unit::try_new(from_parry(sa.rotation * m.local_n1), 1e-12) else { continue };
+        let labelled = m.points.iter().filter(|p| !p.fid1.is_unknown() || !p.fid2.is_unknown());
+        let deepest_labelled = labelled.map(|p| p.dist).fold(f64::INFINITY, f64::min);
+        for p in m.points.iter().filter(|p| p.dist <= prediction) {
+            let (fa, fb) = (feature(a, p.fid1.unpack()), feature(b, p.fid2.unpack()));
+            let unknown = p.fid1.is_unknown() && p.fid2.is_unknown();
+            if unknown && p.dist >= deepest_labelled - 1e-12 * (1.0 + p.dist.abs()) {
+                continue;
+            }
+            let c = Contact {
+                point_a: point_from_parry(sa.transform_point(p.local_p1)),
+                point_b: point_from_parry(sb.transform_point(p.local_p2)),
+                normal,
+                distance: p.dist,
+                kind: kind(fa, fb),
+                feature_a: fa,
+                feature_b: fb,
+            };
+            if !out.iter().any(|o| same_place(o, &c)) {
+                out.push(c);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Whether two contacts sit at the same place (to 1e-9 relative).
+fn same_place(x: &Contact, y: &Contact) -> bool {
+    let close = |p: &Point3<f64>, q: &Point3<f64>| (p - q).norm() <= 1e-9 * (1.0 + p.coords.amax());
+    close(&x.point_a, &y.point_a) && close(&x.point_b, &y.point_b)
+}

@@ -1,0 +1,71 @@
+//! Shared test helpers: a seeded generator (SplitMix64) and random poses and shapes drawn from it.
+#![allow(dead_code)]
+
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use tumble_collide::Shape;
+
+/// SplitMix64: small, seeded, reproducible.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.uniform()
+    }
+
+    /// Uniform integer in [0, n).
+    pub fn below(&mut self, n: u64) -> u64 {
+        self.next_u64() % n
+    }
+
+    pub fn vector(&mut self, half: f64) -> Vector3<f64> {
+        Vector3::new(self.range(-half, half), self.range(-half, half), self.range(-half, half))
+    }
+
+    /// A rotation uniform over SO(3) (Shoemake).
+    pub fn rotation(&mut self) -> UnitQuaternion<f64> {
+        let (u1, u2, u3) = (self.uniform(), self.uniform(), self.uniform());
+        let tau = std::f64::consts::TAU;
+        let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+        UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            b * (tau * u3).cos(),
+            a * (tau * u2).sin(),
+            a * (tau * u2).cos(),
+            b * (tau * u3).sin(),
+        ))
+    }
+
+    pub fn pose(&mut self, half: f64) -> Isometry3<f64> {
+        Isometry3::from_parts(Translation3::from(self.vector(half)), self.rotation())
+    }
+
+    /// A random box or convex hull of 4 to 24 points, about 1 across.
+    pub fn polyhedral_shape(&mut self) -> Shape {
+        if self.below(3) == 0 {
+            Shape::cuboid(Vector3::new(self.range(0.05, 0.8), self.range(0.05, 0.8), self.range(0.05, 0.8))).unwrap()
+        } else {
+            loop {
+                let n = 4 + self.below(21) as usize;
+                let scale = Vector3::new(self.range(0.2, 1.0), self.range(0.2, 1.0), self.range(0.2, 1.0));
+                let pts: Vec<Point3<f64>> =
+                    (0..n).map(|_| Point3::from(self.vector(1.0).component_mul(&scale))).collect();
+                if let Ok(s) = Shape::convex_hull(&pts) {
+                    return s;
+                }
+            }
+        }
+    }
+}
