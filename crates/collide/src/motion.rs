@@ -61,7 +61,7 @@ impl Motion {
     }
 
     /// parry's form of the motion for a shape seen through `view`.
-    pub(crate) fn to_parry(&self, view: &ParryView) -> NonlinearRigidMotion {
+    pub(crate) fn as_parry(&self, view: &ParryView) -> NonlinearRigidMotion {
         NonlinearRigidMotion::new(view.pose(&self.start), Vector::ZERO, to_parry(&self.linvel), to_parry(&self.angvel))
     }
 }

@@ -7,18 +7,18 @@ use crate::aabb::check_pose;
 use crate::error::ShapeError;
 use crate::geometry::ParryView;
 use crate::motion::Motion;
-use crate::polyhedron::Polyhedron;
 use crate::proximity::{distance, intersects, unsupported_pair};
 use crate::shape::Shape;
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::Isometry3;
 use parry3d_f64::query::{DefaultQueryDispatcher, QueryDispatcher, ShapeCastStatus};
 
 /// How `time_of_impact` looks for the collision time.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ToiMethod {
-    /// The chapter's bisection on intersection tests. When the pair is apart at both ends, the interval is first
-    /// sampled finely enough that a body cannot pass through the other between samples (spacing: the sum of the two
-    /// inner radii); a grazing touch shallower than that can be missed.
+    /// The chapter's bisection on intersection tests. An interval with the pair apart at both ends is halved only
+    /// while the distances at its ends leave room for a contact inside (a gap cannot close faster than the bound on
+    /// the closing speed), so no contact is missed; a near miss closer than closing speed x tolerance counts as a
+    /// touch.
     Bisection,
     /// Conservative advancement: step forward by distance / (bound on the closing speed) until the gap is closed.
     ConservativeAdvancement,
@@ -98,39 +98,34 @@ pub fn bisect_collision_time(
     if !touching(t1)? {
         return Err(ShapeError::new("t1", format!("the shapes are not in contact at t1 = {t1}: nothing to bisect")));
     }
-    let (mut before, mut after, mut steps) = (t0, t1, 2);
+    let mut steps = 2;
+    let (before, after) = halve(t0, t1, tolerance, |t| {
+        steps += 1;
+        touching(t)
+    })?;
+    Ok(Bisection { before, after, steps })
+}
+
+/// Halves [before, after] (apart at `before`, in contact at `after`) until it is narrower than `tolerance` or cannot
+/// be split in floating point.
+fn halve(
+    mut before: f64,
+    mut after: f64,
+    tolerance: f64,
+    mut in_contact: impl FnMut(f64) -> Result<bool, ShapeError>,
+) -> Result<(f64, f64), ShapeError> {
     while after - before > tolerance {
         let mid = 0.5 * (before + after);
         if mid <= before || mid >= after {
-            break; // the interval cannot be split further in floating point
+            break;
         }
-        steps += 1;
-        if touching(mid)? {
+        if in_contact(mid)? {
             after = mid;
         } else {
             before = mid;
         }
     }
-    Ok(Bisection { before, after, steps })
-}
-
-/// The radius of a ball that fits inside the shape (about its origin for a box or curved shape, about the vertex
-/// mean for a hull); infinite for a half-space, zero for a triangle mesh.
-fn inner_radius(shape: &Shape) -> f64 {
-    match shape {
-        Shape::Sphere { radius } | Shape::Capsule { radius, .. } => *radius,
-        Shape::Cuboid { half_extents } => half_extents.min(),
-        Shape::Cylinder { half_height, radius } => half_height.min(*radius),
-        Shape::HalfSpace { .. } => f64::INFINITY,
-        Shape::TriMesh(_) => 0.0,
-        Shape::ConvexHull(_) => match Polyhedron::from_shape(shape) {
-            Ok(p) => {
-                let c = p.vertices().iter().sum::<Vector3<f64>>() / p.vertices().len() as f64;
-                p.faces().iter().map(|(n, d)| d - n.dot(&c)).fold(f64::INFINITY, f64::min)
-            }
-            Err(_) => 0.0,
-        },
-    }
+    Ok((before, after))
 }
 
 /// The first time in [0, t_end] at which `a` moving by `motion_a` touches `b` moving by `motion_b`, or `None` when
@@ -169,12 +164,13 @@ pub fn time_of_impact(
         return Ok(None);
     }
     match options.method {
-        ToiMethod::Bisection => by_bisection(a, motion_a, b, motion_b, t_end, closing, options),
+        ToiMethod::Bisection => by_bisection(a, motion_a, b, motion_b, t_end, closing, d0, options),
         ToiMethod::ConservativeAdvancement => by_advancement(a, motion_a, b, motion_b, t_end, closing, d0, options),
         ToiMethod::ShapeCast => by_shape_cast(a, motion_a, b, motion_b, t_end),
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn by_bisection(
     a: &Shape,
     motion_a: &Motion,
@@ -182,31 +178,61 @@ fn by_bisection(
     motion_b: &Motion,
     t_end: f64,
     closing: f64,
+    d0: f64,
     options: &ToiOptions,
 ) -> Result<Option<Impact>, ShapeError> {
-    let poses = |t: f64| (motion_a.pose_at(t), motion_b.pose_at(t));
-    let spacing = inner_radius(a) + inner_radius(b);
-    let samples = (closing * t_end / spacing).ceil().max(1.0);
-    if samples > options.max_iterations as f64 {
-        return Err(ShapeError::new(
-            "options",
-            format!("sampling against tunnelling needs {samples} intersection tests, over max_iterations"),
-        ));
-    }
-    let n = samples as usize;
-    let mut prev = 0.0;
-    for k in 1..=n {
-        let t = t_end * k as f64 / n as f64;
-        let (pa, pb) = poses(t);
-        if intersects(a, &pa, b, &pb)? {
-            let r = bisect_collision_time(a, b, poses, prev, t, options.tolerance)?;
-            let (pa, pb) = poses(r.before);
-            let d = distance(a, &pa, b, &pb)?;
-            return Ok(Some(Impact { time: r.before, distance: d, iterations: k + r.steps }));
+    let mut search = Search { a, motion_a, b, motion_b, closing, options, queries: 1 };
+    let d_end = search.distance(t_end)?;
+    search.first_contact(0.0, d0, t_end, d_end)
+}
+
+/// The bisection search of `time_of_impact`, with its query count.
+struct Search<'s> {
+    a: &'s Shape,
+    motion_a: &'s Motion,
+    b: &'s Shape,
+    motion_b: &'s Motion,
+    closing: f64,
+    options: &'s ToiOptions,
+    queries: usize,
+}
+
+impl Search<'_> {
+    fn distance(&mut self, t: f64) -> Result<f64, ShapeError> {
+        self.queries += 1;
+        if self.queries > self.options.max_iterations {
+            return Err(ShapeError::new(
+                "options",
+                format!("bisection needed more than {} queries", self.options.max_iterations),
+            ));
         }
-        prev = t;
+        distance(self.a, &self.motion_a.pose_at(t), self.b, &self.motion_b.pose_at(t))
     }
-    Ok(None)
+
+    /// The first contact in [lo, hi], the pair being `d_lo` > 0 apart at lo and `d_hi` >= 0 at hi. In contact at
+    /// hi: the chapter's bisection. Apart at both ends: a contact inside is possible only if the gaps can close in
+    /// time, d_lo + d_hi <= closing (hi - lo); if so, halve and look left first.
+    fn first_contact(&mut self, lo: f64, d_lo: f64, hi: f64, d_hi: f64) -> Result<Option<Impact>, ShapeError> {
+        let tol = self.options.tolerance;
+        if d_hi <= 0.0 {
+            let (before, _) = halve(lo, hi, tol, |t| Ok(self.distance(t)? <= 0.0))?;
+            let d = if before == lo { d_lo } else { self.distance(before)? };
+            return Ok(Some(Impact { time: before, distance: d, iterations: self.queries }));
+        }
+        if d_lo + d_hi > self.closing * (hi - lo) {
+            return Ok(None);
+        }
+        if hi - lo <= tol {
+            // Within the tolerance the pair comes closer than closing * tolerance: a touch.
+            return Ok(Some(Impact { time: lo, distance: d_lo, iterations: self.queries }));
+        }
+        let mid = 0.5 * (lo + hi);
+        let d_mid = self.distance(mid)?;
+        match self.first_contact(lo, d_lo, mid, d_mid)? {
+            Some(hit) => Ok(Some(hit)),
+            None => self.first_contact(mid, d_mid, hi, d_hi),
+        }
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -248,9 +274,9 @@ fn by_shape_cast(
     let (va, vb) = (ParryView::of(a), ParryView::of(b));
     let hit = DefaultQueryDispatcher
         .cast_shapes_nonlinear(
-            &motion_a.to_parry(&va),
+            &motion_a.as_parry(&va),
             va.as_dyn(),
-            &motion_b.to_parry(&vb),
+            &motion_b.as_parry(&vb),
             vb.as_dyn(),
             0.0,
             t_end,
@@ -258,8 +284,10 @@ fn by_shape_cast(
         )
         .map_err(|_| unsupported_pair(a, b))?;
     let Some(hit) = hit else { return Ok(None) };
-    if hit.status == ShapeCastStatus::Failed {
-        return Err(ShapeError::new("motion_a", "parry's shape cast failed to converge"));
+    // parry reports `Failed` when its last advance lands the pair exactly in contact; that is a hit. Only running
+    // out of iterations leaves the time unknown.
+    if hit.status == ShapeCastStatus::OutOfIterations {
+        return Err(ShapeError::new("options", "parry's shape cast ran out of iterations"));
     }
     let t = hit.time_of_impact;
     let d = distance(a, &motion_a.pose_at(t), b, &motion_b.pose_at(t))?;
