@@ -97,6 +97,31 @@ fn sweep_handles_unbounded_boxes_and_changing_counts() {
 }
 
 #[test]
+fn sweep_equals_brute_force_when_boxes_grow_past_and_shrink_below_the_column_width() {
+    // Boxes that become huge or unbounded are swept differently from the rest (tested against every box): switching
+    // back and forth between the two must not lose or duplicate a pair.
+    let mut rng = Rng(8);
+    for scene in 0..30 {
+        let mut sap = SortAndSweep::new();
+        let n = 100 + rng.below(300) as usize;
+        let mut boxes = spread_scene(&mut rng, n);
+        for step in 0..30 {
+            for b in &mut boxes {
+                let c = b.center() + rng.vector(0.1);
+                let h = match rng.below(40) {
+                    0 => Vector3::repeat(rng.range(10.0, 60.0)),
+                    1 => Vector3::new(f64::INFINITY, rng.range(0.0, 1.0), 0.5),
+                    _ => Vector3::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), rng.range(0.0, 1.0)),
+                };
+                let c = if c.iter().all(|x| x.is_finite()) { c } else { Point3::from(rng.vector(20.0)) };
+                *b = Aabb::new(c - h, c + h).unwrap();
+            }
+            check(&mut sap, &boxes, &format!("scene {scene} step {step}"));
+        }
+    }
+}
+
+#[test]
 fn coherent_scene_needs_few_swaps_and_no_full_sort() {
     let mut rng = Rng(4);
     let mut boxes = spread_scene(&mut rng, 2000);
