@@ -33,12 +33,23 @@ impl Rng {
 fn frames(n: usize) -> Vec<Vec<Aabb>> {
     let mut rng = Rng(n as u64);
     let side = (n as f64 / 0.25).cbrt();
-    let mut centres: Vec<Vector3<f64>> = (0..n).map(|_| Vector3::new(rng.uniform(), rng.uniform(), rng.uniform()) * side).collect();
-    let mut velocities: Vec<Vector3<f64>> = (0..n).map(|_| Vector3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * 2.0).collect();
+    let mut centres: Vec<Vector3<f64>> =
+        (0..n).map(|_| Vector3::new(rng.uniform(), rng.uniform(), rng.uniform()) * side).collect();
+    let mut velocities: Vec<Vector3<f64>> =
+        (0..n).map(|_| Vector3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * 2.0).collect();
     let halves: Vec<f64> = (0..n).map(|_| 0.2 + 0.4 * rng.uniform()).collect();
     let mut out = Vec::with_capacity(FRAMES);
     for _ in 0..FRAMES {
-        out.push(centres.iter().zip(&halves).map(|(c, h)| Aabb { min: Point3::from(c - Vector3::repeat(*h)), max: Point3::from(c + Vector3::repeat(*h)) }).collect());
+        out.push(
+            centres
+                .iter()
+                .zip(&halves)
+                .map(|(c, h)| Aabb {
+                    min: Point3::from(c - Vector3::repeat(*h)),
+                    max: Point3::from(c + Vector3::repeat(*h)),
+                })
+                .collect(),
+        );
         for (c, v) in centres.iter_mut().zip(velocities.iter_mut()) {
             *c += *v / 60.0;
             for k in 0..3 {
@@ -54,7 +65,11 @@ fn frames(n: usize) -> Vec<Vec<Aabb>> {
 /// Frame index of update `i`: 0, 1, ..., 7, 6, ..., 1, 0, 1, ... (every update a small move).
 fn ping_pong(i: usize) -> usize {
     let p = i % (2 * FRAMES - 2);
-    if p < FRAMES { p } else { 2 * FRAMES - 2 - p }
+    if p < FRAMES {
+        p
+    } else {
+        2 * FRAMES - 2 - p
+    }
 }
 
 fn to_parry(b: &Aabb) -> ParryAabb {
@@ -70,7 +85,11 @@ struct ParryBroadPhase {
 impl ParryBroadPhase {
     fn new(boxes: &[Aabb]) -> Self {
         let leaves: Vec<ParryAabb> = boxes.iter().map(to_parry).collect();
-        ParryBroadPhase { tree: Bvh::from_leaves(BvhBuildStrategy::default(), &leaves), workspace: BvhWorkspace::default(), pairs: Vec::new() }
+        ParryBroadPhase {
+            tree: Bvh::from_leaves(BvhBuildStrategy::default(), &leaves),
+            workspace: BvhWorkspace::default(),
+            pairs: Vec::new(),
+        }
     }
 
     fn update(&mut self, boxes: &[Aabb]) -> usize {
@@ -99,7 +118,7 @@ fn broad_phase(c: &mut Criterion) {
         ours.sort_unstable();
         peer.pairs.sort_unstable();
         assert_eq!(ours, peer.pairs, "sort-and-sweep and parry's BVH disagree on {n} boxes");
-        println!("{n} boxes: {} pairs", ours.len());
+        println!("{n} boxes: {} pairs, {:?}", ours.len(), sap.stats());
         g.bench_with_input(BenchmarkId::new("sort_and_sweep", n), &frames, |b, frames| {
             let mut i = 0;
             b.iter(|| {

@@ -8,7 +8,9 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use std::hint::black_box;
-use tumble_collide::{separating_plane, time_of_impact, Motion, Polyhedron, SeparatingPlaneCache, Shape, ToiMethod, ToiOptions};
+use tumble_collide::{
+    separating_plane, time_of_impact, Motion, Polyhedron, SeparatingPlaneCache, Shape, ToiMethod, ToiOptions,
+};
 
 fn hull_points() -> Vec<Point3<f64>> {
     // 20 points on a squashed sphere (golden-angle spiral): a rounded hull with many faces and edges.
@@ -29,7 +31,10 @@ fn separating_planes(c: &mut Criterion) {
     let poses: Vec<Isometry3<f64>> = (0..200)
         .map(|k| {
             let t = k as f64 * 0.002;
-            Isometry3::from_parts(Translation3::new(2.5 * t.cos(), 2.5 * t.sin(), 0.1), UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.5 * t))
+            Isometry3::from_parts(
+                Translation3::new(2.5 * t.cos(), 2.5 * t.sin(), 0.1),
+                UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.5 * t),
+            )
         })
         .collect();
     let mut g = c.benchmark_group("separating_plane");
@@ -46,14 +51,17 @@ fn separating_planes(c: &mut Criterion) {
 fn collision_time(c: &mut Criterion) {
     let cuboid = Shape::cuboid(Vector3::new(0.6, 0.5, 0.2)).unwrap();
     let slab = Shape::cuboid(Vector3::new(10.0, 10.0, 1.0)).unwrap();
-    let spin = Motion::new(Isometry3::translation(0.0, 0.0, 0.5), Vector3::zeros(), Vector3::new(0.0, 2.0, 0.0)).unwrap();
+    let spin =
+        Motion::new(Isometry3::translation(0.0, 0.0, 0.5), Vector3::zeros(), Vector3::new(0.0, 2.0, 0.0)).unwrap();
     let floor = Motion::stationary(Isometry3::translation(0.0, 0.0, -1.0));
     let (s1, s2) = (Shape::sphere(0.2).unwrap(), Shape::sphere(0.3).unwrap());
     let m1 = Motion::new(Isometry3::identity(), Vector3::new(1.5, 0.0, 0.0), Vector3::zeros()).unwrap();
-    let m2 = Motion::new(Isometry3::translation(2.0, 0.0, 0.0), Vector3::new(-0.5, 0.0, 0.0), Vector3::zeros()).unwrap();
+    let m2 =
+        Motion::new(Isometry3::translation(2.0, 0.0, 0.0), Vector3::new(-0.5, 0.0, 0.0), Vector3::zeros()).unwrap();
     let bullet = Shape::sphere(0.05).unwrap();
     let wall = Shape::cuboid(Vector3::new(0.005, 1.0, 1.0)).unwrap();
-    let fly = Motion::new(Isometry3::translation(-1.0, 0.0, 0.0), Vector3::new(1000.0, 0.0, 0.0), Vector3::zeros()).unwrap();
+    let fly =
+        Motion::new(Isometry3::translation(-1.0, 0.0, 0.0), Vector3::new(1000.0, 0.0, 0.0), Vector3::zeros()).unwrap();
     let stand = Motion::stationary(Isometry3::translation(5.0, 0.0, 0.0));
     let cases = [
         ("box tipping onto a slab", &cuboid, &spin, &slab, &floor, 1.0),

@@ -10,7 +10,8 @@ use crate::aabb::Aabb;
 use crate::error::ShapeError;
 use crate::pair_map::FastMap;
 
-/// One box in a column's sweep order: its bounds on the three axes and its index in the caller's slice.
+/// One box in a column's sweep order: its bounds and its index in the caller's slice. The axes are stored in sweep
+/// order: index 0 is the sweep axis, 1 and 2 the cross axes of the columns.
 #[derive(Clone, Copy, Debug)]
 struct Entry {
     lo: [f64; 3],
@@ -19,8 +20,10 @@ struct Entry {
 }
 
 impl Entry {
-    fn of(b: &Aabb, id: u32) -> Entry {
-        Entry { lo: [b.min.x, b.min.y, b.min.z], hi: [b.max.x, b.max.y, b.max.z], id }
+    #[inline]
+    fn of(b: &Aabb, id: u32, axis: usize) -> Entry {
+        let (s, u, v) = (axis, (axis + 1) % 3, (axis + 2) % 3);
+        Entry { lo: [b.min[s], b.min[u], b.min[v]], hi: [b.max[s], b.max[u], b.max[v]], id }
     }
 
     fn overlaps(&self, f: &Entry) -> bool {
@@ -94,18 +97,17 @@ impl SortAndSweep {
             self.follow(boxes);
             for c in &mut self.columns {
                 for e in c.entries.iter_mut() {
-                    *e = Entry::of(&boxes[e.id as usize], e.id);
+                    *e = Entry::of(&boxes[e.id as usize], e.id, axis);
                 }
-                swaps += insertion_sort(&mut c.entries, axis);
+                swaps += insertion_sort(&mut c.entries);
             }
         }
         self.pairs.clear();
-        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
         let mut candidates = 0;
         for c in &self.columns {
             let owns =
-                |e: &Entry, f: &Entry| [cell(e.lo[u].max(f.lo[u]), width), cell(e.lo[v].max(f.lo[v]), width)] == c.key;
-            candidates += sweep(&c.entries, axis, owns, &mut self.pairs);
+                |e: &Entry, f: &Entry| [cell(e.lo[1].max(f.lo[1]), width), cell(e.lo[2].max(f.lo[2]), width)] == c.key;
+            candidates += sweep(&c.entries, owns, &mut self.pairs);
         }
         candidates += self.big_pairs(boxes);
         let columns = self.columns.iter().filter(|c| !c.entries.is_empty()).count();
@@ -151,9 +153,10 @@ impl SortAndSweep {
         match span {
             None => self.big.push(id),
             Some([u0, u1, v0, v1]) => {
+                let entry = Entry::of(b, id, self.axis);
                 for cu in u0..=u1 {
                     for cv in v0..=v1 {
-                        self.column([cu, cv]).entries.push(Entry::of(b, id));
+                        self.column([cu, cv]).entries.push(entry);
                     }
                 }
             }
@@ -182,9 +185,8 @@ impl SortAndSweep {
         for (i, b) in boxes.iter().enumerate() {
             self.enter(i as u32, self.spans[i], b);
         }
-        let axis = self.axis;
         for c in &mut self.columns {
-            c.entries.sort_unstable_by(|a, b| a.lo[axis].total_cmp(&b.lo[axis]));
+            c.entries.sort_unstable_by(|a, b| a.lo[0].total_cmp(&b.lo[0]));
         }
     }
 
@@ -203,14 +205,14 @@ impl SortAndSweep {
     /// Pairs of a big box with any other box (each pair once).
     fn big_pairs(&mut self, boxes: &[Aabb]) -> usize {
         for (k, &g) in self.big.iter().enumerate() {
-            let eg = Entry::of(&boxes[g as usize], g);
+            let eg = Entry::of(&boxes[g as usize], g, self.axis);
             for (i, b) in boxes.iter().enumerate() {
                 let i = i as u32;
                 // a big box meets each other big box once, from the earlier of the two in `big`
                 if i == g || (self.spans[i as usize].is_none() && self.big[..k].contains(&i)) {
                     continue;
                 }
-                if eg.overlaps(&Entry::of(b, i)) {
+                if eg.overlaps(&Entry::of(b, i, self.axis)) {
                     self.pairs.push((g.min(i), g.max(i)));
                 }
             }
@@ -261,14 +263,14 @@ fn layout(boxes: &[Aabb], axis: usize, width: f64) -> (usize, f64) {
     (axis, width)
 }
 
-/// Insertion sort by the lower bound on `axis`; returns the number of neighbour swaps.
-fn insertion_sort(entries: &mut [Entry], axis: usize) -> usize {
+/// Insertion sort by the lower bound on the sweep axis; returns the number of neighbour swaps.
+fn insertion_sort(entries: &mut [Entry]) -> usize {
     let mut swaps = 0;
     for i in 1..entries.len() {
         let e = entries[i];
-        let key = e.lo[axis];
+        let key = e.lo[0];
         let mut j = i;
-        while j > 0 && entries[j - 1].lo[axis] > key {
+        while j > 0 && entries[j - 1].lo[0] > key {
             entries[j] = entries[j - 1];
             j -= 1;
         }
@@ -280,18 +282,16 @@ fn insertion_sort(entries: &mut [Entry], axis: usize) -> usize {
 
 /// The sweep of one column: each box against the boxes that start before it ends, confirmed on the other two axes
 /// and kept when `owns` says this column reports the pair.
-fn sweep(entries: &[Entry], axis: usize, owns: impl Fn(&Entry, &Entry) -> bool, pairs: &mut Vec<(u32, u32)>) -> usize {
-    let (a1, a2) = ((axis + 1) % 3, (axis + 2) % 3);
+fn sweep(entries: &[Entry], owns: impl Fn(&Entry, &Entry) -> bool, pairs: &mut Vec<(u32, u32)>) -> usize {
     let mut candidates = 0;
     for (i, e) in entries.iter().enumerate() {
-        let end = e.hi[axis];
+        let end = e.hi[0];
         for f in &entries[i + 1..] {
-            if f.lo[axis] > end {
+            if f.lo[0] > end {
                 break;
             }
             candidates += 1;
-            if e.lo[a1] <= f.hi[a1] && f.lo[a1] <= e.hi[a1] && e.lo[a2] <= f.hi[a2] && f.lo[a2] <= e.hi[a2] && owns(e, f)
-            {
+            if e.lo[1] <= f.hi[1] && f.lo[1] <= e.hi[1] && e.lo[2] <= f.hi[2] && f.lo[2] <= e.hi[2] && owns(e, f) {
                 pairs.push(if e.id < f.id { (e.id, f.id) } else { (f.id, e.id) });
             }
         }
