@@ -80,6 +80,21 @@ fn box_tipping_about_its_centre_touches_when_its_corner_reaches_the_plane() {
 }
 
 #[test]
+fn box_box_distance_is_the_gap_in_either_order_parry_431() {
+    // parry 0.31.1's box-box distance returned 0.394 here, in one argument order, for a true gap of 0.0409
+    // (dimforge/parry#431), which made conservative advancement overshoot into the slab.
+    let (a, zc, th): (f64, f64, f64) = (0.6, 0.5, 2.0 * 0.245_304_278_544_563_44);
+    let small = Shape::cuboid(Vector3::new(a, 0.5, 0.2)).unwrap();
+    let slab = Shape::cuboid(Vector3::new(10.0, 10.0, 1.0)).unwrap();
+    let tilted = Motion::new(Isometry3::translation(0.0, 0.0, zc), Vector3::zeros(), Vector3::new(0.0, th, 0.0)).unwrap().pose_at(1.0);
+    let under = Isometry3::translation(0.0, 0.0, -1.0);
+    let gap = zc - (a * th.sin() + 0.2 * th.cos());
+    // 1e-12: GJK on shapes of unit size.
+    assert!((tumble_collide::distance(&small, &tilted, &slab, &under).unwrap() - gap).abs() < 1e-12);
+    assert!((tumble_collide::distance(&slab, &under, &small, &tilted).unwrap() - gap).abs() < 1e-12);
+}
+
+#[test]
 fn the_three_methods_agree_on_random_moving_polyhedra() {
     let mut rng = Rng(21);
     let mut compared = 0;
