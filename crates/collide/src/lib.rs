@@ -2,6 +2,26 @@
 //! the chapter's sort-and-sweep broad phase, separating planes of convex polyhedra with a per-pair cache, contact
 //! geometry and collision time (bisection, or parry's shape cast). parry's glam types stay inside this crate; its
 //! API speaks nalgebra.
+//!
+//! ```
+//! use nalgebra::{Isometry3, Vector3};
+//! use tumble_collide::{contacts, time_of_impact, Motion, Shape, SortAndSweep, ToiOptions};
+//!
+//! let ball = Shape::sphere(0.5)?;
+//! let ground = Shape::half_space(Vector3::z())?;
+//! // Which boxes overlap (indices into the slice), kept sorted from call to call:
+//! let poses = [Isometry3::translation(0.0, 0.0, 0.4), Isometry3::translation(3.0, 0.0, 0.4)];
+//! let boxes: Vec<_> = poses.iter().map(|p| ball.aabb(p)).collect::<Result<_, _>>()?;
+//! assert_eq!(SortAndSweep::new().update(&boxes)?, &[] as &[(u32, u32)]);
+//! // Where a ball sunk 0.1 into the ground touches it:
+//! let c = &contacts(&ball, &poses[0], &ground, &Isometry3::identity(), 0.0)?[0];
+//! assert!((c.distance + 0.1).abs() < 1e-12 && (c.normal.z + 1.0).abs() < 1e-12);
+//! // When a ball dropped at 2 m/s from 1.5 m first touches it: (1.5 - 0.5) / 2 = 0.5 s.
+//! let fall = Motion::new(Isometry3::translation(0.0, 0.0, 1.5), Vector3::new(0.0, 0.0, -2.0), Vector3::zeros())?;
+//! let hit = time_of_impact(&ball, &fall, &ground, &Motion::stationary(Isometry3::identity()), 1.0, &ToiOptions::default())?;
+//! assert!((hit.unwrap().time - 0.5).abs() < 1e-9);
+//! # Ok::<(), tumble_collide::ShapeError>(())
+//! ```
 
 mod aabb;
 mod contact;
