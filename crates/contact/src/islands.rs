@@ -1,0 +1,60 @@
+//! Islands: bodies that touch, directly or through other moving bodies, found by union-find over the contact graph.
+//! Static bodies do not join islands (a floor under two separate boxes does not couple them).
+
+use crate::body::BodyState;
+use crate::contact::Contact;
+
+/// Union-find with path halving and union by size.
+struct UnionFind {
+    parent: Vec<usize>,
+    size: Vec<usize>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind { parent: (0..n).collect(), size: vec![1; n] }
+    }
+
+    fn find(&mut self, mut x: usize) -> usize {
+        while self.parent[x] != x {
+            self.parent[x] = self.parent[self.parent[x]];
+            x = self.parent[x];
+        }
+        x
+    }
+
+    fn union(&mut self, a: usize, b: usize) {
+        let (mut a, mut b) = (self.find(a), self.find(b));
+        if a == b {
+            return;
+        }
+        if self.size[a] < self.size[b] {
+            std::mem::swap(&mut a, &mut b);
+        }
+        self.parent[b] = a;
+        self.size[a] += self.size[b];
+    }
+}
+
+/// The contacts grouped by island: each inner list holds the indices of the contacts of one island, in their
+/// original order; islands come in the order of their first contact.
+pub fn islands(bodies: &[BodyState], contacts: &[Contact]) -> Vec<Vec<usize>> {
+    let mut uf = UnionFind::new(bodies.len());
+    for c in contacts {
+        if bodies[c.a].is_dynamic() && bodies[c.b].is_dynamic() {
+            uf.union(c.a, c.b);
+        }
+    }
+    let mut index_of_root = vec![usize::MAX; bodies.len()];
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    for (i, c) in contacts.iter().enumerate() {
+        let body = if bodies[c.a].is_dynamic() { c.a } else { c.b };
+        let root = uf.find(body);
+        if index_of_root[root] == usize::MAX {
+            index_of_root[root] = out.len();
+            out.push(Vec::new());
+        }
+        out[index_of_root[root]].push(i);
+    }
+    out
+}

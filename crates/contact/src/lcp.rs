@@ -1,0 +1,212 @@
+//! The linear complementarity problems of contact, solved as convex QPs with clarabel: find f >= 0 with
+//! w = A f + q >= 0 and f . w = 0, A symmetric positive semidefinite, is the KKT system of
+//! min 1/2 f^T A f + q^T f subject to f >= 0.
+
+use crate::error::ContactError;
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus};
+
+/// Accuracy and limits of the clarabel solves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverSettings {
+    /// clarabel's gap and feasibility tolerances (relative and absolute); 1e-12 by default: each halving of the
+    /// exponent costs about one interior-point iteration, and near the edge of a friction cone (a block on an incline
+    /// within 0.1% of its friction angle) 1e-10 leaves velocities 6e-7 m/s off where 1e-12 leaves 1e-10.
+    pub tolerance: f64,
+    /// clarabel's iteration cap.
+    pub max_iterations: u32,
+    /// The largest complementarity residual accepted (relative to the force and velocity scales of the problem):
+    /// f >= -tol F, w >= -tol W, |f_i w_i| <= tol F W. This, not clarabel's status, decides: an answer clarabel
+    /// could not polish to `tolerance` (status AlmostSolved, InsufficientProgress, MaxIterations) is used when it
+    /// passes, and a larger residual is an `Inaccurate` error.
+    pub complementarity_tolerance: f64,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings { tolerance: 1e-12, max_iterations: 200, complementarity_tolerance: 1e-6 }
+    }
+}
+
+impl SolverSettings {
+    pub(crate) fn check(&self) -> Result<(), ContactError> {
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0 && self.tolerance < 1.0) {
+            return Err(ContactError::invalid(
+                "settings",
+                format!("tolerance must be in (0, 1), got {}", self.tolerance),
+            ));
+        }
+        if self.max_iterations == 0 {
+            return Err(ContactError::invalid("settings", "max_iterations must be > 0"));
+        }
+        if !(self.complementarity_tolerance.is_finite() && self.complementarity_tolerance > 0.0) {
+            return Err(ContactError::invalid("settings", "complementarity_tolerance must be finite and > 0"));
+        }
+        Ok(())
+    }
+
+    pub(crate) fn clarabel(
+        &self,
+        problem: &'static str,
+    ) -> Result<clarabel::solver::DefaultSettings<f64>, ContactError> {
+        let t = self.tolerance;
+        DefaultSettingsBuilder::default()
+            .verbose(false)
+            .max_iter(self.max_iterations)
+            .tol_gap_abs(t)
+            .tol_gap_rel(t)
+            .tol_feas(t)
+            .tol_ktratio(t.sqrt().min(1e-6))
+            .build()
+            .map_err(|e| ContactError::Solver { problem, status: format!("settings: {e}"), iterations: 0 })
+    }
+}
+
+/// A symmetric matrix by its upper-triangle entries (i <= j; repeats add up).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Triplets {
+    pub n: usize,
+    pub rows: Vec<usize>,
+    pub cols: Vec<usize>,
+    pub vals: Vec<f64>,
+}
+
+impl Triplets {
+    pub fn new(n: usize) -> Self {
+        Triplets { n, ..Default::default() }
+    }
+
+    /// Adds v at (i, j) of the symmetric matrix (stored at the upper of (i, j), (j, i)).
+    pub fn add(&mut self, i: usize, j: usize, v: f64) {
+        self.rows.push(i.min(j));
+        self.cols.push(i.max(j));
+        self.vals.push(v);
+    }
+
+    /// y = A x.
+    pub fn mul(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; self.n];
+        for ((&i, &j), &v) in self.rows.iter().zip(&self.cols).zip(&self.vals) {
+            y[i] += v * x[j];
+            if i != j {
+                y[j] += v * x[i];
+            }
+        }
+        y
+    }
+
+    /// The diagonal.
+    pub fn diagonal(&self) -> Vec<f64> {
+        let mut d = vec![0.0; self.n];
+        for ((&i, &j), &v) in self.rows.iter().zip(&self.cols).zip(&self.vals) {
+            if i == j {
+                d[i] += v;
+            }
+        }
+        d
+    }
+
+    pub fn csc(&self) -> CscMatrix<f64> {
+        CscMatrix::new_from_triplets(self.n, self.n, self.rows.clone(), self.cols.clone(), self.vals.clone())
+    }
+}
+
+/// A solved complementarity problem.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct LcpSolution {
+    pub f: Vec<f64>,
+    pub w: Vec<f64>,
+    pub iterations: u32,
+    pub residual: f64,
+}
+
+/// The relative complementarity residual of (f, w = A f + q): the largest of -f_i / F, -w_i / W and |f_i w_i| / (F W),
+/// with W the largest of |q| and |A f|, and F the largest of the forces and of |q_i| / A_ii (the force that would
+/// cancel q_i alone), so that an all-zero answer is measured on the problem's own scale.
+pub(crate) fn residual(f: &[f64], w: &[f64], q: &[f64], diagonal: &[f64]) -> f64 {
+    let big = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let natural = q.iter().zip(diagonal).filter(|(_, &d)| d > 0.0).fold(0.0f64, |m, (qi, d)| m.max(qi.abs() / d));
+    let fs = big(f).max(natural).max(f64::MIN_POSITIVE);
+    let ws = big(q).max(big(w)).max(f64::MIN_POSITIVE);
+    f.iter().zip(w).map(|(&fi, &wi)| (-fi / fs).max(-wi / ws).max((fi * wi).abs() / (fs * ws))).fold(0.0, f64::max)
+}
+
+/// Whether clarabel's answer may be used, subject to the caller's own residual check: a solution, or an iterate it
+/// could not polish further. Infeasibility certificates and numerical failures are errors.
+pub(crate) fn usable(status: SolverStatus, iterations: u32, problem: &'static str) -> Result<(), ContactError> {
+    match status {
+        SolverStatus::Solved
+        | SolverStatus::AlmostSolved
+        | SolverStatus::InsufficientProgress
+        | SolverStatus::MaxIterations => Ok(()),
+        other => Err(ContactError::Solver { problem, status: format!("{other:?}"), iterations }),
+    }
+}
+
+/// Runs `attempt` at the requested tolerance and, when its answer misses `complementarity_tolerance`, again at
+/// 1e3 and 1e6 times looser tolerances (never looser than 1e-6): on degenerate problems (redundant contacts, a
+/// cone's edge) clarabel sometimes stalls short of a very tight tolerance with a poor iterate, where a looser one
+/// converges cleanly. Iterations of all attempts are counted. Returns the first answer whose residual passes.
+pub(crate) fn with_retries<T>(
+    settings: &SolverSettings,
+    problem: &'static str,
+    mut attempt: impl FnMut(&SolverSettings) -> Result<(T, f64, u32), ContactError>,
+) -> Result<(T, f64, u32), ContactError> {
+    let mut iterations = 0;
+    let mut worst = 0.0f64;
+    let mut failure = None;
+    for scale in [1.0, 1e3, 1e6] {
+        let tolerance = (settings.tolerance * scale).min(1e-6).max(settings.tolerance);
+        let s = SolverSettings { tolerance, ..*settings };
+        match attempt(&s) {
+            Ok((value, residual, its)) => {
+                iterations += its;
+                if residual <= settings.complementarity_tolerance {
+                    return Ok((value, residual, iterations));
+                }
+                worst = worst.max(residual);
+            }
+            Err(e @ ContactError::Solver { .. }) => failure = Some(e),
+            Err(e) => return Err(e),
+        }
+        if tolerance >= 1e-6 {
+            break;
+        }
+    }
+    match failure {
+        Some(e) if worst == 0.0 => Err(e),
+        _ => Err(ContactError::Inaccurate { problem, residual: worst, tolerance: settings.complementarity_tolerance }),
+    }
+}
+
+/// Solves LCP(A, q) through clarabel, checking its status and the complementarity of the answer.
+pub(crate) fn solve(
+    a: &Triplets,
+    q: &[f64],
+    settings: &SolverSettings,
+    problem: &'static str,
+) -> Result<LcpSolution, ContactError> {
+    let n = q.len();
+    if n == 0 {
+        return Ok(LcpSolution { f: vec![], w: vec![], iterations: 0, residual: 0.0 });
+    }
+    let p = a.csc();
+    // f >= 0 as -f + s = 0, s in the nonnegative cone.
+    let neg_identity = CscMatrix::new(n, n, (0..=n).collect(), (0..n).collect(), vec![-1.0; n]);
+    let cones = [NonnegativeConeT(n)];
+    let diagonal = a.diagonal();
+    let ((f, w), residual, iterations) = with_retries(settings, problem, |s| {
+        let mut solver = DefaultSolver::new(&p, q, &neg_identity, &vec![0.0; n], &cones, s.clarabel(problem)?)
+            .map_err(|e| ContactError::Solver { problem, status: format!("{e:?}"), iterations: 0 })?;
+        solver.solve();
+        let sol = &solver.solution;
+        usable(sol.status, sol.iterations, problem)?;
+        // Interior points stay strictly positive: clamp the last ~1e-12 of negative rounding.
+        let f: Vec<f64> = sol.x.iter().map(|&v| v.max(0.0)).collect();
+        let af = a.mul(&f);
+        let w: Vec<f64> = af.iter().zip(q).map(|(x, y)| x + y).collect();
+        let r = residual(&f, &w, q, &diagonal);
+        Ok(((f, w), r, sol.iterations))
+    })?;
+    Ok(LcpSolution { f, w, iterations, residual })
+}
