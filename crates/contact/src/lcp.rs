@@ -190,11 +190,14 @@ pub(crate) fn solve(
     if n == 0 {
         return Ok(LcpSolution { f: vec![], w: vec![], iterations: 0, residual: 0.0 });
     }
+    // Redundant contacts (a box's four corners) leave A singular and the split of the load among them undetermined
+    // by the equations; the interior point ends near the centre of the set of solutions (the symmetric split for a
+    // symmetric box, to about 1e-8).
+    let diagonal = a.diagonal();
     let p = a.csc();
     // f >= 0 as -f + s = 0, s in the nonnegative cone.
     let neg_identity = CscMatrix::new(n, n, (0..=n).collect(), (0..n).collect(), vec![-1.0; n]);
     let cones = [NonnegativeConeT(n)];
-    let diagonal = a.diagonal();
     let ((f, w), residual, iterations) = with_retries(settings, problem, |s| {
         let mut solver = DefaultSolver::new(&p, q, &neg_identity, &vec![0.0; n], &cones, s.clarabel(problem)?)
             .map_err(|e| ContactError::Solver { problem, status: format!("{e:?}"), iterations: 0 })?;

@@ -3,6 +3,26 @@
 //! Baraff's resting-contact forces as a QP, and beyond the chapter Coulomb friction as a velocity-level conic
 //! program; contacts are split into islands and every island is solved on its own with clarabel. Every function is
 //! pure: it returns impulses, forces and velocities and changes nothing, so a failure leaves every body as it was.
+//!
+//! Conventions: a contact's normal points from body A to body B; forces and impulses push B along it and A against
+//! it; the relative normal velocity n . (v_B - v_A) is positive when the bodies part.
+//!
+//! ```
+//! use nalgebra::{Matrix3, Point3, Vector3};
+//! use tumble_contact::{resting_forces, BodyState, Contact, SolverSettings};
+//!
+//! // A 2 kg box on the ground, touching it at four corners: together they carry m g, each m g / 4 (the split among
+//! // redundant corners is not fixed by the equations; the solver lands on the symmetric one to about 1e-8).
+//! let ground = BodyState::fixed(Point3::origin());
+//! let mut block = BodyState::rigid(2.0, Matrix3::identity() * 0.1, Point3::new(0.0, 0.0, 0.5));
+//! block.force = Vector3::new(0.0, 0.0, -2.0 * 9.81);
+//! let corners = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+//!     .map(|(x, y)| Contact::new(0, 1, Point3::new(x, y, 0.0), Vector3::z_axis()));
+//! let out = resting_forces(&[ground, block], &corners, &SolverSettings::default())?;
+//! assert!((out.forces.iter().sum::<f64>() - 2.0 * 9.81).abs() < 1e-9);
+//! assert!(out.forces.iter().all(|f| (f - 2.0 * 9.81 / 4.0).abs() < 1e-6));
+//! # Ok::<(), tumble_contact::ContactError>(())
+//! ```
 
 mod body;
 mod classify;

@@ -112,7 +112,7 @@ fn a_solver_that_cannot_deliver_is_an_error() {
     let walls = [BodyState::fixed(Point3::new(-1.0, 0.0, 0.0)), BodyState::fixed(Point3::new(1.0, 0.0, 0.0))];
     let bodies = [walls[0], walls[1], BodyState::particle(1.0, Point3::origin(), Vector3::zeros())];
     let h = 0.01;
-    let deep = -1.0 * h / 0.2; // erp 0.2: a push-out of 1 m/s
+    let deep = -h / 0.2; // erp 0.2: a push-out of 1 m/s (1 m/s x h / erp deep)
     let contacts = [
         Contact::new(0, 2, Point3::origin(), Vector3::x_axis()).with_distance(deep),
         Contact::new(1, 2, Point3::origin(), -Vector3::x_axis()).with_distance(deep),

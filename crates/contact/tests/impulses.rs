@@ -159,3 +159,20 @@ fn simultaneous_elastic_impulses_along_a_row_of_three_balls() {
     }
     assert!(out.residual < 1e-6);
 }
+
+#[test]
+fn contacts_are_classified_by_relative_normal_velocity_with_a_scene_scaled_tolerance() {
+    use tumble_contact::{classify, velocity_tolerance, ContactClass};
+    // 1e-3 sqrt(2 g L): a thousandth of the speed of a fall through the scene.
+    assert!((velocity_tolerance(1.0, 9.81) - 1e-3 * (2.0f64 * 9.81).sqrt()).abs() < 1e-15);
+    assert!((velocity_tolerance(100.0, 9.81) / velocity_tolerance(1.0, 9.81) - 10.0).abs() < 1e-12);
+    assert_eq!(velocity_tolerance(0.0, 0.0), 1e-9);
+    let tol = velocity_tolerance(1.0, 9.81);
+    let ground = BodyState::fixed(Point3::origin());
+    let at = |vz: f64| [ground, BodyState::particle(1.0, Point3::origin(), Vector3::new(0.3, 0.0, vz))];
+    let c = Contact::new(0, 1, Point3::origin(), Vector3::z_axis());
+    assert_eq!(classify(&at(0.5), &c, tol), ContactClass::Separating);
+    assert_eq!(classify(&at(-0.5), &c, tol), ContactClass::Colliding);
+    assert_eq!(classify(&at(0.5 * tol), &c, tol), ContactClass::Resting);
+    assert_eq!(classify(&at(-0.5 * tol), &c, tol), ContactClass::Resting);
+}
