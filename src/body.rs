@@ -1,8 +1,9 @@
 //! Rigid bodies: mass, body-frame inertia tensor about the centre of mass, and the state (x, q, P, L) of the
 //! chapter with a unit quaternion in place of the rotation matrix.
 
+use crate::collider::{compound_mass, Collider, Material};
 use crate::error::{check_finite, check_scalar, WorldError};
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use tumble_collide::Shape;
 
 /// A rigid body in a world. Its position is that of its centre of mass; build one with [`RigidBodyBuilder`].
@@ -11,16 +12,14 @@ pub struct RigidBody {
     pub(crate) mass: f64,
     pub(crate) inertia: Matrix3<f64>,
     pub(crate) inv_inertia: Matrix3<f64>,
-    pub(crate) shape: Option<Shape>,
-    pub(crate) shape_offset: Vector3<f64>,
+    pub(crate) colliders: Vec<Collider>,
     pub(crate) position: Vector3<f64>,
     pub(crate) orientation: UnitQuaternion<f64>,
     pub(crate) momentum: Vector3<f64>,
     pub(crate) angular_momentum: Vector3<f64>,
     pub(crate) linear_damping: f64,
     pub(crate) angular_damping: f64,
-    pub(crate) restitution: f64,
-    pub(crate) friction: f64,
+    pub(crate) material: Material,
     pub(crate) is_static: bool,
 }
 
@@ -82,13 +81,25 @@ impl RigidBody {
     pub fn world_point(&self, local: Vector3<f64>) -> Vector3<f64> {
         self.position + self.orientation * local
     }
-    /// The collision shape, if any.
+    /// The first collider's shape, if any.
     pub fn shape(&self) -> Option<&Shape> {
-        self.shape.as_ref()
+        self.colliders.first().map(|c| &c.shape)
     }
-    /// Where the shape's own origin sits in the body frame (-centre of mass of the shape).
+    /// Where the first collider's frame sits in the body frame (its translation).
     pub fn shape_offset(&self) -> Vector3<f64> {
-        self.shape_offset
+        self.colliders.first().map_or(Vector3::zeros(), |c| c.offset.translation.vector)
+    }
+    /// The colliders, posed in the body frame.
+    pub fn colliders(&self) -> &[Collider] {
+        &self.colliders
+    }
+    /// The world pose of the body frame.
+    pub fn pose(&self) -> Isometry3<f64> {
+        Isometry3::from_parts(Translation3::from(self.position), self.orientation)
+    }
+    /// The surface material.
+    pub fn material(&self) -> Material {
+        self.material
     }
     /// Whether the body is static (immovable, not integrated).
     pub fn is_static(&self) -> bool {
@@ -96,11 +107,11 @@ impl RigidBody {
     }
     /// Coefficient of restitution (used by contact).
     pub fn restitution(&self) -> f64 {
-        self.restitution
+        self.material.restitution
     }
     /// Coefficient of friction (used by contact).
     pub fn friction(&self) -> f64 {
-        self.friction
+        self.material.friction
     }
 }
 
@@ -111,6 +122,7 @@ pub struct RigidBodyBuilder {
     inertia: Option<Matrix3<f64>>,
     density: Option<f64>,
     shape: Option<Shape>,
+    extra: Vec<(Shape, Isometry3<f64>)>,
     is_static: bool,
     position: Vector3<f64>,
     orientation: UnitQuaternion<f64>,
@@ -129,6 +141,7 @@ impl RigidBodyBuilder {
             inertia: None,
             density: None,
             shape: None,
+            extra: Vec::new(),
             is_static: false,
             position: Vector3::zeros(),
             orientation: UnitQuaternion::identity(),
@@ -164,6 +177,12 @@ impl RigidBodyBuilder {
     /// Sets the collision shape of a body whose mass and inertia were given directly.
     pub fn shape(mut self, shape: Shape) -> Self {
         self.shape = Some(shape);
+        self
+    }
+    /// Adds another collider, posed relative to the main shape's frame (or, for a body given by mass and inertia,
+    /// to its centre of mass). With a density, it adds its mass too.
+    pub fn collider(mut self, shape: Shape, offset: Isometry3<f64>) -> Self {
+        self.extra.push((shape, offset));
         self
     }
     /// Initial centre-of-mass position.
@@ -215,15 +234,28 @@ impl RigidBodyBuilder {
         check_finite("angular_velocity", self.angular_velocity.iter())?;
         check_scalar("linear_damping", self.linear_damping, false)?;
         check_scalar("angular_damping", self.angular_damping, false)?;
-        if !(0.0..=1.0).contains(&self.restitution) {
-            return Err(WorldError::invalid("restitution", format!("must be in [0, 1], got {}", self.restitution)));
+        let material = Material { restitution: self.restitution, friction: self.friction };
+        material.check()?;
+        for (_, pose) in &self.extra {
+            check_finite("offset", pose.translation.vector.iter().chain(pose.rotation.coords.iter()))?;
         }
-        check_scalar("friction", self.friction, false)?;
         let (mass, inertia, offset) = if self.is_static {
             (f64::INFINITY, Matrix3::identity(), Vector3::zeros())
         } else {
             self.mass_properties()?
         };
+        let shift = Isometry3::translation(offset.x, offset.y, offset.z);
+        let mut colliders: Vec<Collider> =
+            self.shape.iter().map(|s| Collider { shape: s.clone(), offset: shift }).collect();
+        colliders.extend(self.extra.iter().map(|(s, pose)| Collider { shape: s.clone(), offset: shift * pose }));
+        if !self.is_static {
+            if let Some(c) = colliders.iter().find(|c| c.shape.is_static_only()) {
+                return Err(WorldError::invalid(
+                    "shape",
+                    format!("a {} has no volume: it can only belong to a static body", c.shape.kind()),
+                ));
+            }
+        }
         let inv_inertia = if self.is_static { Matrix3::zeros() } else { check_inertia(&inertia)? };
         let (momentum, angular_momentum) = if self.is_static {
             (Vector3::zeros(), Vector3::zeros())
@@ -235,16 +267,14 @@ impl RigidBodyBuilder {
             mass,
             inertia,
             inv_inertia,
-            shape: self.shape,
-            shape_offset: offset,
+            colliders,
             position: self.position,
             orientation: self.orientation,
             momentum,
             angular_momentum,
             linear_damping: self.linear_damping,
             angular_damping: self.angular_damping,
-            restitution: self.restitution,
-            friction: self.friction,
+            material,
             is_static: self.is_static,
         })
     }
@@ -260,10 +290,12 @@ impl RigidBodyBuilder {
                         format!("a {} has no volume: it can only belong to a static body", shape.kind()),
                     ));
                 }
+                let mut parts = vec![(shape.clone(), Isometry3::identity())];
+                parts.extend(self.extra.iter().filter(|(s, _)| !s.is_static_only()).cloned());
                 let props = match (m, d) {
-                    (None, Some(d)) => shape.mass_properties(check_scalar("density", d, true)?)?,
+                    (None, Some(d)) => compound_mass(&parts, check_scalar("density", d, true)?)?,
                     (Some(m), None) => {
-                        let unit = shape.mass_properties(1.0)?;
+                        let unit = compound_mass(&parts, 1.0)?;
                         let scale = check_scalar("mass", m, true)? / unit.mass;
                         tumble_collide::MassProperties {
                             mass: m,

@@ -18,6 +18,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod body;
+mod collider;
 mod dynamics;
 mod energy;
 mod error;
@@ -35,6 +36,7 @@ mod world;
 mod world_jacobian;
 
 pub use body::{RigidBody, RigidBodyBuilder};
+pub use collider::{Collider, Material};
 pub use error::WorldError;
 pub use handle::Handle;
 pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};

@@ -1,5 +1,6 @@
 //! Particles: point masses obeying the chapter's m x'' + d x' + h (x - anchor) = sum F.
 
+use crate::collider::Material;
 use crate::error::{check_finite, check_scalar, WorldError};
 use nalgebra::Vector3;
 
@@ -12,6 +13,8 @@ pub struct Particle {
     pub(crate) damping: f64,
     pub(crate) stiffness: f64,
     pub(crate) anchor: Vector3<f64>,
+    pub(crate) radius: f64,
+    pub(crate) material: Material,
 }
 
 impl Particle {
@@ -39,6 +42,15 @@ impl Particle {
     pub fn anchor(&self) -> Vector3<f64> {
         self.anchor
     }
+    /// Collision radius: a particle with a radius collides with bodies as a small sphere; 0 (the default) means it
+    /// passes through everything.
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+    /// The surface material of its collisions.
+    pub fn material(&self) -> Material {
+        self.material
+    }
 }
 
 /// Describes a particle to add: `ParticleBuilder::new(mass).position(p).velocity(v)`.
@@ -58,8 +70,20 @@ impl ParticleBuilder {
                 damping: 0.0,
                 stiffness: 0.0,
                 anchor: Vector3::zeros(),
+                radius: 0.0,
+                material: Material::default(),
             },
         }
+    }
+    /// Collision radius (> 0 to collide with bodies; particles do not collide with each other).
+    pub fn radius(mut self, r: f64) -> Self {
+        self.particle.radius = r;
+        self
+    }
+    /// Restitution and friction of its collisions.
+    pub fn material(mut self, m: Material) -> Self {
+        self.particle.material = m;
+        self
     }
     /// Initial position.
     pub fn position(mut self, p: Vector3<f64>) -> Self {
@@ -96,6 +120,8 @@ impl ParticleBuilder {
         check_scalar("damping", p.damping, false)?;
         check_scalar("stiffness", p.stiffness, false)?;
         check_finite("anchor", p.anchor.iter())?;
+        check_scalar("radius", p.radius, false)?;
+        p.material.check()?;
         Ok(p)
     }
 }
