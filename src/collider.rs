@@ -44,7 +44,10 @@ impl Material {
     /// a dead one stays dead only on a dead floor) and the geometric mean of the frictions (zero if either surface
     /// is frictionless), the rule of Box2D and of most game engines.
     pub fn combine(&self, other: &Material) -> Material {
-        Material { restitution: self.restitution.max(other.restitution), friction: (self.friction * other.friction).sqrt() }
+        Material {
+            restitution: self.restitution.max(other.restitution),
+            friction: (self.friction * other.friction).sqrt(),
+        }
     }
 }
 
@@ -54,12 +57,17 @@ pub(crate) fn compound_mass(parts: &[(Shape, Isometry3<f64>)], density: f64) -> 
     let props: Vec<(MassProperties, &Isometry3<f64>)> =
         parts.iter().map(|(s, pose)| Ok((s.mass_properties(density)?, pose))).collect::<Result<_, WorldError>>()?;
     let mass: f64 = props.iter().map(|(p, _)| p.mass).sum();
-    let com: Vector3<f64> = props.iter().map(|(p, pose)| (**pose * nalgebra::Point3::from(p.local_com)).coords * p.mass).sum::<Vector3<f64>>() / mass;
+    let com: Vector3<f64> = props
+        .iter()
+        .map(|(p, pose)| (**pose * nalgebra::Point3::from(p.local_com)).coords * p.mass)
+        .sum::<Vector3<f64>>()
+        / mass;
     let mut inertia = Matrix3::zeros();
     for (p, pose) in &props {
         let r = pose.rotation.to_rotation_matrix();
         let d = (**pose * nalgebra::Point3::from(p.local_com)).coords - com;
-        inertia += r.matrix() * p.inertia * r.matrix().transpose() + (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * p.mass;
+        inertia += r.matrix() * p.inertia * r.matrix().transpose()
+            + (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * p.mass;
     }
     Ok(MassProperties { mass, local_com: com, inertia: 0.5 * (inertia + inertia.transpose()) })
 }

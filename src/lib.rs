@@ -19,6 +19,8 @@
 
 mod body;
 mod collider;
+#[cfg(feature = "contact")]
+mod contact_scene;
 mod dynamics;
 mod energy;
 mod error;
@@ -51,6 +53,9 @@ pub use world::{SpringJacobian, World};
 /// Shapes and mass properties (tumble-collide).
 pub use tumble_collide as collide;
 pub use tumble_collide::Shape;
+/// Contact response (tumble-contact).
+#[cfg(feature = "contact")]
+pub use tumble_contact as contact;
 /// The integrators (tumble-integrate).
 pub use tumble_integrate as integrate;
 pub use tumble_integrate::{Method, Settings};

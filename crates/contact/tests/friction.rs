@@ -170,3 +170,33 @@ fn islands_are_joined_by_moving_bodies_only() {
     contacts.push(Contact::new(4, 5, Point3::origin(), Vector3::z_axis()));
     assert_eq!(islands(&bodies, &contacts), vec![vec![0, 1, 2, 3, 4, 5]]);
 }
+
+#[test]
+fn lagged_friction_slides_at_coulombs_rate_without_hopping() {
+    // With the friction bound taken from the previous normal impulse (m g h cos theta on an incline), one step
+    // gives Coulomb's v_t = v0 + g h (sin th - mu cos th) exactly, and no separating normal velocity: the remedy
+    // for the convex model's gliding error. Stuck for tan th <= mu. Tolerance 1e-8 g h, as above.
+    use tumble_contact::velocity_step_lagged;
+    let m = 2.0;
+    for (theta, mu, v0) in [(0.5, 0.2, 0.0), (0.7, 0.5, 0.0), (0.2, 0.5, 3.0), (0.3, 0.4, 0.0)] {
+        let (th, mu): (f64, f64) = (theta, mu);
+        let p = BodyState {
+            force: Vector3::new(0.0, 0.0, -m * G),
+            ..BodyState::particle(m, Point3::origin(), downhill(th) * v0)
+        };
+        let c = Contact::new(0, 1, Point3::origin(), incline_normal(th)).with_friction(mu);
+        let previous = [m * G * H * th.cos()];
+        let out =
+            velocity_step_lagged(&[BodyState::fixed(Point3::origin()), p], &[c], &previous, &StepSettings::new(H))
+                .unwrap();
+        let v = out.velocities[1].linear;
+        let coulomb = (v0 + G * H * (th.sin() - mu * th.cos())).max(0.0);
+        assert!((v.dot(&downhill(th)) - coulomb).abs() < 1e-8 * G * H, "theta {th}, mu {mu}, v0 {v0}: {v}");
+        assert!(v.dot(&incline_normal(th)).abs() < 1e-8 * G * H, "theta {th}: hops at {}", v.dot(&incline_normal(th)));
+    }
+    // previous impulses must match the contacts
+    let c = Contact::new(0, 1, Point3::origin(), Vector3::z_axis());
+    let bodies = [BodyState::fixed(Point3::origin()), BodyState::particle(1.0, Point3::origin(), Vector3::zeros())];
+    assert!(velocity_step_lagged(&bodies, &[c], &[], &StepSettings::new(H)).is_err());
+    assert!(velocity_step_lagged(&bodies, &[c], &[-1.0], &StepSettings::new(H)).is_err());
+}

@@ -1,0 +1,305 @@
+//! One island of the time-stepping program, assembled for clarabel and read back. Variables: the velocities of the
+//! island's moving bodies (3 for a particle, 6 for a rigid body) and, with lagged friction, one epigraph variable
+//! per frictional contact. Objective 1/2 v^T M v - (M v*)^T v (+ sum mu p_prev s). Rows per contact: Anitescu's cone
+//! (J_n v + beta, mu J_t v) in SOC(3), or frictionless J_n v + beta >= 0, or lagged J_n v + beta >= 0 with
+//! (s, J_t v) in SOC(3).
+
+use crate::body::BodyState;
+use crate::contact::{tangents, Contact};
+use crate::error::ContactError;
+use crate::friction::StepSettings;
+use crate::impulse::{velocities_after, BodyVelocity};
+use crate::jacobian::{rows, Row};
+use crate::lcp::{usable, with_retries};
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT, SupportedConeT};
+use nalgebra::Vector3;
+
+pub(crate) struct IslandSolution {
+    pub velocities: Vec<(usize, BodyVelocity)>,
+    pub normal: Vec<f64>,
+    pub friction: Vec<Vector3<f64>>,
+    pub iterations: u32,
+}
+
+/// Triplets of the constraint matrix.
+#[derive(Default)]
+struct Sparse {
+    rows: Vec<usize>,
+    cols: Vec<usize>,
+    vals: Vec<f64>,
+}
+
+impl Sparse {
+    fn push(&mut self, r: usize, c: usize, v: f64) {
+        self.rows.push(r);
+        self.cols.push(c);
+        self.vals.push(v);
+    }
+}
+
+/// How a contact's rows are laid out.
+#[derive(Clone, Copy, PartialEq)]
+enum Rows {
+    /// One nonnegative row.
+    Frictionless,
+    /// Anitescu's SOC(3) on (normal, mu t1, mu t2).
+    Cone,
+    /// A nonnegative normal row, then SOC(3) on (s, t1, t2) with epigraph variable `s` and bound `bound`.
+    Lagged { s: usize, bound: f64 },
+}
+
+impl Rows {
+    fn width(self) -> usize {
+        match self {
+            Rows::Frictionless => 1,
+            Rows::Cone => 3,
+            Rows::Lagged { .. } => 4,
+        }
+    }
+}
+
+/// The constraint bias of a contact: speculative gap or penetration correction, and restitution.
+pub(crate) fn bias(c: &Contact, bodies: &[BodyState], s: &StepSettings) -> f64 {
+    let h = s.dt;
+    let v_minus = c.relative_normal_velocity(bodies);
+    let by_gap = if c.distance > 0.0 { c.distance / h } else { s.erp * c.distance / h };
+    let closes_this_step = c.distance + h * v_minus <= 0.0;
+    if c.restitution > 0.0 && v_minus < -s.bounce_threshold && closes_this_step {
+        by_gap.min(c.restitution * v_minus)
+    } else {
+        by_gap
+    }
+}
+
+pub(crate) fn solve_island(
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    bounds: Option<&[f64]>,
+    island: &[usize],
+    free: &[BodyVelocity],
+    s: &StepSettings,
+) -> Result<IslandSolution, ContactError> {
+    // Velocity variables: 3 per moving particle, 6 per moving rigid body.
+    let mut offset = vec![usize::MAX; bodies.len()];
+    let mut members = Vec::new();
+    let mut n = 0;
+    for &i in island {
+        for k in [contacts[i].a, contacts[i].b] {
+            if bodies[k].is_dynamic() && offset[k] == usize::MAX {
+                offset[k] = n;
+                members.push(k);
+                n += if bodies[k].rotates() { 6 } else { 3 };
+            }
+        }
+    }
+    let mut layout = Vec::with_capacity(island.len());
+    let mut vars = n;
+    for &i in island {
+        let c = &contacts[i];
+        layout.push(match bounds {
+            _ if c.friction == 0.0 => Rows::Frictionless,
+            None => Rows::Cone,
+            Some(b) if b[i] * c.friction > 0.0 => {
+                vars += 1;
+                Rows::Lagged { s: vars - 1, bound: b[i] * c.friction }
+            }
+            Some(_) => Rows::Frictionless,
+        });
+    }
+    // P = M (upper triangle), q = -M v* (and the bounds on the epigraph variables).
+    let (mut pi, mut pj, mut pv) = (Vec::new(), Vec::new(), Vec::new());
+    let mut q = vec![0.0; vars];
+    for &k in &members {
+        let (b, o, v) = (&bodies[k], offset[k], &free[k]);
+        let m = 1.0 / b.inv_mass;
+        for d in 0..3 {
+            pi.push(o + d);
+            pj.push(o + d);
+            pv.push(m);
+            q[o + d] = -m * v.linear[d];
+        }
+        if b.rotates() {
+            let iw = b.inertia * v.angular;
+            for r in 0..3 {
+                q[o + 3 + r] = -iw[r];
+                for c in r..3 {
+                    pi.push(o + 3 + r);
+                    pj.push(o + 3 + c);
+                    pv.push(b.inertia[(r, c)]);
+                }
+            }
+        }
+    }
+    for rows in &layout {
+        if let Rows::Lagged { s, bound } = *rows {
+            q[s] = bound;
+        }
+    }
+    // Constraints A x + s = b, s in the cones.
+    let mut a = Sparse::default();
+    let mut rhs: Vec<f64> = Vec::new();
+    let mut cones: Vec<SupportedConeT<f64>> = Vec::new();
+    let put_row = |a: &mut Sparse, row: usize, scale: f64, pair: &[Row; 2], rhs: &mut Vec<f64>| {
+        for r in pair {
+            let b = &bodies[r.body];
+            if !b.is_dynamic() {
+                rhs[row] += scale * (r.lin.dot(&free[r.body].linear) + r.ang.dot(&free[r.body].angular));
+                continue;
+            }
+            let o = offset[r.body];
+            for d in 0..3 {
+                a.push(row, o + d, -scale * r.lin[d]);
+                if b.rotates() {
+                    a.push(row, o + 3 + d, -scale * r.ang[d]);
+                }
+            }
+        }
+    };
+    for (slot, &i) in island.iter().enumerate() {
+        let c = &contacts[i];
+        let nrm = c.normal.into_inner();
+        let row0 = rhs.len();
+        rhs.extend(std::iter::repeat_n(0.0, layout[slot].width()));
+        rhs[row0] = bias(c, bodies, s);
+        put_row(&mut a, row0, 1.0, &rows(c, bodies, &nrm), &mut rhs);
+        let (t1, t2) = tangents(&nrm);
+        match layout[slot] {
+            Rows::Frictionless => cones.push(NonnegativeConeT(1)),
+            Rows::Cone => {
+                put_row(&mut a, row0 + 1, c.friction, &rows(c, bodies, &t1), &mut rhs);
+                put_row(&mut a, row0 + 2, c.friction, &rows(c, bodies, &t2), &mut rhs);
+                cones.push(SecondOrderConeT(3));
+            }
+            Rows::Lagged { s: var, .. } => {
+                a.push(row0 + 1, var, -1.0);
+                put_row(&mut a, row0 + 2, 1.0, &rows(c, bodies, &t1), &mut rhs);
+                put_row(&mut a, row0 + 3, 1.0, &rows(c, bodies, &t2), &mut rhs);
+                cones.push(NonnegativeConeT(1));
+                cones.push(SecondOrderConeT(3));
+            }
+        }
+    }
+    let m = rhs.len();
+    let p = CscMatrix::new_from_triplets(vars, vars, pi, pj, pv);
+    let a = CscMatrix::new_from_triplets(m, vars, a.rows, a.cols, a.vals);
+    let problem = "friction-step";
+    let (solution, _, iterations) = with_retries(&s.solver, problem, |settings| {
+        let mut solver = DefaultSolver::new(&p, &q, &a, &rhs, &cones, settings.clarabel(problem)?)
+            .map_err(|e| ContactError::Solver { problem, status: format!("{e:?}"), iterations: 0 })?;
+        solver.solve();
+        let sol = &solver.solution;
+        usable(sol.status, sol.iterations, problem)?;
+        let out = read_back(bodies, contacts, island, &layout, &offset, &members, &sol.x, &sol.z);
+        let r = residual(bodies, contacts, island, &layout, free, &out, s);
+        Ok((out, r, sol.iterations))
+    })?;
+    Ok(IslandSolution { iterations, ..solution })
+}
+
+/// Velocities from the primal solution, impulses from the duals.
+#[allow(clippy::too_many_arguments)]
+fn read_back(
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    island: &[usize],
+    layout: &[Rows],
+    offset: &[usize],
+    members: &[usize],
+    x: &[f64],
+    z: &[f64],
+) -> IslandSolution {
+    let velocities = members
+        .iter()
+        .map(|&k| {
+            let o = offset[k];
+            let linear = Vector3::new(x[o], x[o + 1], x[o + 2]);
+            let angular =
+                if bodies[k].rotates() { Vector3::new(x[o + 3], x[o + 4], x[o + 5]) } else { Vector3::zeros() };
+            (k, BodyVelocity { linear, angular })
+        })
+        .collect();
+    let (mut normal, mut friction) = (Vec::new(), Vec::new());
+    let mut row = 0;
+    for (slot, &i) in island.iter().enumerate() {
+        let c = &contacts[i];
+        let (t1, t2) = tangents(&c.normal);
+        normal.push(z[row].max(0.0));
+        friction.push(match layout[slot] {
+            Rows::Frictionless => Vector3::zeros(),
+            Rows::Cone => (t1 * z[row + 1] + t2 * z[row + 2]) * c.friction,
+            Rows::Lagged { .. } => t1 * z[row + 2] + t2 * z[row + 3],
+        });
+        row += layout[slot].width();
+    }
+    IslandSolution { velocities, normal, friction, iterations: 0 }
+}
+
+/// How far an island's answer is from the conditions of the step, relative to its velocity scale V and impulse
+/// scale P: momentum balance M (v - v*) = sum of contact impulses (per body, to P); the velocity constraint
+/// n.v_rel + beta >= mu |v_rel,t| (cone) or >= 0 (otherwise), to V; the impulse bound |p_t| <= mu p_n (cone) or
+/// <= mu p_prev (lagged), to P; and complementarity: p_n (n.v_rel + beta) + p_t . v_rel,t = 0 for the cone,
+/// p_n (n.v_rel + beta) = 0 and maximal dissipation p_t . v_t = -mu p_prev |v_t| for lagged friction (to P V).
+fn residual(
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    island: &[usize],
+    layout: &[Rows],
+    free: &[BodyVelocity],
+    out: &IslandSolution,
+    s: &StepSettings,
+) -> f64 {
+    let state = |v: &[BodyVelocity]| -> Vec<BodyState> {
+        bodies.iter().zip(v).map(|(b, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*b }).collect()
+    };
+    let mut after: Vec<BodyVelocity> = free.to_vec();
+    for (k, v) in &out.velocities {
+        after[*k] = *v;
+    }
+    let (moved, free_state) = (state(&after), state(free));
+    let mut v_scale = f64::MIN_POSITIVE;
+    for &i in island {
+        let c = &contacts[i];
+        let rel = free_state[c.b].point_velocity(&c.point) - free_state[c.a].point_velocity(&c.point);
+        v_scale = v_scale.max(rel.norm()).max(bias(c, bodies, s).abs());
+    }
+    let p_scale = out
+        .velocities
+        .iter()
+        .map(|(k, _)| v_scale / bodies[*k].inv_mass)
+        .chain(out.normal.iter().copied())
+        .fold(f64::MIN_POSITIVE, f64::max);
+    let mut worst = 0.0f64;
+    let island_contacts: Vec<Contact> = island.iter().map(|&i| contacts[i]).collect();
+    let impulses: Vec<Vector3<f64>> = island_contacts
+        .iter()
+        .enumerate()
+        .map(|(slot, c)| c.normal.into_inner() * out.normal[slot] + out.friction[slot])
+        .collect();
+    let predicted = velocities_after(&free_state, &island_contacts, &impulses);
+    for (k, v) in &out.velocities {
+        let b = &bodies[*k];
+        let dl = (v.linear - predicted[*k].linear).norm() / b.inv_mass;
+        let da = if b.rotates() { (b.inertia * (v.angular - predicted[*k].angular)).norm() } else { 0.0 };
+        let reach = island_contacts.iter().map(|c| (c.point - b.position).norm()).fold(1.0, f64::max);
+        worst = worst.max(dl / p_scale).max(da / (p_scale * reach));
+    }
+    for (slot, c) in island_contacts.iter().enumerate() {
+        let rel = moved[c.b].point_velocity(&c.point) - moved[c.a].point_velocity(&c.point);
+        let n = c.normal.into_inner();
+        let vn = n.dot(&rel) + bias(c, bodies, s);
+        let vt = rel - n * n.dot(&rel);
+        let (pn, pt) = (out.normal[slot], out.friction[slot]);
+        // (velocity cone radius, impulse bound, complementarity terms)
+        let (cone, bound, complementarity) = match layout[slot] {
+            Rows::Frictionless => (0.0, 0.0, (pn * vn).abs()),
+            Rows::Cone => (c.friction * vt.norm(), c.friction * pn, (pn * vn + pt.dot(&vt)).abs()),
+            Rows::Lagged { bound, .. } => (0.0, bound, (pn * vn).abs().max((pt.dot(&vt) + bound * vt.norm()).abs())),
+        };
+        worst = worst
+            .max((cone - vn) / v_scale)
+            .max((pt.norm() - bound) / p_scale)
+            .max(complementarity / (p_scale * v_scale));
+    }
+    worst
+}

@@ -1,0 +1,237 @@
+//! The collision side of a compiled world: every collider with the actor that carries it (a particle with a
+//! radius, a dynamic body, a static body), their poses in a state, and contact finding: sort-and-sweep over the
+//! colliders' boxes, then parry's contact geometry for each overlapping pair that can touch, turned into contacts
+//! for tumble-contact (body indices, point, normal from A to B, gap, combined material).
+
+use crate::body::RigidBody;
+use crate::collider::{Collider, Material};
+use crate::handle::Arena;
+use crate::layout::{get3, get_quat, Layout};
+use crate::particle::Particle;
+use crate::spring::BodyHandle;
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use tumble_collide::{contacts, Aabb, ContactKind, Feature, Shape, SortAndSweep};
+
+/// Who carries a collider: actors are numbered particles first, then dynamic bodies, then static bodies, which is
+/// the order of the body arrays handed to tumble-contact.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Actor {
+    Particle(usize),
+    Body(usize),
+    Static(usize),
+}
+
+/// A collider of the scene.
+#[derive(Clone, Debug)]
+pub(crate) struct SceneCollider {
+    pub actor: Actor,
+    pub shape: Shape,
+    /// The shape's pose in the actor's frame (origin at the centre of mass).
+    pub offset: Isometry3<f64>,
+    pub material: Material,
+    /// Radius of a ball about the actor's origin that holds the shape (infinite for a half-space).
+    pub reach: f64,
+}
+
+/// Identifies a contact from one step to the next (for friction lagged on the previous normal impulse).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct ContactKey {
+    pub colliders: (u32, u32),
+    pub features: (u64, u64),
+}
+
+fn feature_code(f: Feature) -> u64 {
+    match f {
+        Feature::Vertex(i) => 1 << 32 | i as u64,
+        Feature::Edge(i) => 2 << 32 | i as u64,
+        Feature::Face(i) => 3 << 32 | i as u64,
+        Feature::Curved => 4 << 32,
+        Feature::Unknown => 5 << 32,
+    }
+}
+
+/// A contact found in a state, ready for tumble-contact.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Found {
+    pub contact: tumble_contact::Contact,
+    pub key: ContactKey,
+}
+
+/// The colliders of a world and a broad phase that persists from call to call.
+pub(crate) struct ContactScene {
+    pub colliders: Vec<SceneCollider>,
+    pub static_poses: Vec<Isometry3<f64>>,
+    pub layout: Layout,
+    broad: SortAndSweep,
+    /// Narrow-phase pair tests so far.
+    pub checks: usize,
+}
+
+fn collider_entry(actor: Actor, c: &Collider, material: Material) -> SceneCollider {
+    let reach = c.offset.translation.vector.norm() + c.shape.bounding_radius();
+    SceneCollider { actor, shape: c.shape.clone(), offset: c.offset, material, reach }
+}
+
+impl ContactScene {
+    /// The scene of these particles and bodies (`dynamic` lists the dynamic bodies in state order), or `None`
+    /// when no two colliders could ever touch (no shapes, or nothing that moves has one).
+    pub fn build(
+        layout: Layout,
+        particles: &Arena<Particle>,
+        bodies: &Arena<RigidBody>,
+        dynamic: &[BodyHandle],
+    ) -> Option<ContactScene> {
+        let mut colliders = Vec::new();
+        for (i, (_, p)) in particles.iter().enumerate() {
+            if p.radius > 0.0 {
+                let shape = Shape::sphere(p.radius).expect("radius checked > 0");
+                colliders.push(SceneCollider {
+                    actor: Actor::Particle(i),
+                    shape,
+                    offset: Isometry3::identity(),
+                    material: p.material,
+                    reach: p.radius,
+                });
+            }
+        }
+        for (j, &h) in dynamic.iter().enumerate() {
+            let b = bodies.get(h).expect("live");
+            colliders.extend(b.colliders.iter().map(|c| collider_entry(Actor::Body(j), c, b.material)));
+        }
+        let mut static_poses = Vec::new();
+        for (_, b) in bodies.iter().filter(|(_, b)| b.is_static) {
+            let s = static_poses.len();
+            static_poses.push(b.pose());
+            colliders.extend(b.colliders.iter().map(|c| collider_entry(Actor::Static(s), c, b.material)));
+        }
+        let moving = colliders.iter().filter(|c| !matches!(c.actor, Actor::Static(_))).count();
+        if moving == 0 || colliders.len() < 2 {
+            return None;
+        }
+        Some(ContactScene { colliders, static_poses, layout, broad: SortAndSweep::new(), checks: 0 })
+    }
+
+    /// The index of an actor in the body arrays given to tumble-contact.
+    pub fn index(&self, a: Actor) -> usize {
+        match a {
+            Actor::Particle(i) => i,
+            Actor::Body(j) => self.layout.particles + j,
+            Actor::Static(s) => self.layout.particles + self.layout.bodies + s,
+        }
+    }
+
+    /// Number of actors.
+    pub fn actors(&self) -> usize {
+        self.layout.particles + self.layout.bodies + self.static_poses.len()
+    }
+
+    /// The pose of every actor in state y (particles: translation only).
+    pub fn poses(&self, y: &[f64]) -> Vec<Isometry3<f64>> {
+        let l = self.layout;
+        let mut out = Vec::with_capacity(self.actors());
+        for i in 0..l.particles {
+            out.push(Isometry3::from_parts(Translation3::from(get3(y, l.px(i))), UnitQuaternion::identity()));
+        }
+        for j in 0..l.bodies {
+            let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
+            out.push(Isometry3::from_parts(Translation3::from(get3(y, l.bx(j))), q));
+        }
+        out.extend(self.static_poses.iter().copied());
+        out
+    }
+
+    /// Whether two colliders may touch at all: not on one actor, not both static, not two particles.
+    fn may_touch(&self, a: usize, b: usize) -> bool {
+        match (self.colliders[a].actor, self.colliders[b].actor) {
+            (Actor::Static(_), Actor::Static(_)) | (Actor::Particle(_), Actor::Particle(_)) => false,
+            (x, y) => x != y,
+        }
+    }
+
+    /// The world box of every collider at `poses`, each grown by its actor's `margins` entry.
+    fn boxes(&self, poses: &[Isometry3<f64>], margins: &[f64]) -> Vec<Aabb> {
+        self.colliders
+            .iter()
+            .map(|c| {
+                let actor = self.index(c.actor);
+                let pose = poses[actor] * c.offset;
+                c.shape.aabb(&pose).expect("poses are finite").loosened(margins[actor])
+            })
+            .collect()
+    }
+
+    /// The contacts at `poses` closer than their pair's prediction distance (the sum of the two actors'
+    /// `margins`, plus `base`): broad phase on boxes grown by the margins, then parry's manifolds.
+    pub fn find(&mut self, poses: &[Isometry3<f64>], margins: &[f64], base: f64) -> Vec<Found> {
+        let grown: Vec<f64> = margins.iter().map(|m| m + 0.5 * base).collect();
+        let boxes = self.boxes(poses, &grown);
+        let pairs = self.broad.update(&boxes).expect("boxes are well formed").to_vec();
+        let mut out = Vec::new();
+        for (i, j) in pairs {
+            let (i, j) = (i as usize, j as usize);
+            if !self.may_touch(i, j) {
+                continue;
+            }
+            // Keep the moving actor as A when one side is static.
+            let (i, j) = if matches!(self.colliders[i].actor, Actor::Static(_)) { (j, i) } else { (i, j) };
+            self.checks += 1;
+            let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
+            let (ia, ib) = (self.index(ca.actor), self.index(cb.actor));
+            let (pa, pb) = (poses[ia] * ca.offset, poses[ib] * cb.offset);
+            let prediction = grown[ia] + grown[ib];
+            let Ok(found) = contacts(&ca.shape, &pa, &cb.shape, &pb, prediction) else { continue };
+            let material = ca.material.combine(&cb.material);
+            for c in found {
+                let motion = match c.kind {
+                    ContactKind::FaceVertex => tumble_contact::NormalMotion::WithA,
+                    ContactKind::Curved
+                        if matches!(ca.shape, Shape::Sphere { .. })
+                            && matches!(cb.shape, Shape::Sphere { .. })
+                            && ca.offset.translation.vector == Vector3::zeros()
+                            && cb.offset.translation.vector == Vector3::zeros() =>
+                    {
+                        tumble_contact::NormalMotion::BetweenCentres
+                    }
+                    // vertex-face, and edge-edge (whose edges parry does not hand us): the normal turns with B
+                    _ => tumble_contact::NormalMotion::WithB,
+                };
+                let point = Point3::from((c.point_a.coords + c.point_b.coords) * 0.5);
+                let contact = tumble_contact::Contact {
+                    a: ia,
+                    b: ib,
+                    point,
+                    normal: c.normal,
+                    distance: c.distance,
+                    restitution: material.restitution,
+                    friction: material.friction,
+                    normal_motion: motion,
+                };
+                let key = ContactKey {
+                    colliders: (i as u32, j as u32),
+                    features: (feature_code(c.feature_a), feature_code(c.feature_b)),
+                };
+                out.push(Found { contact, key });
+            }
+        }
+        out
+    }
+
+    /// How far any point of each actor can travel in time `h` at the velocities of `states` (one per actor):
+    /// (|v| + |w| r) h, r the radius of a ball about the actor's origin that holds its colliders.
+    pub fn reach(&self, states: &[tumble_contact::BodyState], h: f64) -> Vec<f64> {
+        let mut radius = vec![0.0f64; self.actors()];
+        for c in &self.colliders {
+            let a = self.index(c.actor);
+            radius[a] = radius[a].max(c.reach);
+        }
+        states
+            .iter()
+            .zip(&radius)
+            .map(|(s, r)| {
+                let w = s.angular_velocity.norm();
+                let spin = if w > 0.0 && r.is_finite() { w * r } else { 0.0 };
+                (s.velocity.norm() + spin) * h
+            })
+            .collect()
+    }
+}
