@@ -21,6 +21,11 @@ mod body;
 mod collider;
 #[cfg(feature = "contact")]
 mod contact_scene;
+#[cfg(feature = "contact")]
+mod fast;
+mod mode;
+#[cfg(feature = "contact")]
+mod sleep;
 mod dynamics;
 mod energy;
 mod error;
@@ -35,6 +40,8 @@ mod run;
 pub mod scenes;
 mod spring;
 mod world;
+#[cfg(feature = "contact")]
+mod world_fast;
 mod world_jacobian;
 
 pub use body::{RigidBody, RigidBodyBuilder};
@@ -42,6 +49,7 @@ pub use collider::{Collider, Material};
 pub use error::WorldError;
 pub use handle::Handle;
 pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
+pub use mode::{AccurateSettings, FastFriction, FastSettings, Mode};
 pub use model::ForceCounters;
 pub use particle::{Particle, ParticleBuilder};
 pub use plan::Plan;

@@ -21,6 +21,7 @@ pub(crate) struct ParticleProps {
 pub(crate) struct BodyProps {
     pub mass: f64,
     pub inv_mass: f64,
+    pub inertia: Matrix3<f64>,
     pub inv_inertia: Matrix3<f64>,
     pub linear_damping: f64,
     pub angular_damping: f64,
@@ -159,6 +160,7 @@ pub(crate) fn compile(
             BodyProps {
                 mass: b.mass,
                 inv_mass: 1.0 / b.mass,
+                inertia: b.inertia,
                 inv_inertia: b.inv_inertia,
                 linear_damping: b.linear_damping,
                 angular_damping: b.angular_damping,

@@ -40,6 +40,8 @@ pub struct Run {
     pub step_times: Vec<f64>,
     /// Size of every accepted step.
     pub step_sizes: Vec<f64>,
+    /// Largest penetration among the contacts at each frame (m; zero without contact).
+    pub penetration: Vec<f64>,
     /// What the run cost.
     pub report: WorldReport,
     pub(crate) sources: Vec<BodySource>,
@@ -68,6 +70,7 @@ impl Run {
             angular_momentum: Vec::new(),
             step_times: Vec::new(),
             step_sizes: Vec::new(),
+            penetration: Vec::new(),
             report: WorldReport::new(method),
             sources,
         }

@@ -6,6 +6,7 @@ use crate::body::{RigidBody, RigidBodyBuilder};
 use crate::error::{check_finite, check_scalar, WorldError};
 use crate::handle::{Arena, Handle};
 use crate::load::{Load, LoadHandle, Target, TargetState, Wrench};
+use crate::mode::Mode;
 use crate::model::{compile, Compiled, CompiledLoad, JacobianKind, Model};
 use crate::particle::{Particle, ParticleBuilder};
 use crate::plan::Plan;
@@ -16,9 +17,9 @@ use nalgebra::{UnitQuaternion, Vector3};
 use tumble_integrate::{Integrator, Method, Settings};
 
 /// The compiled model and the integrator that steps it.
-struct Engine {
-    compiled: Compiled,
-    integrator: Integrator<Model>,
+pub(crate) struct Engine {
+    pub(crate) compiled: Compiled,
+    pub(crate) integrator: Integrator<Model>,
 }
 
 /// Which Jacobian the springs contribute to implicit methods.
@@ -34,18 +35,21 @@ pub enum SpringJacobian {
 
 /// A world of particles and rigid bodies.
 pub struct World {
-    gravity: Vector3<f64>,
-    settings: Settings,
-    time: f64,
-    particles: Arena<Particle>,
-    bodies: Arena<RigidBody>,
-    springs: Arena<Spring>,
-    loads: Arena<Load>,
-    engine: Option<Engine>,
-    state_changed: bool,
-    totals: WorldReport,
-    divergence_factor: f64,
-    spring_jacobian: Option<SpringJacobian>,
+    pub(crate) gravity: Vector3<f64>,
+    pub(crate) settings: Settings,
+    pub(crate) time: f64,
+    pub(crate) particles: Arena<Particle>,
+    pub(crate) bodies: Arena<RigidBody>,
+    pub(crate) springs: Arena<Spring>,
+    pub(crate) loads: Arena<Load>,
+    pub(crate) engine: Option<Engine>,
+    pub(crate) state_changed: bool,
+    pub(crate) totals: WorldReport,
+    pub(crate) divergence_factor: f64,
+    pub(crate) spring_jacobian: Option<SpringJacobian>,
+    pub(crate) mode: Mode,
+    #[cfg(feature = "contact")]
+    pub(crate) fast: Option<crate::fast::FastEngine>,
 }
 
 impl Default for World {
@@ -75,7 +79,38 @@ impl World {
             state_changed: false,
             divergence_factor: 1e9,
             spring_jacobian: None,
+            mode: Mode::default(),
+            #[cfg(feature = "contact")]
+            fast: None,
         }
+    }
+
+    /// How the world treats contact.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Chooses accurate (event-driven) or fast (time-stepping) contact. Fast mode needs the `contact` feature.
+    pub fn set_mode(&mut self, mode: Mode) -> Result<(), WorldError> {
+        mode.check()?;
+        if cfg!(not(feature = "contact")) && matches!(mode, Mode::Fast(_)) {
+            return Err(WorldError::invalid("mode", "fast mode needs tumble built with the `contact` feature"));
+        }
+        self.mode = mode;
+        self.retire_engine();
+        Ok(())
+    }
+
+    /// Adds a ground: a static half-space below the plane z = `height` (normal +z) with this material.
+    pub fn add_ground(&mut self, height: f64, material: crate::Material) -> Result<BodyHandle, WorldError> {
+        check_finite("height", [height].iter())?;
+        let ground = tumble_collide::Shape::half_space(Vector3::z())?;
+        self.add_body(
+            RigidBodyBuilder::fixed(Some(ground))
+                .position(Vector3::new(0.0, 0.0, height))
+                .restitution(material.restitution)
+                .friction(material.friction),
+        )
     }
 
     /// Gravity.
@@ -464,8 +499,12 @@ impl World {
     // ---- stepping ------------------------------------------------------------------------------------------
 
     /// Drops the compiled model (the structure changed); its report is already in the totals.
-    fn retire_engine(&mut self) {
+    pub(crate) fn retire_engine(&mut self) {
         self.engine = None;
+        #[cfg(feature = "contact")]
+        {
+            self.fast = None;
+        }
         self.state_changed = false;
     }
 
@@ -492,7 +531,7 @@ impl World {
     }
 
     /// Moves the engine's report and force counters into the totals and returns them.
-    fn collect_report(&mut self) -> WorldReport {
+    pub(crate) fn collect_report(&mut self) -> WorldReport {
         let mut r = WorldReport::new(self.settings.method.name());
         if let Some(e) = &mut self.engine {
             r.integrator = e.integrator.take_report();
@@ -514,6 +553,10 @@ impl World {
     /// unchanged.
     pub fn step(&mut self, dt: f64) -> Result<(), WorldError> {
         check_scalar("dt", dt, true)?;
+        #[cfg(feature = "contact")]
+        if let Mode::Fast(settings) = self.mode {
+            return self.step_fast(settings, dt);
+        }
         let t_end = self.time + dt;
         if self.particles.len() + self.bodies.iter().filter(|(_, b)| !b.is_static).count() == 0 {
             self.time = t_end;
@@ -567,6 +610,10 @@ impl World {
         let particles: Vec<ParticleHandle> = self.particles.iter().map(|(h, _)| h).collect();
         let bodies: Vec<BodyHandle> = self.bodies.iter().map(|(h, _)| h).collect();
         let mut run = Run::new(particles, bodies, sources, self.settings.method.name());
+        #[cfg(feature = "contact")]
+        if let Mode::Fast(settings) = self.mode {
+            return self.run_fast(settings, &times, run, control);
+        }
         let dynamic = self.particles.len() + self.bodies.iter().filter(|(_, b)| !b.is_static).count();
         if dynamic == 0 {
             let c = self.compile();

@@ -1,0 +1,234 @@
+//! Fast mode, one step: the applied forces at the start of the step, contacts found with a margin (how far each
+//! pair can close in the step, plus a fixed margin), one conic program per island for the new velocities (friction
+//! lagged on each contact's previous normal impulse), then positions from the new velocities (semi-implicit
+//! Euler). Islands that have been still long enough sleep and are skipped until something moving touches them.
+
+use crate::contact_scene::{ContactKey, ContactScene};
+use crate::layout::{get3, get_quat, set3, set_quat};
+use crate::mode::{FastFriction, FastSettings};
+use crate::model::Compiled;
+use crate::report::WorldReport;
+use crate::sleep::Sleep;
+use crate::WorldError;
+use nalgebra::UnitQuaternion;
+use std::collections::HashMap;
+use std::time::Instant;
+use tumble_contact::{islands, velocity_step, velocity_step_lagged, BodyState, BodyVelocity, StepSettings};
+use tumble_integrate::{OdeError, OdeSystem};
+
+/// The method name fast mode reports.
+pub(crate) const FAST: &str = "fast (semi-implicit Euler, contact by conic program)";
+
+/// The state and memory of a fast-mode world.
+pub(crate) struct FastEngine {
+    pub compiled: Compiled,
+    pub scene: Option<ContactScene>,
+    pub t: f64,
+    pub y: Vec<f64>,
+    settings: FastSettings,
+    previous: HashMap<ContactKey, f64>,
+    sleep: Sleep,
+    dy: Vec<f64>,
+    /// What the steps since the last `take_report` cost.
+    pub report: WorldReport,
+    /// Largest penetration among the contacts of the last step.
+    pub penetration: f64,
+}
+
+fn failure(t: f64, message: String) -> WorldError {
+    WorldError::Simulation(OdeError::System { t, message })
+}
+
+impl FastEngine {
+    pub fn new(compiled: Compiled, scene: Option<ContactScene>, t: f64, y: Vec<f64>, settings: FastSettings) -> Self {
+        let actors = compiled.model.layout.particles + compiled.model.layout.bodies;
+        FastEngine {
+            dy: vec![0.0; y.len()],
+            sleep: Sleep::new(actors),
+            compiled,
+            scene,
+            t,
+            y,
+            settings,
+            previous: HashMap::new(),
+            report: WorldReport::new(FAST),
+            penetration: 0.0,
+        }
+    }
+
+    /// What a failed call must put back: time, state, lagged impulses and sleep.
+    pub fn snapshot(&self) -> (f64, Vec<f64>, HashMap<ContactKey, f64>, Sleep) {
+        (self.t, self.y.clone(), self.previous.clone(), self.sleep.clone())
+    }
+
+    pub fn restore(&mut self, (t, y, previous, sleep): (f64, Vec<f64>, HashMap<ContactKey, f64>, Sleep)) {
+        (self.t, self.y, self.previous, self.sleep) = (t, y, previous, sleep);
+    }
+
+    pub fn take_report(&mut self) -> WorldReport {
+        std::mem::replace(&mut self.report, WorldReport::new(FAST))
+    }
+
+    /// The bodies as tumble-contact sees them, with the applied forces of the current state (`dy` from the
+    /// equations of motion); sleeping actors are passed as fixed.
+    fn body_states(&self, statics: &[nalgebra::Isometry3<f64>]) -> Vec<BodyState> {
+        let (m, y, dy) = (&self.compiled.model, &self.y, &self.dy);
+        let l = m.layout;
+        let mut out = Vec::with_capacity(l.particles + l.bodies + statics.len());
+        for (i, p) in m.particles.iter().enumerate() {
+            let x = nalgebra::Point3::from(get3(y, l.px(i)));
+            if self.sleep.asleep(i) {
+                out.push(BodyState::fixed(x));
+                continue;
+            }
+            let mut s = BodyState::particle(p.mass, x, get3(y, l.pv(i)));
+            s.force = get3(dy, l.pv(i)) * p.mass;
+            out.push(s);
+        }
+        for (j, b) in m.bodies.iter().enumerate() {
+            let x = nalgebra::Point3::from(get3(y, l.bx(j)));
+            if self.sleep.asleep(l.particles + j) {
+                out.push(BodyState::fixed(x));
+                continue;
+            }
+            let k = m.body_kin(y, j);
+            let inertia = k.rot * b.inertia * k.rot.transpose();
+            let mut s = BodyState::rigid(b.mass, inertia, x);
+            s.inv_inertia = k.rot * b.inv_inertia * k.rot.transpose();
+            s.velocity = k.velocity;
+            s.angular_velocity = k.omega;
+            s.force = get3(dy, l.bp(j));
+            s.torque = get3(dy, l.bl(j));
+            out.push(s);
+        }
+        out.extend(statics.iter().map(|p| BodyState::fixed(nalgebra::Point3::from(p.translation.vector))));
+        out
+    }
+
+    /// One step of size h. On error the engine is unchanged.
+    pub fn step(&mut self, h: f64) -> Result<(), WorldError> {
+        let clock = Instant::now();
+        let t = self.t;
+        self.compiled.model.rhs(t, &self.y, &mut self.dy).map_err(|e| failure(t, e.to_string()))?;
+        let statics = self.scene.as_ref().map(|s| s.static_poses.clone()).unwrap_or_default();
+        let mut states = self.body_states(&statics);
+        // Contacts, pairs that cannot close and pairs of sleeping or static actors left out.
+        let found = match &mut self.scene {
+            Some(scene) => {
+                let c0 = Instant::now();
+                let poses = scene.poses(&self.y);
+                let reach = scene.reach(&states, h);
+                let checks = scene.checks;
+                let f = scene.find(&poses, &reach, self.settings.margin);
+                self.report.collision_checks += scene.checks - checks;
+                self.report.collision_seconds += c0.elapsed().as_secs_f64();
+                f
+            }
+            None => Vec::new(),
+        };
+        let dynamic = self.sleep.len();
+        let woke = self.sleep.wake_touched(&found, dynamic);
+        if woke {
+            states = self.body_states(&statics);
+        }
+        let found: Vec<_> =
+            found.into_iter().filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic()).collect();
+        let contacts: Vec<tumble_contact::Contact> = found.iter().map(|f| f.contact).collect();
+        self.penetration = contacts.iter().map(|c| -c.distance).fold(0.0, f64::max);
+        let settings = StepSettings {
+            erp: self.settings.erp,
+            bounce_threshold: self.settings.bounce_threshold,
+            ..StepSettings::new(h)
+        };
+        let c0 = Instant::now();
+        let (velocities, normal): (Vec<BodyVelocity>, Vec<f64>) = if contacts.is_empty() {
+            (states.iter().map(|b| free(b, h)).collect(), Vec::new())
+        } else {
+            let islands_now = islands(&states, &contacts).len();
+            let out = match self.settings.friction {
+                FastFriction::Lagged => {
+                    let previous: Vec<f64> =
+                        found.iter().map(|f| self.previous.get(&f.key).copied().unwrap_or(0.0)).collect();
+                    velocity_step_lagged(&states, &contacts, &previous, &settings)
+                }
+                FastFriction::Cone => velocity_step(&states, &contacts, &settings),
+            }
+            .map_err(|e| failure(t, format!("contact solve: {e}")))?;
+            self.report.qp_solves += islands_now;
+            self.report.islands += islands_now;
+            for (c, p) in contacts.iter().zip(&out.normal_impulses) {
+                if *p > 0.0 {
+                    self.report.impulses += 1;
+                    if c.relative_normal_velocity(&states) < -self.settings.bounce_threshold {
+                        self.report.collisions += 1;
+                    }
+                }
+            }
+            (out.velocities, out.normal_impulses)
+        };
+        self.report.contact_seconds += c0.elapsed().as_secs_f64();
+        self.previous = found.iter().zip(&normal).map(|(f, &p)| (f.key, p)).collect();
+        self.advance_positions(&velocities, h);
+        if let (true, Some(scene)) = (self.settings.sleep, &self.scene) {
+            let speeds = scene.reach(&states_with(&states, &velocities), 1.0);
+            self.sleep.update(&found, &speeds, &self.settings, h);
+            self.sleep.freeze(&mut self.y, &self.compiled.model);
+        }
+        self.t = t + h;
+        self.report.sleepers = self.sleep.count();
+        self.report.max_penetration = self.report.max_penetration.max(self.penetration);
+        let r = &mut self.report.integrator;
+        r.steps += 1;
+        r.rhs_evals += 1;
+        r.min_step = r.min_step.min(h);
+        r.max_step = r.max_step.max(h);
+        self.report.integrator.wall_seconds += clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Semi-implicit Euler: positions and orientations from the new velocities; momenta from them.
+    fn advance_positions(&mut self, v: &[BodyVelocity], h: f64) {
+        let m = &self.compiled.model;
+        let l = m.layout;
+        for i in 0..l.particles {
+            if self.sleep.asleep(i) {
+                continue;
+            }
+            let x = get3(&self.y, l.px(i)) + v[i].linear * h;
+            set3(&mut self.y, l.px(i), &x);
+            set3(&mut self.y, l.pv(i), &v[i].linear);
+        }
+        for (j, b) in m.bodies.iter().enumerate() {
+            let a = l.particles + j;
+            if self.sleep.asleep(a) {
+                continue;
+            }
+            let (lin, w) = (v[a].linear, v[a].angular);
+            let x = get3(&self.y, l.bx(j)) + lin * h;
+            let q0 = UnitQuaternion::new_normalize(get_quat(&self.y, l.bq(j)));
+            let q1 = UnitQuaternion::from_scaled_axis(w * h) * q0;
+            let r = q1.to_rotation_matrix().into_inner();
+            set3(&mut self.y, l.bx(j), &x);
+            set_quat(&mut self.y, l.bq(j), &q1);
+            set3(&mut self.y, l.bp(j), &(lin * b.mass));
+            set3(&mut self.y, l.bl(j), &(r * b.inertia * r.transpose() * w));
+        }
+    }
+}
+
+/// The velocity after a step without contact.
+fn free(b: &BodyState, h: f64) -> BodyVelocity {
+    if !b.is_dynamic() {
+        return BodyVelocity { linear: b.velocity, angular: b.angular_velocity };
+    }
+    let w = b.angular_velocity;
+    BodyVelocity {
+        linear: b.velocity + b.force * (b.inv_mass * h),
+        angular: w + b.inv_inertia * (b.torque - w.cross(&(b.inertia * w))) * h,
+    }
+}
+
+/// The states with these velocities (for speed bounds).
+fn states_with(states: &[BodyState], v: &[BodyVelocity]) -> Vec<BodyState> {
+    states.iter().zip(v).map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s }).collect()
+}

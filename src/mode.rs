@@ -1,0 +1,134 @@
+//! How a world treats contact: accurate (event-driven, the chapter's scheme) or fast (time stepping), and the
+//! settings of each.
+
+use crate::error::{check_scalar, WorldError};
+
+/// How a world steps when bodies touch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Mode {
+    /// Event-driven (the default): the integrator and its error control carry the smooth motion; collisions are
+    /// located in time by bisection and resolved by impulses; resting contacts get exact forces inside the
+    /// equations of motion.
+    Accurate(AccurateSettings),
+    /// Time stepping at a fixed step: contacts found at the start of each step with a margin, one velocity-level
+    /// conic program per island, positions from the new velocities; resting islands sleep.
+    Fast(FastSettings),
+}
+
+impl Default for Mode {
+    fn default() -> Self {
+        Mode::Accurate(AccurateSettings::default())
+    }
+}
+
+impl Mode {
+    /// Fast mode at step `dt` with the other settings at their defaults.
+    pub fn fast(dt: f64) -> Mode {
+        Mode::Fast(FastSettings::new(dt))
+    }
+
+    /// The mode's name: "accurate" or "fast".
+    pub fn name(&self) -> &'static str {
+        match self {
+            Mode::Accurate(_) => "accurate",
+            Mode::Fast(_) => "fast",
+        }
+    }
+
+    pub(crate) fn check(&self) -> Result<(), WorldError> {
+        match self {
+            Mode::Accurate(a) => a.check(),
+            Mode::Fast(f) => f.check(),
+        }
+    }
+}
+
+/// Settings of the accurate mode.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AccurateSettings {
+    /// Time tolerance of the collision-time bisection (s); 1e-10 by default.
+    pub time_tolerance: f64,
+    /// Distance within which two shapes count as touching (m); 1e-7 by default.
+    pub contact_distance: f64,
+    /// Relative normal speed below which a contact rests instead of bouncing (m/s); `None` picks
+    /// 1e-3 sqrt(2 g L) for the scene's size L (a bounce slower than that would rise less than 1e-6 L).
+    pub resting_speed: Option<f64>,
+}
+
+impl Default for AccurateSettings {
+    fn default() -> Self {
+        AccurateSettings { time_tolerance: 1e-10, contact_distance: 1e-7, resting_speed: None }
+    }
+}
+
+impl AccurateSettings {
+    fn check(&self) -> Result<(), WorldError> {
+        check_scalar("time_tolerance", self.time_tolerance, true)?;
+        check_scalar("contact_distance", self.contact_distance, true)?;
+        if let Some(v) = self.resting_speed {
+            check_scalar("resting_speed", v, true)?;
+        }
+        Ok(())
+    }
+}
+
+/// Friction in fast mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FastFriction {
+    /// Each contact's friction bounded by mu times its previous step's normal impulse: Coulomb's deceleration and
+    /// no hop while sliding (the default).
+    Lagged,
+    /// Anitescu's cone: one convex program, but a sliding contact separates at mu |v_t| and slides 1/(1 + mu^2) too
+    /// slowly.
+    Cone,
+}
+
+/// Settings of the fast mode.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FastSettings {
+    /// The step (s).
+    pub dt: f64,
+    /// Extra distance within which separated pairs become contacts (m), on top of how far they can move in a step;
+    /// 1e-3 by default.
+    pub margin: f64,
+    /// Fraction of an interpenetration removed per step; 0.2 by default.
+    pub erp: f64,
+    /// Contacts closing slower than this do not bounce (m/s); 0.1 by default.
+    pub bounce_threshold: f64,
+    /// Whether resting islands sleep; true by default.
+    pub sleep: bool,
+    /// An island sleeps after all its points have moved slower than this (m/s) ...
+    pub sleep_speed: f64,
+    /// ... for this long (s); 0.05 m/s and 0.5 s by default.
+    pub sleep_time: f64,
+    /// The friction model.
+    pub friction: FastFriction,
+}
+
+impl FastSettings {
+    /// Defaults for step `dt`.
+    pub fn new(dt: f64) -> FastSettings {
+        FastSettings {
+            dt,
+            margin: 1e-3,
+            erp: 0.2,
+            bounce_threshold: 0.1,
+            sleep: true,
+            sleep_speed: 0.05,
+            sleep_time: 0.5,
+            friction: FastFriction::Lagged,
+        }
+    }
+
+    fn check(&self) -> Result<(), WorldError> {
+        check_scalar("dt", self.dt, true)?;
+        check_scalar("margin", self.margin, false)?;
+        if !(0.0..=1.0).contains(&self.erp) {
+            return Err(WorldError::invalid("erp", format!("must be in [0, 1], got {}", self.erp)));
+        }
+        check_scalar("bounce_threshold", self.bounce_threshold, false)?;
+        check_scalar("sleep_speed", self.sleep_speed, false)?;
+        check_scalar("sleep_time", self.sleep_time, false)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,123 @@
+//! Sleeping in fast mode: an actor (particle or dynamic body) that has moved slower than the sleep speed for the
+//! sleep time is still; a group of actors in contact sleeps when all its members are still, and is skipped (held
+//! fixed, momenta zero) until an awake actor touches one of them, which wakes the whole group.
+
+use crate::contact_scene::Found;
+use crate::layout::set3;
+use crate::mode::FastSettings;
+use crate::model::Model;
+use nalgebra::Vector3;
+
+/// Who sleeps, and how long each awake actor has been still.
+#[derive(Clone, Debug)]
+pub(crate) struct Sleep {
+    asleep: Vec<bool>,
+    still: Vec<f64>,
+}
+
+/// Groups of dynamic actors (indices below `n`) joined by contacts, as a root per actor.
+fn groups(found: &[Found], n: usize) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    for f in found {
+        let (a, b) = (f.contact.a, f.contact.b);
+        if a < n && b < n {
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            parent[ra] = rb;
+        }
+    }
+    (0..n).map(|x| root(&mut parent, x)).collect()
+}
+
+impl Sleep {
+    pub fn new(actors: usize) -> Self {
+        Sleep { asleep: vec![false; actors], still: vec![0.0; actors] }
+    }
+
+    /// Number of dynamic actors.
+    pub fn len(&self) -> usize {
+        self.asleep.len()
+    }
+
+    /// Whether actor i sleeps.
+    pub fn asleep(&self, i: usize) -> bool {
+        self.asleep.get(i).copied().unwrap_or(false)
+    }
+
+    /// How many sleep.
+    pub fn count(&self) -> usize {
+        self.asleep.iter().filter(|&&s| s).count()
+    }
+
+    /// Wakes every group in which an awake actor touches a sleeping one; returns whether any woke.
+    pub fn wake_touched(&mut self, found: &[Found], n: usize) -> bool {
+        if !self.asleep.iter().any(|&s| s) {
+            return false;
+        }
+        let root = groups(found, n);
+        let mut mixed = vec![(false, false); n];
+        for i in 0..n {
+            let m = &mut mixed[root[i]];
+            if self.asleep[i] {
+                m.0 = true;
+            } else {
+                m.1 = true;
+            }
+        }
+        let mut woke = false;
+        for i in 0..n {
+            if self.asleep[i] && mixed[root[i]] == (true, true) {
+                self.asleep[i] = false;
+                self.still[i] = 0.0;
+                woke = true;
+            }
+        }
+        woke
+    }
+
+    /// Books a step of length h: `speeds[i]` bounds how fast any point of actor i moves. Groups whose awake members
+    /// have all been still for the sleep time fall asleep.
+    pub fn update(&mut self, found: &[Found], speeds: &[f64], s: &FastSettings, h: f64) {
+        let n = self.asleep.len();
+        for i in 0..n {
+            if !self.asleep[i] {
+                self.still[i] = if speeds[i] < s.sleep_speed { self.still[i] + h } else { 0.0 };
+            }
+        }
+        let root = groups(found, n);
+        let mut ready = vec![true; n];
+        for i in 0..n {
+            if !self.asleep[i] && self.still[i] < s.sleep_time {
+                ready[root[i]] = false;
+            }
+        }
+        for i in 0..n {
+            if ready[root[i]] {
+                self.asleep[i] = true;
+            }
+        }
+    }
+
+    /// Zeroes the momenta of sleeping actors in state y.
+    pub fn freeze(&self, y: &mut [f64], model: &Model) {
+        let l = model.layout;
+        let zero = Vector3::zeros();
+        for i in 0..l.particles {
+            if self.asleep[i] {
+                set3(y, l.pv(i), &zero);
+            }
+        }
+        for j in 0..l.bodies {
+            if self.asleep[l.particles + j] {
+                set3(y, l.bp(j), &zero);
+                set3(y, l.bl(j), &zero);
+            }
+        }
+    }
+}
