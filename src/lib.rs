@@ -21,23 +21,23 @@ mod body;
 mod collider;
 #[cfg(feature = "contact")]
 mod contact_scene;
-#[cfg(feature = "contact")]
-mod fast;
-mod mode;
-#[cfg(feature = "contact")]
-mod sleep;
 mod dynamics;
 mod energy;
 mod error;
+#[cfg(feature = "contact")]
+mod fast;
 mod handle;
 mod layout;
 mod load;
+mod mode;
 mod model;
 mod particle;
 mod plan;
 mod report;
 mod run;
 pub mod scenes;
+#[cfg(feature = "contact")]
+mod sleep;
 mod spring;
 mod world;
 #[cfg(feature = "contact")]

@@ -23,7 +23,8 @@ impl World {
 
     /// Moves the fast engine's report into the totals.
     fn collect_fast_report(&mut self) -> crate::WorldReport {
-        let mut r = self.fast.as_mut().map(|e| e.take_report()).unwrap_or_else(|| crate::WorldReport::new(crate::fast::FAST));
+        let mut r =
+            self.fast.as_mut().map(|e| e.take_report()).unwrap_or_else(|| crate::WorldReport::new(crate::fast::FAST));
         if let Some(e) = &mut self.fast {
             r.forces = std::mem::take(&mut e.compiled.model.counters);
         }

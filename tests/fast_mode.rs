@@ -1,0 +1,145 @@
+//! Fast mode (time stepping) against closed forms and the scenes: a box at rest stays put, a sliding box
+//! stops after v^2 / (2 mu g), stacks and a pyramid stand, mass ratios of 1000 rest without jitter, a bullet does
+//! not pass through a thin wall, and energy never grows.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use tumble::{BodyHandle, FastSettings, Material, Mode, RigidBodyBuilder, Shape, World};
+
+const G: f64 = 9.81;
+const DT: f64 = 1.0 / 240.0;
+
+fn fast_world(sleep: bool) -> World {
+    let mut w = World::new();
+    w.set_mode(Mode::Fast(FastSettings { sleep, ..FastSettings::new(DT) })).unwrap();
+    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w
+}
+
+fn cube(w: &mut World, half: f64, density: f64, at: Vector3<f64>) -> BodyHandle {
+    let shape = Shape::cuboid(Vector3::repeat(half)).unwrap();
+    w.add_body(RigidBodyBuilder::from_shape(shape, density).position(at).restitution(0.0).friction(0.5)).unwrap()
+}
+
+#[test]
+fn a_box_resting_on_the_floor_stays_within_1e_4_m_for_10_s() {
+    for sleep in [false, true] {
+        let mut w = fast_world(sleep);
+        let b = cube(&mut w, 0.5, 1000.0, Vector3::new(0.0, 0.0, 0.5));
+        let run = w.run(10.0, 0.1).unwrap();
+        let drift = (0..run.frames())
+            .map(|f| (run.body_position(f, 1) - Vector3::new(0.0, 0.0, 0.5)).norm())
+            .fold(0.0, f64::max);
+        assert!(drift < 1e-4, "sleep {sleep}: drift {drift}");
+        assert!(w.body(b).unwrap().orientation().angle() < 1e-6);
+    }
+}
+
+#[test]
+fn a_sliding_box_stops_after_v_squared_over_2_mu_g() {
+    // mu = 0.5 for box and floor (combined: their geometric mean, 0.5). Semi-implicit Euler at a constant
+    // deceleration a covers v^2 / (2 a) - v h / 2: 0.68% short at v = 3 m/s and h = 1/240 s, within the 1%.
+    let v = 3.0;
+    let mut w = fast_world(false);
+    let b = cube(&mut w, 0.25, 500.0, Vector3::new(0.0, 0.0, 0.25));
+    let q = w.body(b).unwrap().orientation();
+    w.set_body_state(b, Vector3::new(0.0, 0.0, 0.25), q, Vector3::new(v, 0.0, 0.0), Vector3::zeros()).unwrap();
+    w.run(2.0, 0.5).unwrap();
+    let body = w.body(b).unwrap();
+    let expected = v * v / (2.0 * 0.5 * G);
+    let travelled = body.position().x;
+    assert!(body.velocity().norm() < 1e-9, "still moving at {}", body.velocity().norm());
+    assert!((travelled - expected).abs() < 0.01 * expected, "stopped after {travelled} m, expected {expected}");
+    assert!(body.position().z - 0.25 < 1e-4, "it hopped: z = {}", body.position().z);
+}
+
+/// Largest displacement of any of `bodies` from where they started, over the run.
+fn displacement(w: &mut World, bodies: &[BodyHandle], seconds: f64) -> f64 {
+    let start: Vec<Vector3<f64>> = bodies.iter().map(|&b| w.body(b).unwrap().position()).collect();
+    w.run(seconds, 0.5).unwrap();
+    bodies.iter().zip(&start).map(|(&b, s)| (w.body(b).unwrap().position() - s).norm()).fold(0.0, f64::max)
+}
+
+#[test]
+fn a_stack_of_10_boxes_and_a_10_layer_pyramid_still_stand_after_10_s() {
+    // Stack: ten 1 m cubes, each placed touching the one below. Standing = no box moved more than 1 cm (a fall
+    // moves one by at least its half width, 0.5 m).
+    let mut w = fast_world(true);
+    let stack: Vec<BodyHandle> =
+        (0..10).map(|k| cube(&mut w, 0.5, 500.0, Vector3::new(0.0, 0.0, 0.5 + k as f64))).collect();
+    let moved = displacement(&mut w, &stack, 10.0);
+    assert!(moved < 0.01, "the stack moved {moved} m");
+    // Pyramid: 10 layers of 0.5 m cubes in a plane, each resting on two below (10 + 9 + ... + 1 = 55 boxes).
+    let mut w = fast_world(true);
+    let mut pyramid = Vec::new();
+    for layer in 0..10 {
+        for k in 0..10 - layer {
+            let x = (k as f64 + 0.5 * layer as f64) * 0.5;
+            pyramid.push(cube(&mut w, 0.25, 500.0, Vector3::new(x, 0.0, 0.25 + 0.5 * layer as f64)));
+        }
+    }
+    assert_eq!(pyramid.len(), 55);
+    let moved = displacement(&mut w, &pyramid, 10.0);
+    assert!(moved < 0.01, "the pyramid moved {moved} m");
+}
+
+#[test]
+fn boxes_with_a_mass_ratio_of_1000_rest_on_each_other_without_jitter() {
+    // A light box on a heavy one and a heavy box on a light one (densities 1 and 1000 kg/m^3): after settling,
+    // neither moves by more than 1e-4 m nor keeps any speed above 1e-3 m/s (sleep off, so jitter would show).
+    for (below, above) in [(1000.0, 1.0), (1.0, 1000.0)] {
+        let mut w = fast_world(false);
+        let a = cube(&mut w, 0.5, below, Vector3::new(0.0, 0.0, 0.5));
+        let b = cube(&mut w, 0.5, above, Vector3::new(0.0, 0.0, 1.5));
+        w.run(1.0, 0.5).unwrap();
+        let moved = displacement(&mut w, &[a, b], 5.0);
+        let speed = [a, b].iter().map(|&h| w.body(h).unwrap().velocity().norm()).fold(0.0, f64::max);
+        assert!(moved < 1e-4 && speed < 1e-3, "densities {below}/{above}: moved {moved}, speed {speed}");
+    }
+}
+
+#[test]
+fn a_sphere_at_1000_m_per_s_does_not_pass_through_a_1_cm_wall() {
+    let mut w = World::new();
+    w.set_gravity(Vector3::zeros()).unwrap();
+    w.set_mode(Mode::Fast(FastSettings::new(1.0 / 60.0))).unwrap();
+    let wall = Shape::cuboid(Vector3::new(0.005, 1.0, 1.0)).unwrap();
+    w.add_body(RigidBodyBuilder::fixed(Some(wall)).position(Vector3::new(5.0, 0.0, 0.0))).unwrap();
+    let ball = Shape::sphere(0.05).unwrap();
+    let b = w
+        .add_body(RigidBodyBuilder::from_shape(ball, 7800.0).velocity(Vector3::new(1000.0, 0.0, 0.0)).restitution(0.0))
+        .unwrap();
+    w.run(0.5, 1.0 / 60.0).unwrap();
+    let x = w.body(b).unwrap().position().x;
+    // It must end on the near side: centre at most at 5 - 0.005 - 0.05 (plus the 1e-3 m contact margin).
+    assert!(x <= 5.0 - 0.055 + 1e-3, "the ball is at x = {x}");
+}
+
+#[test]
+fn energy_never_grows_in_a_pile_without_driving_forces() {
+    // Boxes dropped onto each other with restitution up to 1: total energy (kinetic + gravity) never rises by more
+    // than 1e-6 of its start between frames.
+    let mut w = World::new();
+    w.set_mode(Mode::Fast(FastSettings::new(DT))).unwrap();
+    w.add_ground(0.0, Material { restitution: 0.5, friction: 0.5 }).unwrap();
+    for k in 0..8 {
+        let shape = Shape::cuboid(Vector3::new(0.3, 0.2, 0.25)).unwrap();
+        let tilt = UnitQuaternion::from_euler_angles(0.3 * k as f64, 0.2, 0.1 * k as f64);
+        w.add_body(
+            RigidBodyBuilder::from_shape(shape, 700.0)
+                .position(Vector3::new(0.2 * (k % 3) as f64, 0.1 * (k % 2) as f64, 0.5 + 0.7 * k as f64))
+                .orientation(tilt)
+                .restitution(if k % 2 == 0 { 1.0 } else { 0.3 }),
+        )
+        .unwrap();
+    }
+    let run = w.run(4.0, 1.0 / 60.0).unwrap();
+    let e0 = run.energy(0);
+    for f in 1..run.frames() {
+        assert!(
+            run.energy(f) <= run.energy(f - 1) + 1e-6 * e0.abs(),
+            "frame {f}: {} -> {}",
+            run.energy(f - 1),
+            run.energy(f)
+        );
+    }
+}
