@@ -3,6 +3,7 @@
 
 use crate::controller::Controller;
 use crate::error::OdeError;
+use crate::events::{Advance, StepView};
 use crate::point::{eval, max_norm, Point};
 use crate::report::Report;
 use crate::settings::{Control, Settings};
@@ -25,6 +26,11 @@ pub struct Integrator<S: OdeSystem + ?Sized> {
     last_rejected: bool,
     dense_buf: Vec<f64>,
     backup: Vec<f64>,
+}
+
+/// The detector of calls that watch for no events.
+fn no_events<S: OdeSystem + ?Sized>(_: &mut StepView<'_, S>) -> Result<Option<f64>, OdeError> {
+    Ok(None)
 }
 
 /// Errors that a smaller step may cure: an adaptive control rejects the step and tries a quarter of it.
@@ -140,7 +146,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         save_at: &[f64],
         on_save: impl FnMut(&S, f64, &[f64]),
     ) -> Result<(), OdeError> {
-        self.advance(sys, t_end, t_end, save_at, on_save).map(|_| ())
+        self.advance(sys, t_end, t_end, save_at, on_save, &mut no_events).map(|_| ())
     }
 
     /// Like [`advance_to`](Integrator::advance_to), but returns as soon as the integration has passed `pause_at`
@@ -155,7 +161,24 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         save_at: &[f64],
         on_save: impl FnMut(&S, f64, &[f64]),
     ) -> Result<usize, OdeError> {
-        self.advance(sys, t_end, pause_at.min(t_end), save_at, on_save)
+        self.advance(sys, t_end, pause_at.min(t_end), save_at, on_save, &mut no_events).map(|a| a.delivered)
+    }
+
+    /// Like [`advance_until`](Integrator::advance_until), showing every accepted step to `detect`. When it returns
+    /// the time of an event within the step, the step is cut there (the state at the event comes from the method's
+    /// dense output, or from a fresh step), the outputs up to it are delivered, the method's histories are dropped
+    /// and the advance returns with the event's time. On error the time, state and proposed step are those before
+    /// the call.
+    pub fn advance_with_events(
+        &mut self,
+        sys: &mut S,
+        t_end: f64,
+        pause_at: f64,
+        save_at: &[f64],
+        on_save: impl FnMut(&S, f64, &[f64]),
+        mut detect: impl FnMut(&mut StepView<'_, S>) -> Result<Option<f64>, OdeError>,
+    ) -> Result<Advance, OdeError> {
+        self.advance(sys, t_end, pause_at.min(t_end), save_at, on_save, &mut detect)
     }
 
     fn advance(
@@ -165,7 +188,8 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         pause_at: f64,
         save_at: &[f64],
         mut on_save: impl FnMut(&S, f64, &[f64]),
-    ) -> Result<usize, OdeError> {
+        detect: &mut impl FnMut(&mut StepView<'_, S>) -> Result<Option<f64>, OdeError>,
+    ) -> Result<Advance, OdeError> {
         let t0 = self.cur.t;
         if !(t_end.is_finite() && t_end >= t0) {
             return Err(OdeError::invalid(
@@ -189,8 +213,8 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         let h0 = self.h;
         let clock = Instant::now();
         let result = match self.settings.control {
-            Control::Fixed { dt } => self.run_fixed(sys, dt, t_end, pause_at, save_at, &mut on_save),
-            _ => self.run_adaptive(sys, t_end, pause_at, save_at, &mut on_save),
+            Control::Fixed { dt } => self.run_fixed(sys, dt, t_end, pause_at, save_at, &mut on_save, detect),
+            _ => self.run_adaptive(sys, t_end, pause_at, save_at, &mut on_save, detect),
         };
         self.ctx.report.wall_seconds += clock.elapsed().as_secs_f64();
         if result.is_err() {
@@ -233,6 +257,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
 
     /// Fixed steps; every save is a stop, and the run pauses at the first stop at or past `pause_at`. Returns the
     /// number of saves delivered.
+    #[allow(clippy::too_many_arguments)]
     fn run_fixed(
         &mut self,
         sys: &mut S,
@@ -241,7 +266,8 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         pause_at: f64,
         saves: &[f64],
         on_save: &mut impl FnMut(&S, f64, &[f64]),
-    ) -> Result<usize, OdeError> {
+        detect: &mut impl FnMut(&mut StepView<'_, S>) -> Result<Option<f64>, OdeError>,
+    ) -> Result<Advance, OdeError> {
         let mut si = 0;
         let mut budget = self.settings.max_steps;
         loop {
@@ -250,7 +276,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                 si += 1;
             }
             if self.cur.t >= pause_at {
-                return Ok(si);
+                return Ok(Advance { delivered: si, event: None });
             }
             let stop = if si < saves.len() { saves[si] } else { t_end };
             let span = stop - self.cur.t;
@@ -266,9 +292,44 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                 let est = self.stepper.step(sys, &mut self.cur, h, &mut self.next, &mut self.ctx)?;
                 self.check_next(h)?;
                 self.accept(sys, h, est.local);
+                if let Some(tc) = self.detect(sys, detect)? {
+                    self.cut_at(sys, tc)?;
+                    while si < saves.len() && saves[si] <= tc {
+                        on_save(sys, saves[si], &self.cur.y);
+                        si += 1;
+                    }
+                    return Ok(Advance { delivered: si, event: Some(tc) });
+                }
                 std::mem::swap(&mut self.cur, &mut self.next);
             }
         }
+    }
+
+    fn view<'a>(&'a mut self, sys: &'a mut S) -> StepView<'a, S> {
+        let dense = self.stepper.has_dense_output() && !matches!(self.settings.control, Control::StepDoubling { .. });
+        StepView { sys, stepper: &mut *self.stepper, ctx: &mut self.ctx, from: &self.cur, to: &self.next, dense }
+    }
+
+    /// Shows the step just accepted (cur -> next) to `detect`; returns the event time it reports, within the step.
+    fn detect(
+        &mut self,
+        sys: &mut S,
+        detect: &mut impl FnMut(&mut StepView<'_, S>) -> Result<Option<f64>, OdeError>,
+    ) -> Result<Option<f64>, OdeError> {
+        let (t0, t1) = (self.cur.t, self.next.t);
+        Ok(detect(&mut self.view(sys))?.map(|tc| tc.clamp(t0, t1)))
+    }
+
+    /// Ends the step just accepted at tc: cur becomes the state there and the method's histories are dropped.
+    fn cut_at(&mut self, sys: &mut S, tc: f64) -> Result<(), OdeError> {
+        if tc < self.next.t {
+            let y = self.view(sys).state_at(tc)?;
+            self.next.y.copy_from_slice(&y);
+            self.next.renew(tc);
+        }
+        std::mem::swap(&mut self.cur, &mut self.next);
+        self.stepper.reset();
+        Ok(())
     }
 
     /// Adaptive steps toward `t_end` (the only hard stop besides saves without dense output), pausing once past
@@ -280,7 +341,8 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         pause_at: f64,
         saves: &[f64],
         on_save: &mut impl FnMut(&S, f64, &[f64]),
-    ) -> Result<usize, OdeError> {
+        detect: &mut impl FnMut(&mut StepView<'_, S>) -> Result<Option<f64>, OdeError>,
+    ) -> Result<Advance, OdeError> {
         let dense = self.settings.dense_output
             && self.stepper.has_dense_output()
             && !matches!(self.settings.control, Control::StepDoubling { .. });
@@ -290,7 +352,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             si += 1;
         }
         if self.cur.t >= pause_at {
-            return Ok(si);
+            return Ok(Advance { delivered: si, event: None });
         }
         if self.h.is_none() {
             let h = self.initial_step(sys)?;
@@ -339,7 +401,31 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             let err = est.scaled.unwrap_or(0.0);
             if err <= 1.0 {
                 self.accept(sys, h, est.local);
-                let t_new = self.next.t;
+                let event = self.detect(sys, detect)?;
+                let t_new = event.unwrap_or(self.next.t);
+                if let Some(tc) = event {
+                    // outputs before the event from the full step's interpolant, then the step is cut at tc
+                    while si < saves.len() && saves[si] < tc {
+                        let s = saves[si];
+                        if dense {
+                            self.stepper.dense(&self.cur, &self.next, (s - self.cur.t) / h, &mut self.dense_buf);
+                            on_save(sys, s, &self.dense_buf);
+                        } else {
+                            let y = self.view(sys).state_at(s)?;
+                            on_save(sys, s, &y);
+                        }
+                        si += 1;
+                    }
+                    self.cut_at(sys, tc)?;
+                    while si < saves.len() && saves[si] <= tc {
+                        on_save(sys, saves[si], &self.cur.y);
+                        si += 1;
+                    }
+                    let proposal = self.controller.accepted(est.scaled, est.safety, h, self.last_rejected);
+                    self.h = Some(self.stepper.prefer_step(h, proposal));
+                    self.last_rejected = false;
+                    return Ok(Advance { delivered: si, event: Some(tc) });
+                }
                 while si < saves.len() && saves[si] <= t_new {
                     let s = saves[si];
                     if s == t_new || !dense {
@@ -363,7 +449,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
                 self.last_rejected = true;
             }
         }
-        Ok(si)
+        Ok(Advance { delivered: si, event: None })
     }
 
     /// Rejects a step that failed in a way a smaller step may cure; gives up with `cause` below the floor.

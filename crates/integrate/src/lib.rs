@@ -21,6 +21,7 @@
 
 mod controller;
 mod error;
+mod events;
 mod factorization;
 mod integrator;
 mod jacobian;
@@ -38,6 +39,7 @@ mod system;
 pub mod work_precision;
 
 pub use error::{OdeError, SystemError};
+pub use events::{Advance, StepView};
 pub use integrator::Integrator;
 pub use method::Method;
 pub use report::Report;
