@@ -35,6 +35,7 @@ mod impulse;
 mod islands;
 mod jacobian;
 mod lcp;
+mod projection;
 mod resting;
 mod simultaneous;
 
@@ -46,5 +47,6 @@ pub use friction::{velocity_step, velocity_step_lagged, StepSettings, VelocitySt
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
 pub use islands::islands;
 pub use lcp::SolverSettings;
+pub use projection::position_correction;
 pub use resting::{contact_wrenches, resting_forces, RestingForces};
 pub use simultaneous::{collision_impulses, Impulses};

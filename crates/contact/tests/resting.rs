@@ -172,3 +172,28 @@ fn random_resting_configurations_are_complementary() {
     // Both kinds of contact must appear for the test to mean anything.
     assert!(separating > 100, "only {separating} contacts had no force");
 }
+
+#[test]
+fn position_correction_lifts_a_sunken_box_out_by_the_least_motion() {
+    // A box sunk 1 mm into the ground at its four corners comes up by exactly 1 mm without turning; a box sunk at
+    // one corner only also turns (the least mass-weighted motion), and afterwards no corner is below the ground.
+    use tumble_contact::position_correction;
+    let (bodies, contacts) = stack(&[2.0]);
+    let sunk: Vec<Contact> = contacts.iter().map(|c| c.with_distance(-1e-3)).collect();
+    let d = position_correction(&bodies, &sunk, &SolverSettings::default()).unwrap();
+    // 1e-9 m: the interior point's 1e-12 gap on a problem whose redundant corners leave its solution set flat (3e-11
+    // seen)
+    assert!((d[1].linear - Vector3::new(0.0, 0.0, 1e-3)).norm() < 1e-9 && d[1].angular.norm() < 1e-9, "{:?}", d[1]);
+    let mut one = contacts.clone();
+    one[0].distance = -1e-3;
+    let d = position_correction(&bodies, &one, &SolverSettings::default()).unwrap();
+    for c in &one {
+        let r = c.point - bodies[1].position;
+        let lift = c.normal.dot(&(d[1].linear + d[1].angular.cross(&r)));
+        // to first order in the small rotation: d + lift >= 0, and = 0 at the sunken corner
+        assert!(c.distance + lift > -1e-9, "{c:?}: lift {lift}");
+    }
+    let lift0 = one[0].normal.dot(&(d[1].linear + d[1].angular.cross(&(one[0].point - bodies[1].position))));
+    assert!((one[0].distance + lift0).abs() < 1e-9);
+    assert!(d[1].angular.norm() > 0.0);
+}
