@@ -49,4 +49,4 @@ pub use proximity::{distance, intersects};
 pub use separating_plane::{separating_plane, PlaneSource, SeparatingPlane, SeparatingPlaneCache};
 pub use shape::{ConvexHull, Shape, TriMesh};
 pub use sweep_prune::{brute_force_pairs, SortAndSweep, SweepStats};
-pub use toi::{bisect_collision_time, time_of_impact, Bisection, Impact, ToiMethod, ToiOptions};
+pub use toi::{bisect_collision_time, first_contact, time_of_impact, Bisection, Impact, ToiMethod, ToiOptions};

@@ -199,23 +199,54 @@ fn by_bisection(
     d0: f64,
     options: &ToiOptions,
 ) -> Result<Option<Impact>, ShapeError> {
-    let mut search = Search { a, motion_a, b, motion_b, closing, options, queries: 1 };
+    let mut poses = |t: f64| Ok((motion_a.pose_at(t), motion_b.pose_at(t)));
+    let mut search = Search { a, b, poses: &mut poses, closing, options, queries: 1 };
     let d_end = search.distance(t_end)?;
     search.first_contact(0.0, d0, t_end, d_end)
 }
 
-/// The bisection search of `time_of_impact`, with its query count.
-struct Search<'s> {
+/// The first contact in [t0, t1] of two shapes moving along any path (an integrator's dense output, say):
+/// `poses(t)` gives both poses, and `closing` bounds how fast their distance can shrink (m/s). The pair must be
+/// apart at t0. The same search as `ToiMethod::Bisection`: halve only where the distances at the ends leave room
+/// for a contact, then bisect the first interval that ends in contact to `options.tolerance`.
+pub fn first_contact(
+    a: &Shape,
+    b: &Shape,
+    mut poses: impl FnMut(f64) -> Result<(Isometry3<f64>, Isometry3<f64>), ShapeError>,
+    t0: f64,
+    t1: f64,
+    closing: f64,
+    options: &ToiOptions,
+) -> Result<Option<Impact>, ShapeError> {
+    positive("tolerance", options.tolerance)?;
+    if !(t0.is_finite() && t1.is_finite() && t1 >= t0) {
+        return Err(ShapeError::new("t1", format!("the interval [{t0}, {t1}] must be finite with t1 >= t0")));
+    }
+    if !(closing.is_finite() && closing >= 0.0) {
+        return Err(ShapeError::new("closing", format!("must be finite and >= 0, got {closing}")));
+    }
+    let mut search = Search { a, b, poses: &mut poses, closing, options, queries: 0 };
+    let d0 = search.distance(t0)?;
+    if d0 <= 0.0 {
+        return Err(ShapeError::new("t0", format!("the shapes are already in contact at t0 = {t0}")));
+    }
+    let d1 = search.distance(t1)?;
+    search.first_contact(t0, d0, t1, d1)
+}
+
+type Poses<'p> = dyn FnMut(f64) -> Result<(Isometry3<f64>, Isometry3<f64>), ShapeError> + 'p;
+
+/// The bisection search, with its query count.
+struct Search<'s, 'p> {
     a: &'s Shape,
-    motion_a: &'s Motion,
     b: &'s Shape,
-    motion_b: &'s Motion,
+    poses: &'s mut Poses<'p>,
     closing: f64,
     options: &'s ToiOptions,
     queries: usize,
 }
 
-impl Search<'_> {
+impl Search<'_, '_> {
     fn distance(&mut self, t: f64) -> Result<f64, ShapeError> {
         self.queries += 1;
         if self.queries > self.options.max_iterations {
@@ -224,7 +255,8 @@ impl Search<'_> {
                 format!("bisection needed more than {} queries", self.options.max_iterations),
             ));
         }
-        distance(self.a, &self.motion_a.pose_at(t), self.b, &self.motion_b.pose_at(t))
+        let (pa, pb) = (self.poses)(t)?;
+        distance(self.a, &pa, self.b, &pb)
     }
 
     /// The first contact in [lo, hi], the pair being `d_lo` > 0 apart at lo and `d_hi` >= 0 at hi. In contact at

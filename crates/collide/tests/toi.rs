@@ -183,3 +183,29 @@ fn bad_collision_time_queries_are_refused_by_name() {
         "shape"
     );
 }
+
+#[test]
+fn first_contact_follows_any_path_and_sees_a_pass_through() {
+    use tumble_collide::first_contact;
+    // A ball thrown at 1000 m/s along a falling arc, x = -1 + 1000 t, z = 0.5 - g t^2 / 2, past a 1 cm wall at
+    // x = 5 (1 m tall, centred at z = 0.5): apart at both ends of the 1/60 s interval; the first touch is when
+    // x + r reaches the wall face, t = (5 - 0.005 - 0.05 + 1) / 1000.
+    let ball = Shape::sphere(0.05).unwrap();
+    let wall = Shape::cuboid(Vector3::new(0.005, 1.0, 0.5)).unwrap();
+    let at_wall = Isometry3::translation(5.0, 0.0, 0.5);
+    let g = 9.81;
+    let poses = |t: f64| Ok((Isometry3::translation(-1.0 + 1000.0 * t, 0.0, 0.5 - 0.5 * g * t * t), at_wall));
+    // distance shrinks at most at the speed: sqrt(1000^2 + (g t)^2) <= 1000.001 over the interval
+    let hit = first_contact(&ball, &wall, poses, 0.0, 1.0 / 60.0, 1000.001, &options(ToiMethod::Bisection, 1e-12))
+        .unwrap()
+        .expect("the wall is hit");
+    let exact = (5.0 - 0.005 - 0.05 + 1.0) / 1000.0;
+    // 1e-12 s of tolerance, 1e-9 m at 1000 m/s; GJK to ~1e-9 m: 1e-11 s
+    assert!((hit.time - exact).abs() < 1e-11, "{} vs {exact}", hit.time);
+    // already touching at the start: refused
+    let touching = |_: f64| Ok((Isometry3::translation(4.95, 0.0, 0.5), at_wall));
+    assert_eq!(
+        first_contact(&ball, &wall, touching, 0.0, 1.0, 1.0, &options(ToiMethod::Bisection, 1e-9)).unwrap_err().name,
+        "t0"
+    );
+}
