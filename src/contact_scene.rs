@@ -55,6 +55,9 @@ fn feature_code(f: Feature) -> u64 {
 pub(crate) struct Found {
     pub contact: tumble_contact::Contact,
     pub key: ContactKey,
+    /// The contact's points on A's and B's surfaces (world).
+    pub point_a: Point3<f64>,
+    pub point_b: Point3<f64>,
 }
 
 /// The colliders of a world and a broad phase that persists from call to call.
@@ -125,6 +128,18 @@ impl ContactScene {
         self.layout.particles + self.layout.bodies + self.static_poses.len()
     }
 
+    /// The size of the scene in state y: the diagonal of the box around every finite collider (at least 1e-3).
+    pub fn size(&self, y: &[f64]) -> f64 {
+        let poses = self.poses(y);
+        let zeros = vec![0.0; self.actors()];
+        let boxes: Vec<Aabb> = self.boxes(&poses, &zeros).into_iter().filter(|b| b.is_finite()).collect();
+        boxes
+            .iter()
+            .skip(1)
+            .fold(boxes.first().copied(), |acc, b| acc.map(|a| a.merged(b)))
+            .map_or(1e-3, |b| (b.max - b.min).norm().max(1e-3))
+    }
+
     /// The pose of every actor in state y (particles: translation only).
     pub fn poses(&self, y: &[f64]) -> Vec<Isometry3<f64>> {
         let l = self.layout;
@@ -165,21 +180,48 @@ impl ContactScene {
     pub fn find(&mut self, poses: &[Isometry3<f64>], margins: &[f64], base: f64) -> Vec<Found> {
         let grown: Vec<f64> = margins.iter().map(|m| m + 0.5 * base).collect();
         let boxes = self.boxes(poses, &grown);
-        let pairs = self.broad.update(&boxes).expect("boxes are well formed").to_vec();
-        let mut out = Vec::new();
-        for (i, j) in pairs {
-            let (i, j) = (i as usize, j as usize);
-            if !self.may_touch(i, j) {
-                continue;
-            }
+        let pairs = self.broad_pairs(&boxes);
+        self.pair_contacts(&pairs, poses, |a, b| grown[a] + grown[b])
+    }
+
+    /// The pairs of colliders (first one moving) whose boxes, swept from `from` to `to` and grown by each actor's
+    /// `margins` entry, overlap and that may touch.
+    pub fn swept_pairs(
+        &mut self,
+        from: &[Isometry3<f64>],
+        to: &[Isometry3<f64>],
+        margins: &[f64],
+    ) -> Vec<(usize, usize)> {
+        let boxes: Vec<Aabb> =
+            self.boxes(from, margins).iter().zip(self.boxes(to, margins)).map(|(a, b)| a.merged(&b)).collect();
+        self.broad_pairs(&boxes)
+    }
+
+    fn broad_pairs(&mut self, boxes: &[Aabb]) -> Vec<(usize, usize)> {
+        let pairs = self.broad.update(boxes).expect("boxes are well formed").to_vec();
+        pairs
+            .into_iter()
+            .map(|(i, j)| (i as usize, j as usize))
+            .filter(|&(i, j)| self.may_touch(i, j))
             // Keep the moving actor as A when one side is static.
-            let (i, j) = if matches!(self.colliders[i].actor, Actor::Static(_)) { (j, i) } else { (i, j) };
+            .map(|(i, j)| if matches!(self.colliders[i].actor, Actor::Static(_)) { (j, i) } else { (i, j) })
+            .collect()
+    }
+
+    /// The contacts of the collider pairs `pairs` at `poses`, each pair within `prediction(actor_a, actor_b)`.
+    pub fn pair_contacts(
+        &mut self,
+        pairs: &[(usize, usize)],
+        poses: &[Isometry3<f64>],
+        prediction: impl Fn(usize, usize) -> f64,
+    ) -> Vec<Found> {
+        let mut out = Vec::new();
+        for &(i, j) in pairs {
             self.checks += 1;
             let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
             let (ia, ib) = (self.index(ca.actor), self.index(cb.actor));
             let (pa, pb) = (poses[ia] * ca.offset, poses[ib] * cb.offset);
-            let prediction = grown[ia] + grown[ib];
-            let Ok(found) = contacts(&ca.shape, &pa, &cb.shape, &pb, prediction) else { continue };
+            let Ok(found) = contacts(&ca.shape, &pa, &cb.shape, &pb, prediction(ia, ib)) else { continue };
             let material = ca.material.combine(&cb.material);
             for c in found {
                 let motion = match c.kind {
@@ -195,7 +237,12 @@ impl ContactScene {
                     // vertex-face, and edge-edge (whose edges parry does not hand us): the normal turns with B
                     _ => tumble_contact::NormalMotion::WithB,
                 };
-                let point = Point3::from((c.point_a.coords + c.point_b.coords) * 0.5);
+                // The contact point: the vertex (or curved point) that carries it.
+                let point = match c.kind {
+                    ContactKind::FaceVertex => c.point_b,
+                    ContactKind::VertexFace => c.point_a,
+                    _ => Point3::from((c.point_a.coords + c.point_b.coords) * 0.5),
+                };
                 let contact = tumble_contact::Contact {
                     a: ia,
                     b: ib,
@@ -210,10 +257,16 @@ impl ContactScene {
                     colliders: (i as u32, j as u32),
                     features: (feature_code(c.feature_a), feature_code(c.feature_b)),
                 };
-                out.push(Found { contact, key });
+                out.push(Found { contact, key, point_a: c.point_a, point_b: c.point_b });
             }
         }
         out
+    }
+
+    /// The shapes of a collider pair.
+    pub fn shapes(&self, i: usize, j: usize) -> (&Shape, &Shape, Isometry3<f64>, Isometry3<f64>, usize, usize) {
+        let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
+        (&ca.shape, &cb.shape, ca.offset, cb.offset, self.index(ca.actor), self.index(cb.actor))
     }
 
     /// How far any point of each actor can travel in time `h` at the velocities of `states` (one per actor):

@@ -21,7 +21,7 @@ impl Model {
         BodyKin { rot, omega: inv_inertia * get3(y, l.bl(j)), velocity: get3(y, l.bp(j)) * b.inv_mass }
     }
 
-    fn update_kin(&mut self, y: &[f64]) {
+    pub(crate) fn update_kin(&mut self, y: &[f64]) {
         for j in 0..self.bodies.len() {
             self.kin[j] = self.body_kin(y, j);
         }
@@ -135,6 +135,8 @@ impl Model {
                 }
             }
         }
+        #[cfg(feature = "contact")]
+        self.add_resting_forces(y, dp)?;
         Ok(())
     }
 

@@ -17,6 +17,8 @@
 
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+#[cfg(feature = "contact")]
+mod accurate;
 mod body;
 mod collider;
 #[cfg(feature = "contact")]
@@ -34,12 +36,16 @@ mod model;
 mod particle;
 mod plan;
 mod report;
+#[cfg(feature = "contact")]
+mod resting_set;
 mod run;
 pub mod scenes;
 #[cfg(feature = "contact")]
 mod sleep;
 mod spring;
 mod world;
+#[cfg(feature = "contact")]
+mod world_accurate;
 #[cfg(feature = "contact")]
 mod world_fast;
 mod world_jacobian;

@@ -110,6 +110,9 @@ pub(crate) struct Model {
     /// Use the semidefinite spring blocks (see `world_jacobian.rs`).
     pub definite_springs: bool,
     pub velocity_dependent: bool,
+    /// Resting contacts whose forces the right-hand side adds (accurate mode).
+    #[cfg(feature = "contact")]
+    pub resting: Option<crate::resting_set::RestingSet>,
 }
 
 /// A compiled model with the handles of its rows: particles and dynamic bodies in state order.
@@ -201,6 +204,8 @@ pub(crate) fn compile(
         jacobian: if layout.bodies > 0 || has_callbacks { JacobianKind::Colored } else { JacobianKind::Analytic },
         definite_springs: false,
         velocity_dependent,
+        #[cfg(feature = "contact")]
+        resting: None,
     };
     Compiled { model, particles: particle_handles, bodies: body_handles }
 }

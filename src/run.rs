@@ -42,6 +42,8 @@ pub struct Run {
     pub step_sizes: Vec<f64>,
     /// Largest penetration among the contacts at each frame (m; zero without contact).
     pub penetration: Vec<f64>,
+    /// Times of the contact events of accurate mode (collisions located by bisection, and drift corrections).
+    pub contact_events: Vec<f64>,
     /// What the run cost.
     pub report: WorldReport,
     pub(crate) sources: Vec<BodySource>,
@@ -71,6 +73,7 @@ impl Run {
             step_times: Vec::new(),
             step_sizes: Vec::new(),
             penetration: Vec::new(),
+            contact_events: Vec::new(),
             report: WorldReport::new(method),
             sources,
         }

@@ -20,6 +20,9 @@ use tumble_integrate::{Integrator, Method, Settings};
 pub(crate) struct Engine {
     pub(crate) compiled: Compiled,
     pub(crate) integrator: Integrator<Model>,
+    /// The contact stage of accurate mode, when the scene has colliders that can touch.
+    #[cfg(feature = "contact")]
+    pub(crate) accurate: Option<crate::accurate::Accurate>,
 }
 
 /// Which Jacobian the springs contribute to implicit methods.
@@ -509,7 +512,7 @@ impl World {
     }
 
     /// The engine, compiled if the structure changed and given any state the user set.
-    fn engine(&mut self) -> Result<&mut Engine, WorldError> {
+    pub(crate) fn engine(&mut self) -> Result<&mut Engine, WorldError> {
         match &mut self.engine {
             Some(e) => {
                 if self.state_changed {
@@ -523,7 +526,14 @@ impl World {
                 let scale = y.iter().fold(1.0f64, |m, v| m.max(v.abs()));
                 let settings = self.settings.clone().divergence_limit(self.divergence_factor * scale);
                 let integrator = Integrator::new(&mut compiled.model, settings, self.time, &y)?;
-                self.engine = Some(Engine { compiled, integrator });
+                #[cfg(feature = "contact")]
+                let accurate = self.accurate_stage(&compiled);
+                self.engine = Some(Engine {
+                    compiled,
+                    integrator,
+                    #[cfg(feature = "contact")]
+                    accurate,
+                });
             }
         }
         self.state_changed = false;
@@ -536,6 +546,8 @@ impl World {
         if let Some(e) = &mut self.engine {
             r.integrator = e.integrator.take_report();
             r.forces = std::mem::take(&mut e.compiled.model.counters);
+            #[cfg(feature = "contact")]
+            crate::world_accurate::take_contact_report(e, &mut r);
         }
         self.totals.merge(&r);
         r
@@ -563,6 +575,14 @@ impl World {
             return Ok(());
         }
         let e = self.engine()?;
+        #[cfg(feature = "contact")]
+        if e.accurate.is_some() {
+            let result = crate::world_accurate::advance(e, t_end, t_end, &[], |_, _, _, _| {}, |_| {});
+            self.collect_report();
+            result?;
+            self.store_state();
+            return Ok(());
+        }
         let result = e.integrator.advance_to(&mut e.compiled.model, t_end, &[], |_, _, _| {});
         self.collect_report();
         result?;
@@ -619,6 +639,7 @@ impl World {
             let c = self.compile();
             for &t in &times {
                 run.record(&c.model, t, &[]);
+                run.penetration.push(0.0);
             }
             self.time = t_end;
             return Ok(run);
@@ -631,11 +652,34 @@ impl World {
         let chunk = times.len().div_ceil(100).max(1);
         let mut outcome = Ok(());
         let mut done = 0;
+        let mut contact_events: Vec<f64> = Vec::new();
         while done < times.len() {
             let pause = times[(done + chunk).min(times.len()) - 1];
-            let result = e
-                .integrator
-                .advance_until(&mut e.compiled.model, t_end, pause, &times[done..], |m, t, y| run.record(m, t, y));
+            #[cfg(feature = "contact")]
+            let result = if e.accurate.is_some() {
+                let (frames, events) = (&mut run, &mut contact_events);
+                crate::world_accurate::advance(
+                    e,
+                    t_end,
+                    pause,
+                    &times[done..],
+                    |m, t, y, penetration| {
+                        frames.record(m, t, y);
+                        frames.penetration.push(penetration);
+                    },
+                    |t| events.push(t),
+                )
+            } else {
+                e.integrator.advance_until(&mut e.compiled.model, t_end, pause, &times[done..], |m, t, y| {
+                    run.record(m, t, y);
+                    run.penetration.push(0.0);
+                })
+            };
+            #[cfg(not(feature = "contact"))]
+            let result = e.integrator.advance_until(&mut e.compiled.model, t_end, pause, &times[done..], |m, t, y| {
+                run.record(m, t, y);
+                run.penetration.push(0.0);
+            });
             for (t, h) in e.integrator.take_step_log() {
                 run.step_times.push(t);
                 run.step_sizes.push(h);
@@ -653,6 +697,7 @@ impl World {
             }
         }
         e.integrator.log_steps(false);
+        run.contact_events = contact_events;
         if outcome.is_err() {
             e.integrator.set_state(t0, &y0).expect("the starting state was valid");
         }

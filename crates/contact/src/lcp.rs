@@ -190,6 +190,20 @@ pub(crate) fn solve(
     if n == 0 {
         return Ok(LcpSolution { f: vec![], w: vec![], iterations: 0, residual: 0.0 });
     }
+    if n == 1 {
+        // One contact: f = max(0, -q / a), no solver needed (0 iterations).
+        let a11 = a.diagonal()[0];
+        if !(a11 > 0.0) {
+            return Err(ContactError::Solver {
+                problem,
+                status: format!("a 1x1 system with a = {a11}"),
+                iterations: 0,
+            });
+        }
+        let f = (-q[0] / a11).max(0.0);
+        let w = a11 * f + q[0];
+        return Ok(LcpSolution { f: vec![f], w: vec![w], iterations: 0, residual: 0.0 });
+    }
     // Redundant contacts (a box's four corners) leave A singular and the split of the load among them undetermined
     // by the equations; the interior point ends near the centre of the set of solutions (the symmetric split for a
     // symmetric box, to about 1e-8).

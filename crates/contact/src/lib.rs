@@ -47,6 +47,6 @@ pub use friction::{velocity_step, velocity_step_lagged, StepSettings, VelocitySt
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
 pub use islands::islands;
 pub use lcp::SolverSettings;
-pub use projection::position_correction;
+pub use projection::{position_correction, Correction};
 pub use resting::{contact_wrenches, resting_forces, RestingForces};
 pub use simultaneous::{collision_impulses, Impulses};

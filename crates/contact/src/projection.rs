@@ -18,11 +18,13 @@ pub fn position_correction(
     bodies: &[BodyState],
     contacts: &[Contact],
     settings: &SolverSettings,
-) -> Result<Vec<BodyVelocity>, ContactError> {
+) -> Result<Correction, ContactError> {
     check_all(bodies, contacts)?;
     settings.check()?;
     let mut lambda = vec![0.0; contacts.len()];
+    let mut solver_calls = 0;
     for island in islands(bodies, contacts) {
+        solver_calls += (island.len() > 1) as usize;
         let system = NormalSystem::new(bodies, contacts, &island);
         let d: Vec<f64> = island.iter().map(|&i| contacts[i].distance).collect();
         let sol = solve(&system.delassus(bodies), &d, settings, "position-correction")?;
@@ -36,5 +38,14 @@ pub fn position_correction(
         .map(|b| BodyState { velocity: nalgebra::Vector3::zeros(), angular_velocity: nalgebra::Vector3::zeros(), ..*b })
         .collect();
     let pushes: Vec<_> = contacts.iter().zip(&lambda).map(|(c, &l)| c.normal.into_inner() * l).collect();
-    Ok(velocities_after(&at_rest, contacts, &pushes))
+    Ok(Correction { moves: velocities_after(&at_rest, contacts, &pushes), solver_calls })
+}
+
+/// A position correction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Correction {
+    /// Per body: displacement (`linear`) and rotation vector (`angular`).
+    pub moves: Vec<BodyVelocity>,
+    /// clarabel calls (islands of two or more contacts).
+    pub solver_calls: usize,
 }

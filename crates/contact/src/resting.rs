@@ -19,6 +19,8 @@ pub struct RestingForces {
     pub accelerations: Vec<f64>,
     /// clarabel iterations, summed over islands.
     pub iterations: u32,
+    /// clarabel calls (islands of two or more contacts; a lone contact is solved in closed form).
+    pub solver_calls: usize,
     /// The largest relative complementarity residual over islands.
     pub residual: f64,
 }
@@ -33,7 +35,7 @@ pub fn resting_forces(
     settings.check()?;
     let mut forces = vec![0.0; contacts.len()];
     let mut accelerations = vec![0.0; contacts.len()];
-    let (mut iterations, mut residual) = (0, 0.0f64);
+    let (mut iterations, mut residual, mut solver_calls) = (0, 0.0f64, 0);
     for island in islands(bodies, contacts) {
         let system = NormalSystem::new(bodies, contacts, &island);
         let b: Vec<f64> = island.iter().map(|&i| free_normal_acceleration(&contacts[i], bodies)).collect();
@@ -43,9 +45,10 @@ pub fn resting_forces(
             accelerations[i] = sol.w[k];
         }
         iterations += sol.iterations;
+        solver_calls += (island.len() > 1) as usize;
         residual = residual.max(sol.residual);
     }
-    Ok(RestingForces { forces, accelerations, iterations, residual })
+    Ok(RestingForces { forces, accelerations, iterations, solver_calls, residual })
 }
 
 /// The total contact force and torque (about the centre of mass) on every body from force magnitudes `forces`.

@@ -180,13 +180,13 @@ fn position_correction_lifts_a_sunken_box_out_by_the_least_motion() {
     use tumble_contact::position_correction;
     let (bodies, contacts) = stack(&[2.0]);
     let sunk: Vec<Contact> = contacts.iter().map(|c| c.with_distance(-1e-3)).collect();
-    let d = position_correction(&bodies, &sunk, &SolverSettings::default()).unwrap();
+    let d = position_correction(&bodies, &sunk, &SolverSettings::default()).unwrap().moves;
     // 1e-9 m: the interior point's 1e-12 gap on a problem whose redundant corners leave its solution set flat (3e-11
     // seen)
     assert!((d[1].linear - Vector3::new(0.0, 0.0, 1e-3)).norm() < 1e-9 && d[1].angular.norm() < 1e-9, "{:?}", d[1]);
     let mut one = contacts.clone();
     one[0].distance = -1e-3;
-    let d = position_correction(&bodies, &one, &SolverSettings::default()).unwrap();
+    let d = position_correction(&bodies, &one, &SolverSettings::default()).unwrap().moves;
     for c in &one {
         let r = c.point - bodies[1].position;
         let lift = c.normal.dot(&(d[1].linear + d[1].angular.cross(&r)));
