@@ -208,18 +208,31 @@ pub(crate) fn solve(
     // by the equations; the interior point ends near the centre of the set of solutions (the symmetric split for a
     // symmetric box, to about 1e-8).
     let diagonal = a.diagonal();
-    let p = a.csc();
+    // clarabel's absolute tolerances assume data of order one: scale A by its largest diagonal entry and q by its
+    // largest entry (an impulse between bodies that barely move has q near 1e-5), f by the inverse.
+    let a_scale = diagonal.iter().fold(0.0f64, |m, d| m.max(*d));
+    let q_scale = q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if !(a_scale > 0.0) {
+        return Err(ContactError::Solver { problem, status: "A has no positive diagonal".into(), iterations: 0 });
+    }
+    if q_scale == 0.0 {
+        return Ok(LcpSolution { f: vec![0.0; n], w: vec![0.0; n], iterations: 0, residual: 0.0 });
+    }
+    let mut scaled = a.clone();
+    scaled.vals.iter_mut().for_each(|v| *v /= a_scale);
+    let p = scaled.csc();
+    let q_unit: Vec<f64> = q.iter().map(|v| v / q_scale).collect();
     // f >= 0 as -f + s = 0, s in the nonnegative cone.
     let neg_identity = CscMatrix::new(n, n, (0..=n).collect(), (0..n).collect(), vec![-1.0; n]);
     let cones = [NonnegativeConeT(n)];
     let ((f, w), residual, iterations) = with_retries(settings, problem, |s| {
-        let mut solver = DefaultSolver::new(&p, q, &neg_identity, &vec![0.0; n], &cones, s.clarabel(problem)?)
+        let mut solver = DefaultSolver::new(&p, &q_unit, &neg_identity, &vec![0.0; n], &cones, s.clarabel(problem)?)
             .map_err(|e| ContactError::Solver { problem, status: format!("{e:?}"), iterations: 0 })?;
         solver.solve();
         let sol = &solver.solution;
         usable(sol.status, sol.iterations, problem)?;
         // Interior points stay strictly positive: clamp the last ~1e-12 of negative rounding.
-        let f: Vec<f64> = sol.x.iter().map(|&v| v.max(0.0)).collect();
+        let f: Vec<f64> = sol.x.iter().map(|&v| (v * q_scale / a_scale).max(0.0)).collect();
         let af = a.mul(&f);
         let w: Vec<f64> = af.iter().zip(q).map(|(x, y)| x + y).collect();
         let r = residual(&f, &w, q, &diagonal);

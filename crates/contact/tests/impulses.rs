@@ -176,3 +176,24 @@ fn contacts_are_classified_by_relative_normal_velocity_with_a_scene_scaled_toler
     assert_eq!(classify(&at(0.5 * tol), &c, tol), ContactClass::Resting);
     assert_eq!(classify(&at(-0.5 * tol), &c, tol), ContactClass::Resting);
 }
+
+#[test]
+fn impulses_between_bodies_that_barely_move_are_solved_on_the_problems_own_scale() {
+    // Regression: a box settling on the floor touched it at two corners closing at 6e-5 m/s and 1e-11 m/s; with
+    // clarabel's absolute tolerances of 1e-12 on data that small the answer missed complementarity by 0.9. The
+    // problem is now scaled to order one before the solve.
+    let r = 0.4;
+    let inertia = Matrix3::from_diagonal(&Vector3::new(0.4, 0.8, 1.04));
+    let mut b = BodyState::rigid(24.0, inertia, Point3::new(-2.0, 0.0, 0.1));
+    b.velocity = Vector3::new(0.0, 0.0, -0.0047);
+    b.angular_velocity = Vector3::new(-3e-4, -0.0157, 0.0);
+    let bodies = [b, BodyState::fixed(Point3::origin())];
+    let down = Unit::new_normalize(Vector3::new(0.0, 0.0, -1.0));
+    let contacts = [
+        Contact::new(0, 1, Point3::new(-2.0 + r * 0.75, 0.2, 0.0), down),
+        Contact::new(0, 1, Point3::new(-2.0 + r * 0.745, -0.2, 0.0), down),
+    ];
+    let out = collision_impulses(&bodies, &contacts, &SolverSettings::default()).unwrap();
+    assert!(out.relative_velocities.iter().all(|v| *v > -1e-12), "{:?}", out.relative_velocities);
+    assert!(out.residual < 1e-6);
+}

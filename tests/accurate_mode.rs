@@ -1,0 +1,146 @@
+//! Accurate mode (event-driven) against closed forms: a ball with e = 0.8 bounces to 0.64^n m at the predicted
+//! times and comes to rest; a box rests on the floor without drifting; a fast sphere does not pass through a thin
+//! wall; energy never grows; and the run report shows zero for the stages a scene does not need.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use tumble::{Material, Method, ParticleBuilder, RigidBodyBuilder, Settings, Shape, World};
+
+const G: f64 = 9.81;
+
+fn ball_world(e: f64, r: f64, drop: f64) -> (World, tumble::BodyHandle) {
+    let mut w = World::new();
+    w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-10, 1e-12)).unwrap();
+    w.add_ground(0.0, Material { restitution: e, friction: 0.0 }).unwrap();
+    let shape = Shape::sphere(r).unwrap();
+    let b = w
+        .add_body(
+            RigidBodyBuilder::from_shape(shape, 1000.0)
+                .position(Vector3::new(0.0, 0.0, drop + r))
+                .restitution(e)
+                .friction(0.0),
+        )
+        .unwrap();
+    (w, b)
+}
+
+#[test]
+fn a_ball_with_e_0_8_bounces_to_0_64_to_the_n_and_comes_to_rest() {
+    let (e, r) = (0.8, 0.1);
+    let (mut w, ball) = ball_world(e, r, 1.0);
+    let run = w.run(6.0, 1e-3).unwrap();
+    // Closed form: first impact at sqrt(2 h / g), then flights of 2 e^n v1 / g.
+    let v1 = (2.0 * G).sqrt();
+    let mut exact = vec![v1 / G];
+    for n in 1..5 {
+        exact.push(exact[n - 1] + 2.0 * e.powi(n as i32) * v1 / G);
+    }
+    let tol = 1e-10; // the bisection tolerance (AccurateSettings::time_tolerance)
+    for (n, (&t, &x)) in run.contact_events.iter().zip(&exact).enumerate() {
+        // Each bounce is cut at most `tol` before its contact and restarts from there, shifting the next one by
+        // at most (1 + 1/e) tol: the error after n bounces is at most n (1 + 1/e) tol.
+        let bound = (n + 1) as f64 * (1.0 + 1.0 / e) * tol;
+        assert!((t - x).abs() <= bound, "impact {}: {t} vs {x} (bound {bound:e})", n + 1);
+    }
+    // Apex of flight n from any frame inside it (ballistic): z - r + v^2 / (2 g).
+    for n in 1..=5 {
+        let mid = 0.5 * (exact[n - 1] + if n < 5 { exact[n] } else { exact[4] + 0.01 });
+        let f = (mid / 1e-3).round() as usize;
+        let (z, vz) = (run.body_position(f, 1).z, run.body_velocity(f, 1).z);
+        let apex = z - r + vz * vz / (2.0 * G);
+        assert!((apex - e.powi(2 * n as i32)).abs() < 1e-6, "apex {n}: {apex} vs {}", e.powi(2 * n as i32));
+    }
+    // At rest on the floor (to the 1e-7 m contact distance), after finitely many bounces.
+    let b = w.body(ball).unwrap();
+    assert!(
+        b.velocity().norm() < 1e-9 && (b.position().z - r).abs() < 1e-6,
+        "z {} v {}",
+        b.position().z,
+        b.velocity().norm()
+    );
+    assert!(run.report.collisions < 60, "{} collisions", run.report.collisions);
+}
+
+#[test]
+fn a_box_resting_on_the_floor_drifts_less_than_1e_9_m_in_10_s() {
+    let mut w = World::new();
+    w.add_ground(0.0, Material::default()).unwrap();
+    let shape = Shape::cuboid(Vector3::new(0.4, 0.3, 0.2)).unwrap();
+    let b = w.add_body(RigidBodyBuilder::from_shape(shape, 700.0).position(Vector3::new(0.0, 0.0, 0.2))).unwrap();
+    let run = w.run(10.0, 0.5).unwrap();
+    let drift =
+        (0..run.frames()).map(|f| (run.body_position(f, 1) - Vector3::new(0.0, 0.0, 0.2)).norm()).fold(0.0, f64::max);
+    assert!(drift < 1e-9, "drift {drift}");
+    assert!(w.body(b).unwrap().orientation().angle() < 1e-9);
+    assert!(run.report.qp_solves > 0, "the box rests on four corners: a QP");
+}
+
+#[test]
+fn a_sphere_at_1000_m_per_s_does_not_pass_through_a_1_cm_wall() {
+    let mut w = World::new();
+    w.set_gravity(Vector3::zeros()).unwrap();
+    let wall = Shape::cuboid(Vector3::new(0.005, 1.0, 1.0)).unwrap();
+    w.add_body(RigidBodyBuilder::fixed(Some(wall)).position(Vector3::new(5.0, 0.0, 0.0)).restitution(0.5)).unwrap();
+    let ball = Shape::sphere(0.05).unwrap();
+    let b = w
+        .add_body(RigidBodyBuilder::from_shape(ball, 7800.0).velocity(Vector3::new(1000.0, 0.0, 0.0)).restitution(0.5))
+        .unwrap();
+    let run = w.run(0.05, 1.0 / 60.0).unwrap();
+    // It bounces back at 500 m/s from the wall's face at x = 4.995 - 0.05, reached at t = 4.945 ms.
+    let v = w.body(b).unwrap().velocity();
+    assert!((v.x + 500.0).abs() < 1e-6, "velocity {v}");
+    let t_hit = 4.945e-3;
+    assert!((run.contact_events[0] - t_hit).abs() < 1e-9, "hit at {}", run.contact_events[0]);
+}
+
+#[test]
+fn energy_never_grows_among_bouncing_and_resting_bodies() {
+    // Two balls (e = 1 and 0.5) and a tilted box dropped on the floor: between frames the total energy never rises
+    // by more than 1e-9 of the starting energy (the integrator's 1e-10 tolerance, and position corrections that lift
+    // bodies by up to the 1e-7 m contact distance).
+    let mut w = World::new();
+    w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-10, 1e-12)).unwrap();
+    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.0 }).unwrap();
+    for (k, e) in [1.0, 0.5].iter().enumerate() {
+        let s = Shape::sphere(0.2).unwrap();
+        w.add_body(
+            RigidBodyBuilder::from_shape(s, 500.0)
+                .position(Vector3::new(2.0 * k as f64, 0.0, 1.0 + 0.3 * k as f64))
+                .restitution(*e),
+        )
+        .unwrap();
+    }
+    let s = Shape::cuboid(Vector3::new(0.3, 0.2, 0.1)).unwrap();
+    w.add_body(
+        RigidBodyBuilder::from_shape(s, 500.0)
+            .position(Vector3::new(-2.0, 0.0, 0.8))
+            .orientation(UnitQuaternion::from_euler_angles(0.2, 0.1, 0.0))
+            .restitution(0.5),
+    )
+    .unwrap();
+    let run = w.run(3.0, 1.0 / 120.0).unwrap();
+    let e0 = run.energy(0);
+    for f in 1..run.frames() {
+        assert!(
+            run.energy(f) <= run.energy(f - 1) + 1e-9 * e0,
+            "frame {f}: {} -> {}",
+            run.energy(f - 1),
+            run.energy(f)
+        );
+    }
+}
+
+#[test]
+fn the_report_counts_only_stages_that_ran() {
+    // No shapes: no collision checks at all.
+    let mut w = World::new();
+    w.add_particle(ParticleBuilder::new(1.0).velocity(Vector3::new(1.0, 0.0, 0.0))).unwrap();
+    w.add_body(RigidBodyBuilder::new(2.0, nalgebra::Matrix3::identity())).unwrap();
+    let run = w.run(1.0, 0.1).unwrap();
+    assert_eq!((run.report.collision_checks, run.report.qp_solves, run.report.collisions), (0, 0, 0));
+    // Bouncing balls that never come to rest in the run: every impact is a lone contact, solved in closed form.
+    let (mut w, _) = ball_world(1.0, 0.1, 1.0);
+    let run = w.run(2.0, 0.01).unwrap();
+    assert!(run.report.collisions >= 2, "{} collisions", run.report.collisions);
+    assert!(run.report.collision_checks > 0);
+    assert_eq!(run.report.qp_solves, 0);
+}
