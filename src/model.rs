@@ -21,6 +21,7 @@ pub(crate) struct ParticleProps {
 pub(crate) struct BodyProps {
     pub mass: f64,
     pub inv_mass: f64,
+    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub inertia: Matrix3<f64>,
     pub inv_inertia: Matrix3<f64>,
     pub linear_damping: f64,

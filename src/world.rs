@@ -479,13 +479,25 @@ impl World {
         add(!m.springs.is_empty(), "springs");
         add(m.loads.iter().any(|l| !matches!(l, CompiledLoad::Callback { .. })), "loads");
         add(m.loads.iter().any(|l| matches!(l, CompiledLoad::Callback { .. })), "callbacks");
+        #[cfg(feature = "contact")]
+        let contact = crate::contact_scene::ContactScene::build(l, &self.particles, &self.bodies, &c.bodies).is_some();
+        #[cfg(not(feature = "contact"))]
+        let contact = false;
+        let fast = matches!(self.mode, Mode::Fast(_));
+        add(contact, "collision-detection");
+        add(contact && !fast, "bisection");
+        add(contact && !fast, "impulses");
+        add(contact && !fast, "resting-contact");
+        add(contact && fast, "contact-cone-program");
+        add(contact && matches!(self.mode, Mode::Fast(f) if f.sleep), "sleeping");
         add(l.dim() > 0, "integrate");
-        let uses_jacobian = l.dim() > 0 && self.settings.method.uses_jacobian();
+        let uses_jacobian = l.dim() > 0 && self.settings.method.uses_jacobian() && !fast;
         add(uses_jacobian, "jacobian");
         Plan {
             stages,
             state_len: l.dim(),
-            method: self.settings.method.name(),
+            mode: self.mode.name(),
+            method: if fast { "fast (semi-implicit Euler)" } else { self.settings.method.name() },
             jacobian: uses_jacobian.then_some(match (m.jacobian, m.definite_springs) {
                 (JacobianKind::Analytic, false) => "analytic-sparse",
                 (JacobianKind::Analytic, true) => "analytic-sparse-definite",
@@ -652,6 +664,7 @@ impl World {
         let chunk = times.len().div_ceil(100).max(1);
         let mut outcome = Ok(());
         let mut done = 0;
+        #[cfg_attr(not(feature = "contact"), allow(unused_mut))]
         let mut contact_events: Vec<f64> = Vec::new();
         while done < times.len() {
             let pause = times[(done + chunk).min(times.len()) - 1];

@@ -18,13 +18,29 @@ fn a_particle_world_carries_no_rotation_state() {
     for absent in ["rigid-bodies", "rotation", "springs", "loads", "callbacks", "damping", "jacobian"] {
         assert!(!plan.has(absent), "{absent} in {plan}");
     }
-    let b = w.add_body(RigidBodyBuilder::from_shape(Shape::sphere(1.0).unwrap(), 1.0)).unwrap();
+    for absent in ["collision-detection", "bisection", "impulses", "resting-contact", "contact-cone-program"] {
+        assert!(!plan.has(absent), "{absent} in {plan}: nothing has a shape");
+    }
+    let b = w
+        .add_body(RigidBodyBuilder::from_shape(Shape::sphere(1.0).unwrap(), 1.0).position(Vector3::new(0.0, 0.0, 5.0)))
+        .unwrap();
+    let plan = w.plan();
+    assert_eq!(plan.state_len, 6 * 5 + 13);
+    assert!(plan.has("rigid-bodies") && plan.has("rotation"));
+    assert!(!plan.has("collision-detection"), "one shape alone touches nothing: {plan}");
     w.add_body(RigidBodyBuilder::fixed(Some(Shape::half_space(Vector3::z()).unwrap()))).unwrap();
     let plan = w.plan();
     assert_eq!(plan.state_len, 6 * 5 + 13, "a static body adds no state");
-    assert!(plan.has("rigid-bodies") && plan.has("rotation"));
+    for stage in ["collision-detection", "bisection", "impulses", "resting-contact"] {
+        assert!(plan.has(stage), "{stage} missing from {plan}");
+    }
+    w.set_mode(tumble::Mode::fast(0.01)).unwrap();
+    let fast = w.plan();
+    assert!(fast.has("contact-cone-program") && fast.has("sleeping") && !fast.has("bisection"), "{fast}");
+    w.set_mode(tumble::Mode::default()).unwrap();
     w.step(0.1).unwrap();
-    assert!(w.body(b).unwrap().position().z < 0.0);
+    let z = w.body(b).unwrap().position().z;
+    assert!((z - (5.0 - 0.5 * 9.81 * 0.01)).abs() < 1e-9, "falling freely: {z}");
 }
 
 /// Explicit methods never form a Jacobian; implicit ones do, analytically for particles and springs, by coloured
