@@ -227,6 +227,7 @@ impl Accurate {
 
     /// Per actor: a bound on the speed of its points over the step (the larger of the two ends, +10% for the
     /// interpolant), and how fast its velocity changes (|v1 - v0| / 4, the bulge of its path per unit time).
+    #[allow(clippy::needless_range_loop)]
     fn speeds(&self, model: &Model, y0: &[f64], y1: &[f64], statics: &[Isometry3<f64>]) -> Vec<(f64, f64)> {
         let l = model.layout;
         let mut radius = vec![0.0f64; self.scene.actors()];
@@ -254,6 +255,7 @@ impl Accurate {
 }
 
 /// Writes the velocities of tumble-contact's bodies into state y (momenta for bodies).
+#[allow(clippy::needless_range_loop)]
 fn write_velocities(model: &Model, y: &mut [f64], v: &[tumble_contact::BodyVelocity]) {
     let l = model.layout;
     for i in 0..l.particles {
@@ -268,6 +270,7 @@ fn write_velocities(model: &Model, y: &mut [f64], v: &[tumble_contact::BodyVeloc
 }
 
 /// Moves particles and bodies by the displacements and small rotations of a position correction.
+#[allow(clippy::needless_range_loop)]
 fn shift_positions(model: &Model, y: &mut [f64], shift: &[tumble_contact::BodyVelocity]) {
     let l = model.layout;
     for i in 0..l.particles {

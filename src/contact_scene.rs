@@ -68,6 +68,8 @@ pub(crate) struct ContactScene {
     broad: SortAndSweep,
     /// Narrow-phase pair tests so far.
     pub checks: usize,
+    /// Actors that cannot move this step (static, or asleep): pairs of two are not tested.
+    pub inert: Vec<bool>,
 }
 
 fn collider_entry(actor: Actor, c: &Collider, material: Material) -> SceneCollider {
@@ -111,7 +113,9 @@ impl ContactScene {
         if moving == 0 || colliders.len() < 2 {
             return None;
         }
-        Some(ContactScene { colliders, static_poses, layout, broad: SortAndSweep::new(), checks: 0 })
+        let actors = layout.particles + layout.bodies + static_poses.len();
+        let inert = (0..actors).map(|a| a >= layout.particles + layout.bodies).collect();
+        Some(ContactScene { colliders, static_poses, layout, broad: SortAndSweep::new(), checks: 0, inert })
     }
 
     /// The index of an actor in the body arrays given to tumble-contact.
@@ -155,10 +159,14 @@ impl ContactScene {
         out
     }
 
-    /// Whether two colliders may touch at all: not on one actor, not both static, not two particles.
+    /// Whether two colliders may touch at all: not on one actor, not both static or asleep, not two particles.
     fn may_touch(&self, a: usize, b: usize) -> bool {
-        match (self.colliders[a].actor, self.colliders[b].actor) {
-            (Actor::Static(_), Actor::Static(_)) | (Actor::Particle(_), Actor::Particle(_)) => false,
+        let (x, y) = (self.colliders[a].actor, self.colliders[b].actor);
+        if self.inert[self.index(x)] && self.inert[self.index(y)] {
+            return false;
+        }
+        match (x, y) {
+            (Actor::Particle(_), Actor::Particle(_)) => false,
             (x, y) => x != y,
         }
     }

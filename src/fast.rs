@@ -118,6 +118,10 @@ impl FastEngine {
         let found = match &mut self.scene {
             Some(scene) => {
                 let c0 = Instant::now();
+                let dynamic = self.sleep.len();
+                for a in 0..dynamic {
+                    scene.inert[a] = self.sleep.asleep(a);
+                }
                 let poses = scene.poses(&self.y);
                 let reach = scene.reach(&states, h);
                 let checks = scene.checks;
@@ -199,12 +203,13 @@ impl FastEngine {
         let friction = self.settings.friction;
         let mut solves = 0;
         let mut solve = |cs: &[tumble_contact::Contact], prev: &[f64]| {
-            solves += islands(states, cs).len();
-            match friction {
+            let out = match friction {
                 FastFriction::Lagged => velocity_step_lagged(states, cs, prev, settings),
                 FastFriction::Cone => velocity_step(states, cs, settings),
             }
-            .map_err(|e| failure(t, format!("contact solve: {e}")))
+            .map_err(|e| failure(t, format!("contact solve: {e}")))?;
+            solves += out.solver_calls;
+            Ok::<_, WorldError>(out)
         };
         if friction == FastFriction::Lagged && known.iter().any(|p| p.is_none()) {
             let first = solve(contacts, &previous)?;
@@ -266,6 +271,7 @@ impl FastEngine {
     }
 
     /// Semi-implicit Euler: positions and orientations from the new velocities; momenta from them.
+    #[allow(clippy::needless_range_loop)]
     fn advance_positions(&mut self, v: &[BodyVelocity], h: f64) {
         let m = &self.compiled.model;
         let l = m.layout;

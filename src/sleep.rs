@@ -83,6 +83,7 @@ impl Sleep {
 
     /// Books a step of length h: `speeds[i]` bounds how fast any point of actor i moves. Groups whose awake members
     /// have all been still for the sleep time fall asleep.
+    #[allow(clippy::needless_range_loop)]
     pub fn update(&mut self, found: &[Found], speeds: &[f64], s: &FastSettings, h: f64) {
         let n = self.asleep.len();
         for i in 0..n {

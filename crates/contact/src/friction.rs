@@ -14,7 +14,7 @@
 use crate::body::BodyState;
 use crate::contact::{check_all, Contact};
 use crate::error::ContactError;
-use crate::friction_island::solve_island;
+use crate::friction_island::{bias, solve_island, IslandSolution};
 use crate::impulse::BodyVelocity;
 use crate::islands::islands;
 use crate::lcp::SolverSettings;
@@ -64,6 +64,8 @@ pub struct VelocityStep {
     pub friction_impulses: Vec<Vector3<f64>>,
     /// clarabel iterations, summed over islands.
     pub iterations: u32,
+    /// clarabel calls (a lone particle on something static is solved in closed form).
+    pub solver_calls: usize,
 }
 
 /// The velocity each body would have after the step under its applied force and torque alone (explicit gyroscopic
@@ -122,9 +124,20 @@ fn step(
     let mut velocities: Vec<BodyVelocity> = bodies.iter().map(|b| free_velocity(b, settings.dt)).collect();
     let mut normal_impulses = vec![0.0; contacts.len()];
     let mut friction_impulses = vec![Vector3::zeros(); contacts.len()];
-    let mut iterations = 0;
+    let (mut iterations, mut solver_calls) = (0, 0);
     for island in islands(bodies, contacts) {
-        let sol = solve_island(bodies, contacts, bounds, &island, &velocities, settings)?;
+        let lone = if island.len() == 1 {
+            lone_particle(bodies, contacts, bounds, island[0], &velocities, settings)
+        } else {
+            None
+        };
+        let sol = match lone {
+            Some(sol) => sol,
+            None => {
+                solver_calls += 1;
+                solve_island(bodies, contacts, bounds, &island, &velocities, settings)?
+            }
+        };
         for (k, v) in sol.velocities {
             velocities[k] = v;
         }
@@ -134,5 +147,50 @@ fn step(
         }
         iterations += sol.iterations;
     }
-    Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations })
+    Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations, solver_calls })
+}
+
+/// The closed form for one particle touching something static, frictionless or with lagged friction: the normal
+/// velocity is raised to the constraint's bound, and the tangential one shrinks by at most bound / m (stops if it
+/// can). With isotropic mass the two directions decouple, so this is the conic program's exact answer.
+fn lone_particle(
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    bounds: Option<&[f64]>,
+    i: usize,
+    free: &[BodyVelocity],
+    s: &StepSettings,
+) -> Option<IslandSolution> {
+    let c = &contacts[i];
+    let (k, other, sign) = match (bodies[c.a].is_dynamic(), bodies[c.b].is_dynamic()) {
+        (false, true) => (c.b, c.a, 1.0),
+        (true, false) => (c.a, c.b, -1.0),
+        _ => return None,
+    };
+    let friction_bound = match bounds {
+        _ if c.friction == 0.0 => 0.0,
+        Some(b) => c.friction * b[i],
+        None => return None,
+    };
+    if bodies[k].rotates() {
+        return None;
+    }
+    let m = 1.0 / bodies[k].inv_mass;
+    let n = c.normal.into_inner() * sign;
+    let o = &bodies[other];
+    let ground = free[other].linear + free[other].angular.cross(&(c.point - o.position));
+    let rel = free[k].linear - ground;
+    let rn = n.dot(&rel);
+    let vn = rn.max(-bias(c, bodies, s));
+    let rt = rel - n * rn;
+    let (speed, limit) = (rt.norm(), friction_bound / m);
+    let vt = if speed <= limit { Vector3::zeros() } else { rt * (1.0 - limit / speed) };
+    let linear = ground + n * vn + vt;
+    let friction_on_particle = (vt - rt) * m;
+    Some(IslandSolution {
+        velocities: vec![(k, BodyVelocity { linear, angular: Vector3::zeros() })],
+        normal: vec![m * (vn - rn)],
+        friction: vec![friction_on_particle * sign],
+        iterations: 0,
+    })
 }

@@ -108,7 +108,7 @@ pub(crate) fn solve_island(
         });
     }
     // P = M (upper triangle), q = -M v* (and the bounds on the epigraph variables).
-    let (mut pi, mut pj, mut pv) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut pi, mut pj, mut pv): (Vec<usize>, Vec<usize>, Vec<f64>) = (Vec::new(), Vec::new(), Vec::new());
     let mut q = vec![0.0; vars];
     for &k in &members {
         let (b, o, v) = (&bodies[k], offset[k], &free[k]);
@@ -181,16 +181,33 @@ pub(crate) fn solve_island(
         }
     }
     let m = rhs.len();
+    // clarabel's absolute tolerances assume data of order one: measure masses in units of the largest diagonal
+    // entry of M (m_s) and velocities in units of the largest free or target velocity (v_s). With x = v_s x',
+    // the problem 1/2 x'^T (P / m_s) x' + (q / (m_s v_s))^T x' s.t. A x' + s' = b / v_s has the same cones; the
+    // original duals (impulses) are z = m_s v_s z'. (Particles of 2 g moving at centimetres per second otherwise
+    // hit the absolute tolerances long before the answer is right.)
+    let m_s = pv.iter().zip(pi.iter().zip(&pj)).filter(|(_, (i, j))| i == j).fold(0.0f64, |acc, (v, _)| acc.max(*v));
+    let v_s = members
+        .iter()
+        .flat_map(|&k| [free[k].linear.norm(), free[k].angular.norm()])
+        .chain(rhs.iter().map(|b| b.abs()))
+        .fold(0.0f64, f64::max);
+    let (m_s, v_s) = (if m_s > 0.0 { m_s } else { 1.0 }, if v_s > 0.0 { v_s } else { 1.0 });
+    pv.iter_mut().for_each(|v| *v /= m_s);
+    let q: Vec<f64> = q.iter().map(|v| v / (m_s * v_s)).collect();
+    let rhs_scaled: Vec<f64> = rhs.iter().map(|b| b / v_s).collect();
     let p = CscMatrix::new_from_triplets(vars, vars, pi, pj, pv);
     let a = CscMatrix::new_from_triplets(m, vars, a.rows, a.cols, a.vals);
     let problem = "friction-step";
     let (solution, _, iterations) = with_retries(&s.solver, problem, |settings| {
-        let mut solver = DefaultSolver::new(&p, &q, &a, &rhs, &cones, settings.clarabel(problem)?)
+        let mut solver = DefaultSolver::new(&p, &q, &a, &rhs_scaled, &cones, settings.clarabel(problem)?)
             .map_err(|e| ContactError::Solver { problem, status: format!("{e:?}"), iterations: 0 })?;
         solver.solve();
         let sol = &solver.solution;
         usable(sol.status, sol.iterations, problem)?;
-        let out = read_back(bodies, contacts, island, &layout, &offset, &members, &sol.x, &sol.z);
+        let x: Vec<f64> = sol.x.iter().map(|v| v * v_s).collect();
+        let z: Vec<f64> = sol.z.iter().map(|v| v * m_s * v_s).collect();
+        let out = read_back(bodies, contacts, island, &layout, &offset, &members, &x, &z);
         let r = residual(bodies, contacts, island, &layout, free, &out, s);
         Ok((out, r, sol.iterations))
     })?;

@@ -24,6 +24,8 @@
 //! # Ok::<(), tumble_contact::ContactError>(())
 //! ```
 
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 mod body;
 mod classify;
 mod contact;

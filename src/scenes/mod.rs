@@ -1,5 +1,11 @@
-//! Built-in scenes: a cloth pinned at two corners, and a heavy top spinning on a pivot. Examples, benchmarks,
-//! tests and the Python module's default job start from them.
+//! Built-in scenes: a cloth pinned at two corners, and a heavy top spinning on a pivot; with contact (in
+//! `contact.rs`) a bouncing ball, a tumbling box, a row of dominoes, a pyramid of boxes and a cloth draping over a
+//! sphere. Examples, benchmarks, tests and the Python module's default job start from them.
+
+#[cfg(feature = "contact")]
+mod contact;
+#[cfg(feature = "contact")]
+pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pyramid};
 
 use crate::body::RigidBodyBuilder;
 use crate::error::WorldError;
