@@ -172,6 +172,8 @@ impl Run {
                 angular_momentum: self.angular_momentum,
                 step_times: self.step_times,
                 step_sizes: self.step_sizes,
+                penetration: self.penetration,
+                contact_events: self.contact_events,
                 particle_count: self.particles.len(),
                 body_count: self.bodies.len(),
             },
@@ -196,6 +198,8 @@ pub struct RunArrays {
     pub angular_momentum: Vec<f64>,
     pub step_times: Vec<f64>,
     pub step_sizes: Vec<f64>,
+    pub penetration: Vec<f64>,
+    pub contact_events: Vec<f64>,
     pub particle_count: usize,
     pub body_count: usize,
 }

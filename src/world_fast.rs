@@ -39,8 +39,13 @@ impl World {
         }
     }
 
-    /// Equal steps no longer than `settings.dt` from the engine's time to `t_end`.
-    fn fast_to(engine: &mut FastEngine, settings: &FastSettings, t_end: f64) -> Result<(), WorldError> {
+    /// Equal steps no longer than `settings.dt` from the engine's time to `t_end`, logged as (end time, size).
+    fn fast_to(
+        engine: &mut FastEngine,
+        settings: &FastSettings,
+        t_end: f64,
+        log: &mut Vec<(f64, f64)>,
+    ) -> Result<(), WorldError> {
         let span = t_end - engine.t;
         if span <= 0.0 {
             return Ok(());
@@ -50,6 +55,7 @@ impl World {
         for k in 1..=n {
             engine.step(h)?;
             engine.t = if k == n { t_end } else { t0 + k as f64 * h };
+            log.push((engine.t, h));
         }
         Ok(())
     }
@@ -58,7 +64,7 @@ impl World {
         let t_end = self.time + dt;
         let e = self.fast_engine(settings);
         let saved = e.snapshot();
-        let result = Self::fast_to(e, &settings, t_end);
+        let result = Self::fast_to(e, &settings, t_end, &mut Vec::new());
         if result.is_err() {
             e.restore(saved);
         }
@@ -79,8 +85,9 @@ impl World {
         let saved = e.snapshot();
         let chunk = times.len().div_ceil(100).max(1);
         let mut outcome = Ok(());
+        let mut log = Vec::new();
         for (k, &t) in times.iter().enumerate() {
-            if let Err(err) = Self::fast_to(e, &settings, t) {
+            if let Err(err) = Self::fast_to(e, &settings, t, &mut log) {
                 outcome = Err(err);
                 break;
             }
@@ -94,6 +101,7 @@ impl World {
         if outcome.is_err() {
             e.restore(saved);
         }
+        (run.step_times, run.step_sizes) = log.into_iter().unzip();
         run.report = self.collect_fast_report();
         outcome?;
         self.store_fast_state();

@@ -12,12 +12,21 @@ use pyo3::types::{PyDict, PyList};
 use std::sync::{Arc, Mutex};
 use tumble::integrate::{LinearSolver, NewtonMode};
 use tumble::{
-    Attachment, Method, ParticleBuilder, RigidBodyBuilder, RunArrays, Settings, SpringBuilder, Target, World,
-    WorldError, WorldReport, Wrench,
+    Attachment, FastSettings, Material, Method, Mode, ParticleBuilder, RigidBodyBuilder, RunArrays, Settings,
+    SpringBuilder, Target, World, WorldError, WorldReport, Wrench,
 };
 
-/// A body's shape (if any) and the shape's origin in the body frame.
-type BodyShape = (Option<Py<PyShape>>, [f64; 3]);
+/// A body's colliders: each shape with its pose in the body frame (position, quaternion w, x, y, z).
+type BodyShapes = Vec<(Py<PyShape>, [f64; 3], [f64; 4])>;
+
+/// The contact mode from the constructor's or `set_mode`'s arguments.
+fn mode_of(name: &str, dt: Option<f64>) -> PyResult<Mode> {
+    match name {
+        "accurate" => Ok(Mode::default()),
+        "fast" => Ok(Mode::Fast(FastSettings::new(dt.unwrap_or(1.0 / 240.0)))),
+        other => Err(invalid("mode", format!("expected \"accurate\" or \"fast\", got {other:?}"))),
+    }
+}
 
 /// A world of particles and rigid bodies (see the package documentation for the whole contract).
 #[pyclass(module = "tumble._tumble", name = "World", subclass)]
@@ -136,8 +145,14 @@ pub fn report_dict<'py>(py: Python<'py>, r: &WorldReport) -> PyResult<Bound<'py,
     d.set_item("error_estimate", i.error_estimate)?;
     d.set_item("qp_solves", r.qp_solves)?;
     d.set_item("collisions", r.collisions)?;
+    d.set_item("impulses", r.impulses)?;
     d.set_item("bisection_steps", r.bisection_steps)?;
+    d.set_item("collision_checks", r.collision_checks)?;
+    d.set_item("islands", r.islands)?;
+    d.set_item("sleepers", r.sleepers)?;
     d.set_item("max_penetration", r.max_penetration)?;
+    d.set_item("collision_seconds", r.collision_seconds)?;
+    d.set_item("contact_seconds", r.contact_seconds)?;
     let f = &r.forces;
     d.set_item("evaluations", f.evaluations)?;
     d.set_item("spring_evaluations", f.spring_evaluations)?;
@@ -192,6 +207,9 @@ impl PyWorld {
         d.set_item("angular_momentum", array(py, a.angular_momentum, &[f, 3])?)?;
         d.set_item("step_times", array(py, a.step_times, &[steps])?)?;
         d.set_item("step_sizes", array(py, a.step_sizes, &[steps])?)?;
+        let events = a.contact_events.len();
+        d.set_item("penetration", array(py, a.penetration, &[f])?)?;
+        d.set_item("contact_events", array(py, a.contact_events, &[events])?)?;
         d.set_item("report", report_dict(py, report)?)?;
         d.set_item("particles", PyList::new(py, handles.0)?)?;
         d.set_item("bodies", PyList::new(py, handles.1)?)?;
@@ -219,17 +237,16 @@ impl PyWorld {
         newton: bool,
         max_steps: Option<usize>,
     ) -> PyResult<Self> {
-        match mode {
-            "accurate" => {}
-            "fast" => return Err(invalid("mode", "\"fast\" (time-stepping contact) is not available in this version")),
-            other => return Err(invalid("mode", format!("expected \"accurate\" or \"fast\", got {other:?}"))),
-        }
+        let contact = mode_of(mode, dt)?;
         let mut inner = World::new();
         if let Some(g) = opt_vec3("gravity", gravity)? {
             inner.set_gravity(g).map_err(world_error)?;
         }
-        let s = settings(integrator, rtol, atol, dt, step_doubling, tolerance, linear_solver, newton, max_steps)?;
-        inner.set_integrator(s).map_err(world_error)?;
+        if matches!(contact, Mode::Accurate(_)) {
+            let s = settings(integrator, rtol, atol, dt, step_doubling, tolerance, linear_solver, newton, max_steps)?;
+            inner.set_integrator(s).map_err(world_error)?;
+        }
+        inner.set_mode(contact).map_err(world_error)?;
         Ok(PyWorld { inner: Mutex::new(inner), callback_error: Arc::new(Mutex::new(None)) })
     }
 
@@ -262,8 +279,42 @@ impl PyWorld {
                 cloth.build().map_err(world_error)?.0
             }
             "spinning_top" => tumble::scenes::spinning_top().map_err(world_error)?.0,
+            "bouncing_ball" => {
+                let d = tumble::scenes::BouncingBall::default();
+                let ball = tumble::scenes::BouncingBall {
+                    restitution: get("restitution", d.restitution)?,
+                    radius: get("radius", d.radius)?,
+                    height: get("height", d.height)?,
+                };
+                ball.build().map_err(world_error)?.0
+            }
+            "tumbling_box" => tumble::scenes::tumbling_box().map_err(world_error)?.0,
+            "dominoes" => {
+                let d = tumble::scenes::Dominoes::default();
+                let row = tumble::scenes::Dominoes {
+                    count: get("count", d.count as f64)? as usize,
+                    spacing: get("spacing", d.spacing)?,
+                };
+                row.build().map_err(world_error)?.0
+            }
+            "pyramid" => {
+                let layers = get("layers", tumble::scenes::Pyramid::default().layers as f64)? as usize;
+                tumble::scenes::Pyramid { layers }.build().map_err(world_error)?.0
+            }
+            "cloth_drape" => {
+                let d = tumble::scenes::ClothDrape::default();
+                let drape =
+                    tumble::scenes::ClothDrape { n: get("n", d.n as f64)? as usize, size: get("size", d.size)? };
+                drape.build().map_err(world_error)?.0
+            }
             other => {
-                return Err(invalid("name", format!("unknown scene {other:?}; expected \"cloth\" or \"spinning_top\"")))
+                return Err(invalid(
+                    "name",
+                    format!(
+                        "unknown scene {other:?}; expected one of \"cloth\", \"spinning_top\", \"bouncing_ball\", \
+                         \"tumbling_box\", \"dominoes\", \"pyramid\", \"cloth_drape\""
+                    ),
+                ))
             }
         };
         let obj = cls.call0()?;
@@ -294,8 +345,31 @@ impl PyWorld {
         self.r().set_integrator(s).map_err(world_error)
     }
 
+    /// Chooses how contact is handled: mode="accurate" (event-driven, the integrator's error control) or "fast"
+    /// (time stepping at dt, default 1/240 s).
+    #[pyo3(signature = (mode, dt = None))]
+    fn set_mode(&mut self, mode: &str, dt: Option<f64>) -> PyResult<()> {
+        let m = mode_of(mode, dt)?;
+        self.r().set_mode(m).map_err(world_error)
+    }
+
+    /// The contact mode: "accurate" or "fast".
+    #[getter]
+    fn mode(&self) -> &'static str {
+        self.r().mode().name()
+    }
+
+    /// Adds a ground: a static half-space below the plane z = height (normal +z). Returns its body handle.
+    #[pyo3(signature = (height = 0.0, restitution = 0.5, friction = 0.5))]
+    fn add_ground(&mut self, height: f64, restitution: f64, friction: f64) -> PyResult<PyBodyHandle> {
+        self.r().add_ground(height, Material { restitution, friction }).map(Into::into).map_err(world_error)
+    }
+
     /// Adds a particle obeying m x'' + d x' + h (x - anchor) = sum F.
-    #[pyo3(signature = (mass = 1.0, position = None, velocity = None, damping = 0.0, stiffness = 0.0, anchor = None))]
+    /// With `radius` > 0 it collides with bodies as a small sphere (particles do not collide with each other).
+    #[pyo3(signature = (mass = 1.0, position = None, velocity = None, damping = 0.0, stiffness = 0.0, anchor = None,
+                        radius = 0.0, restitution = 0.5, friction = 0.5))]
+    #[allow(clippy::too_many_arguments)]
     fn add_particle(
         &mut self,
         mass: f64,
@@ -304,8 +378,15 @@ impl PyWorld {
         damping: f64,
         stiffness: f64,
         anchor: Option<&Bound<'_, PyAny>>,
+        radius: f64,
+        restitution: f64,
+        friction: f64,
     ) -> PyResult<PyParticleHandle> {
-        let mut b = ParticleBuilder::new(mass).damping(damping).stiffness(stiffness);
+        let mut b = ParticleBuilder::new(mass)
+            .damping(damping)
+            .stiffness(stiffness)
+            .radius(radius)
+            .material(Material { restitution, friction });
         if let Some(p) = opt_vec3("position", position)? {
             b = b.position(p);
         }
@@ -321,7 +402,8 @@ impl PyWorld {
     /// Adds a rigid body: from a shape and a density (or a total mass), or from a mass and a 3x3 inertia tensor.
     #[pyo3(signature = (shape = None, density = None, mass = None, inertia = None, position = None,
                         orientation = None, velocity = None, angular_velocity = None, restitution = 0.5,
-                        friction = 0.5, r#static = false, linear_damping = 0.0, angular_damping = 0.0))]
+                        friction = 0.5, r#static = false, linear_damping = 0.0, angular_damping = 0.0,
+                        colliders = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -338,8 +420,31 @@ impl PyWorld {
         r#static: bool,
         linear_damping: f64,
         angular_damping: f64,
+        colliders: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyBodyHandle> {
         let shape = shape.map(|s| s.shape.clone());
+        let mut extra = Vec::new();
+        if let Some(list) = colliders.filter(|c| !c.is_none()) {
+            for (k, item) in list.try_iter()?.enumerate() {
+                let item = item?;
+                let (s, p, q): (PyRef<'_, PyShape>, Bound<'_, PyAny>, Option<Bound<'_, PyAny>>) = item
+                    .extract()
+                    .or_else(|_| item.extract::<(PyRef<'_, PyShape>, Bound<'_, PyAny>)>().map(|(s, p)| (s, p, None)))
+                    .map_err(|_| invalid("colliders", format!("entry {k} must be (shape, position[, orientation])")))?;
+                let position = vec3("colliders", &p)?;
+                if !position.iter().all(|v| v.is_finite()) {
+                    return Err(invalid(
+                        "colliders",
+                        format!("entry {k}: the position must be finite, got {position:?}"),
+                    ));
+                }
+                let rotation = match q {
+                    Some(q) => quat("colliders", &q)?,
+                    None => UnitQuaternion::identity(),
+                };
+                extra.push((s.shape.clone(), nalgebra::Isometry3::from_parts(position.into(), rotation)));
+            }
+        }
         let inertia = inertia.filter(|i| !i.is_none()).map(|i| mat3("inertia", i)).transpose()?;
         let mut b = if r#static {
             if density.is_some() || mass.is_some() || inertia.is_some() {
@@ -376,6 +481,9 @@ impl PyWorld {
         }
         if let Some(w) = opt_vec3("angular_velocity", angular_velocity)? {
             b = b.angular_velocity(w);
+        }
+        for (s, pose) in extra {
+            b = b.collider(s, pose);
         }
         b = b
             .restitution(restitution)
@@ -640,14 +748,20 @@ impl PyWorld {
         rows(py, w.body_count(), w.bodies().map(|(_, b)| b.angular_velocity().into()))
     }
 
-    /// The bodies' shapes (None where a body has none) and each shape's origin in its body frame, in array order.
-    fn _body_shapes(&self, py: Python<'_>) -> PyResult<Vec<BodyShape>> {
+    /// Each body's colliders (empty where a body has none) as (shape, position, orientation w x y z) in its body
+    /// frame, in array order.
+    fn _body_shapes(&self, py: Python<'_>) -> PyResult<Vec<BodyShapes>> {
         self.r()
             .bodies()
             .map(|(_, b)| {
-                let shape = b.shape().map(|s| Py::new(py, PyShape { shape: s.clone() })).transpose()?;
-                let o = b.shape_offset();
-                Ok((shape, [o.x, o.y, o.z]))
+                b.colliders()
+                    .iter()
+                    .map(|c| {
+                        let shape = Py::new(py, PyShape { shape: c.shape.clone() })?;
+                        let (t, q) = (c.offset.translation.vector, c.offset.rotation);
+                        Ok((shape, [t.x, t.y, t.z], [q.w, q.i, q.j, q.k]))
+                    })
+                    .collect()
             })
             .collect()
     }
@@ -679,6 +793,7 @@ impl PyWorld {
         d.set_item("stages", p.stages)?;
         d.set_item("state_len", p.state_len)?;
         d.set_item("method", p.method)?;
+        d.set_item("mode", p.mode)?;
         d.set_item("jacobian", p.jacobian)?;
         Ok(d)
     }

@@ -17,7 +17,7 @@ def small_run():
 def test_plot(tmp_path):
     run = small_run()
     fig = run.plot(tmp_path / "run.png")
-    assert len(fig.axes) == 2
+    assert [a.get_ylabel() for a in fig.axes] == ["energy (J)", "max penetration (mm)", "step size (s)"]
     with Image.open(tmp_path / "run.png") as im:
         assert im.size[0] > 500 and im.size[1] > 400
 

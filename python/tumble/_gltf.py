@@ -1,4 +1,4 @@
-"""Binary glTF 2.0 export of a run with pygltflib: one node per body carrying its shape's mesh, one per particle
+"""Binary glTF 2.0 export of a run with pygltflib: one node per body carrying its colliders' meshes, one per particle
 carrying a small sphere, each with translation and rotation keyed at every frame. tumble's world is z-up and
 glTF's y-up, so everything hangs under a root node turned -90 degrees about x."""
 
@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import pygltflib as g
+
+from ._geometry import rotation_matrix
 
 if TYPE_CHECKING:
     from ._run import Run
@@ -83,10 +85,16 @@ def export(run: "Run", path: Path) -> Path:
 
     marker = None
     for b in range(run.body_positions.shape[1]):
-        shape, offset = run.shapes[b] if b < len(run.shapes) else (None, (0.0, 0.0, 0.0))
-        if shape is not None:
-            v, t = shape.triangle_mesh(24, 10.0)
-            mesh = blob.mesh(np.asarray(v) + np.asarray(offset), np.asarray(t))
+        colliders = run.shapes[b] if b < len(run.shapes) else []
+        if colliders:
+            vertices, triangles, base = [], [], 0
+            for shape, offset, orientation in colliders:
+                v, t = shape.triangle_mesh(24, 10.0)
+                v = np.asarray(v) @ rotation_matrix(np.asarray(orientation)).T + np.asarray(offset)
+                vertices.append(v)
+                triangles.append(np.asarray(t) + base)
+                base += len(v)
+            mesh = blob.mesh(np.concatenate(vertices), np.concatenate(triangles))
         else:
             marker = marker if marker is not None else blob.mesh(*_sphere(0.05))
             mesh = marker

@@ -10,14 +10,16 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from ._geometry import rotation_matrix
+
 if TYPE_CHECKING:
     from ._run import Run
 
 
 def plot_run(run: "Run", path: str | Path | None) -> Figure:
-    fig = Figure(figsize=(9, 6.5), layout="constrained")
+    fig = Figure(figsize=(9, 8.5), layout="constrained")
     FigureCanvasAgg(fig)
-    energy, steps = fig.subplots(2, 1, sharex=True)
+    energy, penetration, steps = fig.subplots(3, 1, sharex=True)
     energy.plot(run.times, run.kinetic_energy, label="kinetic")
     energy.plot(run.times, run.potential_energy, label="potential")
     energy.plot(run.times, run.energy, label="total", color="black", linewidth=2)
@@ -28,6 +30,16 @@ def plot_run(run: "Run", path: str | Path | None) -> Figure:
     energy.set_title(
         f"{r.method}: {r.steps} steps ({r.rejected} rejected), {r.rhs_evals} evaluations, {r.wall_seconds:.3g} s"
     )
+    penetration.plot(run.times, np.asarray(run.penetration) * 1e3, color="tab:red")
+    penetration.set_ylabel("max penetration (mm)")
+    penetration.grid(True, alpha=0.3)
+    penetration.set_title(
+        f"{r.collisions} collisions, {r.qp_solves} QP solves, {r.bisection_steps} bisection steps, "
+        f"max {r.max_penetration:.2e} m"
+    )
+    for t in run.contact_events:
+        for ax in (energy, penetration):
+            ax.axvline(t, color="grey", linewidth=0.5, alpha=0.4)
     if len(run.step_sizes):
         steps.semilogy(run.step_times, run.step_sizes, ".", markersize=3)
     steps.set_ylabel("step size (s)")
@@ -36,17 +48,6 @@ def plot_run(run: "Run", path: str | Path | None) -> Figure:
     if path is not None:
         fig.savefig(path, dpi=120)
     return fig
-
-
-def _rotation(q: np.ndarray) -> np.ndarray:
-    w, x, y, z = q
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
 
 
 def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
@@ -85,7 +86,7 @@ def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
         for b in range(run.body_positions.shape[1]):
             x = run.body_positions[f, b]
             ax.scatter([x[0]], [x[1]], [x[2]], s=30, color="black")
-            r = _rotation(run.body_orientations[f, b])
+            r = rotation_matrix(run.body_orientations[f, b])
             for j, colour in enumerate(("tab:red", "tab:green", "tab:blue")):
                 e = x + axis_length * r[:, j]
                 ax.plot([x[0], e[0]], [x[1], e[1]], [x[2], e[2]], color=colour)

@@ -12,8 +12,9 @@ class Report:
     Integrator counters (accepted and rejected steps, right-hand-side evaluations, Jacobians, LU factorizations,
     linear solves, Newton and Krylov iterations), the smallest and largest accepted step, wall time, and the
     integrator's error estimate (the sum of its local error estimates, ``None`` for methods without one); contact
-    counters (QP solves, collisions, bisection steps, largest penetration: zero while a scene has no contact stage);
-    and how often each force loop ran.
+    counters (clarabel solves, collisions resolved, contacts given an impulse, bisection steps, narrow-phase pair
+    checks, islands solved, actors asleep, the largest penetration, and the time spent finding and solving
+    contacts: zero wherever a stage never ran); and how often each force loop ran.
     """
 
     method: str
@@ -31,8 +32,14 @@ class Report:
     error_estimate: float | None
     qp_solves: int
     collisions: int
+    impulses: int
     bisection_steps: int
+    collision_checks: int
+    islands: int
+    sleepers: int
     max_penetration: float
+    collision_seconds: float
+    contact_seconds: float
     evaluations: int
     spring_evaluations: int
     load_evaluations: int
@@ -60,7 +67,10 @@ class Report:
                 f"error estimate   {estimate}",
                 f"force loops      {self.evaluations} evaluations: {self.spring_evaluations} spring, "
                 f"{self.load_evaluations} load, {self.callback_calls} callback; {self.projections} projections",
-                f"contact          {self.qp_solves} qp solves, {self.collisions} collisions, "
-                f"{self.bisection_steps} bisection steps, max penetration {self.max_penetration:.3e}",
+                f"contact          {self.collision_checks} collision checks, {self.collisions} collisions, "
+                f"{self.impulses} impulses, {self.bisection_steps} bisection steps, {self.qp_solves} qp solves "
+                f"over {self.islands} islands",
+                f"                 max penetration {self.max_penetration:.3e} m, {self.sleepers} asleep; "
+                f"{self.collision_seconds:.3f} s finding contacts, {self.contact_seconds:.3f} s solving them",
             ]
         )

@@ -15,7 +15,9 @@ from ._report import Report
 class Run:
     """Frames of a run. Arrays are frame-major: ``particle_positions`` is (F, P, 3), ``body_orientations``
     (F, B, 4) as (w, x, y, z); particles and bodies appear in the order of ``particles`` and ``bodies``.
-    ``step_times`` and ``step_sizes`` hold every accepted integrator step."""
+    ``step_times`` and ``step_sizes`` hold every accepted integrator step; ``penetration`` (F,) the largest
+    penetration among the contacts at each frame; ``contact_events`` the times of accurate mode's contact events
+    (collisions located by bisection)."""
 
     times: np.ndarray
     particle_positions: np.ndarray
@@ -31,6 +33,8 @@ class Run:
     angular_momentum: np.ndarray
     step_times: np.ndarray
     step_sizes: np.ndarray
+    penetration: np.ndarray
+    contact_events: np.ndarray
     report: Report
     particles: list
     bodies: list
@@ -48,8 +52,8 @@ class Run:
         return len(self.times)
 
     def plot(self, path: str | Path | None = None):
-        """Plots energy (kinetic, potential, total) and the integrator's step size over time; saves it to ``path``
-        (any format matplotlib writes) if given, and returns the figure."""
+        """Plots energy (kinetic, potential, total), the largest penetration and the step size over time (contact
+        events marked); saves it to ``path`` (any format matplotlib writes) if given, and returns the figure."""
         from ._plots import plot_run  # noqa: PLC0415 - matplotlib loads only when asked
 
         return plot_run(self, path)
@@ -62,8 +66,8 @@ class Run:
         return animate_run(self, Path(path), fps, size)
 
     def export_gltf(self, path: str | Path) -> Path:
-        """Writes the run as binary glTF 2.0 (``.glb``): one node per body with its shape's mesh and its translation
-        and rotation animated over the frames (Blender and web viewers play it). Returns the path."""
+        """Writes the run as binary glTF 2.0 (``.glb``): one node per body with its colliders' meshes and its
+        translation and rotation animated over the frames (Blender and web viewers play it). Returns the path."""
         from ._gltf import export  # noqa: PLC0415
 
         return export(self, Path(path))

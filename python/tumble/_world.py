@@ -84,6 +84,14 @@ class World(_World):
     the others take fixed steps of ``dt`` (default 1/240 s). ``step_doubling=True`` wraps a one-step method in the
     chapter's step doubling with per-step error ``tolerance``. ``linear_solver="iterative"`` solves implicit Euler's
     sparse systems by BiCGSTAB (for large cloths); ``newton=True`` iterates implicit Euler to convergence.
+
+    Contact: ``mode="accurate"`` (the default) is event-driven: the integrator carries the motion under its error
+    control, collisions are located by bisection on its dense output and resolved by impulses (restitution), and
+    resting contacts get exact QP forces; it is frictionless. ``mode="fast"`` steps at ``dt`` (default 1/240 s) with
+    contacts, Coulomb friction and restitution solved as one conic program per island each step, and resting
+    islands sleep. Bodies collide through their shapes (``add_body(shape, ...)``, ``colliders=[(shape, position,
+    orientation), ...]`` for more), particles through ``add_particle(radius=...)``; ``add_ground()`` adds a
+    static floor. Two surfaces combine to the larger restitution and the geometric mean of the frictions.
     """
 
     @property

@@ -1,5 +1,5 @@
-"""Built-in scenes, built through the public API in the same order as the Rust library's ``tumble::scenes``, so
-the two give the same numbers."""
+"""Built-in scenes. ``cloth`` and ``spinning_top`` are built through the public API in the same order as the Rust
+library's ``tumble::scenes``, so the two give the same numbers; the contact scenes come from the Rust library."""
 
 from __future__ import annotations
 
@@ -65,3 +65,29 @@ def spinning_top() -> World:
     )
     w.add_spring(top, None, stiffness=1e5, damping=50.0, rest_length=0.0, anchor_a=(0, 0, -arm), world_point=(0, 0, 0))
     return w
+
+
+def bouncing_ball(restitution: float = 0.8, radius: float = 0.1, height: float = 1.0) -> World:
+    """A ball dropped from ``height`` onto the floor, bouncing with ``restitution`` (accurate mode, Dormand-Prince at
+    1e-10): the n-th apex is at restitution^(2n) x height, and the ball comes to rest after finitely many bounces."""
+    return World._rust_scene("bouncing_ball", restitution=restitution, radius=radius, height=height)
+
+
+def tumbling_box() -> World:
+    """A box thrown spinning onto the floor, brought to rest by friction and restitution 0.3 (fast mode)."""
+    return World._rust_scene("tumbling_box")
+
+
+def dominoes(count: int = 20, spacing: float = 0.5) -> World:
+    """A row of ``count`` dominoes (0.08 x 0.4 x 0.8 m) ``spacing`` apart; the first is tipped (fast mode)."""
+    return World._rust_scene("dominoes", count=count, spacing=spacing)
+
+
+def pyramid(layers: int = 10) -> World:
+    """A 2D pyramid of 0.5 m cubes, ``layers`` high, each resting on two below (fast mode)."""
+    return World._rust_scene("pyramid", layers=layers)
+
+
+def cloth_drape(n: int = 12, size: float = 1.2) -> World:
+    """A cloth of n x n particles (1 cm spheres) falling over a ball onto the floor (fast mode at 1/480 s)."""
+    return World._rust_scene("cloth_drape", n=n, size=size)

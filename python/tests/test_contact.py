@@ -1,0 +1,115 @@
+"""Contact from Python: both modes on closed forms, grounds, particle radii, compound colliders, the contact
+fields of reports and runs, the built-in contact scenes, and the errors of the new arguments."""
+
+import math
+
+import numpy as np
+import pytest
+
+import tumble
+
+G = 9.81
+
+
+def test_fast_mode_box_lands_and_sleeps():
+    w = tumble.World(mode="fast", dt=1 / 240)
+    assert w.mode == "fast" and w.plan()["mode"] == "fast"
+    w.add_ground(height=0.0, restitution=0.0, friction=0.5)
+    w.add_body(tumble.Box(half_extents=(0.5, 0.5, 0.5)), density=1000.0, position=(0, 0, 2), restitution=0.0)
+    run = w.run(2.0, 1 / 60)
+    # It rests on its face: the centre 0.5 m up (to 1e-4 m, fast mode's contact slop), and asleep.
+    assert abs(w.bodies.positions[1, 2] - 0.5) < 1e-4
+    r = run.report
+    assert r.qp_solves > 0 and r.collisions >= 1 and r.sleepers == 1 and r.collision_checks > 0
+    assert run.penetration.shape == run.times.shape
+    assert "contact-cone-program" in w.plan()["stages"]
+
+
+def test_accurate_mode_ball_bounces_where_and_when_the_closed_form_says():
+    w = tumble.World(integrator="dopri5", rtol=1e-10, atol=1e-12)
+    w.add_ground(restitution=0.8, friction=0.0)
+    w.add_body(tumble.Sphere(0.1), density=1000.0, position=(0, 0, 1.1), restitution=0.8, friction=0.0)
+    run = w.run(1.5, 1e-3)
+    # first impact at sqrt(2 h / g) to the bisection tolerance (1e-10 s)
+    assert abs(run.contact_events[0] - math.sqrt(2 / G)) < 1e-9
+    # apex of the first flight from a frame inside it (ballistic): 0.8^2 m to 1e-6
+    f = int(round((math.sqrt(2 / G) + 0.3) / 1e-3))
+    z, vz = run.body_positions[f, 1, 2], run.body_velocities[f, 1, 2]
+    assert abs(z - 0.1 + vz * vz / (2 * G) - 0.64) < 1e-6
+    assert run.report.qp_solves == 0, "a lone bouncing ball needs no QP"
+    assert {"collision-detection", "bisection", "impulses", "resting-contact"} <= set(w.plan()["stages"])
+
+
+def test_particles_with_a_radius_land_on_the_ground_and_without_one_fall_through():
+    w = tumble.World(mode="fast", dt=1 / 240)
+    w.add_ground()
+    w.add_particle(position=(0, 0, 1), radius=0.05, restitution=0.0)
+    w.add_particle(position=(1, 0, 1))
+    w.run(1.5, 0.5)
+    z = w.particles.positions[:, 2]
+    assert abs(z[0] - 0.05) < 1e-4 and z[1] < -1.0
+
+
+def test_compound_colliders_add_their_mass_and_all_reach_the_gltf(tmp_path):
+    w = tumble.World()
+    r, d = 0.2, 1000.0
+    b = w.add_body(tumble.Sphere(r), density=d, colliders=[(tumble.Sphere(r), (1.0, 0.0, 0.0))])
+    # two balls 1 m apart: twice the mass, centre of mass halfway (so the body sits at the first ball + 0.5 m)
+    one = 4 / 3 * math.pi * r**3 * d
+    run = w.run(0.1, 0.05)
+    assert len(run.shapes[0]) == 2
+    offsets = sorted(o[0] for _, o, _ in run.shapes[0])
+    assert np.allclose(offsets, [-0.5, 0.5])
+    path = run.export_gltf(tmp_path / "dumbbell.glb")
+    import pygltflib  # noqa: PLC0415
+
+    gltf = pygltflib.GLTF2().load(str(path))
+    mesh_vertices = gltf.accessors[gltf.meshes[gltf.nodes[1].mesh].primitives[0].attributes.POSITION]
+    # a ball tessellated with 24 segments reaches r cos(pi / 24) along x
+    assert mesh_vertices.max[0] - mesh_vertices.min[0] > 1.0 + 2 * r * math.cos(math.pi / 24) - 1e-6, "both balls"
+    assert b is not None and one > 0
+
+
+def test_report_and_run_carry_the_contact_fields():
+    w = tumble.scenes.dominoes(count=3)
+    run = w.run(1.0, 1 / 30)
+    fields = run.report.as_dict()
+    for key in ("qp_solves", "collisions", "impulses", "bisection_steps", "collision_checks", "islands", "sleepers",
+                "max_penetration", "collision_seconds", "contact_seconds"):
+        assert key in fields
+    assert "collision checks" in str(run.report)
+    assert run.contact_events.shape == (0,), "fast mode has no events"
+
+
+@pytest.mark.parametrize(
+    "build",
+    [
+        lambda: tumble.scenes.bouncing_ball(),
+        lambda: tumble.scenes.tumbling_box(),
+        lambda: tumble.scenes.dominoes(count=4),
+        lambda: tumble.scenes.pyramid(layers=3),
+        lambda: tumble.scenes.cloth_drape(n=4),
+    ],
+)
+def test_contact_scenes_run(build):
+    w = build()
+    run = w.run(1.5, 0.05)
+    assert np.all(np.isfinite(run.energy)) and run.report.collision_checks > 0
+
+
+def test_bad_contact_arguments_name_themselves():
+    w = tumble.World()
+    cases = [
+        (lambda: tumble.World(mode="fast", dt=-1.0), "`dt`"),
+        (lambda: w.set_mode("sideways"), "`mode`"),
+        (lambda: w.add_ground(height=float("nan")), "`height`"),
+        (lambda: w.add_ground(restitution=1.5), "`restitution`"),
+        (lambda: w.add_particle(radius=-1.0), "`radius`"),
+        (lambda: w.add_particle(friction=-0.1), "`friction`"),
+        (lambda: w.add_body(tumble.Sphere(1.0), colliders=[(tumble.Sphere(1.0),)]), "`colliders`"),
+        (lambda: w.add_body(tumble.Sphere(1.0), colliders=[(tumble.Sphere(1.0), (0, 0, float("inf")))]), "`colliders`"),
+        (lambda: tumble.scenes.dominoes(count=0), "`count`"),
+    ]
+    for call, name in cases:
+        with pytest.raises(ValueError, match=name):
+            call()
