@@ -1,0 +1,95 @@
+//! Contact benchmarks: fast mode's time per step for 100, 1,000 and 5,000 boxes falling into a pile, and accurate
+//! mode on the bouncing ball; the share of that time spent finding contacts and solving them (clarabel) is
+//! printed from the world's report.
+//!
+//! Run: `cargo bench --bench contact`. The pile: cubes of edge 0.5 m on a k x k grid (0.6 m apart) in L layers
+//! (0.6 m apart), each slightly tilted, dropped onto the floor; the measured steps start after 0.4 s of falling,
+//! when the lower layers have landed and stacks are forming. In test mode (`cargo test --all-targets` runs each bench
+//! once) only the 100-box pile is built: the others take minutes to set up.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use nalgebra::{UnitQuaternion, Vector3};
+use tumble::{FastSettings, Material, Mode, RigidBodyBuilder, Shape, World};
+
+fn pile(k: usize, layers: usize) -> World {
+    let mut w = World::new();
+    w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0))).unwrap();
+    w.add_ground(0.0, Material { restitution: 0.2, friction: 0.6 }).unwrap();
+    let cube = Shape::cuboid(Vector3::repeat(0.25)).unwrap();
+    let mut n = 0u32;
+    for layer in 0..layers {
+        for i in 0..k {
+            for j in 0..k {
+                n += 1;
+                let tilt = 0.05 * ((n * 7919 % 13) as f64 / 13.0 - 0.5);
+                w.add_body(
+                    RigidBodyBuilder::from_shape(cube.clone(), 500.0)
+                        .position(Vector3::new(0.6 * i as f64, 0.6 * j as f64, 0.3 + 0.6 * layer as f64))
+                        .orientation(UnitQuaternion::from_euler_angles(tilt, -tilt, 2.0 * tilt))
+                        .restitution(0.2)
+                        .friction(0.6),
+                )
+                .unwrap();
+            }
+        }
+    }
+    w
+}
+
+/// Prints where `seconds` of stepping went, from the world's report of those steps.
+fn share(name: &str, w: &World, before: &tumble::WorldReport, seconds: f64) {
+    let r = w.report();
+    let wall = seconds;
+    println!(
+        "{name}: {} steps in {:.3} s; finding contacts {:.0}%, solving them {:.0}% ({} clarabel solves, {} islands, {} asleep)",
+        r.integrator.steps - before.integrator.steps,
+        wall,
+        100.0 * (r.collision_seconds - before.collision_seconds) / wall,
+        100.0 * (r.contact_seconds - before.contact_seconds) / wall,
+        r.qp_solves - before.qp_solves,
+        r.islands - before.islands,
+        r.sleepers
+    );
+}
+
+fn test_mode() -> bool {
+    std::env::args().any(|a| a == "--test")
+}
+
+fn fast_pile(c: &mut Criterion) {
+    let mut g = c.benchmark_group("fast_pile_step");
+    g.sample_size(10);
+    let sizes: &[(usize, usize)] = if test_mode() { &[(5, 4)] } else { &[(5, 4), (10, 10), (25, 8)] };
+    for &(k, layers) in sizes {
+        let n = k * k * layers;
+        let mut w = pile(k, layers);
+        w.step(0.4).unwrap();
+        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| b.iter(|| w.step(1.0 / 240.0).unwrap()));
+        // 24 more steps, timed, for the shares
+        let before = w.report();
+        let clock = std::time::Instant::now();
+        w.step(0.1).unwrap();
+        share(&format!("{n} boxes"), &w, &before, clock.elapsed().as_secs_f64());
+    }
+    g.finish();
+}
+
+fn accurate_ball(c: &mut Criterion) {
+    let mut g = c.benchmark_group("accurate_bouncing_ball");
+    g.bench_function("5 s, e = 0.8", |b| {
+        b.iter(|| {
+            let (mut w, _) = tumble::scenes::BouncingBall::default().build().unwrap();
+            w.step(5.0).unwrap();
+            w
+        })
+    });
+    g.finish();
+    let (mut w, _) = tumble::scenes::BouncingBall::default().build().unwrap();
+    let before = w.report();
+    let clock = std::time::Instant::now();
+    w.step(5.0).unwrap();
+    share("bouncing ball", &w, &before, clock.elapsed().as_secs_f64());
+}
+
+criterion_group!(benches, fast_pile, accurate_ball);
+criterion_main!(benches);
