@@ -50,8 +50,31 @@ def plot_run(run: "Run", path: str | Path | None) -> Figure:
     return fig
 
 
+def _wireframes(run: "Run", extent: float, centre: np.ndarray) -> list[np.ndarray | None]:
+    """Per body, the edges of its colliders' meshes in the body frame as an (E, 2, 3) array (None without one).
+    A half-space is drawn as a square of side 2 ``extent`` on its plane, under the scene's ``centre``."""
+    out: list[np.ndarray | None] = []
+    for b in range(run.body_positions.shape[1]):
+        colliders = run.shapes[b] if b < len(run.shapes) else []
+        segments = []
+        for shape, offset, orientation in colliders:
+            v, t = shape.triangle_mesh(12, extent)
+            v = np.asarray(v) @ rotation_matrix(np.asarray(orientation)).T + np.asarray(offset)
+            if shape.kind == "half-space":
+                r = rotation_matrix(run.body_orientations[0, b])
+                local = r.T @ (centre - run.body_positions[0, b])
+                normal = np.cross(v[1] - v[0], v[2] - v[0])
+                normal /= np.linalg.norm(normal)
+                v = v + local - normal * normal.dot(local)
+            edges = {tuple(sorted((int(a), int(c)))) for tri in np.asarray(t) for a, c in zip(tri, np.roll(tri, 1))}
+            segments.extend(v[list(e)] for e in edges)
+        out.append(np.array(segments) if segments else None)
+    return out
+
+
 def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
     from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter, writers  # noqa: PLC0415
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection  # noqa: PLC0415
 
     suffix = path.suffix.lower()
     if suffix not in (".gif", ".mp4"):
@@ -62,10 +85,14 @@ def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
     fps = fps or min(30.0, 1.0 / frame_dt)
     stride = max(1, round(1.0 / (fps * frame_dt)))
     frames = list(range(0, run.frames, stride))
-    points = np.concatenate([run.particle_positions.reshape(-1, 3), run.body_positions.reshape(-1, 3)])
+    moving = [b for b in range(run.body_positions.shape[1]) if np.ptp(run.body_positions[:, b], axis=0).any()]
+    points = np.concatenate([run.particle_positions.reshape(-1, 3), run.body_positions[:, moving].reshape(-1, 3)])
+    if len(points) == 0:
+        points = run.body_positions.reshape(-1, 3)
     lo, hi = points.min(axis=0), points.max(axis=0)
-    centre, half = (lo + hi) / 2, max(float((hi - lo).max()) / 2, 0.5)
+    centre, half = (lo + hi) / 2, max(float((hi - lo).max()) / 2, 0.5) * 1.2
     axis_length = 0.3 * half
+    wireframes = _wireframes(run, half, centre)
 
     fig = Figure(figsize=(size, size))
     FigureCanvasAgg(fig)
@@ -85,8 +112,11 @@ def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
             ax.scatter(p[:, 0], p[:, 1], p[:, 2], s=6, color="tab:blue")
         for b in range(run.body_positions.shape[1]):
             x = run.body_positions[f, b]
-            ax.scatter([x[0]], [x[1]], [x[2]], s=30, color="black")
             r = rotation_matrix(run.body_orientations[f, b])
+            if wireframes[b] is not None:
+                ax.add_collection3d(Line3DCollection(wireframes[b] @ r.T + x, colors="0.25", linewidths=0.6))
+                continue
+            ax.scatter([x[0]], [x[1]], [x[2]], s=30, color="black")
             for j, colour in enumerate(("tab:red", "tab:green", "tab:blue")):
                 e = x + axis_length * r[:, j]
                 ax.plot([x[0], e[0]], [x[1], e[1]], [x[2], e[2]], color=colour)
