@@ -125,7 +125,7 @@ impl FastEngine {
                 let poses = scene.poses(&self.y);
                 let reach = scene.reach(&states, h);
                 let checks = scene.checks;
-                let f = scene.find(&poses, &reach, self.settings.margin);
+                let f = crate::manifold::reduce(scene.find(&poses, &reach, self.settings.margin));
                 self.report.collision_checks += scene.checks - checks;
                 self.report.collision_seconds += c0.elapsed().as_secs_f64();
                 f
@@ -143,11 +143,12 @@ impl FastEngine {
             .collect();
         let contacts: Vec<tumble_contact::Contact> = found.iter().map(|f| f.contact).collect();
         self.penetration = contacts.iter().map(|c| -c.distance).fold(0.0, f64::max);
-        let settings = StepSettings {
+        let mut settings = StepSettings {
             erp: self.settings.erp,
             bounce_threshold: self.settings.bounce_threshold,
             ..StepSettings::new(h)
         };
+        settings.solver.iterative_refinement = false;
         let c0 = Instant::now();
         let (velocities, normal): (Vec<BodyVelocity>, Vec<f64>) = if contacts.is_empty() {
             (states.iter().map(|b| free(b, h)).collect(), Vec::new())
@@ -198,7 +199,23 @@ impl FastEngine {
         settings: &StepSettings,
     ) -> Result<tumble_contact::VelocityStep, WorldError> {
         let t = self.t;
-        let known: Vec<Option<f64>> = found.iter().map(|f| self.previous.get(&f.key).copied()).collect();
+        // A contact new to a pair that touched last step starts from the pair's last total impulse shared among its
+        // contacts now; only islands with a pair that has just met need the first pass.
+        let mut last_pair: HashMap<(u32, u32), f64> = HashMap::new();
+        for (key, p) in &self.previous {
+            *last_pair.entry(key.colliders).or_default() += p;
+        }
+        let mut now_pair: HashMap<(u32, u32), usize> = HashMap::new();
+        for f in found {
+            *now_pair.entry(f.key.colliders).or_default() += 1;
+        }
+        let known: Vec<Option<f64>> = found
+            .iter()
+            .map(|f| {
+                let pair = f.key.colliders;
+                self.previous.get(&f.key).copied().or_else(|| last_pair.get(&pair).map(|p| p / now_pair[&pair] as f64))
+            })
+            .collect();
         let mut previous: Vec<f64> = known.iter().map(|p| p.unwrap_or(0.0)).collect();
         let friction = self.settings.friction;
         let mut solves = 0;
@@ -211,16 +228,20 @@ impl FastEngine {
             solves += out.solver_calls;
             Ok::<_, WorldError>(out)
         };
+        let groups = islands(states, contacts);
         if friction == FastFriction::Lagged && known.iter().any(|p| p.is_none()) {
-            let first = solve(contacts, &previous)?;
-            for (p, (k, fresh)) in previous.iter_mut().zip(known.iter().zip(&first.normal_impulses)) {
-                if k.is_none() {
-                    *p = *fresh;
+            let fresh: Vec<usize> =
+                groups.iter().filter(|g| g.iter().any(|&i| known[i].is_none())).flatten().copied().collect();
+            let sub: Vec<tumble_contact::Contact> = fresh.iter().map(|&i| contacts[i]).collect();
+            let sub_prev: Vec<f64> = fresh.iter().map(|&i| previous[i]).collect();
+            let first = solve(&sub, &sub_prev)?;
+            for (&i, p) in fresh.iter().zip(&first.normal_impulses) {
+                if known[i].is_none() {
+                    previous[i] = *p;
                 }
             }
         }
         let mut out = solve(contacts, &previous)?;
-        let groups = islands(states, contacts);
         self.report.islands += groups.len();
         let h = settings.dt;
         for island in &groups {

@@ -31,6 +31,8 @@ mod fast;
 mod handle;
 mod layout;
 mod load;
+#[cfg(feature = "contact")]
+mod manifold;
 mod mode;
 mod model;
 mod particle;

@@ -266,28 +266,46 @@ fn residual(
     out: &IslandSolution,
     s: &StepSettings,
 ) -> f64 {
+    // Work on the island's own bodies (a local copy, indices remapped): a world of thousands of bodies and
+    // hundreds of islands would otherwise copy every body for every island.
+    let mut local: Vec<usize> = Vec::new();
+    let mut index = std::collections::HashMap::new();
+    let island_contacts: Vec<Contact> = island
+        .iter()
+        .map(|&i| {
+            let mut c = contacts[i];
+            for k in [&mut c.a, &mut c.b] {
+                *k = *index.entry(*k).or_insert_with(|| {
+                    local.push(*k);
+                    local.len() - 1
+                });
+            }
+            c
+        })
+        .collect();
+    let mut after: Vec<BodyVelocity> = local.iter().map(|&k| free[k]).collect();
+    for (k, v) in &out.velocities {
+        after[index[k]] = *v;
+    }
+    let bodies: Vec<BodyState> = local.iter().map(|&k| bodies[k]).collect();
     let state = |v: &[BodyVelocity]| -> Vec<BodyState> {
         bodies.iter().zip(v).map(|(b, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*b }).collect()
     };
-    let mut after: Vec<BodyVelocity> = free.to_vec();
-    for (k, v) in &out.velocities {
-        after[*k] = *v;
-    }
-    let (moved, free_state) = (state(&after), state(free));
+    let free_local: Vec<BodyVelocity> = local.iter().map(|&k| free[k]).collect();
+    let (moved, free_state) = (state(&after), state(&free_local));
+    let bodies = &bodies[..];
     let mut v_scale = f64::MIN_POSITIVE;
-    for &i in island {
-        let c = &contacts[i];
+    for c in &island_contacts {
         let rel = free_state[c.b].point_velocity(&c.point) - free_state[c.a].point_velocity(&c.point);
         v_scale = v_scale.max(rel.norm()).max(bias(c, bodies, s).abs());
     }
     let p_scale = out
         .velocities
         .iter()
-        .map(|(k, _)| v_scale / bodies[*k].inv_mass)
+        .map(|(k, _)| v_scale / bodies[index[k]].inv_mass)
         .chain(out.normal.iter().copied())
         .fold(f64::MIN_POSITIVE, f64::max);
     let mut worst = 0.0f64;
-    let island_contacts: Vec<Contact> = island.iter().map(|&i| contacts[i]).collect();
     let impulses: Vec<Vector3<f64>> = island_contacts
         .iter()
         .enumerate()
@@ -295,9 +313,10 @@ fn residual(
         .collect();
     let predicted = velocities_after(&free_state, &island_contacts, &impulses);
     for (k, v) in &out.velocities {
-        let b = &bodies[*k];
-        let dl = (v.linear - predicted[*k].linear).norm() / b.inv_mass;
-        let da = if b.rotates() { (b.inertia * (v.angular - predicted[*k].angular)).norm() } else { 0.0 };
+        let k = index[k];
+        let b = &bodies[k];
+        let dl = (v.linear - predicted[k].linear).norm() / b.inv_mass;
+        let da = if b.rotates() { (b.inertia * (v.angular - predicted[k].angular)).norm() } else { 0.0 };
         let reach = island_contacts.iter().map(|c| (c.point - b.position).norm()).fold(1.0, f64::max);
         worst = worst.max(dl / p_scale).max(da / (p_scale * reach));
     }

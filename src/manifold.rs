@@ -1,0 +1,90 @@
+//! Contact reduction for fast mode: at most four points per collider pair, chosen to keep the deepest point and
+//! the largest support area (the quadrilateral of greatest area among the manifold's points, greedily).
+
+use crate::contact_scene::Found;
+use nalgebra::{Point3, Vector3};
+use std::collections::HashMap;
+
+/// At most `MAX_POINTS` contacts per collider pair.
+pub(crate) const MAX_POINTS: usize = 4;
+
+/// Keeps, per collider pair, the deepest contact, the one farthest from it, the one spanning the largest triangle
+/// with those two, and the one adding the most area outside that triangle (in the order found otherwise). A box
+/// on a face keeps its four corners; the rows of the conic program drop from up to eight per pair to four.
+pub(crate) fn reduce(found: Vec<Found>) -> Vec<Found> {
+    let mut groups: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (i, f) in found.iter().enumerate() {
+        groups.entry(f.key.colliders).or_default().push(i);
+    }
+    if groups.values().all(|g| g.len() <= MAX_POINTS) {
+        return found;
+    }
+    let mut keep = vec![false; found.len()];
+    for members in groups.values() {
+        if members.len() <= MAX_POINTS {
+            members.iter().for_each(|&i| keep[i] = true);
+            continue;
+        }
+        let points: Vec<Point3<f64>> = members.iter().map(|&i| found[i].contact.point).collect();
+        let deepest = (0..members.len())
+            .min_by(|&a, &b| found[members[a]].contact.distance.total_cmp(&found[members[b]].contact.distance))
+            .expect("a group has members");
+        for k in select(&points, deepest) {
+            keep[members[k]] = true;
+        }
+    }
+    found.into_iter().zip(keep).filter_map(|(f, k)| k.then_some(f)).collect()
+}
+
+/// Indices of up to four of `points` starting from `first`, greedily maximising the area they span.
+fn select(points: &[Point3<f64>], first: usize) -> Vec<usize> {
+    let best = |score: &dyn Fn(&Point3<f64>) -> f64| {
+        (0..points.len()).map(|k| (k, score(&points[k]))).fold((first, 0.0), |acc, s| if s.1 > acc.1 { s } else { acc })
+    };
+    let p0 = points[first];
+    let (second, d) = best(&|p| (p - p0).norm_squared());
+    if d == 0.0 {
+        return vec![first];
+    }
+    let p1 = points[second];
+    let (third, a) = best(&|p| (p1 - p0).cross(&(p - p0)).norm());
+    if a == 0.0 {
+        return vec![first, second];
+    }
+    let p2 = points[third];
+    let n: Vector3<f64> = (p1 - p0).cross(&(p2 - p0)).normalize();
+    // Area a point adds outside the triangle: the largest outward triangle it makes with an edge.
+    let outside = |p: &Point3<f64>| {
+        [(p0, p1), (p1, p2), (p2, p0)].iter().map(|(a, b)| -(b - a).cross(&(p - a)).dot(&n)).fold(0.0, f64::max)
+    };
+    let (fourth, added) = best(&outside);
+    if added == 0.0 {
+        vec![first, second, third]
+    } else {
+        vec![first, second, third, fourth]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_square_face_keeps_its_corners() {
+        // the eight points of a clipped face: four corners and four edge midpoints of the unit square
+        let pts: Vec<Point3<f64>> =
+            [(0., 0.), (1., 0.), (1., 1.), (0., 1.), (0.5, 0.), (1., 0.5), (0.5, 1.), (0., 0.5)]
+                .iter()
+                .map(|&(x, y)| Point3::new(x, y, 0.0))
+                .collect();
+        let mut from_corner = select(&pts, 0);
+        from_corner.sort();
+        assert_eq!(from_corner, vec![0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn collinear_points_keep_the_two_ends() {
+        let pts: Vec<Point3<f64>> = (0..6).map(|k| Point3::new(k as f64, 0.0, 0.0)).collect();
+        assert_eq!(select(&pts, 2), vec![2, 5]);
+    }
+}
