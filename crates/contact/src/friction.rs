@@ -125,19 +125,21 @@ fn step(
     let mut normal_impulses = vec![0.0; contacts.len()];
     let mut friction_impulses = vec![Vector3::zeros(); contacts.len()];
     let (mut iterations, mut solver_calls) = (0, 0);
-    for island in islands(bodies, contacts) {
-        let lone = if island.len() == 1 {
-            lone_particle(bodies, contacts, bounds, island[0], &velocities, settings)
-        } else {
-            None
-        };
-        let sol = match lone {
-            Some(sol) => sol,
-            None => {
-                solver_calls += 1;
-                solve_island(bodies, contacts, bounds, &island, &velocities, settings)?
-            }
-        };
+    let groups = islands(bodies, contacts);
+    let free = &velocities;
+    // (the island's solution, whether clarabel ran)
+    let solve = |island: &Vec<usize>| -> Result<(IslandSolution, bool), ContactError> {
+        let lone =
+            if island.len() == 1 { lone_particle(bodies, contacts, bounds, island[0], free, settings) } else { None };
+        match lone {
+            Some(sol) => Ok((sol, false)),
+            None => Ok((solve_island(bodies, contacts, bounds, island, free, settings)?, true)),
+        }
+    };
+    let solved = in_parallel(&groups, contacts.len(), solve);
+    for (island, result) in groups.iter().zip(solved) {
+        let (sol, called) = result?;
+        solver_calls += usize::from(called);
         for (k, v) in sol.velocities {
             velocities[k] = v;
         }
@@ -148,6 +150,44 @@ fn step(
         iterations += sol.iterations;
     }
     Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations, solver_calls })
+}
+
+/// Islands are independent (no body in two), so their programs are solved on up to as many threads as the machine
+/// has cores, each taking the largest remaining island first; a step of fewer than 32 contacts or one island stays
+/// on the calling thread. Results come back in island order, so the answer does not depend on the thread count.
+fn in_parallel<T: Send>(
+    groups: &[Vec<usize>],
+    contacts: usize,
+    solve: impl Fn(&Vec<usize>) -> Result<T, ContactError> + Sync,
+) -> Vec<Result<T, ContactError>> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(groups.len());
+    if threads < 2 || contacts < 32 {
+        return groups.iter().map(&solve).collect();
+    }
+    let mut order: Vec<usize> = (0..groups.len()).collect();
+    order.sort_by_key(|&g| std::cmp::Reverse(groups[g].len()));
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut slots: Vec<Option<Result<T, ContactError>>> = (0..groups.len()).map(|_| None).collect();
+    let done: Vec<Vec<(usize, Result<T, ContactError>)>> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(&g) = order.get(k) else { break };
+                        mine.push((g, solve(&groups[g])));
+                    }
+                    mine
+                })
+            })
+            .collect();
+        workers.into_iter().map(|w| w.join().expect("an island solve does not panic")).collect()
+    });
+    for (g, r) in done.into_iter().flatten() {
+        slots[g] = Some(r);
+    }
+    slots.into_iter().map(|r| r.expect("every island was solved")).collect()
 }
 
 /// The closed form for one particle touching something static, frictionless or with lagged friction: the normal
