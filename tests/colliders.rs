@@ -3,7 +3,7 @@
 
 use nalgebra::{Isometry3, Matrix3, Vector3};
 use std::f64::consts::PI;
-use tumble::{Material, Mode, RigidBodyBuilder, Shape, World};
+use tumble::{Material, RigidBodyBuilder, Shape, World};
 
 #[test]
 fn two_balls_make_a_dumbbell_with_the_parallel_axis_inertia() {
@@ -14,7 +14,9 @@ fn two_balls_make_a_dumbbell_with_the_parallel_axis_inertia() {
     let mut w = World::new();
     let ball = Shape::sphere(r).unwrap();
     let b = w
-        .add_body(RigidBodyBuilder::from_shape(ball.clone(), rho).collider(ball, Isometry3::translation(2.0 * a, 0.0, 0.0)))
+        .add_body(
+            RigidBodyBuilder::from_shape(ball.clone(), rho).collider(ball, Isometry3::translation(2.0 * a, 0.0, 0.0)),
+        )
         .unwrap();
     let body = w.body(b).unwrap();
     // 1e-12 relative: parry's ball mass properties are closed forms too.
@@ -37,12 +39,13 @@ fn materials_combine_to_the_larger_restitution_and_the_geometric_mean_friction()
     assert_eq!(a.combine(&b), b.combine(&a));
 }
 
+#[cfg(feature = "contact")]
 #[test]
 fn the_offset_collider_is_the_one_that_lands() {
     // A dumbbell dropped upright, its second ball given as an extra collider 1 m below the first: in fast mode the
     // lower ball lands and the body comes to rest on it.
     let mut w = World::new();
-    w.set_mode(Mode::fast(1.0 / 240.0)).unwrap();
+    w.set_mode(tumble::Mode::fast(1.0 / 240.0)).unwrap();
     w.add_ground(0.0, Material { restitution: 0.0, friction: 0.8 }).unwrap();
     let ball = Shape::sphere(0.1).unwrap();
     let b = w
@@ -56,7 +59,8 @@ fn the_offset_collider_is_the_one_that_lands() {
         .unwrap();
     w.run(3.0, 0.5).unwrap();
     let body = w.body(b).unwrap();
-    let lowest = body.colliders().iter().map(|c| (body.pose() * c.offset).translation.vector.z).fold(f64::MAX, f64::min);
+    let lowest =
+        body.colliders().iter().map(|c| (body.pose() * c.offset).translation.vector.z).fold(f64::MAX, f64::min);
     // the lower ball rests on the ground (centre at its radius, to fast mode's 1e-4 m), the body is still
     assert!((lowest - 0.1).abs() < 1e-4, "lowest collider centre at {lowest}");
 }

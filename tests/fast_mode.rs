@@ -29,6 +29,7 @@ fn a_box_resting_on_the_floor_stays_within_1e_4_m_for_10_s() {
         let drift = (0..run.frames())
             .map(|f| (run.body_position(f, 1) - Vector3::new(0.0, 0.0, 0.5)).norm())
             .fold(0.0, f64::max);
+        println!("measured: resting box, sleep {sleep}: drift {drift:.3e} m");
         assert!(drift < 1e-4, "sleep {sleep}: drift {drift}");
         assert!(w.body(b).unwrap().orientation().angle() < 1e-6);
     }
@@ -47,6 +48,7 @@ fn a_sliding_box_stops_after_v_squared_over_2_mu_g() {
     let body = w.body(b).unwrap();
     let expected = v * v / (2.0 * 0.5 * G);
     let travelled = body.position().x;
+    println!("measured: sliding box stopped after {travelled:.5} m, v^2/(2 mu g) = {expected:.5} m");
     assert!(body.velocity().norm() < 1e-9, "still moving at {}", body.velocity().norm());
     assert!((travelled - expected).abs() < 0.01 * expected, "stopped after {travelled} m, expected {expected}");
     assert!(body.position().z - 0.25 < 1e-4, "it hopped: z = {}", body.position().z);
@@ -67,6 +69,7 @@ fn a_stack_of_10_boxes_and_a_10_layer_pyramid_still_stand_after_10_s() {
     let stack: Vec<BodyHandle> =
         (0..10).map(|k| cube(&mut w, 0.5, 500.0, Vector3::new(0.0, 0.0, 0.5 + k as f64))).collect();
     let moved = displacement(&mut w, &stack, 10.0);
+    println!("measured: stack of 10 moved {moved:.3e} m in 10 s");
     assert!(moved < 0.01, "the stack moved {moved} m");
     // Pyramid: 10 layers of 0.5 m cubes in a plane, each resting on two below (10 + 9 + ... + 1 = 55 boxes).
     let mut w = fast_world(true);
@@ -79,6 +82,7 @@ fn a_stack_of_10_boxes_and_a_10_layer_pyramid_still_stand_after_10_s() {
     }
     assert_eq!(pyramid.len(), 55);
     let moved = displacement(&mut w, &pyramid, 10.0);
+    println!("measured: pyramid of 55 moved {moved:.3e} m in 10 s");
     assert!(moved < 0.01, "the pyramid moved {moved} m");
 }
 
@@ -93,6 +97,7 @@ fn boxes_with_a_mass_ratio_of_1000_rest_on_each_other_without_jitter() {
         w.run(1.0, 0.5).unwrap();
         let moved = displacement(&mut w, &[a, b], 5.0);
         let speed = [a, b].iter().map(|&h| w.body(h).unwrap().velocity().norm()).fold(0.0, f64::max);
+        println!("measured: densities {below}/{above}: moved {moved:.3e} m, speed {speed:.3e} m/s");
         assert!(moved < 1e-4 && speed < 1e-3, "densities {below}/{above}: moved {moved}, speed {speed}");
     }
 }
@@ -111,6 +116,7 @@ fn a_sphere_at_1000_m_per_s_does_not_pass_through_a_1_cm_wall() {
     w.run(0.5, 1.0 / 60.0).unwrap();
     let x = w.body(b).unwrap().position().x;
     // It must end on the near side: centre at most at 5 - 0.005 - 0.05 (plus the 1e-3 m contact margin).
+    println!("measured: bullet ends at x = {x:.6} m (wall face at 4.995, ball radius 0.05)");
     assert!(x <= 5.0 - 0.055 + 1e-3, "the ball is at x = {x}");
 }
 
@@ -134,6 +140,8 @@ fn energy_never_grows_in_a_pile_without_driving_forces() {
     }
     let run = w.run(4.0, 1.0 / 60.0).unwrap();
     let e0 = run.energy(0);
+    let rise = (1..run.frames()).map(|f| run.energy(f) - run.energy(f - 1)).fold(f64::MIN, f64::max);
+    println!("measured: largest energy rise between frames {:.3e} of |E0|", rise / e0.abs());
     for f in 1..run.frames() {
         assert!(
             run.energy(f) <= run.energy(f - 1) + 1e-6 * e0.abs(),
