@@ -19,11 +19,11 @@ use tumble::{
 /// A body's colliders: each shape with its pose in the body frame (position, quaternion w, x, y, z).
 type BodyShapes = Vec<(Py<PyShape>, [f64; 3], [f64; 4])>;
 
-/// The contact mode from the constructor's or `set_mode`'s arguments.
-fn mode_of(name: &str, dt: Option<f64>) -> PyResult<Mode> {
+/// The contact mode from the constructor's or `set_mode`'s arguments (`sleep` applies to fast mode).
+fn mode_of(name: &str, dt: Option<f64>, sleep: bool) -> PyResult<Mode> {
     match name {
         "accurate" => Ok(Mode::default()),
-        "fast" => Ok(Mode::Fast(FastSettings::new(dt.unwrap_or(1.0 / 240.0)))),
+        "fast" => Ok(Mode::Fast(FastSettings { sleep, ..FastSettings::new(dt.unwrap_or(1.0 / 240.0)) })),
         other => Err(invalid("mode", format!("expected \"accurate\" or \"fast\", got {other:?}"))),
     }
 }
@@ -237,7 +237,7 @@ impl PyWorld {
         newton: bool,
         max_steps: Option<usize>,
     ) -> PyResult<Self> {
-        let contact = mode_of(mode, dt)?;
+        let contact = mode_of(mode, dt, true)?;
         let mut inner = World::new();
         if let Some(g) = opt_vec3("gravity", gravity)? {
             inner.set_gravity(g).map_err(world_error)?;
@@ -346,10 +346,10 @@ impl PyWorld {
     }
 
     /// Chooses how contact is handled: mode="accurate" (event-driven, the integrator's error control) or "fast"
-    /// (time stepping at dt, default 1/240 s).
-    #[pyo3(signature = (mode, dt = None))]
-    fn set_mode(&mut self, mode: &str, dt: Option<f64>) -> PyResult<()> {
-        let m = mode_of(mode, dt)?;
+    /// (time stepping at dt, default 1/240 s; with sleep=False islands at rest keep being simulated).
+    #[pyo3(signature = (mode, dt = None, sleep = true))]
+    fn set_mode(&mut self, mode: &str, dt: Option<f64>, sleep: bool) -> PyResult<()> {
+        let m = mode_of(mode, dt, sleep)?;
         self.r().set_mode(m).map_err(world_error)
     }
 

@@ -98,29 +98,37 @@ def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(projection="3d")
     ax.set_box_aspect((1, 1, 1))
+    for i, c in enumerate("xyz"):
+        getattr(ax, f"set_{c}lim")(centre[i] - half, centre[i] + half)
+        getattr(ax, f"set_{c}label")(c)
+    # The axes are drawn once; each frame only moves its artists: the colliders' edges (one collection for all
+    # bodies), a body frame (red, green, blue axes and a dot) for a body without shapes, and the particles.
+    shaped = [b for b in range(run.body_positions.shape[1]) if wireframes[b] is not None]
+    bare = [b for b in range(run.body_positions.shape[1]) if wireframes[b] is None]
+    nothing = [np.array([centre, centre])]  # a collection needs a segment; this one draws nothing
+    edges = Line3DCollection(nothing, colors="0.25", linewidths=0.6)
+    ax.add_collection3d(edges)
+    frames_axes = Line3DCollection(nothing, colors=["tab:red", "tab:green", "tab:blue"] * len(bare), linewidths=1.2)
+    ax.add_collection3d(frames_axes)
+    centres = ax.scatter([], [], [], s=30, color="black")
+    particles = ax.scatter([], [], [], s=6, color="tab:blue")
+    title = ax.set_title("")
 
     def draw(k: int):
-        ax.cla()
-        for i, c in enumerate("xyz"):
-            getattr(ax, f"set_{c}lim")(centre[i] - half, centre[i] + half)
-        ax.set_xlabel("x")
-        ax.set_ylabel("y")
-        ax.set_zlabel("z")
         f = frames[k]
-        if run.particle_positions.shape[1]:
-            p = run.particle_positions[f]
-            ax.scatter(p[:, 0], p[:, 1], p[:, 2], s=6, color="tab:blue")
-        for b in range(run.body_positions.shape[1]):
-            x = run.body_positions[f, b]
-            r = rotation_matrix(run.body_orientations[f, b])
-            if wireframes[b] is not None:
-                ax.add_collection3d(Line3DCollection(wireframes[b] @ r.T + x, colors="0.25", linewidths=0.6))
-                continue
-            ax.scatter([x[0]], [x[1]], [x[2]], s=30, color="black")
-            for j, colour in enumerate(("tab:red", "tab:green", "tab:blue")):
-                e = x + axis_length * r[:, j]
-                ax.plot([x[0], e[0]], [x[1], e[1]], [x[2], e[2]], color=colour)
-        ax.set_title(f"t = {run.times[f]:.3f} s")
+        segments = [wireframes[b] @ rotation_matrix(run.body_orientations[f, b]).T + run.body_positions[f, b]
+                    for b in shaped]
+        edges.set_segments(np.concatenate(segments) if segments else nothing)
+        axes = []
+        for b in bare:
+            x, r = run.body_positions[f, b], rotation_matrix(run.body_orientations[f, b])
+            axes.extend([x, x + axis_length * r[:, j]] for j in range(3))
+        frames_axes.set_segments(axes or nothing)
+        x = run.body_positions[f, bare]
+        centres._offsets3d = (x[:, 0], x[:, 1], x[:, 2])
+        p = run.particle_positions[f]
+        particles._offsets3d = (p[:, 0], p[:, 1], p[:, 2])
+        title.set_text(f"t = {run.times[f]:.3f} s")
         return []
 
     animation = FuncAnimation(fig, draw, frames=len(frames), blit=False)

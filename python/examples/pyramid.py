@@ -1,0 +1,30 @@
+"""A pyramid of 55 cubes in 10 layers, each on two below, standing for 10 s in fast mode; prints how far any cube
+moved and how soon the pyramid fell asleep.
+
+    python python/examples/pyramid.py [--duration 10] [--layers 10] [--out tumble-out] [--no-gif]
+"""
+
+import sys
+
+import numpy as np
+from _common import arguments, run_and_write
+
+import tumble
+
+layers = 10
+if "--layers" in sys.argv:
+    i = sys.argv.index("--layers")
+    layers = int(sys.argv[i + 1])
+    del sys.argv[i : i + 2]
+args = arguments(__doc__.splitlines()[0], duration=10.0)
+world = tumble.World(mode="fast", dt=1 / 240)
+world.add_ground(restitution=0.0, friction=0.6)
+for layer in range(layers):
+    for k in range(layers - layer):
+        x = (k + 0.5 * layer) * 0.5
+        world.add_body(tumble.Box((0.25, 0.25, 0.25)), density=500.0, position=(x, 0, 0.25 + 0.5 * layer),
+                       restitution=0.0, friction=0.6)
+run = run_and_write(world, "pyramid", args, frame_interval=1 / 30)
+moved = np.linalg.norm(run.body_positions[:, 1:] - run.body_positions[0, 1:], axis=2).max()
+print(f"{len(run.body_positions[0]) - 1} cubes; the largest displacement of any cube: {moved:.2e} m; "
+      f"{run.report.sleepers} asleep at the end")

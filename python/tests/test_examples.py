@@ -1,0 +1,40 @@
+"""The Python examples (python/examples/) run from a fresh checkout, write their outputs, and the bouncing ball's
+impact times match the closed form."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def run_example(name, tmp_path, *extra):
+    out = subprocess.run(
+        [sys.executable, str(EXAMPLES / f"{name}.py"), "--out", str(tmp_path), "--no-gif", *extra],
+        capture_output=True,
+        text=True,
+        cwd=EXAMPLES,
+        timeout=300,
+    )
+    assert out.returncode == 0, out.stderr
+    return out.stdout
+
+
+def test_bouncing_ball_impacts_match_the_closed_form(tmp_path):
+    stdout = run_example("bouncing_ball", tmp_path, "--duration", "3")
+    rows = [line.split() for line in stdout.splitlines() if line.strip()[:1].isdigit() and len(line.split()) == 4]
+    assert len(rows) == 5, stdout
+    # Each error is within n (1 + 1/e) 1e-10 s of the closed form (the bisection tolerance carried over n bounces).
+    for n, (_, t, exact, err) in enumerate(rows, start=1):
+        assert abs(float(t) - float(exact)) <= n * (1 + 1 / 0.8) * 1e-10 + 1e-12, rows
+    assert (tmp_path / "bouncing-ball.glb").stat().st_size > 0 and (tmp_path / "bouncing-ball.png").exists()
+
+
+@pytest.mark.parametrize("name", ["tumbling_box", "dominoes", "pyramid", "cloth_drape"])
+def test_fast_mode_examples_run_and_write_their_outputs(name, tmp_path):
+    run_example(name, tmp_path, "--duration", "0.25")
+    stem = name.replace("_", "-")
+    assert (tmp_path / f"{stem}.glb").stat().st_size > 1000
+    assert (tmp_path / f"{stem}.png").exists()
