@@ -61,12 +61,14 @@ impl Accurate {
         let v_rest = self.resting_speed;
         model.update_kin(&y);
         let poses = actor_poses(model, &y, &statics);
-        let zeros = vec![0.0; self.scene.actors()];
-        let checks = self.scene.checks;
-        let found = self.scene.find(&poses, &zeros, delta);
-        self.report.collision_checks += self.scene.checks - checks;
         let dp = vec![0.0; y.len() - model.layout.positions()];
         let mut states = model.contact_states(&y, &dp, &statics);
+        // The bisection stops up to `time_tolerance` before contact, when a pair may still be apart by as much as
+        // it closes in that time: contacts within that distance (plus the contact distance) count as touching.
+        let closing = self.scene.reach(&states, 2.0 * self.settings.time_tolerance);
+        let checks = self.scene.checks;
+        let found = self.scene.find(&poses, &closing, delta);
+        self.report.collision_checks += self.scene.checks - checks;
         self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
         self.report.max_penetration = self.report.max_penetration.max(self.penetration);
         // Separating contacts take no part.
@@ -162,9 +164,11 @@ impl Accurate {
         };
         let mut event: Option<f64> = None;
         if !fresh.is_empty() {
-            // The chapter's bisection: the last time before any new contact interpenetrates.
+            // The chapter's bisection: the last time before any new contact interpenetrates. It goes on past the
+            // tolerance until the time has moved off the step's start: a flight shorter than the tolerance (a tiny
+            // bounce) would otherwise stop at t0 again and again.
             let (mut lo, mut hi) = (t0, t1);
-            while hi - lo > self.settings.time_tolerance {
+            while hi - lo > self.settings.time_tolerance || lo <= t0 {
                 let mid = 0.5 * (lo + hi);
                 if mid <= lo || mid >= hi {
                     break;

@@ -3,7 +3,7 @@
 //! wall; energy never grows; and the run report shows zero for the stages a scene does not need.
 
 use nalgebra::{UnitQuaternion, Vector3};
-use tumble::{Material, Method, ParticleBuilder, RigidBodyBuilder, Settings, Shape, World};
+use tumble::{AccurateSettings, Material, Method, Mode, ParticleBuilder, RigidBodyBuilder, Settings, Shape, World};
 
 const G: f64 = 9.81;
 
@@ -60,6 +60,28 @@ fn a_ball_with_e_0_8_bounces_to_0_64_to_the_n_and_comes_to_rest() {
         b.velocity().norm()
     );
     assert!(run.report.collisions < 60, "{} collisions", run.report.collisions);
+}
+
+#[test]
+fn a_coarse_bisection_tolerance_trades_accuracy_and_still_settles() {
+    // Bisection stops up to `tol` before contact, with the ball still up to v tol above the floor: that contact must
+    // count as touching (regression: at tol = 1e-3 s it did not, and the same event repeated until the guard).
+    // Impact times stay within n (1 + 1/e) tol, as in the test above, and the ball comes to rest.
+    let e = 0.8;
+    let v1 = (2.0 * G).sqrt();
+    for tol in [1e-3, 1e-6] {
+        let (mut w, ball) = ball_world(e, 0.1, 1.0);
+        w.set_mode(Mode::Accurate(AccurateSettings { time_tolerance: tol, ..AccurateSettings::default() })).unwrap();
+        let run = w.run(6.0, 1e-2).unwrap();
+        let mut exact = v1 / G;
+        for (n, &t) in run.contact_events.iter().take(5).enumerate() {
+            let bound = (n + 1) as f64 * (1.0 + 1.0 / e) * tol;
+            println!("measured: tol {tol:e}, impact {}: error {:.2e} s", n + 1, t - exact);
+            assert!((t - exact).abs() <= bound, "tol {tol}: impact {}: {t} vs {exact}", n + 1);
+            exact += 2.0 * e.powi(n as i32 + 1) * v1 / G;
+        }
+        assert!(w.body(ball).unwrap().velocity().norm() < 1e-9, "tol {tol}: still moving");
+    }
 }
 
 #[test]
