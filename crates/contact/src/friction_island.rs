@@ -294,10 +294,13 @@ fn residual(
     let free_local: Vec<BodyVelocity> = local.iter().map(|&k| free[k]).collect();
     let (moved, free_state) = (state(&after), state(&free_local));
     let bodies = &bodies[..];
+    // The velocity scale: relative velocities and biases, and the speeds of the contact points themselves (two
+    // bodies falling together touch at zero relative velocity and zero bias; their answer is judged against how fast
+    // they move, at least the g h a step of gravity gives).
     let mut v_scale = f64::MIN_POSITIVE;
     for c in &island_contacts {
-        let rel = free_state[c.b].point_velocity(&c.point) - free_state[c.a].point_velocity(&c.point);
-        v_scale = v_scale.max(rel.norm()).max(bias(c, bodies, s).abs());
+        let (va, vb) = (free_state[c.a].point_velocity(&c.point), free_state[c.b].point_velocity(&c.point));
+        v_scale = v_scale.max((vb - va).norm()).max(bias(c, bodies, s).abs()).max(va.norm()).max(vb.norm());
     }
     let p_scale = out
         .velocities
