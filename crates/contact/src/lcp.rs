@@ -250,5 +250,12 @@ pub(crate) fn solve(
         let r = residual(&f, &w, q, &diagonal);
         Ok(((f, w), r, sol.iterations))
     })?;
-    Ok(LcpSolution { f, w, iterations, residual })
+    let ((f, w), worst) = match crate::polish::polish(a, q, &f, &w) {
+        Some((pf, pw)) => {
+            let r = self::residual(&pf, &pw, q, &diagonal);
+            ((pf, pw), r)
+        }
+        None => ((f, w), residual),
+    };
+    Ok(LcpSolution { f, w, iterations, residual: worst })
 }

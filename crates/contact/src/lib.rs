@@ -37,6 +37,7 @@ mod impulse;
 mod islands;
 mod jacobian;
 mod lcp;
+mod polish;
 mod projection;
 mod resting;
 mod simultaneous;
