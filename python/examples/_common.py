@@ -10,9 +10,12 @@ import numpy as np
 import tumble
 
 
-def arguments(description: str, duration: float) -> argparse.Namespace:
+def arguments(description: str, duration: float, **counts: tuple[int, str]) -> argparse.Namespace:
+    """The common options, and one integer option per keyword: name=(default, help)."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument("--duration", type=float, default=duration, help=f"simulated seconds (default {duration})")
+    for name, (default, text) in counts.items():
+        p.add_argument(f"--{name}", type=int, default=default, help=f"{text} (default {default})")
     p.add_argument("--out", type=Path, default=Path("tumble-out"), help="directory for the outputs")
     p.add_argument("--no-gif", action="store_true", help="skip the GIF preview (the slowest output)")
     return p.parse_args()

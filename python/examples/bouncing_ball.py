@@ -12,7 +12,7 @@ import tumble
 
 G, E, R, H = 9.81, 0.8, 0.1, 1.0
 
-args = arguments(__doc__.splitlines()[0], duration=5.0)
+args = arguments(__doc__.split("\n\n")[0], duration=5.0)
 world = tumble.World(integrator="dopri5", rtol=1e-10, atol=1e-12)
 world.add_ground(restitution=E, friction=0.0)
 world.add_body(tumble.Sphere(R), density=1000.0, position=(0, 0, H + R), restitution=E, friction=0.0)

@@ -9,7 +9,7 @@ from _common import arguments, run_and_write
 
 import tumble
 
-args = arguments(__doc__.splitlines()[0], duration=3.0)
+args = arguments(__doc__.split("\n\n")[0], duration=3.0)
 n, size = 12, 1.2
 world = tumble.World()
 world.set_mode("fast", dt=1 / 480, sleep=False)  # springs are explicit in fast mode: 1/480 s keeps them stable

@@ -3,23 +3,16 @@
     python python/examples/dominoes.py [--duration 6] [--count 20] [--out tumble-out] [--no-gif]
 """
 
-import sys
-
 import numpy as np
 from _common import arguments, run_and_write
 
 import tumble
 
-count = 20
-if "--count" in sys.argv:
-    i = sys.argv.index("--count")
-    count = int(sys.argv[i + 1])
-    del sys.argv[i : i + 2]
-args = arguments(__doc__.splitlines()[0], duration=6.0)
+args = arguments(__doc__.split("\n\n")[0], count=(20, "how many dominoes"), duration=6.0)
 world = tumble.World(mode="fast", dt=1 / 240)
 world.add_ground(restitution=0.1, friction=0.6)
 half = (0.04, 0.2, 0.4)
-for k in range(count):
+for k in range(args.count):
     world.add_body(tumble.Box(half), density=700.0, position=(0.5 * k, 0, half[2]), restitution=0.1, friction=0.4,
                    angular_velocity=(0, 2.0, 0) if k == 0 else (0, 0, 0))
 run = run_and_write(world, "dominoes", args)

@@ -4,23 +4,16 @@ moved and how soon the pyramid fell asleep.
     python python/examples/pyramid.py [--duration 10] [--layers 10] [--out tumble-out] [--no-gif]
 """
 
-import sys
-
 import numpy as np
 from _common import arguments, run_and_write
 
 import tumble
 
-layers = 10
-if "--layers" in sys.argv:
-    i = sys.argv.index("--layers")
-    layers = int(sys.argv[i + 1])
-    del sys.argv[i : i + 2]
-args = arguments(__doc__.splitlines()[0], duration=10.0)
+args = arguments(__doc__.split("\n\n")[0], layers=(10, "layers of the pyramid"), duration=10.0)
 world = tumble.World(mode="fast", dt=1 / 240)
 world.add_ground(restitution=0.0, friction=0.6)
-for layer in range(layers):
-    for k in range(layers - layer):
+for layer in range(args.layers):
+    for k in range(args.layers - layer):
         x = (k + 0.5 * layer) * 0.5
         world.add_body(tumble.Box((0.25, 0.25, 0.25)), density=500.0, position=(x, 0, 0.25 + 0.5 * layer),
                        restitution=0.0, friction=0.6)

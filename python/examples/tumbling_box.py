@@ -9,7 +9,7 @@ from _common import arguments, energy_change, run_and_write
 
 import tumble
 
-args = arguments(__doc__.splitlines()[0], duration=4.0)
+args = arguments(__doc__.split("\n\n")[0], duration=4.0)
 world = tumble.World(mode="fast", dt=1 / 240)
 world.add_ground(restitution=0.3, friction=0.6)
 # orientation as a quaternion (w, x, y, z): a tilt of about 0.55 rad
