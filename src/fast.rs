@@ -266,10 +266,10 @@ impl FastEngine {
             };
             let e0 = energy(&start, 0.0);
             let limit = e0 + 1e-12 * e0.abs().max(kinetic(states, &start, &members));
-            if energy(&out.velocities, h) <= limit {
+            let e_one = energy(&out.velocities, h);
+            if e_one <= limit {
                 continue;
             }
-            let e_one = energy(&out.velocities, h);
             let mut solve_scaled = |scale: f64| {
                 let sub: Vec<tumble_contact::Contact> = island
                     .iter()
