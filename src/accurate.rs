@@ -157,16 +157,18 @@ impl Accurate {
         // give or take rounding (+-4e-13 m seen; parry may also renumber their features), so a light body under a
         // heavy one would otherwise raise an event at every step. The collision time of such a contact is off by
         // at most that depth over the closing speed (3e-11 s for the bouncing ball).
-        let candidate: Vec<(usize, usize)> = {
+        // The collider pairs of the contacts that satisfy `pick`, each once.
+        let pairs_where = |pick: &dyn Fn(&Found) -> bool| -> Vec<(usize, usize)> {
             let mut p: Vec<(usize, usize)> = found1
                 .iter()
-                .filter(|f| !resting.contains(&f.key) && f.contact.distance < 0.0)
+                .filter(|f| pick(f))
                 .map(|f| (f.key.colliders.0 as usize, f.key.colliders.1 as usize))
                 .collect();
             p.sort_unstable();
             p.dedup();
             p
         };
+        let candidate = pairs_where(&|f| !resting.contains(&f.key) && f.contact.distance < 0.0);
         let touching0: HashSet<(u32, u32)> = if candidate.is_empty() {
             HashSet::new()
         } else {
@@ -177,16 +179,7 @@ impl Accurate {
             !resting.contains(&f.key)
                 && f.contact.distance < if touching0.contains(&f.key.colliders) { -1e-3 * delta } else { 0.0 }
         };
-        let fresh: Vec<(usize, usize)> = {
-            let mut p: Vec<(usize, usize)> = found1
-                .iter()
-                .filter(|f| hits(f, resting))
-                .map(|f| (f.key.colliders.0 as usize, f.key.colliders.1 as usize))
-                .collect();
-            p.sort_unstable();
-            p.dedup();
-            p
-        };
+        let fresh = pairs_where(&|f| hits(f, resting));
         let mut event: Option<f64> = None;
         if !fresh.is_empty() {
             // The chapter's bisection: the last time before any new contact interpenetrates. It goes on past the
