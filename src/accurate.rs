@@ -175,9 +175,18 @@ impl Accurate {
             let found0 = self.scene.pair_contacts(&candidate, &poses0, |_, _| delta);
             found0.iter().filter(|f| f.contact.distance <= delta).map(|f| f.key.colliders).collect()
         };
+        // In a pair that has resting contacts, a contact parry names differently (it may renumber the features of
+        // one geometric contact from step to step) is not a new collision unless it sinks as deep as a drift does.
+        let resting_pairs: HashSet<(u32, u32)> = resting.iter().map(|k| k.colliders).collect();
         let hits = |f: &Found, resting: &HashSet<ContactKey>| {
-            !resting.contains(&f.key)
-                && f.contact.distance < if touching0.contains(&f.key.colliders) { -1e-3 * delta } else { 0.0 }
+            let depth = if resting_pairs.contains(&f.key.colliders) {
+                -delta
+            } else if touching0.contains(&f.key.colliders) {
+                -1e-3 * delta
+            } else {
+                0.0
+            };
+            !resting.contains(&f.key) && f.contact.distance < depth
         };
         let fresh = pairs_where(&|f| hits(f, resting));
         let mut event: Option<f64> = None;
@@ -237,6 +246,14 @@ impl Accurate {
                     event = Some(event.map_or(hit.time, |e: f64| e.min(hit.time)));
                 }
                 Ok(None) => {}
+                // A pair that grazes (apart by little more than the contact distance while turning fast) can need
+                // more queries than the search may make: the step is cut in half instead, and the next one searches
+                // a shorter interval.
+                Err(e) if trouble.is_none() && e.name == "options" => {
+                    self.report.bisection_steps += options.max_iterations;
+                    let half = t0 + 0.5 * h;
+                    event = Some(event.map_or(half, |e: f64| e.min(half)));
+                }
                 Err(e) => return Err(trouble.unwrap_or_else(|| failure(t0, format!("pass-through search: {e}")))),
             }
         }
