@@ -221,12 +221,12 @@ impl Accurate {
             let d0 = distance(&sa, &(poses0[ia] * oa), &sb, &(poses0[ib] * ob)).unwrap_or(f64::INFINITY);
             let d1 = distance(&sa, &(poses1[ia] * oa), &sb, &(poses1[ib] * ob)).unwrap_or(f64::INFINITY);
             let closing = speeds[ia].0 + speeds[ib].0;
-            if d0 <= delta || d0 + d1 > closing * h {
+            if d1 <= delta || d0 + d1 > closing * h {
                 continue;
             }
             let mut trouble: Option<OdeError> = None;
             let model_statics = statics.clone();
-            let poses = |t: f64| -> Result<(Isometry3<f64>, Isometry3<f64>), ShapeError> {
+            let mut poses = |t: f64| -> Result<(Isometry3<f64>, Isometry3<f64>), ShapeError> {
                 let y = step.state_at(t).map_err(|e| {
                     let msg = e.to_string();
                     trouble = Some(e);
@@ -240,7 +240,21 @@ impl Accurate {
                 tolerance: (delta / closing.max(1e-300)).max(self.settings.time_tolerance),
                 max_iterations: 10_000,
             };
-            match first_contact(&sa, &sb, poses, t0, t1, closing, &options) {
+            // A pair touching at the step's start (it has just bounced apart) is searched from the first of
+            // t0 + h/2^30, h/2^29, ..., h/2 at which it is clear, so that coming back later in a long step (a
+            // ballistic flight that Dormand-Prince takes in one step) is not missed; one still touching at t0 + h/2
+            // is left to the next step.
+            let mut start = t0;
+            if d0 <= delta {
+                let clear = (1..=30).rev().map(|k| t0 + h / f64::from(1u32 << k)).find(|&t| {
+                    poses(t).ok().and_then(|(pa, pb)| distance(&sa, &pa, &sb, &pb).ok()).is_some_and(|d| d > delta)
+                });
+                match clear {
+                    Some(t) => start = t,
+                    None => continue,
+                }
+            }
+            match first_contact(&sa, &sb, poses, start, t1, closing, &options) {
                 Ok(Some(hit)) => {
                     self.report.bisection_steps += hit.iterations;
                     event = Some(event.map_or(hit.time, |e: f64| e.min(hit.time)));
