@@ -73,7 +73,7 @@ def _wireframes(run: "Run", extent: float, centre: np.ndarray) -> list[np.ndarra
 
 
 def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
-    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter, writers  # noqa: PLC0415
+    from matplotlib.animation import FFMpegWriter, FuncAnimation, writers  # noqa: PLC0415
     from mpl_toolkits.mplot3d.art3d import Line3DCollection  # noqa: PLC0415
 
     suffix = path.suffix.lower()
@@ -131,7 +131,17 @@ def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
         title.set_text(f"t = {run.times[f]:.3f} s")
         return []
 
+    if suffix == ".gif":
+        # Each frame drawn once and handed to Pillow (matplotlib's animation writer draws every frame twice).
+        from PIL import Image  # noqa: PLC0415 - Pillow comes with matplotlib
+
+        images = []
+        for k in range(len(frames)):
+            draw(k)
+            fig.canvas.draw()
+            images.append(Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[..., :3]).quantize(colors=64))
+        images[0].save(path, save_all=True, append_images=images[1:], duration=round(1000 / fps), loop=0)
+        return path
     animation = FuncAnimation(fig, draw, frames=len(frames), blit=False)
-    writer = PillowWriter(fps=fps) if suffix == ".gif" else FFMpegWriter(fps=fps)
-    animation.save(str(path), writer=writer)
+    animation.save(str(path), writer=FFMpegWriter(fps=fps))
     return path
