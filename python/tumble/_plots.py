@@ -66,10 +66,21 @@ def _wireframes(run: "Run", extent: float, centre: np.ndarray) -> list[np.ndarra
                 normal = np.cross(v[1] - v[0], v[2] - v[0])
                 normal /= np.linalg.norm(normal)
                 v = v + local - normal * normal.dot(local)
-            edges = {tuple(sorted((int(a), int(c)))) for tri in np.asarray(t) for a, c in zip(tri, np.roll(tri, 1))}
-            segments.extend(v[list(e)] for e in edges)
+            segments.extend(v[list(e)] for e in _feature_edges(v, np.asarray(t)))
         out.append(np.array(segments) if segments else None)
     return out
+
+
+def _feature_edges(v: np.ndarray, triangles: np.ndarray) -> list[tuple[int, int]]:
+    """The mesh's edges that bound a face: on one triangle only, or between triangles that are not coplanar (a box's
+    face diagonals and the half-space square's diagonal are left out)."""
+    normals: dict[tuple[int, int], list[np.ndarray]] = {}
+    for tri in triangles:
+        n = np.cross(v[tri[1]] - v[tri[0]], v[tri[2]] - v[tri[0]])
+        n = n / (np.linalg.norm(n) or 1.0)
+        for a, c in zip(tri, np.roll(tri, 1)):
+            normals.setdefault(tuple(sorted((int(a), int(c)))), []).append(n)
+    return [e for e, ns in normals.items() if len(ns) == 1 or any(np.dot(ns[0], m) < 1 - 1e-9 for m in ns[1:])]
 
 
 def animate_run(run: "Run", path: Path, fps: float | None, size: float) -> Path:
