@@ -1,6 +1,6 @@
 //! Fast mode (time stepping) against closed forms and the scenes: a box at rest stays put, a sliding box
 //! stops after v^2 / (2 mu g), stacks and a pyramid stand, mass ratios of 1000 rest without jitter, a bullet does
-//! not pass through a thin wall, and energy never grows.
+//! not pass through a thin wall, energy never grows, and a sleeping box wakes when another lands on it.
 
 use nalgebra::{UnitQuaternion, Vector3};
 use tumble::{BodyHandle, FastSettings, Material, Mode, RigidBodyBuilder, Shape, World};
@@ -201,4 +201,33 @@ fn two_boxes_falling_together_after_a_bounce_solve_cleanly() {
         // stacked at the end: 0.25 and 0.75, to the penetration a step of 1/30 s leaves (erp 0.2): 1 cm
         assert!((z[0] - 0.25).abs() < 0.01 && (z[1] - 0.75).abs() < 0.01, "dt {dt}: heights {z:?}");
     }
+}
+
+#[test]
+fn a_sleeping_box_wakes_when_another_lands_on_it_and_both_sleep_after() {
+    // Box A rests on the floor and falls asleep (still for 0.5 s); box B, dropped from 10 m, lands on it at
+    // t = sqrt(2 * 8.5 / g) = 1.32 s. A must wake at the impact (the report's sleepers drop to 0), carry B, and both
+    // sleep once still again. While asleep, A does not move at all.
+    let mut w = fast_world(true);
+    let a = cube(&mut w, 0.5, 500.0, Vector3::new(0.0, 0.0, 0.5));
+    let b = cube(&mut w, 0.5, 500.0, Vector3::new(0.0, 0.0, 10.0));
+    w.step(1.0).unwrap();
+    assert_eq!(w.report().sleepers, 1, "A asleep before B lands");
+    let za = w.body(a).unwrap().position().z;
+    let landing = (2.0 * 8.5 / G).sqrt();
+    let mut woke = false;
+    while w.time() < landing + 0.1 {
+        w.step(DT).unwrap();
+        if w.time() < landing - 0.02 {
+            assert_eq!(w.body(a).unwrap().position().z, za, "a sleeping body does not move");
+        }
+        woke |= w.report().sleepers == 0;
+    }
+    assert!(woke, "A never woke when B landed on it");
+    w.step(3.0).unwrap();
+    let (za, zb) = (w.body(a).unwrap().position().z, w.body(b).unwrap().position().z);
+    println!("measured: after the landing, A at z = {za:.6} m, B at z = {zb:.6} m, {} asleep", w.report().sleepers);
+    assert_eq!(w.report().sleepers, 2, "both asleep at the end");
+    // Resting on each other: to the 1e-3 m contact margin plus the slop the landing left (Baumgarte's 0.2 a step).
+    assert!((za - 0.5).abs() < 2e-3 && (zb - 1.5).abs() < 2e-3, "A {za}, B {zb}");
 }
