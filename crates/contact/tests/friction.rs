@@ -2,6 +2,8 @@
 //! and checked), a box resting on the ground, restitution and the penetration and speculative biases, impulses inside
 //! the friction cone, and islands.
 
+mod common;
+
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
 use tumble_contact::{islands, velocity_step, BodyState, Contact, StepSettings};
 
@@ -122,11 +124,7 @@ fn a_ball_bounces_with_e_and_slow_or_distant_contacts_do_not() {
 
 #[test]
 fn friction_impulses_stay_inside_their_cones_on_random_scenes() {
-    let mut seed = 11u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = common::uniform(11);
     let mut sliding = 0;
     for case in 0..100 {
         let (mut bodies, mut contacts) = resting_box(0.1 + rnd(), 0.3 * rnd());
@@ -206,11 +204,7 @@ fn islands_solved_together_on_several_threads_match_each_solved_alone() {
     // Twelve sliding, spinning boxes on one ground: twelve islands and 48 contacts, enough for the step to spread
     // its islands over threads. Each island's program is the same whether solved with the others or alone, and the
     // answer must come back to the right bodies in the right order: equal to the last bit.
-    let mut seed = 5u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = common::uniform(5);
     let mut bodies = vec![BodyState::fixed(Point3::origin())];
     let mut contacts = Vec::new();
     let mut alone = Vec::new();

@@ -2,6 +2,8 @@
 //! (e = 0), momentum conserved and kinetic energy never gained, the spin an off-centre hit gives, the particle form,
 //! and simultaneous impulses along a row of touching balls.
 
+mod common;
+
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
 use tumble_contact::{
     collision_impulses, impulse_magnitude, reflect, velocities_after, BodyState, BodyVelocity, Contact, SolverSettings,
@@ -62,11 +64,7 @@ fn equal_spheres_exchange_velocities_when_elastic_and_move_together_when_plastic
 fn momentum_is_conserved_and_energy_never_gained_for_any_restitution() {
     // Random unequal bodies hitting off-centre at random restitutions: momentum to rounding, energy never up, and
     // exactly conserved at e = 1.
-    let mut seed = 7u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = common::uniform(7);
     for case in 0..500 {
         let inertia =
             |r: &mut dyn FnMut() -> f64| Matrix3::from_diagonal(&Vector3::new(0.1 + r(), 0.1 + r(), 0.1 + r()));

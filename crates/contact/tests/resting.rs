@@ -3,6 +3,8 @@
 //! paddle needs the Coriolis force), and complementarity on random resting configurations checked by recomputing
 //! the accelerations from the forces.
 
+mod common;
+
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
 use tumble_contact::{contact_wrenches, resting_forces, BodyState, Contact, NormalMotion, SolverSettings};
 
@@ -105,11 +107,7 @@ fn random_resting_configurations_are_complementary() {
     // Random boxes on a ground and on each other, spinning and pushed; forces from the QP, then accelerations
     // recomputed from the bodies' equations of motion with the contact wrenches (not through A): f >= 0, a >= 0,
     // f . a = 0 within the stated tolerance.
-    let mut seed = 3u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = common::uniform(3);
     let settings = SolverSettings::default();
     let mut separating = 0;
     for case in 0..200 {
