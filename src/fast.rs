@@ -13,7 +13,9 @@ use crate::WorldError;
 use nalgebra::UnitQuaternion;
 use std::collections::HashMap;
 use std::time::Instant;
-use tumble_contact::{islands, velocity_step, velocity_step_lagged, BodyState, BodyVelocity, StepSettings};
+use tumble_contact::{
+    free_velocity, islands, velocity_step, velocity_step_lagged, BodyState, BodyVelocity, StepSettings,
+};
 use tumble_integrate::{OdeError, OdeSystem};
 
 /// The method name fast mode reports.
@@ -151,7 +153,7 @@ impl FastEngine {
         settings.solver.iterative_refinement = false;
         let c0 = Instant::now();
         let (velocities, normal): (Vec<BodyVelocity>, Vec<f64>) = if contacts.is_empty() {
-            (states.iter().map(|b| free(b, h)).collect(), Vec::new())
+            (states.iter().map(|b| free_velocity(b, h)).collect(), Vec::new())
         } else {
             let out = self.solve_contacts(&states, &contacts, &found, &settings)?;
             for (c, p) in contacts.iter().zip(&out.normal_impulses) {
@@ -361,18 +363,6 @@ impl FastEngine {
             set3(&mut self.y, l.bp(j), &(lin * b.mass));
             set3(&mut self.y, l.bl(j), &momentum);
         }
-    }
-}
-
-/// The velocity after a step without contact.
-fn free(b: &BodyState, h: f64) -> BodyVelocity {
-    if !b.is_dynamic() {
-        return BodyVelocity { linear: b.velocity, angular: b.angular_velocity };
-    }
-    let w = b.angular_velocity;
-    BodyVelocity {
-        linear: b.velocity + b.force * (b.inv_mass * h),
-        angular: w + b.inv_inertia * (b.torque - w.cross(&(b.inertia * w))) * h,
     }
 }
 

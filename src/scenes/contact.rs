@@ -6,7 +6,7 @@ use crate::collider::Material;
 use crate::error::WorldError;
 use crate::mode::{FastSettings, Mode};
 use crate::particle::ParticleBuilder;
-use crate::spring::{Attachment, BodyHandle, ParticleHandle, SpringBuilder};
+use crate::spring::{BodyHandle, ParticleHandle};
 use crate::world::World;
 use nalgebra::{UnitQuaternion, Vector3};
 use tumble_collide::Shape;
@@ -185,23 +185,7 @@ impl ClothDrape {
                 ps.push(w.add_particle(p)?);
             }
         }
-        let at = |i: usize, j: usize| ps[j * n + i];
-        let spring =
-            |a, b| SpringBuilder::new(Attachment::Particle(a), Attachment::Particle(b)).stiffness(60.0).damping(0.05);
-        for j in 0..n {
-            for i in 0..n {
-                if i + 1 < n {
-                    w.add_spring(spring(at(i, j), at(i + 1, j)))?;
-                }
-                if j + 1 < n {
-                    w.add_spring(spring(at(i, j), at(i, j + 1)))?;
-                }
-                if i + 1 < n && j + 1 < n {
-                    w.add_spring(spring(at(i, j), at(i + 1, j + 1)))?;
-                    w.add_spring(spring(at(i + 1, j), at(i, j + 1)))?;
-                }
-            }
-        }
+        super::weave(&mut w, &ps, n, 60.0, 0.05)?;
         Ok((w, ps))
     }
 }

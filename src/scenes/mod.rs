@@ -38,6 +38,36 @@ impl Default for Cloth {
     }
 }
 
+/// Springs of an n x n grid of particles (row by row): structural ones between neighbours and shear ones across
+/// both diagonals of every cell.
+pub(crate) fn weave(
+    w: &mut World,
+    ps: &[ParticleHandle],
+    n: usize,
+    stiffness: f64,
+    damping: f64,
+) -> Result<(), WorldError> {
+    let at = |i: usize, j: usize| ps[j * n + i];
+    let spring = |a, b| {
+        SpringBuilder::new(Attachment::Particle(a), Attachment::Particle(b)).stiffness(stiffness).damping(damping)
+    };
+    for j in 0..n {
+        for i in 0..n {
+            if i + 1 < n {
+                w.add_spring(spring(at(i, j), at(i + 1, j)))?;
+            }
+            if j + 1 < n {
+                w.add_spring(spring(at(i, j), at(i, j + 1)))?;
+            }
+            if i + 1 < n && j + 1 < n {
+                w.add_spring(spring(at(i, j), at(i + 1, j + 1)))?;
+                w.add_spring(spring(at(i + 1, j), at(i, j + 1)))?;
+            }
+        }
+    }
+    Ok(())
+}
+
 impl Cloth {
     /// Builds the cloth horizontally at height 1 m, corners (0, 0) and (size, 0) pinned, with structural springs
     /// between neighbours and shear springs across every cell, stepped by implicit Euler at 1/240 s.
@@ -58,25 +88,7 @@ impl Cloth {
             }
         }
         let at = |i: usize, j: usize| ps[j * n + i];
-        let spring = |a, b| {
-            SpringBuilder::new(Attachment::Particle(a), Attachment::Particle(b))
-                .stiffness(self.stiffness)
-                .damping(self.damping)
-        };
-        for j in 0..n {
-            for i in 0..n {
-                if i + 1 < n {
-                    w.add_spring(spring(at(i, j), at(i + 1, j)))?;
-                }
-                if j + 1 < n {
-                    w.add_spring(spring(at(i, j), at(i, j + 1)))?;
-                }
-                if i + 1 < n && j + 1 < n {
-                    w.add_spring(spring(at(i, j), at(i + 1, j + 1)))?;
-                    w.add_spring(spring(at(i + 1, j), at(i, j + 1)))?;
-                }
-            }
-        }
+        weave(&mut w, &ps, n, self.stiffness, self.damping)?;
         for corner in [at(0, 0), at(n - 1, 0)] {
             let x = w.particle(corner)?.position();
             w.add_spring(

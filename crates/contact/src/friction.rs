@@ -68,9 +68,9 @@ pub struct VelocityStep {
     pub solver_calls: usize,
 }
 
-/// The velocity each body would have after the step under its applied force and torque alone (explicit gyroscopic
-/// term).
-pub(crate) fn free_velocity(b: &BodyState, h: f64) -> BodyVelocity {
+/// The velocity a body would have after a step of `h` under its applied force and torque alone (explicit gyroscopic
+/// term); a static body keeps its velocity.
+pub fn free_velocity(b: &BodyState, h: f64) -> BodyVelocity {
     if !b.is_dynamic() {
         return BodyVelocity { linear: b.velocity, angular: b.angular_velocity };
     }
