@@ -55,13 +55,19 @@ impl WorldReport {
     pub(crate) fn merge(&mut self, o: &WorldReport) {
         self.integrator.merge(&o.integrator);
         self.forces += o.forces;
+        self.merge_contact(o);
+        self.islands += o.islands;
+        self.sleepers = o.sleepers;
+    }
+
+    /// Adds the contact counters of `o` (collisions, impulses, bisection steps, checks, QP solves, penetration,
+    /// times), leaving the integrator's, the force loops', islands and sleepers alone.
+    pub(crate) fn merge_contact(&mut self, o: &WorldReport) {
         self.qp_solves += o.qp_solves;
         self.collisions += o.collisions;
         self.impulses += o.impulses;
         self.bisection_steps += o.bisection_steps;
         self.collision_checks += o.collision_checks;
-        self.islands += o.islands;
-        self.sleepers = o.sleepers;
         self.max_penetration = self.max_penetration.max(o.max_penetration);
         self.collision_seconds += o.collision_seconds;
         self.contact_seconds += o.contact_seconds;

@@ -84,14 +84,7 @@ fn advance_inner(
 pub(crate) fn take_contact_report(e: &mut Engine, r: &mut WorldReport) {
     if let Some(acc) = &mut e.accurate {
         let c = std::mem::replace(&mut acc.report, WorldReport::new("accurate"));
-        r.collisions += c.collisions;
-        r.impulses += c.impulses;
-        r.bisection_steps += c.bisection_steps;
-        r.collision_checks += c.collision_checks;
-        r.qp_solves += c.qp_solves;
-        r.max_penetration = r.max_penetration.max(c.max_penetration);
-        r.collision_seconds += c.collision_seconds;
-        r.contact_seconds += c.contact_seconds;
+        r.merge_contact(&c);
     }
     if let Some(set) = &mut e.compiled.model.resting {
         r.qp_solves += std::mem::take(&mut set.solves);
