@@ -17,40 +17,22 @@
 
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-#[cfg(feature = "contact")]
-mod accurate;
 mod body;
 mod collider;
-#[cfg(feature = "contact")]
-mod contact_scene;
-mod dynamics;
-mod energy;
+mod engine;
 mod error;
-#[cfg(feature = "contact")]
-mod fast;
 mod handle;
-mod layout;
 mod load;
-#[cfg(feature = "contact")]
-mod manifold;
 mod mode;
 mod model;
+mod options;
 mod particle;
 mod plan;
 mod report;
-#[cfg(feature = "contact")]
-mod resting_set;
 mod run;
 pub mod scenes;
-#[cfg(feature = "contact")]
-mod sleep;
 mod spring;
 mod world;
-#[cfg(feature = "contact")]
-mod world_accurate;
-#[cfg(feature = "contact")]
-mod world_fast;
-mod world_jacobian;
 
 pub use body::{RigidBody, RigidBodyBuilder};
 pub use collider::{Collider, Material};
@@ -60,8 +42,9 @@ pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
 pub use mode::{AccurateSettings, FastFriction, FastSettings, Mode};
 pub use model::ForceCounters;
 pub use particle::{Particle, ParticleBuilder};
-pub use plan::Plan;
-pub use report::WorldReport;
+pub use options::{BodyOptions, IntegratorOptions, WorldOptions};
+pub use plan::{Plan, Stage, StageCounts};
+pub use report::{ReportValue, WorldReport};
 pub use run::{Run, RunArrays};
 pub use spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
 pub use world::{SpringJacobian, World};

@@ -1,6 +1,125 @@
-//! The plan: which stages a world runs, decided from its contents, so a scene pays only for what it uses.
+//! The stages a world can run, and the plan: which of them a world runs, decided from its contents, so a scene
+//! pays only for what it uses. Engines list the stages they will run (`Engine::stages`) and count the ones that
+//! ran (`StageCounts`), so a report shows whether the plan was kept.
 
 use std::fmt;
+
+/// One stage of a world's step: a term of the equations of motion or a stage of an engine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Stage {
+    /// The particles' equations of motion.
+    Particles,
+    /// The rigid bodies' equations of motion.
+    RigidBodies,
+    /// Quaternion rates of rigid bodies.
+    Rotation,
+    /// Gravity.
+    Gravity,
+    /// Damping and restoring terms.
+    Damping,
+    /// Spring forces.
+    Springs,
+    /// Constant forces and torques.
+    Loads,
+    /// User force callbacks.
+    Callbacks,
+    /// Broad and narrow phase (both contact modes).
+    CollisionDetection,
+    /// Collision times located by bisection (accurate mode).
+    Bisection,
+    /// Collision impulses (accurate mode).
+    Impulses,
+    /// Resting-contact forces from the QP inside the equations of motion (accurate mode).
+    RestingContact,
+    /// One velocity-level conic program per island (fast mode).
+    ContactConeProgram,
+    /// Resting islands put to sleep (fast mode).
+    Sleeping,
+    /// The integrator's steps (fast mode: positions from the new velocities).
+    Integrate,
+    /// Jacobians formed for an implicit method.
+    Jacobian,
+}
+
+impl Stage {
+    /// Every stage, in pipeline order.
+    pub const ALL: [Stage; 16] = [
+        Stage::Particles,
+        Stage::RigidBodies,
+        Stage::Rotation,
+        Stage::Gravity,
+        Stage::Damping,
+        Stage::Springs,
+        Stage::Loads,
+        Stage::Callbacks,
+        Stage::CollisionDetection,
+        Stage::Bisection,
+        Stage::Impulses,
+        Stage::RestingContact,
+        Stage::ContactConeProgram,
+        Stage::Sleeping,
+        Stage::Integrate,
+        Stage::Jacobian,
+    ];
+
+    /// The stage's name, as plans and reports show it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Particles => "particles",
+            Stage::RigidBodies => "rigid-bodies",
+            Stage::Rotation => "rotation",
+            Stage::Gravity => "gravity",
+            Stage::Damping => "damping",
+            Stage::Springs => "springs",
+            Stage::Loads => "loads",
+            Stage::Callbacks => "callbacks",
+            Stage::CollisionDetection => "collision-detection",
+            Stage::Bisection => "bisection",
+            Stage::Impulses => "impulses",
+            Stage::RestingContact => "resting-contact",
+            Stage::ContactConeProgram => "contact-cone-program",
+            Stage::Sleeping => "sleeping",
+            Stage::Integrate => "integrate",
+            Stage::Jacobian => "jacobian",
+        }
+    }
+}
+
+/// How many times each stage ran (a fixed array in pipeline order: no hashing, cheap to count into).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StageCounts([usize; Stage::ALL.len()]);
+
+impl StageCounts {
+    /// Counts one run of `stage`.
+    #[inline]
+    pub(crate) fn mark(&mut self, stage: Stage) {
+        self.0[stage as usize] += 1;
+    }
+
+    /// Counts `n` runs of `stage`.
+    #[inline]
+    pub(crate) fn add(&mut self, stage: Stage, n: usize) {
+        self.0[stage as usize] += n;
+    }
+
+    /// How many times `stage` ran.
+    pub fn get(&self, stage: Stage) -> usize {
+        self.0[stage as usize]
+    }
+
+    /// The stages that ran at least once, in pipeline order.
+    pub fn ran(&self) -> Vec<&'static str> {
+        Stage::ALL.iter().filter(|&&s| self.get(s) > 0).map(|s| s.name()).collect()
+    }
+}
+
+impl std::ops::AddAssign for StageCounts {
+    fn add_assign(&mut self, o: Self) {
+        for (a, b) in self.0.iter_mut().zip(o.0) {
+            *a += b;
+        }
+    }
+}
 
 /// The stages a world runs and the length of its state vector.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -2,6 +2,7 @@
 //! (zero while a scene has no contact stage, or a stage never ran).
 
 use crate::model::ForceCounters;
+use crate::plan::StageCounts;
 use std::fmt;
 use tumble_integrate::Report;
 
@@ -32,6 +33,21 @@ pub struct WorldReport {
     pub collision_seconds: f64,
     /// Wall time spent in contact solves (s).
     pub contact_seconds: f64,
+    /// How many times each stage ran.
+    pub stages: StageCounts,
+}
+
+/// One field of a report, for bindings and tables.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ReportValue {
+    /// A count.
+    Count(usize),
+    /// A number.
+    Number(f64),
+    /// A number that is absent (a step size before any step, an estimate of a method without one).
+    Optional(Option<f64>),
+    /// A name.
+    Text(&'static str),
 }
 
 impl WorldReport {
@@ -49,7 +65,47 @@ impl WorldReport {
             max_penetration: 0.0,
             collision_seconds: 0.0,
             contact_seconds: 0.0,
+            stages: StageCounts::default(),
         }
+    }
+
+    /// Every field of the report by name, in a fixed order: the integrator's counters, the contact counters, the
+    /// force loops'. The one list bindings and tables are made from.
+    pub fn fields(&self) -> Vec<(&'static str, ReportValue)> {
+        use ReportValue::{Count, Number, Optional, Text};
+        let i = &self.integrator;
+        let f = &self.forces;
+        let stepped = |h: f64| Optional((i.steps > 0).then_some(h));
+        vec![
+            ("method", Text(i.method)),
+            ("steps", Count(i.steps)),
+            ("rejected", Count(i.rejected)),
+            ("rhs_evals", Count(i.rhs_evals)),
+            ("jacobians", Count(i.jacobians)),
+            ("factorizations", Count(i.factorizations)),
+            ("linear_solves", Count(i.linear_solves)),
+            ("newton_iterations", Count(i.newton_iterations)),
+            ("krylov_iterations", Count(i.krylov_iterations)),
+            ("min_step", stepped(i.min_step)),
+            ("max_step", stepped(i.max_step)),
+            ("wall_seconds", Number(i.wall_seconds)),
+            ("error_estimate", Optional(i.error_estimate)),
+            ("qp_solves", Count(self.qp_solves)),
+            ("collisions", Count(self.collisions)),
+            ("impulses", Count(self.impulses)),
+            ("bisection_steps", Count(self.bisection_steps)),
+            ("collision_checks", Count(self.collision_checks)),
+            ("islands", Count(self.islands)),
+            ("sleepers", Count(self.sleepers)),
+            ("max_penetration", Number(self.max_penetration)),
+            ("collision_seconds", Number(self.collision_seconds)),
+            ("contact_seconds", Number(self.contact_seconds)),
+            ("evaluations", Count(f.evaluations)),
+            ("spring_evaluations", Count(f.spring_evaluations)),
+            ("load_evaluations", Count(f.load_evaluations)),
+            ("callback_calls", Count(f.callback_calls)),
+            ("projections", Count(f.projections)),
+        ]
     }
 
     pub(crate) fn merge(&mut self, o: &WorldReport) {
@@ -58,6 +114,7 @@ impl WorldReport {
         self.merge_contact(o);
         self.islands += o.islands;
         self.sleepers = o.sleepers;
+        self.stages += o.stages;
     }
 
     /// Adds the contact counters of `o` (collisions, impulses, bisection steps, checks, QP solves, penetration,

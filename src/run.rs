@@ -1,7 +1,7 @@
 //! A recorded run: frames of state at equal intervals, energy and momenta per frame, every accepted step's size,
 //! and the report of what the run cost.
 
-use crate::layout::{get3, get_quat};
+use crate::model::layout::{get3, get_quat};
 use crate::model::Model;
 use crate::report::WorldReport;
 use crate::spring::{BodyHandle, ParticleHandle};
@@ -79,10 +79,17 @@ impl Run {
         }
     }
 
-    /// Appends the frame at time t with state y.
-    pub(crate) fn record(&mut self, model: &Model, t: f64, y: &[f64]) {
+    /// Appends one accepted step: its end time and size.
+    pub(crate) fn log_step(&mut self, t: f64, h: f64) {
+        self.step_times.push(t);
+        self.step_sizes.push(h);
+    }
+
+    /// Appends the frame at time t with state y and the largest penetration among the contacts there.
+    pub(crate) fn record(&mut self, model: &Model, t: f64, y: &[f64], penetration: f64) {
         let l = model.layout;
         self.times.push(t);
+        self.penetration.push(penetration);
         self.particle_positions.extend_from_slice(&y[l.px(0)..l.px(0) + 3 * l.particles]);
         self.particle_velocities.extend_from_slice(&y[l.pv(0)..l.pv(0) + 3 * l.particles]);
         for source in &self.sources {
@@ -140,7 +147,7 @@ impl Run {
         let o = &self.body_orientations[k..k + 4];
         UnitQuaternion::new_normalize(nalgebra::Quaternion::new(o[0], o[1], o[2], o[3]))
     }
-    /// Total mechanical energy at `frame`.
+    /// Total mechanical energy at `frame` (kinetic plus potential).
     pub fn energy(&self, frame: usize) -> f64 {
         self.kinetic_energy[frame] + self.potential_energy[frame]
     }
@@ -157,6 +164,7 @@ impl Run {
     /// (w, x, y, z), body velocities, body angular velocities, momentum, angular momentum).
     #[allow(clippy::type_complexity)]
     pub fn into_arrays(self) -> (RunArrays, WorldReport) {
+        let energy = self.kinetic_energy.iter().zip(&self.potential_energy).map(|(k, u)| k + u).collect();
         (
             RunArrays {
                 times: self.times,
@@ -168,6 +176,7 @@ impl Run {
                 body_angular_velocities: self.body_angular_velocities,
                 kinetic_energy: self.kinetic_energy,
                 potential_energy: self.potential_energy,
+                energy,
                 momentum: self.momentum,
                 angular_momentum: self.angular_momentum,
                 step_times: self.step_times,
@@ -194,6 +203,8 @@ pub struct RunArrays {
     pub body_angular_velocities: Vec<f64>,
     pub kinetic_energy: Vec<f64>,
     pub potential_energy: Vec<f64>,
+    /// Kinetic plus potential energy per frame.
+    pub energy: Vec<f64>,
     pub momentum: Vec<f64>,
     pub angular_momentum: Vec<f64>,
     pub step_times: Vec<f64>,

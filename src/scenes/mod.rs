@@ -4,6 +4,8 @@
 
 #[cfg(feature = "contact")]
 mod contact;
+mod registry;
+pub use registry::{build, NAMES};
 #[cfg(feature = "contact")]
 pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pyramid};
 

@@ -31,12 +31,15 @@ pub struct StepSettings {
     pub bounce_threshold: f64,
     /// clarabel's tolerances.
     pub solver: SolverSettings,
+    /// Threads the islands are solved on: 0 (the default) uses one per core; 1 stays on the calling thread. The
+    /// answer is the same bit for bit whatever the count (islands are independent and come back in order).
+    pub threads: usize,
 }
 
 impl StepSettings {
     /// Defaults for step `dt`: erp 0.2, bounce threshold 0.05 m/s, the default solver settings.
     pub fn new(dt: f64) -> StepSettings {
-        StepSettings { dt, erp: 0.2, bounce_threshold: 0.05, solver: SolverSettings::default() }
+        StepSettings { dt, erp: 0.2, bounce_threshold: 0.05, solver: SolverSettings::default(), threads: 0 }
     }
 
     fn check(&self) -> Result<(), ContactError> {
@@ -136,7 +139,7 @@ fn step(
             None => Ok((solve_island(bodies, contacts, bounds, island, free, settings)?, true)),
         }
     };
-    let solved = in_parallel(&groups, contacts.len(), solve);
+    let solved = in_parallel(&groups, contacts.len(), settings.threads, solve);
     for (island, result) in groups.iter().zip(solved) {
         let (sol, called) = result?;
         solver_calls += usize::from(called);
@@ -158,9 +161,11 @@ fn step(
 fn in_parallel<T: Send>(
     groups: &[Vec<usize>],
     contacts: usize,
+    threads: usize,
     solve: impl Fn(&Vec<usize>) -> Result<T, ContactError> + Sync,
 ) -> Vec<Result<T, ContactError>> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(groups.len());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = if threads == 0 { cores } else { threads }.min(groups.len());
     if threads < 2 || contacts < 32 {
         return groups.iter().map(&solve).collect();
     }

@@ -126,6 +126,19 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         self.h
     }
 
+    /// Sets the step the adaptive control proposes next (as [`proposed_step`](Integrator::proposed_step) read it),
+    /// so that a caller restoring an earlier state also restores the step it would have taken.
+    pub fn set_proposed_step(&mut self, h: Option<f64>) -> Result<(), OdeError> {
+        if let Some(h) = h {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(OdeError::invalid("h", format!("must be finite and > 0, got {h}")));
+            }
+        }
+        self.h = h;
+        self.last_rejected = false;
+        Ok(())
+    }
+
     /// Replaces the state (after an impulse, say). Histories and cached derivatives are dropped; the proposed
     /// step is kept.
     pub fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), OdeError> {
@@ -322,6 +335,14 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
 
     /// Ends the step just accepted at tc: cur becomes the state there and the method's histories are dropped.
     fn cut_at(&mut self, sys: &mut S, tc: f64) -> Result<(), OdeError> {
+        // The step taken is the one that ends at the event: the log shows that one (none if it ends where it began).
+        let start = self.cur.t;
+        if let Some(log) = &mut self.step_log {
+            log.pop();
+            if tc > start {
+                log.push((tc, tc - start));
+            }
+        }
         if tc < self.next.t {
             let y = self.view(sys).state_at(tc)?;
             self.next.y.copy_from_slice(&y);

@@ -3,9 +3,10 @@
 //! loads and callbacks. The kinematic part (q rates) and the force part (p rates) are separate, which is the split
 //! the symplectic methods use.
 
-use crate::layout::{add3, get3, get_quat, set3};
+use crate::model::layout::{add3, get3, get_quat, set3};
 use crate::load::{TargetState, Wrench};
 use crate::model::{BodyKin, CompiledLoad, End, JacobianKind, Model, On};
+use crate::plan::Stage;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use tumble_integrate::{JacobianStructure, OdeSystem, Split, SystemError};
 
@@ -48,8 +49,11 @@ impl Model {
     }
 
     /// dq/dt into `dq` (the first `layout.positions()` rates).
-    fn position_part(&self, y: &[f64], dq: &mut [f64]) {
+    fn position_part(&mut self, y: &[f64], dq: &mut [f64]) {
         let l = self.layout;
+        if l.bodies > 0 {
+            self.stage_runs.mark(Stage::Rotation);
+        }
         dq[..3 * l.particles].copy_from_slice(&y[l.pv(0)..l.pv(0) + 3 * l.particles]);
         for (j, k) in self.kin.iter().enumerate() {
             set3(dq, l.bx(j), &k.velocity);
@@ -82,6 +86,7 @@ impl Model {
     fn force_part(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
         self.counters.evaluations += 1;
         let (l, q) = (self.layout, self.layout.positions());
+        self.mark_force_stages();
         for (i, p) in self.particles.iter().enumerate() {
             let mut a = self.gravity;
             if p.damping != 0.0 || p.stiffness != 0.0 {
@@ -138,6 +143,15 @@ impl Model {
         #[cfg(feature = "contact")]
         self.add_resting_forces(y, dp)?;
         Ok(())
+    }
+
+    /// Counts one run of each force term present (the loops below enter only these).
+    fn mark_force_stages(&mut self) {
+        for &stage in &self.terms {
+            if stage != Stage::Rotation {
+                self.stage_runs.mark(stage);
+            }
+        }
     }
 
     fn target_state(&self, y: &[f64], on: On) -> TargetState {

@@ -1,9 +1,9 @@
 //! Contact reduction for fast mode: at most four points per collider pair, chosen to keep the deepest point and
 //! the largest support area (the quadrilateral of greatest area among the manifold's points, greedily).
 
-use crate::contact_scene::Found;
+use crate::engine::contact_scene::Found;
 use nalgebra::{Point3, Vector3};
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 /// At most `MAX_POINTS` contacts per collider pair.
 pub(crate) const MAX_POINTS: usize = 4;
@@ -12,7 +12,7 @@ pub(crate) const MAX_POINTS: usize = 4;
 /// with those two, and the one adding the most area outside that triangle (in the order found otherwise). A box
 /// on a face keeps its four corners; the rows of the conic program drop from up to eight per pair to four.
 pub(crate) fn reduce(found: Vec<Found>) -> Vec<Found> {
-    let mut groups: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    let mut groups: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
     for (i, f) in found.iter().enumerate() {
         groups.entry(f.key.colliders).or_default().push(i);
     }

@@ -6,10 +6,10 @@
 use crate::body::RigidBody;
 use crate::collider::{Collider, Material};
 use crate::handle::Arena;
-use crate::layout::{get3, get_quat, Layout};
+use crate::model::layout::Layout;
 use crate::particle::Particle;
 use crate::spring::BodyHandle;
-use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Point3, Vector3};
 use tumble_collide::{contacts, Aabb, ContactKind, Feature, Shape, SortAndSweep};
 
 /// Who carries a collider: actors are numbered particles first, then dynamic bodies, then static bodies, which is
@@ -34,7 +34,7 @@ pub(crate) struct SceneCollider {
 }
 
 /// Identifies a contact from one step to the next (for friction lagged on the previous normal impulse).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub(crate) struct ContactKey {
     pub colliders: (u32, u32),
     pub features: (u64, u64),
@@ -146,17 +146,7 @@ impl ContactScene {
 
     /// The pose of every actor in state y (particles: translation only).
     pub fn poses(&self, y: &[f64]) -> Vec<Isometry3<f64>> {
-        let l = self.layout;
-        let mut out = Vec::with_capacity(self.actors());
-        for i in 0..l.particles {
-            out.push(Isometry3::from_parts(Translation3::from(get3(y, l.px(i))), UnitQuaternion::identity()));
-        }
-        for j in 0..l.bodies {
-            let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
-            out.push(Isometry3::from_parts(Translation3::from(get3(y, l.bx(j))), q));
-        }
-        out.extend(self.static_poses.iter().copied());
-        out
+        crate::model::actor_poses(self.layout, y, &self.static_poses)
     }
 
     /// Whether two colliders may touch at all: not on one actor, not both static or asleep, not two particles.
@@ -205,15 +195,19 @@ impl ContactScene {
         self.broad_pairs(&boxes)
     }
 
+    /// The overlapping pairs that may touch, sorted: the order the broad phase found them in depends on its
+    /// history (columns, insertion sorts), and must not reach the contact solves.
     fn broad_pairs(&mut self, boxes: &[Aabb]) -> Vec<(usize, usize)> {
         let pairs = self.broad.update(boxes).expect("boxes are well formed").to_vec();
-        pairs
+        let mut pairs: Vec<(usize, usize)> = pairs
             .into_iter()
             .map(|(i, j)| (i as usize, j as usize))
             .filter(|&(i, j)| self.may_touch(i, j))
             // Keep the moving actor as A when one side is static.
             .map(|(i, j)| if matches!(self.colliders[i].actor, Actor::Static(_)) { (j, i) } else { (i, j) })
-            .collect()
+            .collect();
+        pairs.sort_unstable();
+        pairs
     }
 
     /// The contacts of the collider pairs `pairs` at `poses`, each pair within `prediction(actor_a, actor_b)`.

@@ -2,7 +2,7 @@
 //! potential energy of gravity, springs and the particles' restoring terms; linear momentum; angular momentum
 //! about the origin.
 
-use crate::layout::get3;
+use crate::model::layout::get3;
 use crate::model::Model;
 use nalgebra::Vector3;
 

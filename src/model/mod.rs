@@ -1,13 +1,24 @@
 //! The compiled model: the world's contents as flat arrays in state order, with handles resolved to indices.
 //! It is rebuilt when the world's structure changes and is the `OdeSystem` the integrators step.
 
+#[cfg(feature = "contact")]
+mod actors;
+mod dynamics;
+mod energy;
+mod jacobian;
+pub(crate) mod layout;
+
+#[cfg(feature = "contact")]
+pub(crate) use actors::{actor_poses, StateOptions};
+
 use crate::body::RigidBody;
 use crate::handle::Arena;
-use crate::layout::{get3, get_quat, set3, set_quat, Layout};
+use crate::model::layout::{get3, get_quat, set3, set_quat, Layout};
 use crate::load::{ForceCallback, Load, Target};
 use crate::particle::Particle;
 use crate::spring::{Attachment, BodyHandle, ParticleHandle, Spring};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use crate::plan::{Stage, StageCounts};
 use std::collections::HashMap;
 
 pub(crate) struct ParticleProps {
@@ -107,13 +118,17 @@ pub(crate) struct Model {
     pub loads: Vec<CompiledLoad>,
     pub kin: Vec<BodyKin>,
     pub counters: ForceCounters,
+    /// How many times each term of the equations of motion ran.
+    pub stage_runs: StageCounts,
+    /// The terms present (`stages()`, computed once).
+    pub terms: Vec<Stage>,
     pub jacobian: JacobianKind,
     /// Use the semidefinite spring blocks (see `world_jacobian.rs`).
     pub definite_springs: bool,
     pub velocity_dependent: bool,
     /// Resting contacts whose forces the right-hand side adds (accurate mode).
     #[cfg(feature = "contact")]
-    pub resting: Option<crate::resting_set::RestingSet>,
+    pub resting: Option<crate::engine::accurate::RestingSet>,
 }
 
 /// A compiled model with the handles of its rows: particles and dynamic bodies in state order.
@@ -190,7 +205,7 @@ pub(crate) fn compile(
         || particle_props.iter().any(|p| p.damping > 0.0)
         || body_props.iter().any(|b| b.linear_damping > 0.0 || b.angular_damping > 0.0)
         || compiled_springs.iter().any(|s| s.c > 0.0);
-    let model = Model {
+    let mut model = Model {
         layout,
         gravity,
         kin: vec![
@@ -202,13 +217,53 @@ pub(crate) fn compile(
         springs: compiled_springs,
         loads: compiled_loads,
         counters: ForceCounters::default(),
+        stage_runs: StageCounts::default(),
+        terms: Vec::new(),
         jacobian: if layout.bodies > 0 || has_callbacks { JacobianKind::Colored } else { JacobianKind::Analytic },
         definite_springs: false,
         velocity_dependent,
         #[cfg(feature = "contact")]
         resting: None,
     };
+    model.terms = model.stages();
     Compiled { model, particles: particle_handles, bodies: body_handles }
+}
+
+impl Model {
+    /// The terms of the equations of motion this model evaluates, in pipeline order.
+    pub(crate) fn stages(&self) -> Vec<Stage> {
+        let l = self.layout;
+        let mut out = Vec::new();
+        let mut add = |on: bool, s: Stage| {
+            if on {
+                out.push(s)
+            }
+        };
+        add(l.particles > 0, Stage::Particles);
+        add(l.bodies > 0, Stage::RigidBodies);
+        add(l.bodies > 0, Stage::Rotation);
+        add(l.dim() > 0 && self.gravity != Vector3::zeros(), Stage::Gravity);
+        add(self.has_damping(), Stage::Damping);
+        add(!self.springs.is_empty(), Stage::Springs);
+        add(self.loads.iter().any(|l| !matches!(l, CompiledLoad::Callback { .. })), Stage::Loads);
+        add(self.loads.iter().any(|l| matches!(l, CompiledLoad::Callback { .. })), Stage::Callbacks);
+        out
+    }
+
+    /// Whether any particle has damping or a restoring term, or any body damping.
+    pub(crate) fn has_damping(&self) -> bool {
+        self.particles.iter().any(|p| p.damping > 0.0 || p.stiffness > 0.0)
+            || self.bodies.iter().any(|b| b.linear_damping > 0.0 || b.angular_damping > 0.0)
+    }
+
+    /// How the Jacobian is formed, by name.
+    pub(crate) fn jacobian_name(&self) -> &'static str {
+        match (self.jacobian, self.definite_springs) {
+            (JacobianKind::Analytic, false) => "analytic-sparse",
+            (JacobianKind::Analytic, true) => "analytic-sparse-definite",
+            (JacobianKind::Colored, _) => "colored-finite-differences",
+        }
+    }
 }
 
 impl Compiled {

@@ -2,12 +2,12 @@
 //! them, and the right-hand-side stage that gives them the chapter's QP forces, so that resting bodies neither
 //! sink into nor accelerate away from what holds them.
 
-use crate::contact_scene::{ContactKey, Found};
-use crate::layout::{add3, get3, get_quat};
-use crate::model::Model;
-use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use crate::engine::contact_scene::{ContactKey, Found};
+use crate::model::layout::add3;
+use crate::model::{actor_poses, Model};
+use nalgebra::{Isometry3, Point3, Vector3};
 use std::time::Instant;
-use tumble_contact::{contact_wrenches, resting_forces, BodyState, Contact, NormalMotion, SolverSettings};
+use tumble_contact::{contact_wrenches, resting_forces, Contact, NormalMotion, SolverSettings};
 use tumble_integrate::SystemError;
 
 /// A resting contact held in the frames of its two actors.
@@ -37,21 +37,6 @@ pub(crate) struct RestingSet {
     /// QP solves and their wall time since the last report.
     pub solves: usize,
     pub seconds: f64,
-}
-
-/// The pose of every actor (particles, dynamic bodies, static bodies) in state y.
-pub(crate) fn actor_poses(model: &Model, y: &[f64], statics: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
-    let l = model.layout;
-    let mut out = Vec::with_capacity(l.particles + l.bodies + statics.len());
-    for i in 0..l.particles {
-        out.push(Isometry3::from_parts(Translation3::from(get3(y, l.px(i))), UnitQuaternion::identity()));
-    }
-    for j in 0..l.bodies {
-        let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
-        out.push(Isometry3::from_parts(Translation3::from(get3(y, l.bx(j))), q));
-    }
-    out.extend(statics.iter().copied());
-    out
 }
 
 impl RestingContact {
@@ -106,29 +91,6 @@ impl RestingContact {
 }
 
 impl Model {
-    /// The bodies as tumble-contact sees them in state y, with the forces already in `dp` (the p rates).
-    pub(crate) fn contact_states(&self, y: &[f64], dp: &[f64], statics: &[Isometry3<f64>]) -> Vec<BodyState> {
-        let (l, q) = (self.layout, self.layout.positions());
-        let mut out = Vec::with_capacity(l.particles + l.bodies + statics.len());
-        for (i, p) in self.particles.iter().enumerate() {
-            let mut s = BodyState::particle(p.mass, Point3::from(get3(y, l.px(i))), get3(y, l.pv(i)));
-            s.force = get3(dp, l.pv(i) - q) * p.mass;
-            out.push(s);
-        }
-        for (j, b) in self.bodies.iter().enumerate() {
-            let k = &self.kin[j];
-            let mut s = BodyState::rigid(b.mass, k.rot * b.inertia * k.rot.transpose(), Point3::from(get3(y, l.bx(j))));
-            s.inv_inertia = k.rot * b.inv_inertia * k.rot.transpose();
-            s.velocity = k.velocity;
-            s.angular_velocity = k.omega;
-            s.force = get3(dp, l.bp(j) - q);
-            s.torque = get3(dp, l.bl(j) - q);
-            out.push(s);
-        }
-        out.extend(statics.iter().map(|p| BodyState::fixed(Point3::from(p.translation.vector))));
-        out
-    }
-
     /// Adds the resting-contact forces to the p rates (the last stage of the right-hand side).
     pub(crate) fn add_resting_forces(&mut self, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
         let Some(mut set) = self.resting.take() else { return Ok(()) };
@@ -142,8 +104,8 @@ impl Model {
             return Ok(());
         }
         let clock = Instant::now();
-        let poses = actor_poses(self, y, &set.statics);
-        let states = self.contact_states(y, dp, &set.statics);
+        let poses = actor_poses(self.layout, y, &set.statics);
+        let states = self.contact_states(y, dp, &set.statics, Default::default());
         let contacts: Vec<Contact> =
             set.contacts.iter().map(|r| r.place(&poses)).filter(|(_, gap)| *gap <= set.reach).map(|(c, _)| c).collect();
         if contacts.is_empty() {

@@ -2,8 +2,11 @@
 //! sleep time is still; a group of actors in contact sleeps when all its members are still, and is skipped (held
 //! fixed, momenta zero) until an awake actor touches one of them, which wakes the whole group.
 
-use crate::contact_scene::Found;
-use crate::layout::set3;
+use super::FastEngine;
+use crate::engine::contact_scene::Found;
+use crate::plan::Stage;
+use tumble_contact::{BodyState, BodyVelocity};
+use crate::model::layout::set3;
 use crate::mode::FastSettings;
 use crate::model::Model;
 use nalgebra::Vector3;
@@ -43,6 +46,11 @@ impl Sleep {
     /// Number of dynamic actors.
     pub fn len(&self) -> usize {
         self.asleep.len()
+    }
+
+    /// Who sleeps, by actor.
+    pub fn flags(&self) -> &[bool] {
+        &self.asleep
     }
 
     /// Whether actor i sleeps.
@@ -120,5 +128,19 @@ impl Sleep {
                 set3(y, l.bl(j), &zero);
             }
         }
+    }
+}
+
+impl FastEngine {
+    /// Fifth stage: books how long each actor has been still (at the velocities the step ended with) and puts
+    /// still islands to sleep, their momenta zeroed.
+    pub(super) fn update_sleep(&mut self, states: &[BodyState], v: &[BodyVelocity], found: &[Found], h: f64) {
+        let (true, Some(scene)) = (self.settings.sleep, &self.scene) else { return };
+        let moved: Vec<BodyState> =
+            states.iter().zip(v).map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s }).collect();
+        let speeds = scene.reach(&moved, 1.0);
+        self.sleep.update(found, &speeds, &self.settings, h);
+        self.sleep.freeze(&mut self.y, &self.compiled.model);
+        self.report.stages.mark(Stage::Sleeping);
     }
 }

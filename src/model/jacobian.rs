@@ -7,7 +7,7 @@
 //! into a stiff cloth. The definite variant clamps that term at zero and drops the damping's position derivative
 //! (Choi and Ko, 2002), so every spring block is negative semidefinite and the step dissipates.
 
-use crate::layout::get3;
+use crate::model::layout::get3;
 use crate::model::{End, Model};
 use nalgebra::{Matrix3, Vector3};
 

@@ -1,0 +1,131 @@
+//! The contact phase of accurate mode, run at each event: find the touching contacts, apply impulses to those
+//! that close (all at once, restitution only where the closing speed exceeds the resting speed), lift resting
+//! contacts that drifted into each other back to zero gap, and hand the contacts that now neither close nor open
+//! to the right-hand side as the resting set. Bounces slower than the resting speed are absorbed, so a bouncing
+//! ball comes to rest after finitely many bounces instead of an endless cascade.
+
+use super::drift::correct_drift;
+use super::resting::{RestingContact, RestingSet};
+use super::{failure, Contacts};
+use crate::engine::contact_scene::Found;
+use crate::model::layout::set3;
+use crate::model::{actor_poses, Model};
+use crate::plan::Stage;
+use std::time::Instant;
+use tumble_contact::{collision_impulses, Contact};
+use tumble_integrate::{Integrator, OdeError};
+
+impl Contacts {
+    /// The contact phase at the integrator's current state: find, impulses, drift correction, resting set.
+    pub fn contact_phase(&mut self, model: &mut Model, integ: &mut Integrator<Model>) -> Result<(), OdeError> {
+        let t = integ.time();
+        let mut y = integ.state().to_vec();
+        let mut active = self.touching(model, &y);
+        let clock = Instant::now();
+        if active.iter().any(|(_, v)| *v < 0.0) {
+            self.apply_impulses(model, &mut y, &mut active, t)?;
+        }
+        // Only contacts that now neither close nor open rest; what bounced away (or was drifting apart) leaves,
+        // and if it comes back slower than the resting speed, it is stopped then.
+        active.retain(|(_, v)| *v <= 1e-3 * self.resting_speed);
+        let statics = self.scene.static_poses.clone();
+        let delta = self.settings.contact_distance;
+        if active.iter().any(|(f, _)| f.contact.distance < -delta) {
+            let states = contact_states(model, &y, &statics);
+            let contacts: Vec<Contact> = active.iter().map(|(f, _)| f.contact).collect();
+            self.report.qp_solves += correct_drift(model, &mut y, &states, &contacts, &self.solver, t)?;
+        }
+        let poses = actor_poses(model.layout, &y, &statics);
+        let contacts: Vec<RestingContact> = active.iter().map(|(f, _)| RestingContact::attach(f, &poses)).collect();
+        self.resting_keys = contacts.iter().map(|c| c.key).collect();
+        let previous = model.resting.take();
+        let (solves, seconds) = previous.map_or((0, 0.0), |p| (p.solves, p.seconds));
+        model.resting = Some(RestingSet { contacts, statics, settings: self.solver, reach: delta, solves, seconds });
+        integ.set_state(t, &y)?;
+        self.report.contact_seconds += clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// The contacts touching in state y that do not separate faster than the resting speed, with their relative
+    /// normal velocities. The bisection stops up to `time_tolerance` before contact, when a pair may still be apart
+    /// by as much as it closes in that time: contacts within that distance (plus the contact distance) count.
+    fn touching(&mut self, model: &mut Model, y: &[f64]) -> Vec<(Found, f64)> {
+        let clock = Instant::now();
+        let statics = self.scene.static_poses.clone();
+        let states = contact_states(model, y, &statics);
+        let poses = actor_poses(model.layout, y, &statics);
+        let closing = self.scene.reach(&states, 2.0 * self.settings.time_tolerance);
+        let checks = self.scene.checks;
+        let found = self.scene.find(&poses, &closing, self.settings.contact_distance);
+        self.report.collision_checks += self.scene.checks - checks;
+        self.report.stages.mark(Stage::CollisionDetection);
+        self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
+        self.report.max_penetration = self.report.max_penetration.max(self.penetration);
+        let v_rest = self.resting_speed;
+        let active = found
+            .into_iter()
+            .map(|f| {
+                let v = f.contact.relative_normal_velocity(&states);
+                (f, v)
+            })
+            .filter(|(_, v)| *v <= v_rest)
+            .collect();
+        self.report.collision_seconds += clock.elapsed().as_secs_f64();
+        active
+    }
+
+    /// Newton's law at every active contact at once; the relative normal velocities are updated.
+    fn apply_impulses(
+        &mut self,
+        model: &mut Model,
+        y: &mut [f64],
+        active: &mut [(Found, f64)],
+        t: f64,
+    ) -> Result<(), OdeError> {
+        let statics = &self.scene.static_poses;
+        let v_rest = self.resting_speed;
+        let states = contact_states(model, y, statics);
+        let contacts: Vec<Contact> = active
+            .iter()
+            .map(|(f, v)| Contact { restitution: if *v < -v_rest { f.contact.restitution } else { 0.0 }, ..f.contact })
+            .collect();
+        let out =
+            collision_impulses(&states, &contacts, &self.solver).map_err(|e| failure(t, format!("impulses: {e}")))?;
+        self.report.stages.mark(Stage::Impulses);
+        self.report.qp_solves += out.solver_calls;
+        self.report.collisions += active.iter().filter(|(_, v)| *v < -v_rest).count();
+        self.report.impulses += out.magnitudes.iter().filter(|&&j| j > 0.0).count();
+        write_velocities(model, y, &out.velocities);
+        let states = contact_states(model, y, statics);
+        for (f, v) in active.iter_mut() {
+            *v = f.contact.relative_normal_velocity(&states);
+        }
+        Ok(())
+    }
+}
+
+/// The actors in state y without applied forces (the kinematics updated to y first).
+fn contact_states(
+    model: &mut Model,
+    y: &[f64],
+    statics: &[nalgebra::Isometry3<f64>],
+) -> Vec<tumble_contact::BodyState> {
+    model.update_kin(y);
+    let dp = vec![0.0; y.len() - model.layout.positions()];
+    model.contact_states(y, &dp, statics, Default::default())
+}
+
+/// Writes the velocities of tumble-contact's bodies into state y (momenta for bodies).
+#[allow(clippy::needless_range_loop)]
+fn write_velocities(model: &Model, y: &mut [f64], v: &[tumble_contact::BodyVelocity]) {
+    let l = model.layout;
+    for i in 0..l.particles {
+        set3(y, l.pv(i), &v[i].linear);
+    }
+    for (j, b) in model.bodies.iter().enumerate() {
+        let k = &model.kin[j];
+        let a = l.particles + j;
+        set3(y, l.bp(j), &(v[a].linear * b.mass));
+        set3(y, l.bl(j), &(k.rot * b.inertia * k.rot.transpose() * v[a].angular));
+    }
+}

@@ -1,0 +1,87 @@
+//! After each accepted step of accurate mode, the contact check, as a list of stages: the pairs whose boxes swept
+//! over the step overlap, their contacts at the step's end, then the collision time of a new contact
+//! (`collision_time.rs`), passes through (`pass_through.rs`) and drift of a resting contact (`drift.rs`); the
+//! earliest of these is where the step is cut.
+
+use super::drift::drifted;
+use super::Contacts;
+use crate::model::layout::get3;
+use crate::model::{actor_poses, Model};
+use crate::plan::Stage;
+use nalgebra::Isometry3;
+use std::time::Instant;
+use tumble_integrate::{OdeError, StepView};
+
+/// The earlier of two optional times.
+fn earliest(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+impl Contacts {
+    /// Looks at an accepted step for a collision, a pass through a thin body or drift of a resting contact;
+    /// returns the time to stop at.
+    pub fn detect(&mut self, step: &mut StepView<'_, Model>) -> Result<Option<f64>, OdeError> {
+        let clock = Instant::now();
+        let result = self.detect_stages(step);
+        self.report.collision_seconds += clock.elapsed().as_secs_f64();
+        result
+    }
+
+    fn detect_stages(&mut self, step: &mut StepView<'_, Model>) -> Result<Option<f64>, OdeError> {
+        let (t0, t1) = (step.t0(), step.t1());
+        let h = t1 - t0;
+        let delta = self.settings.contact_distance;
+        let statics = self.scene.static_poses.clone();
+        let model = step.system();
+        let poses0 = actor_poses(model.layout, step.y0(), &statics);
+        let poses1 = actor_poses(model.layout, step.y1(), &statics);
+        let speeds = self.speeds(model, step.y0(), step.y1(), &statics);
+        // Boxes swept between the ends, grown by how far a curved path can bulge from its chord.
+        let margins: Vec<f64> = speeds.iter().map(|(s, bulge)| bulge * h + delta + 1e-12 * s).collect();
+        let checks = self.scene.checks;
+        self.report.stages.mark(Stage::CollisionDetection);
+        let pairs = self.scene.swept_pairs(&poses0, &poses1, &margins);
+        if pairs.is_empty() {
+            return Ok(None);
+        }
+        let found1 = self.scene.pair_contacts(&pairs, &poses1, |_, _| delta);
+        // A resting contact that sank past the contact distance has drifted; any other contact that interpenetrates
+        // at all is a collision.
+        let drift = drifted(&found1, &self.resting_keys, delta);
+        let collision = self.collision_time(step, &found1, &poses0)?;
+        let pass = self.pass_through(step, &pairs, &found1, &poses0, &poses1, &speeds)?;
+        self.report.collision_checks += self.scene.checks - checks;
+        Ok(earliest(earliest(collision, pass), drift.then_some(t1)))
+    }
+
+    /// Per actor: a bound on the speed of its points over the step (the larger of the two ends, +10% for the
+    /// interpolant), and how fast its velocity changes (|v1 - v0| / 4, the bulge of its path per unit time).
+    #[allow(clippy::needless_range_loop)]
+    fn speeds(&self, model: &Model, y0: &[f64], y1: &[f64], statics: &[Isometry3<f64>]) -> Vec<(f64, f64)> {
+        let l = model.layout;
+        let mut radius = vec![0.0f64; self.scene.actors()];
+        for c in &self.scene.colliders {
+            let a = self.scene.index(c.actor);
+            radius[a] = radius[a].max(if c.reach.is_finite() { c.reach } else { 0.0 });
+        }
+        let mut out = vec![(0.0, 0.0); l.particles + l.bodies + statics.len()];
+        for i in 0..l.particles {
+            let (v0, v1) = (get3(y0, l.pv(i)), get3(y1, l.pv(i)));
+            out[i] = (1.1 * v0.norm().max(v1.norm()), 0.25 * (v1 - v0).norm());
+        }
+        for j in 0..l.bodies {
+            let a = l.particles + j;
+            let (k0, k1) = (model.body_kin(y0, j), model.body_kin(y1, j));
+            let s0 = k0.velocity.norm() + k0.omega.norm() * radius[a];
+            let s1 = k1.velocity.norm() + k1.omega.norm() * radius[a];
+            let change = (k1.velocity - k0.velocity).norm()
+                + (k1.omega - k0.omega).norm() * radius[a]
+                + 0.5 * k0.omega.norm().max(k1.omega.norm()).powi(2) * radius[a];
+            out[a] = (1.1 * s0.max(s1), 0.25 * change);
+        }
+        out
+    }
+}

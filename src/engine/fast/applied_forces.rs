@@ -1,0 +1,25 @@
+//! Fast mode, first stage: the applied forces at the step's start (gravity, damping, springs, loads, callbacks:
+//! the equations of motion's force part), and the actors as the contact solve sees them, sleeping ones fixed.
+
+use super::{failure, FastEngine};
+use crate::model::StateOptions;
+use tumble_contact::BodyState;
+use tumble_integrate::OdeSystem;
+
+impl FastEngine {
+    /// Evaluates the equations of motion at the current state; returns the actors with those forces.
+    pub(super) fn applied_forces(&mut self) -> Result<Vec<BodyState>, crate::WorldError> {
+        let t = self.time();
+        self.compiled.model.rhs(t, &self.y, &mut self.dy).map_err(|e| failure(t, e.to_string()))?;
+        Ok(self.body_states())
+    }
+
+    /// The actors with the forces of the last evaluation; sleeping actors are passed as fixed. The step conserves
+    /// angular momentum (w* = I^-1 (L + h tau)), so Euler's gyroscopic term that tumble-contact adds is cancelled.
+    pub(super) fn body_states(&self) -> Vec<BodyState> {
+        let model = &self.compiled.model;
+        let statics = self.scene.as_ref().map_or(&[][..], |s| &s.static_poses[..]);
+        let options = StateOptions { asleep: self.sleep.flags(), cancel_gyroscopic: true };
+        model.contact_states(&self.y, &self.dy[model.layout.positions()..], statics, options)
+    }
+}

@@ -1,0 +1,36 @@
+//! Fast mode, second stage: the contacts of the step. Pairs whose boxes, grown by how far each actor can move in
+//! the step plus the margin, overlap (pairs of sleeping or static actors left out) get parry's manifolds, reduced
+//! to at most four points a pair; a sleeping island touched by a moving actor wakes.
+
+use super::manifold::reduce;
+use super::FastEngine;
+use crate::engine::contact_scene::Found;
+use crate::plan::Stage;
+use std::time::Instant;
+use tumble_contact::BodyState;
+
+impl FastEngine {
+    /// The contacts within reach in step h; `states` are renewed if an island woke.
+    pub(super) fn find_contacts(&mut self, states: &mut Vec<BodyState>, h: f64) -> Vec<Found> {
+        let Some(scene) = &mut self.scene else { return Vec::new() };
+        let clock = Instant::now();
+        let dynamic = self.sleep.len();
+        for a in 0..dynamic {
+            scene.inert[a] = self.sleep.asleep(a);
+        }
+        let poses = scene.poses(&self.y);
+        let reach = scene.reach(states, h);
+        let checks = scene.checks;
+        let found = reduce(scene.find(&poses, &reach, self.settings.margin));
+        self.report.collision_checks += scene.checks - checks;
+        self.report.stages.mark(Stage::CollisionDetection);
+        self.report.collision_seconds += clock.elapsed().as_secs_f64();
+        if self.sleep.wake_touched(&found, dynamic) {
+            *states = self.body_states();
+        }
+        let found: Vec<Found> =
+            found.into_iter().filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic()).collect();
+        self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
+        found
+    }
+}

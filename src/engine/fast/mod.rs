@@ -1,0 +1,233 @@
+//! Fast mode: time stepping at a fixed step. One step is a list of stages, one file each: the applied forces at
+//! the step's start (`applied_forces.rs`), contacts found with a margin (`find_contacts.rs`), the new velocities
+//! from one conic program per island (`solve_velocities.rs`, with `warm_start.rs` and `bounce_limiter.rs`),
+//! positions from them (`integrate_positions.rs`), sleep (`sleep.rs`), and the report. The engine always steps by
+//! its `dt`: an advance ends at a whole number of steps, and frames are the states at the steps that reach them.
+
+mod applied_forces;
+mod bounce_limiter;
+mod find_contacts;
+mod integrate_positions;
+mod manifold;
+mod sleep;
+mod solve_velocities;
+mod warm_start;
+
+use crate::engine::contact_scene::{ContactKey, ContactScene};
+use crate::error::WorldError;
+use crate::mode::FastSettings;
+use crate::model::{Compiled, Model};
+use crate::plan::Stage;
+use crate::report::WorldReport;
+use crate::run::Run;
+use sleep::Sleep;
+use std::collections::BTreeMap;
+use std::time::Instant;
+use tumble_integrate::OdeError;
+
+/// The method name fast mode reports.
+pub(crate) const FAST: &str = "fast (semi-implicit Euler, contact by conic program)";
+
+/// Most steps one advance may take (a step budget: a huge span or a tiny step is an error, not a hang).
+const MAX_STEPS: f64 = 1e8;
+
+/// The state and memory of a fast-mode world.
+pub(crate) struct FastEngine {
+    compiled: Compiled,
+    scene: Option<ContactScene>,
+    /// Time = origin + steps x dt, so that times are exact multiples of the step from where the engine started.
+    origin: f64,
+    steps: u64,
+    y: Vec<f64>,
+    settings: FastSettings,
+    threads: usize,
+    /// Each contact's normal impulse of the last step (ordered: the warm start sums them in key order).
+    previous: BTreeMap<ContactKey, f64>,
+    sleep: Sleep,
+    dy: Vec<f64>,
+    /// What the steps since the last `take_report` cost.
+    report: WorldReport,
+    /// Largest penetration among the contacts of the last step.
+    penetration: f64,
+}
+
+/// What a failed call puts back: time, state, lagged impulses, sleep.
+pub(crate) struct FastSnapshot {
+    origin: f64,
+    steps: u64,
+    y: Vec<f64>,
+    previous: BTreeMap<ContactKey, f64>,
+    sleep: Sleep,
+    penetration: f64,
+}
+
+pub(crate) fn failure(t: f64, message: String) -> WorldError {
+    WorldError::Simulation(OdeError::System { t, message })
+}
+
+impl FastEngine {
+    pub fn new(
+        compiled: Compiled,
+        scene: Option<ContactScene>,
+        t: f64,
+        y: Vec<f64>,
+        settings: FastSettings,
+        threads: usize,
+    ) -> Self {
+        let actors = compiled.model.layout.particles + compiled.model.layout.bodies;
+        FastEngine {
+            dy: vec![0.0; y.len()],
+            sleep: Sleep::new(actors),
+            compiled,
+            scene,
+            origin: t,
+            steps: 0,
+            y,
+            settings,
+            threads,
+            previous: BTreeMap::new(),
+            report: WorldReport::new(FAST),
+            penetration: 0.0,
+        }
+    }
+
+    /// The engine's own stages for a state of length `dim`, with or without colliders that can touch.
+    pub fn planned(settings: &FastSettings, dim: usize, has_scene: bool) -> Vec<Stage> {
+        let mut out = Vec::new();
+        if has_scene {
+            out.extend([Stage::CollisionDetection, Stage::ContactConeProgram]);
+            if settings.sleep {
+                out.push(Stage::Sleeping);
+            }
+        }
+        if dim > 0 {
+            out.push(Stage::Integrate);
+        }
+        out
+    }
+
+    pub fn own_stages(&self) -> Vec<Stage> {
+        Self::planned(&self.settings, self.y.len(), self.scene.is_some())
+    }
+
+    pub fn compiled(&self) -> &Compiled {
+        &self.compiled
+    }
+
+    pub fn model_mut(&mut self) -> &mut Model {
+        &mut self.compiled.model
+    }
+
+    pub fn time(&self) -> f64 {
+        self.time_at(self.steps)
+    }
+
+    fn time_at(&self, steps: u64) -> f64 {
+        self.origin + steps as f64 * self.settings.dt
+    }
+
+    pub fn state(&self) -> &[f64] {
+        &self.y
+    }
+
+    pub fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
+        self.y.copy_from_slice(y);
+        (self.origin, self.steps) = (t, 0);
+        Ok(())
+    }
+
+    /// The end of `span` from now in whole steps; a span that is not a whole number of steps (to 1e-6 of a step)
+    /// is an error naming `name`.
+    pub fn end_time(&self, span: f64, name: &'static str) -> Result<f64, WorldError> {
+        let dt = self.settings.dt;
+        let n = (span / dt).round();
+        if (span / dt - n).abs() > 1e-6 || n < 1.0 {
+            return Err(WorldError::invalid(
+                name,
+                format!("fast mode steps by dt = {dt} s, and {span} s is not a whole number of steps"),
+            ));
+        }
+        if n > MAX_STEPS {
+            return Err(WorldError::invalid(name, format!("{span} s is {n:e} steps of {dt} s, over the {MAX_STEPS:e} a call may take")));
+        }
+        Ok(self.time_at(self.steps + n as u64))
+    }
+
+    /// Steps by dt until past `pause` (never beyond `t_end`); each step that reaches one or more of `saves`
+    /// records one frame (its state, at its time).
+    pub fn advance(
+        &mut self,
+        t_end: f64,
+        pause: f64,
+        saves: &[f64],
+        mut run: Option<&mut Run>,
+    ) -> Result<usize, WorldError> {
+        let h = self.settings.dt;
+        let slack = 1e-9 * h;
+        let mut delivered = 0;
+        loop {
+            let t = self.time();
+            let reached = saves[delivered..].iter().take_while(|&&s| s <= t + slack).count();
+            if reached > 0 {
+                delivered += reached;
+                if let Some(run) = run.as_deref_mut() {
+                    run.record(&self.compiled.model, t, &self.y, self.penetration);
+                }
+            }
+            if t >= pause.min(t_end) - slack {
+                return Ok(delivered);
+            }
+            self.step(h)?;
+            if let Some(run) = run.as_deref_mut() {
+                run.log_step(self.time(), h);
+            }
+        }
+    }
+
+    /// One step of size h, as its stages.
+    fn step(&mut self, h: f64) -> Result<(), WorldError> {
+        let clock = Instant::now();
+        let mut states = self.applied_forces()?;
+        let found = self.find_contacts(&mut states, h);
+        let velocities = self.solve_velocities(&states, &found, h)?;
+        self.integrate_positions(&velocities, h);
+        self.update_sleep(&states, &velocities, &found, h);
+        self.steps += 1;
+        self.book_step(h, clock);
+        Ok(())
+    }
+
+    /// The report's share of a step.
+    fn book_step(&mut self, h: f64, clock: Instant) {
+        self.report.sleepers = self.sleep.count();
+        self.report.max_penetration = self.report.max_penetration.max(self.penetration);
+        self.report.stages.mark(Stage::Integrate);
+        let r = &mut self.report.integrator;
+        r.steps += 1;
+        r.rhs_evals += 1;
+        r.min_step = r.min_step.min(h);
+        r.max_step = r.max_step.max(h);
+        r.wall_seconds += clock.elapsed().as_secs_f64();
+    }
+
+    pub fn snapshot(&self) -> FastSnapshot {
+        FastSnapshot {
+            origin: self.origin,
+            steps: self.steps,
+            y: self.y.clone(),
+            previous: self.previous.clone(),
+            sleep: self.sleep.clone(),
+            penetration: self.penetration,
+        }
+    }
+
+    pub fn restore(&mut self, s: FastSnapshot) -> Result<(), WorldError> {
+        (self.origin, self.steps, self.y, self.previous, self.sleep, self.penetration) =
+            (s.origin, s.steps, s.y, s.previous, s.sleep, s.penetration);
+        Ok(())
+    }
+
+    pub fn take_report(&mut self) -> WorldReport {
+        std::mem::replace(&mut self.report, WorldReport::new(FAST))
+    }
+}

@@ -1,0 +1,96 @@
+//! Fast mode, third stage: the new velocities. With contacts, one conic program per island (tumble-contact), with
+//! friction lagged on each contact's previous normal impulse (`warm_start.rs`; islands where a pair has just met
+//! get a first pass for one) or Anitescu's cone; islands whose bounce would gain energy are solved again with less
+//! restitution (`bounce_limiter.rs`). Without contacts, the free velocities.
+
+use super::bounce_limiter::limit_bounce_energy;
+use super::warm_start::known_impulses;
+use super::{failure, FastEngine};
+use crate::engine::contact_scene::Found;
+use crate::error::WorldError;
+use crate::mode::FastFriction;
+use crate::plan::Stage;
+use std::time::Instant;
+use tumble_contact::{
+    free_velocity, islands, velocity_step, velocity_step_lagged, BodyState, BodyVelocity, Contact, StepSettings,
+    VelocityStep,
+};
+
+/// The conic-program solver of one step: the actors, the settings, and how many clarabel calls it made.
+pub(super) struct Solver<'a> {
+    pub states: &'a [BodyState],
+    pub settings: StepSettings,
+    pub friction: FastFriction,
+    pub t: f64,
+    pub solves: usize,
+}
+
+impl Solver<'_> {
+    /// The velocity step for `contacts`, friction bounded by `previous` normal impulses when lagged.
+    pub fn solve(&mut self, contacts: &[Contact], previous: &[f64]) -> Result<VelocityStep, WorldError> {
+        let out = match self.friction {
+            FastFriction::Lagged => velocity_step_lagged(self.states, contacts, previous, &self.settings),
+            FastFriction::Cone => velocity_step(self.states, contacts, &self.settings),
+        }
+        .map_err(|e| failure(self.t, format!("contact solve: {e}")))?;
+        self.solves += out.solver_calls;
+        Ok(out)
+    }
+}
+
+impl FastEngine {
+    /// The velocities after step h of the actors `states` with contacts `found`; remembers the normal impulses.
+    pub(super) fn solve_velocities(
+        &mut self,
+        states: &[BodyState],
+        found: &[Found],
+        h: f64,
+    ) -> Result<Vec<BodyVelocity>, WorldError> {
+        if found.is_empty() {
+            self.previous.clear();
+            return Ok(states.iter().map(|b| free_velocity(b, h)).collect());
+        }
+        let clock = Instant::now();
+        let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
+        let mut settings = StepSettings {
+            erp: self.settings.erp,
+            bounce_threshold: self.settings.bounce_threshold,
+            threads: self.threads,
+            ..StepSettings::new(h)
+        };
+        settings.solver.iterative_refinement = false;
+        let mut solver = Solver { states, settings, friction: self.settings.friction, t: self.time(), solves: 0 };
+        let known = known_impulses(&self.previous, found);
+        let mut previous: Vec<f64> = known.iter().map(|p| p.unwrap_or(0.0)).collect();
+        let groups = islands(states, &contacts);
+        if solver.friction == FastFriction::Lagged && known.iter().any(|p| p.is_none()) {
+            let fresh: Vec<usize> =
+                groups.iter().filter(|g| g.iter().any(|&i| known[i].is_none())).flatten().copied().collect();
+            let sub: Vec<Contact> = fresh.iter().map(|&i| contacts[i]).collect();
+            let sub_prev: Vec<f64> = fresh.iter().map(|&i| previous[i]).collect();
+            let first = solver.solve(&sub, &sub_prev)?;
+            for (&i, p) in fresh.iter().zip(&first.normal_impulses) {
+                if known[i].is_none() {
+                    previous[i] = *p;
+                }
+            }
+        }
+        let mut out = solver.solve(&contacts, &previous)?;
+        let gravity = self.compiled.model.gravity;
+        limit_bounce_energy(&mut solver, &contacts, &previous, &groups, gravity, &mut out)?;
+        self.report.islands += groups.len();
+        self.report.qp_solves += solver.solves;
+        self.report.stages.mark(Stage::ContactConeProgram);
+        for (c, p) in contacts.iter().zip(&out.normal_impulses) {
+            if *p > 0.0 {
+                self.report.impulses += 1;
+                if c.relative_normal_velocity(states) < -self.settings.bounce_threshold {
+                    self.report.collisions += 1;
+                }
+            }
+        }
+        self.previous = found.iter().zip(&out.normal_impulses).map(|(f, &p)| (f.key, p)).collect();
+        self.report.contact_seconds += clock.elapsed().as_secs_f64();
+        Ok(out.velocities)
+    }
+}

@@ -1,0 +1,192 @@
+//! Engines: the ways of stepping a compiled world, behind one interface. `Smooth` integrates the equations of
+//! motion under the integrator's control (no contact); `Accurate` adds the chapter's event-driven contact;
+//! `Fast` time-steps contact at a fixed step. The world owns one engine, drives it with one run loop
+//! (`world/stepping.rs`), and builds its plan from the engine's `stages()`. Engines never see the `World`.
+
+#[cfg(feature = "contact")]
+pub(crate) mod accurate;
+#[cfg(feature = "contact")]
+pub(crate) mod contact_scene;
+#[cfg(feature = "contact")]
+pub(crate) mod fast;
+mod smooth;
+
+pub(crate) use smooth::SmoothEngine;
+
+use crate::error::WorldError;
+use crate::mode::Mode;
+use crate::model::{Compiled, Model};
+use crate::plan::Stage;
+use crate::report::WorldReport;
+use crate::run::Run;
+use tumble_integrate::Settings;
+
+/// What an engine is built from, besides the compiled model and its state.
+pub(crate) struct EngineSpec {
+    /// The contact mode and its settings.
+    pub mode: Mode,
+    /// The integrator's settings (smooth and accurate engines), with the divergence limit already set.
+    pub settings: Settings,
+    /// The colliders, when two of them can touch.
+    #[cfg(feature = "contact")]
+    pub scene: Option<contact_scene::ContactScene>,
+    /// |g|, for the accurate engine's resting speed.
+    pub gravity: f64,
+    /// Threads for the contact solves (0: one per core).
+    pub threads: usize,
+}
+
+/// One engine of a world.
+pub(crate) enum Engine {
+    Smooth(SmoothEngine),
+    #[cfg(feature = "contact")]
+    Accurate(accurate::AccurateEngine),
+    #[cfg(feature = "contact")]
+    Fast(fast::FastEngine),
+}
+
+/// Everything an engine must put back for a failed call to leave no trace: time, state, the integrator's next
+/// step, and each engine's memory (resting set, lagged impulses, sleep).
+pub(crate) enum Snapshot {
+    Smooth(smooth::SmoothSnapshot),
+    #[cfg(feature = "contact")]
+    Accurate(accurate::AccurateSnapshot),
+    #[cfg(feature = "contact")]
+    Fast(fast::FastSnapshot),
+}
+
+macro_rules! each {
+    ($engine:expr, $e:ident => $body:expr) => {
+        match $engine {
+            Engine::Smooth($e) => $body,
+            #[cfg(feature = "contact")]
+            Engine::Accurate($e) => $body,
+            #[cfg(feature = "contact")]
+            Engine::Fast($e) => $body,
+        }
+    };
+}
+
+impl Engine {
+    /// The engine for this mode and scene: fast mode's time stepping, accurate contact when colliders can touch,
+    /// else smooth integration.
+    pub fn build(spec: EngineSpec, compiled: Compiled, t: f64, y: Vec<f64>) -> Result<Engine, WorldError> {
+        #[cfg(feature = "contact")]
+        {
+            let EngineSpec { mode, settings, scene, gravity, threads } = spec;
+            match (mode, scene) {
+                (Mode::Fast(fast), scene) => Ok(Engine::Fast(fast::FastEngine::new(compiled, scene, t, y, fast, threads))),
+                (Mode::Accurate(acc), Some(scene)) => Ok(Engine::Accurate(accurate::AccurateEngine::new(
+                    compiled, scene, settings, acc, gravity, t, y,
+                )?)),
+                (Mode::Accurate(_), None) => Ok(Engine::Smooth(SmoothEngine::new(compiled, settings, t, y)?)),
+            }
+        }
+        #[cfg(not(feature = "contact"))]
+        {
+            Ok(Engine::Smooth(SmoothEngine::new(compiled, spec.settings, t, y)?))
+        }
+    }
+
+    /// The stages this engine would run for `model`: the model's terms, then the engine's own. `plan()` and
+    /// `stages()` both come from here.
+    pub fn planned(mode: &Mode, model: &Model, settings: &Settings, has_scene: bool) -> Vec<Stage> {
+        let mut stages = model.stages();
+        let dim = model.layout.dim();
+        match mode {
+            #[cfg(feature = "contact")]
+            Mode::Fast(f) => stages.extend(fast::FastEngine::planned(f, dim, has_scene)),
+            #[cfg(feature = "contact")]
+            Mode::Accurate(_) if has_scene => stages.extend(accurate::AccurateEngine::planned(settings, dim)),
+            _ => stages.extend(SmoothEngine::planned(settings, dim)),
+        }
+        let _ = has_scene;
+        stages
+    }
+
+    /// The stages this engine runs: its model's terms, then its own.
+    pub fn stages(&self) -> Vec<Stage> {
+        let mut stages = self.compiled().model.stages();
+        stages.extend(each!(self, e => e.own_stages()));
+        stages
+    }
+
+    /// The compiled model and the handles of its rows.
+    pub fn compiled(&self) -> &Compiled {
+        each!(self, e => e.compiled())
+    }
+
+    /// Current time.
+    pub fn time(&self) -> f64 {
+        each!(self, e => e.time())
+    }
+
+    /// Current state.
+    pub fn state(&self) -> &[f64] {
+        each!(self, e => e.state())
+    }
+
+    /// Replaces time and state (the user moved something); the engine's memory of contacts is kept.
+    pub fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
+        each!(self, e => e.set_state(t, y))
+    }
+
+    /// The end time of an advance by `span` from now: now + span, or for fast mode the end of a whole number of
+    /// steps (an error naming `name` if `span` is not one).
+    pub fn end_time(&self, span: f64, name: &'static str) -> Result<f64, WorldError> {
+        match self {
+            #[cfg(feature = "contact")]
+            Engine::Fast(e) => e.end_time(span, name),
+            _ => {
+                let _ = name;
+                Ok(self.time() + span)
+            }
+        }
+    }
+
+    /// Advances toward `t_end`, returning once past `pause` (never beyond `t_end`); records into `run` (if any)
+    /// a frame for each of `saves` reached, the steps taken and the contact events; returns how many saves were
+    /// delivered. A failure may leave the engine anywhere: the caller restores a snapshot.
+    pub fn advance(
+        &mut self,
+        t_end: f64,
+        pause: f64,
+        saves: &[f64],
+        run: Option<&mut Run>,
+    ) -> Result<usize, WorldError> {
+        each!(self, e => e.advance(t_end, pause, saves, run))
+    }
+
+    /// What a failed call must put back.
+    pub fn snapshot(&self) -> Snapshot {
+        match self {
+            Engine::Smooth(e) => Snapshot::Smooth(e.snapshot()),
+            #[cfg(feature = "contact")]
+            Engine::Accurate(e) => Snapshot::Accurate(e.snapshot()),
+            #[cfg(feature = "contact")]
+            Engine::Fast(e) => Snapshot::Fast(e.snapshot()),
+        }
+    }
+
+    /// Puts a snapshot of this engine back.
+    pub fn restore(&mut self, snapshot: Snapshot) -> Result<(), WorldError> {
+        match (self, snapshot) {
+            (Engine::Smooth(e), Snapshot::Smooth(s)) => e.restore(s),
+            #[cfg(feature = "contact")]
+            (Engine::Accurate(e), Snapshot::Accurate(s)) => e.restore(s),
+            #[cfg(feature = "contact")]
+            (Engine::Fast(e), Snapshot::Fast(s)) => e.restore(s),
+            #[cfg(feature = "contact")]
+            _ => unreachable!("a snapshot is restored into the engine it came from"),
+        }
+    }
+
+    /// What the engine's work since the last call cost (integrator, force loops, contact, stages), reset to zero.
+    pub fn take_report(&mut self) -> WorldReport {
+        let mut r = each!(self, e => e.take_report());
+        let model = each!(self, e => e.model_mut());
+        r.forces = std::mem::take(&mut model.counters);
+        r.stages += std::mem::take(&mut model.stage_runs);
+        r
+    }
+}

@@ -1,0 +1,144 @@
+//! The smooth engine: the equations of motion integrated by any method of tumble-integrate under its own step
+//! control, with no contact. Its step is the integrator's step; a world with nothing that moves only advances its
+//! clock.
+
+use crate::error::WorldError;
+use crate::model::{Compiled, Model};
+use crate::plan::Stage;
+use crate::report::WorldReport;
+use crate::run::Run;
+use tumble_integrate::{Integrator, Settings};
+
+/// Integration without contact.
+pub(crate) struct SmoothEngine {
+    compiled: Compiled,
+    /// None when the state is empty (nothing moves): the clock alone advances.
+    integrator: Option<Integrator<Model>>,
+    settings: Settings,
+    /// The time of an engine without integrator.
+    t: f64,
+}
+
+/// What a failed call puts back.
+pub(crate) struct SmoothSnapshot {
+    t: f64,
+    y: Vec<f64>,
+    h: Option<f64>,
+}
+
+impl SmoothEngine {
+    pub fn new(mut compiled: Compiled, settings: Settings, t: f64, y: Vec<f64>) -> Result<Self, WorldError> {
+        let integrator = if y.is_empty() {
+            None
+        } else {
+            Some(Integrator::new(&mut compiled.model, settings.clone(), t, &y)?)
+        };
+        Ok(SmoothEngine { compiled, integrator, settings, t })
+    }
+
+    /// The engine's own stages for a state of length `dim`: the integrator's steps, and Jacobians for an
+    /// implicit method.
+    pub fn planned(settings: &Settings, dim: usize) -> Vec<Stage> {
+        let mut out = Vec::new();
+        if dim > 0 {
+            out.push(Stage::Integrate);
+            if settings.method.uses_jacobian() {
+                out.push(Stage::Jacobian);
+            }
+        }
+        out
+    }
+
+    pub fn own_stages(&self) -> Vec<Stage> {
+        Self::planned(&self.settings, self.compiled.model.layout.dim())
+    }
+
+    pub fn compiled(&self) -> &Compiled {
+        &self.compiled
+    }
+
+    pub fn model_mut(&mut self) -> &mut Model {
+        &mut self.compiled.model
+    }
+
+    pub fn time(&self) -> f64 {
+        self.integrator.as_ref().map_or(self.t, |i| i.time())
+    }
+
+    pub fn state(&self) -> &[f64] {
+        self.integrator.as_ref().map_or(&[], |i| i.state())
+    }
+
+    pub fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
+        match &mut self.integrator {
+            Some(i) => i.set_state(t, y)?,
+            None => self.t = t,
+        }
+        Ok(())
+    }
+
+    pub fn advance(
+        &mut self,
+        t_end: f64,
+        pause: f64,
+        saves: &[f64],
+        mut run: Option<&mut Run>,
+    ) -> Result<usize, WorldError> {
+        let Some(integrator) = &mut self.integrator else {
+            // Nothing moves: every save is the same empty state.
+            if let Some(run) = run {
+                for &t in saves {
+                    run.record(&self.compiled.model, t, &[], 0.0);
+                }
+            }
+            self.t = t_end;
+            return Ok(saves.len());
+        };
+        integrator.log_steps(run.is_some());
+        let delivered = integrator.advance_until(&mut self.compiled.model, t_end, pause, saves, |m, t, y| {
+            if let Some(run) = run.as_deref_mut() {
+                run.record(m, t, y, 0.0);
+            }
+        });
+        if let Some(run) = run {
+            for (t, h) in integrator.take_step_log() {
+                run.log_step(t, h);
+            }
+        }
+        Ok(delivered?)
+    }
+
+    pub fn snapshot(&self) -> SmoothSnapshot {
+        SmoothSnapshot {
+            t: self.time(),
+            y: self.state().to_vec(),
+            h: self.integrator.as_ref().and_then(|i| i.proposed_step()),
+        }
+    }
+
+    pub fn restore(&mut self, s: SmoothSnapshot) -> Result<(), WorldError> {
+        match &mut self.integrator {
+            Some(i) => {
+                i.set_state(s.t, &s.y)?;
+                i.set_proposed_step(s.h)?;
+            }
+            None => self.t = s.t,
+        }
+        Ok(())
+    }
+
+    pub fn take_report(&mut self) -> WorldReport {
+        take_integrator_report(self.integrator.as_mut(), self.settings.method.name())
+    }
+}
+
+/// The integrator's report since the last call, with the integrate and Jacobian stages booked from it.
+pub(crate) fn take_integrator_report(integrator: Option<&mut Integrator<Model>>, method: &'static str) -> WorldReport {
+    let mut r = WorldReport::new(method);
+    if let Some(i) = integrator {
+        r.integrator = i.take_report();
+    }
+    r.stages.add(Stage::Integrate, r.integrator.steps);
+    r.stages.add(Stage::Jacobian, r.integrator.jacobians);
+    r
+}

@@ -1,0 +1,79 @@
+//! Actors as the contact stages see them: the pose of every particle, dynamic body and static body in a state, and
+//! their states for tumble-contact (mass, inertia, velocities, applied forces). Actors are numbered particles
+//! first, then dynamic bodies, then static bodies, in both lists.
+
+use crate::model::layout::{get3, get_quat, Layout};
+use crate::model::Model;
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
+use tumble_contact::BodyState;
+
+/// The pose of every actor (particles: translation only; then dynamic bodies; then `statics`) in state y.
+pub(crate) fn actor_poses(l: Layout, y: &[f64], statics: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
+    let mut out = Vec::with_capacity(l.particles + l.bodies + statics.len());
+    for i in 0..l.particles {
+        out.push(Isometry3::from_parts(Translation3::from(get3(y, l.px(i))), UnitQuaternion::identity()));
+    }
+    for j in 0..l.bodies {
+        let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
+        out.push(Isometry3::from_parts(Translation3::from(get3(y, l.bx(j))), q));
+    }
+    out.extend(statics.iter().copied());
+    out
+}
+
+/// Which actors a contact stage sees, and how.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct StateOptions<'a> {
+    /// Actors passed as fixed (asleep), by index; shorter than the actors means the rest are awake.
+    pub asleep: &'a [bool],
+    /// Add Euler's gyroscopic term back into the torque: a time step that conserves angular momentum
+    /// (w* = I^-1 (L + h tau)) must not have tumble-contact's explicit -w x I w, which pumps energy into a fast spin.
+    pub cancel_gyroscopic: bool,
+}
+
+impl Model {
+    /// The actors as tumble-contact sees them in state y, with the applied forces of `dp` (the p rates, after the
+    /// positions), using the body kinematics of the last right-hand side (`kin`, which must be at y).
+    pub(crate) fn contact_states(
+        &self,
+        y: &[f64],
+        dp: &[f64],
+        statics: &[Isometry3<f64>],
+        options: StateOptions<'_>,
+    ) -> Vec<BodyState> {
+        let (l, q) = (self.layout, self.layout.positions());
+        let asleep = |a: usize| options.asleep.get(a).copied().unwrap_or(false);
+        let mut out = Vec::with_capacity(l.particles + l.bodies + statics.len());
+        for (i, p) in self.particles.iter().enumerate() {
+            let x = Point3::from(get3(y, l.px(i)));
+            if asleep(i) {
+                out.push(BodyState::fixed(x));
+                continue;
+            }
+            let mut s = BodyState::particle(p.mass, x, get3(y, l.pv(i)));
+            s.force = get3(dp, l.pv(i) - q) * p.mass;
+            out.push(s);
+        }
+        for (j, b) in self.bodies.iter().enumerate() {
+            let x = Point3::from(get3(y, l.bx(j)));
+            if asleep(l.particles + j) {
+                out.push(BodyState::fixed(x));
+                continue;
+            }
+            let k = &self.kin[j];
+            let inertia = k.rot * b.inertia * k.rot.transpose();
+            let mut s = BodyState::rigid(b.mass, inertia, x);
+            s.inv_inertia = k.rot * b.inv_inertia * k.rot.transpose();
+            s.velocity = k.velocity;
+            s.angular_velocity = k.omega;
+            s.force = get3(dp, l.bp(j) - q);
+            s.torque = get3(dp, l.bl(j) - q);
+            if options.cancel_gyroscopic {
+                s.torque += k.omega.cross(&(inertia * k.omega));
+            }
+            out.push(s);
+        }
+        out.extend(statics.iter().map(|p| BodyState::fixed(Point3::from(p.translation.vector))));
+        out
+    }
+}

@@ -1,0 +1,237 @@
+//! Options as users name them (the Python module's keywords), with their defaults and decision rules in one
+//! place: the integrator from a method name and tolerances, a body's mass from a shape and a density or a mass,
+//! and a world from its mode. An option that does not apply to the chosen mode is an error naming it.
+
+use crate::body::RigidBodyBuilder;
+use crate::error::WorldError;
+use crate::mode::{FastSettings, Mode};
+use crate::world::World;
+use nalgebra::{Matrix3, Vector3};
+use tumble_collide::Shape;
+use tumble_integrate::{LinearSolver, Method, NewtonMode, Settings};
+
+/// Density of a body given by its shape alone (kg/m^3, about water's).
+pub const DEFAULT_DENSITY: f64 = 1000.0;
+/// Step of fixed-step methods and of fast mode when none is given (s).
+pub const DEFAULT_DT: f64 = 1.0 / 240.0;
+/// Tolerances of adaptive methods when none are given.
+pub const DEFAULT_RTOL: f64 = 1e-6;
+/// Absolute tolerance of adaptive methods when none is given.
+pub const DEFAULT_ATOL: f64 = 1e-9;
+/// Per-step error of step doubling and the variable-step Euler when none is given.
+pub const DEFAULT_TOLERANCE: f64 = 1e-6;
+/// Method when none is given.
+pub const DEFAULT_METHOD: Method = Method::Dopri5;
+
+/// The integrator as named by keywords. `None` and `false` mean "not given".
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct IntegratorOptions {
+    /// A method name ("dopri5", "rk4", ...); dopri5 by default.
+    pub integrator: Option<String>,
+    /// Relative tolerance of an adaptive method.
+    pub rtol: Option<f64>,
+    /// Absolute tolerance of an adaptive method.
+    pub atol: Option<f64>,
+    /// A fixed method's step, or an adaptive method's first step.
+    pub dt: Option<f64>,
+    /// Wrap a one-step method in the chapter's step doubling.
+    pub step_doubling: bool,
+    /// Per-step error of step doubling and the variable-step Euler.
+    pub tolerance: Option<f64>,
+    /// "direct" (sparse LU, the default) or "iterative" (BiCGSTAB) for implicit Euler's systems.
+    pub linear_solver: Option<String>,
+    /// Iterate implicit Euler's Newton steps to convergence.
+    pub newton: bool,
+    /// A budget of steps per call.
+    pub max_steps: Option<usize>,
+}
+
+impl IntegratorOptions {
+    /// The options given, by name (for "does not apply" errors).
+    fn given(&self) -> Vec<&'static str> {
+        let mut out = Vec::new();
+        let mut add = |on: bool, name| {
+            if on {
+                out.push(name)
+            }
+        };
+        add(self.integrator.is_some(), "integrator");
+        add(self.rtol.is_some(), "rtol");
+        add(self.atol.is_some(), "atol");
+        add(self.step_doubling, "step_doubling");
+        add(self.tolerance.is_some(), "tolerance");
+        add(self.linear_solver.is_some(), "linear_solver");
+        add(self.newton, "newton");
+        add(self.max_steps.is_some(), "max_steps");
+        out
+    }
+
+    /// The settings: step doubling if asked (one-step methods only), the variable-step Euler by its tolerance,
+    /// adaptive methods by rtol/atol (dt is then the first step) unless only dt is given, else fixed steps of dt.
+    pub fn settings(&self) -> Result<Settings, WorldError> {
+        let method: Method = match &self.integrator {
+            Some(name) => name.parse()?,
+            None => DEFAULT_METHOD,
+        };
+        let (rtol, atol, dt) = (self.rtol, self.atol, self.dt);
+        let mut s = if self.step_doubling {
+            if !method.is_one_step() {
+                return Err(WorldError::invalid("step_doubling", format!("needs a one-step method, not {method}")));
+            }
+            Settings::step_doubling(method, self.tolerance.unwrap_or(DEFAULT_TOLERANCE), dt.unwrap_or(1e-3))
+        } else if method == Method::EulerVariable {
+            Settings::euler_variable(self.tolerance.unwrap_or(DEFAULT_TOLERANCE))
+        } else if method.has_error_estimate() && (dt.is_none() || rtol.is_some() || atol.is_some()) {
+            let s = Settings::tolerances(method, rtol.unwrap_or(DEFAULT_RTOL), atol.unwrap_or(DEFAULT_ATOL));
+            match dt {
+                Some(h) => s.initial_step(h),
+                None => s,
+            }
+        } else {
+            if rtol.is_some() || atol.is_some() {
+                let name = if rtol.is_some() { "rtol" } else { "atol" };
+                return Err(WorldError::invalid(
+                    name,
+                    format!("{method} is a fixed-step method: give dt, or step_doubling=True"),
+                ));
+            }
+            Settings::fixed(method, dt.unwrap_or(DEFAULT_DT))
+        };
+        if self.tolerance.is_some() && !(self.step_doubling || method == Method::EulerVariable) {
+            return Err(WorldError::invalid("tolerance", "applies to step doubling and euler-variable only"));
+        }
+        s = s.linear_solver(match self.linear_solver.as_deref() {
+            None | Some("direct") => LinearSolver::Direct,
+            Some("iterative") => LinearSolver::Iterative { rtol: 1e-6, max_iter: 2000 },
+            Some(other) => {
+                return Err(WorldError::invalid(
+                    "linear_solver",
+                    format!("expected \"direct\" or \"iterative\", got {other:?}"),
+                ))
+            }
+        });
+        if self.newton {
+            s = s.newton(NewtonMode::Newton { tol: 1e-9, max_iter: 10 });
+        }
+        if let Some(n) = self.max_steps {
+            s = s.max_steps(n);
+        }
+        Ok(s)
+    }
+}
+
+/// The contact mode from its name ("accurate" or "fast"), fast mode's step (default 1/240 s) and whether its
+/// resting islands sleep (default true). `dt` and `sleep` apply to fast mode only.
+pub fn mode_from(name: &str, dt: Option<f64>, sleep: Option<bool>) -> Result<Mode, WorldError> {
+    match name {
+        "accurate" => {
+            if dt.is_some() {
+                return Err(WorldError::invalid(
+                    "dt",
+                    "accurate mode takes its steps from the integrator: give dt with the integrator",
+                ));
+            }
+            if sleep.is_some() {
+                return Err(WorldError::invalid("sleep", "only fast mode puts resting islands to sleep"));
+            }
+            Ok(Mode::default())
+        }
+        "fast" => {
+            let mode = Mode::Fast(FastSettings {
+                sleep: sleep.unwrap_or(true),
+                ..FastSettings::new(dt.unwrap_or(DEFAULT_DT))
+            });
+            mode.check()?;
+            Ok(mode)
+        }
+        other => Err(WorldError::invalid("mode", format!("expected \"accurate\" or \"fast\", got {other:?}"))),
+    }
+}
+
+/// A world as named by keywords.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WorldOptions {
+    /// Gravity; (0, 0, -9.81) by default.
+    pub gravity: Option<Vector3<f64>>,
+    /// "accurate" (the default) or "fast".
+    pub mode: Option<String>,
+    /// Fast mode: whether resting islands sleep (default true).
+    pub sleep: Option<bool>,
+    /// Threads of the contact solves (0: one per core, the default).
+    pub threads: Option<usize>,
+    /// The integrator (accurate mode); its `dt` is fast mode's step in fast mode.
+    pub integrator: IntegratorOptions,
+}
+
+impl WorldOptions {
+    /// The world these options describe. In fast mode every integrator option but `dt` is an error naming it.
+    pub fn build(&self) -> Result<World, WorldError> {
+        let name = self.mode.as_deref().unwrap_or("accurate");
+        let mut world = World::new();
+        if let Some(g) = self.gravity {
+            world.set_gravity(g)?;
+        }
+        if let Some(n) = self.threads {
+            world.set_threads(n)?;
+        }
+        if name == "fast" {
+            if let Some(first) = self.integrator.given().first() {
+                return Err(WorldError::invalid(
+                    first,
+                    "does not apply to fast mode, which steps by semi-implicit Euler at its dt",
+                ));
+            }
+            world.set_mode(mode_from(name, self.integrator.dt, self.sleep)?)?;
+        } else {
+            let mode = mode_from(name, None, self.sleep)?;
+            world.set_integrator(self.integrator.settings()?)?;
+            world.set_mode(mode)?;
+        }
+        Ok(world)
+    }
+}
+
+/// A body as named by keywords: a shape with a density or a total mass, or a mass and an inertia tensor (a shape
+/// then only collides), or static.
+#[derive(Clone, Debug, Default)]
+pub struct BodyOptions {
+    /// The body's shape (its mass properties when no inertia is given).
+    pub shape: Option<Shape>,
+    /// Density (kg/m^3); 1000 when a dynamic body has a shape and nothing else.
+    pub density: Option<f64>,
+    /// Total mass (kg).
+    pub mass: Option<f64>,
+    /// Inertia tensor about the centre of mass (body frame), with `mass`.
+    pub inertia: Option<Matrix3<f64>>,
+    /// A static body: no density, mass or inertia.
+    pub is_static: bool,
+}
+
+impl BodyOptions {
+    /// The builder these options describe (position, velocities and material are set on it after).
+    pub fn builder(self) -> Result<RigidBodyBuilder, WorldError> {
+        let BodyOptions { shape, density, mass, inertia, is_static } = self;
+        if is_static {
+            if density.is_some() || mass.is_some() || inertia.is_some() {
+                return Err(WorldError::invalid("static", "a static body has no density, mass or inertia"));
+            }
+            return Ok(RigidBodyBuilder::fixed(shape));
+        }
+        match (shape, density, mass, inertia) {
+            (shape, None, Some(m), Some(i)) => {
+                let b = RigidBodyBuilder::new(m, i);
+                Ok(match shape {
+                    Some(s) => b.shape(s),
+                    None => b,
+                })
+            }
+            (Some(s), Some(d), None, None) => Ok(RigidBodyBuilder::from_shape(s, d)),
+            (Some(s), None, Some(m), None) => Ok(RigidBodyBuilder::from_shape_with_mass(s, m)),
+            (Some(s), None, None, None) => Ok(RigidBodyBuilder::from_shape(s, DEFAULT_DENSITY)),
+            (_, Some(_), Some(_), _) => Err(WorldError::invalid("density", "give either density or mass, not both")),
+            (_, Some(_), None, Some(_)) => Err(WorldError::invalid("inertia", "an inertia tensor needs a mass")),
+            (_, None, None, Some(_)) => Err(WorldError::invalid("inertia", "an inertia tensor needs a mass")),
+            (None, _, _, None) => Err(WorldError::invalid("shape", "a dynamic body needs a shape, or a mass and an inertia")),
+        }
+    }
+}

@@ -1,0 +1,134 @@
+//! The scenes by name, with numeric parameters by name: the one registry the command line and the Python module
+//! use. Unknown names and parameters are errors naming them; counts must be whole numbers within limits, checked
+//! before anything is allocated.
+
+use super::{spinning_top, Cloth};
+use crate::error::WorldError;
+use crate::world::World;
+
+/// The built-in scenes' names.
+pub const NAMES: [&str; 7] = ["cloth", "spinning_top", "bouncing_ball", "tumbling_box", "dominoes", "pyramid", "cloth_drape"];
+
+/// Largest count a scene parameter may take (particles a side, dominoes, pyramid layers).
+const MAX_COUNT: f64 = 1000.0;
+
+/// Named parameters, each taken at most once.
+struct Params<'a> {
+    given: &'a [(String, f64)],
+    used: Vec<bool>,
+}
+
+impl<'a> Params<'a> {
+    fn new(given: &'a [(String, f64)]) -> Self {
+        Params { given, used: vec![false; given.len()] }
+    }
+
+    /// The number given for `key`, or `default`.
+    fn number(&mut self, key: &'static str, default: f64) -> Result<f64, WorldError> {
+        match self.given.iter().position(|(k, _)| k == key) {
+            Some(i) => {
+                self.used[i] = true;
+                let v = self.given[i].1;
+                if v.is_finite() {
+                    Ok(v)
+                } else {
+                    Err(WorldError::invalid(key, format!("must be finite, got {v}")))
+                }
+            }
+            None => Ok(default),
+        }
+    }
+
+    /// The whole number given for `key` (1 ..= 1000), or `default`.
+    fn count(&mut self, key: &'static str, default: usize) -> Result<usize, WorldError> {
+        let v = self.number(key, default as f64)?;
+        if v.fract() != 0.0 || !(1.0..=MAX_COUNT).contains(&v) {
+            return Err(WorldError::invalid(key, format!("must be a whole number from 1 to {MAX_COUNT}, got {v}")));
+        }
+        Ok(v as usize)
+    }
+
+    /// An error naming the first parameter the scene did not take.
+    fn finish(&self, scene: &str) -> Result<(), WorldError> {
+        match self.used.iter().position(|u| !u) {
+            Some(i) => Err(WorldError::invalid(
+                "params",
+                format!("scene {scene:?} has no parameter {:?}", self.given[i].0),
+            )),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The scene `name` built with `params` (each parameter's default where not given).
+pub fn build(name: &str, params: &[(String, f64)]) -> Result<World, WorldError> {
+    let mut p = Params::new(params);
+    let world = match name {
+        "cloth" => {
+            let d = Cloth::default();
+            let cloth = Cloth {
+                n: p.count("n", d.n)?,
+                size: p.number("size", d.size)?,
+                mass: p.number("mass", d.mass)?,
+                stiffness: p.number("stiffness", d.stiffness)?,
+                damping: p.number("damping", d.damping)?,
+                pin_stiffness: p.number("pin_stiffness", d.pin_stiffness)?,
+            };
+            p.finish(name)?;
+            cloth.build()?.0
+        }
+        "spinning_top" => {
+            p.finish(name)?;
+            spinning_top()?.0
+        }
+        #[cfg(feature = "contact")]
+        _ => return contact_scene(name, p),
+        #[cfg(not(feature = "contact"))]
+        other => return Err(unknown(other)),
+    };
+    Ok(world)
+}
+
+fn unknown(name: &str) -> WorldError {
+    WorldError::invalid("name", format!("unknown scene {name:?}; expected one of {}", NAMES.join(", ")))
+}
+
+#[cfg(feature = "contact")]
+fn contact_scene(name: &str, mut p: Params<'_>) -> Result<World, WorldError> {
+    use super::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pyramid};
+    let world = match name {
+        "bouncing_ball" => {
+            let d = BouncingBall::default();
+            let ball = BouncingBall {
+                restitution: p.number("restitution", d.restitution)?,
+                radius: p.number("radius", d.radius)?,
+                height: p.number("height", d.height)?,
+            };
+            p.finish(name)?;
+            ball.build()?.0
+        }
+        "tumbling_box" => {
+            p.finish(name)?;
+            tumbling_box()?.0
+        }
+        "dominoes" => {
+            let d = Dominoes::default();
+            let row = Dominoes { count: p.count("count", d.count)?, spacing: p.number("spacing", d.spacing)? };
+            p.finish(name)?;
+            row.build()?.0
+        }
+        "pyramid" => {
+            let pyramid = Pyramid { layers: p.count("layers", Pyramid::default().layers)? };
+            p.finish(name)?;
+            pyramid.build()?.0
+        }
+        "cloth_drape" => {
+            let d = ClothDrape::default();
+            let drape = ClothDrape { n: p.count("n", d.n)?, size: p.number("size", d.size)? };
+            p.finish(name)?;
+            drape.build()?.0
+        }
+        other => return Err(unknown(other)),
+    };
+    Ok(world)
+}

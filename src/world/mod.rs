@@ -1,0 +1,208 @@
+//! The world: particles, rigid bodies, springs and loads, stepped by any method of tumble-integrate. Its contents
+//! are compiled into a model (flat arrays, state vector) when its structure changes and handed to an engine
+//! (`crate::engine`) that steps it; a step that fails leaves the world exactly as it was. This file holds the
+//! world and its settings; `build.rs` adds and removes things, `state.rs` sets and reads state, `plan.rs` the
+//! plan, `stepping.rs` the one run loop.
+
+mod build;
+mod plan;
+mod state;
+mod stepping;
+
+use crate::body::{RigidBody, RigidBodyBuilder};
+use crate::engine::Engine;
+use crate::error::{check_finite, check_scalar, WorldError};
+use crate::handle::{Arena, Handle};
+use crate::load::Load;
+use crate::mode::Mode;
+use crate::particle::Particle;
+use crate::report::WorldReport;
+use crate::spring::{BodyHandle, Spring};
+use nalgebra::Vector3;
+use tumble_integrate::{Method, Settings};
+
+/// Which Jacobian the springs contribute to implicit methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpringJacobian {
+    /// The exact derivative: Newton-type methods (full Newton, Rodas4, Radau5) need it for their convergence
+    /// and order.
+    Exact,
+    /// Compression's transverse term clamped at zero and damping's position derivative dropped: every spring block
+    /// is negative semidefinite, so the chapter's single linearised implicit Euler step cannot gain energy.
+    Definite,
+}
+
+/// A world of particles and rigid bodies.
+pub struct World {
+    pub(crate) gravity: Vector3<f64>,
+    pub(crate) settings: Settings,
+    pub(crate) time: f64,
+    pub(crate) particles: Arena<Particle>,
+    pub(crate) bodies: Arena<RigidBody>,
+    pub(crate) springs: Arena<Spring>,
+    pub(crate) loads: Arena<Load>,
+    pub(crate) engine: Option<Engine>,
+    pub(crate) state_changed: bool,
+    pub(crate) totals: WorldReport,
+    pub(crate) divergence_factor: f64,
+    pub(crate) spring_jacobian: Option<SpringJacobian>,
+    pub(crate) mode: Mode,
+    /// Threads for the contact solves (0: one per core).
+    pub(crate) threads: usize,
+}
+
+impl Default for World {
+    fn default() -> Self {
+        World::new()
+    }
+}
+
+pub(crate) fn unknown<T>(name: &'static str, h: Handle<T>) -> WorldError {
+    WorldError::UnknownHandle { name, handle: format!("{h:?}") }
+}
+
+impl World {
+    /// An empty world with gravity (0, 0, -9.81) and Dormand-Prince at rtol = 1e-6, atol = 1e-9.
+    pub fn new() -> Self {
+        let settings = Settings::tolerances(Method::Dopri5, 1e-6, 1e-9);
+        World {
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+            totals: WorldReport::new(settings.method.name()),
+            settings,
+            time: 0.0,
+            particles: Arena::default(),
+            bodies: Arena::default(),
+            springs: Arena::default(),
+            loads: Arena::default(),
+            engine: None,
+            state_changed: false,
+            divergence_factor: 1e9,
+            spring_jacobian: None,
+            mode: Mode::default(),
+            threads: 0,
+        }
+    }
+
+    /// How the world treats contact.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Chooses accurate (event-driven) or fast (time-stepping) contact. Fast mode needs the `contact` feature.
+    pub fn set_mode(&mut self, mode: Mode) -> Result<(), WorldError> {
+        mode.check()?;
+        if cfg!(not(feature = "contact")) && matches!(mode, Mode::Fast(_)) {
+            return Err(WorldError::invalid("mode", "fast mode needs tumble built with the `contact` feature"));
+        }
+        self.mode = mode;
+        self.retire_engine();
+        Ok(())
+    }
+
+    /// Adds a ground: a static half-space below the plane z = `height` (normal +z) with this material.
+    pub fn add_ground(&mut self, height: f64, material: crate::Material) -> Result<BodyHandle, WorldError> {
+        check_finite("height", [height].iter())?;
+        let ground = tumble_collide::Shape::half_space(Vector3::z())?;
+        self.add_body(
+            RigidBodyBuilder::fixed(Some(ground))
+                .position(Vector3::new(0.0, 0.0, height))
+                .restitution(material.restitution)
+                .friction(material.friction),
+        )
+    }
+
+    /// Gravity.
+    pub fn gravity(&self) -> Vector3<f64> {
+        self.gravity
+    }
+
+    /// Sets gravity.
+    pub fn set_gravity(&mut self, g: Vector3<f64>) -> Result<(), WorldError> {
+        check_finite("gravity", g.iter())?;
+        self.gravity = g;
+        self.retire_engine();
+        Ok(())
+    }
+
+    /// The integrator settings.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// Chooses the integrator. The settings are checked against the world now. Fast mode steps by its own
+    /// scheme, so choosing an integrator there is an error naming `integrator`.
+    pub fn set_integrator(&mut self, settings: Settings) -> Result<(), WorldError> {
+        if matches!(self.mode, Mode::Fast(_)) {
+            return Err(WorldError::invalid(
+                "integrator",
+                "fast mode steps by semi-implicit Euler at its dt; choose the integrator in accurate mode",
+            ));
+        }
+        let compiled = self.compile();
+        settings.validate(&compiled.model)?;
+        self.settings = settings;
+        self.retire_engine();
+        Ok(())
+    }
+
+    /// A state whose max norm grows past `factor` times that of the state a run starts from (at least 1) is
+    /// reported as diverging (default 1e9): an unstable explicit step fails with an error long before overflow.
+    pub fn set_divergence_factor(&mut self, factor: f64) -> Result<(), WorldError> {
+        self.divergence_factor = check_scalar("factor", factor, true)?;
+        self.retire_engine();
+        Ok(())
+    }
+
+    /// Chooses the springs' Jacobian; `None` (the default) picks `Definite` for the linearised implicit Euler and
+    /// `Exact` for every other method.
+    pub fn set_spring_jacobian(&mut self, choice: Option<SpringJacobian>) {
+        self.spring_jacobian = choice;
+        self.retire_engine();
+    }
+
+    /// The springs' Jacobian in use.
+    pub fn spring_jacobian(&self) -> SpringJacobian {
+        self.spring_jacobian.unwrap_or(
+            if self.settings.method == Method::ImplicitEuler
+                && self.settings.newton == tumble_integrate::NewtonMode::Linearised
+            {
+                SpringJacobian::Definite
+            } else {
+                SpringJacobian::Exact
+            },
+        )
+    }
+
+    /// Current time.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Sets how many threads the contact solves use: 0 (the default) one per core, 1 the calling thread only.
+    /// Results are the same bit for bit whatever the count.
+    pub fn set_threads(&mut self, threads: usize) -> Result<(), WorldError> {
+        if threads > 1024 {
+            return Err(WorldError::invalid("threads", format!("must be at most 1024, got {threads}")));
+        }
+        self.threads = threads;
+        self.retire_engine();
+        Ok(())
+    }
+
+    /// The thread count of the contact solves (0: one per core).
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Everything the world's steps have cost so far.
+    pub fn report(&self) -> WorldReport {
+        self.totals.clone()
+    }
+}
+
+/// A world can be moved to another thread (the Python module runs it with the interpreter lock released).
+#[allow(dead_code)]
+fn world_is_send() {
+    fn is_send<T: Send>() {}
+    is_send::<World>();
+}

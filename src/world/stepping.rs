@@ -1,0 +1,199 @@
+//! Stepping a world: the engine built from the compiled model when the structure changed, and the one run loop
+//! that every mode and both `step` and `run` go through: snapshot, advance in chunks (recording frames if asked,
+//! reporting progress between chunks), book the report, and on failure restore the snapshot so the world is
+//! exactly as it was.
+
+use super::World;
+use crate::engine::{Engine, EngineSpec};
+use crate::error::{check_scalar, WorldError};
+use crate::model::Compiled;
+use crate::report::WorldReport;
+use crate::run::{BodySource, Run};
+use crate::spring::{BodyHandle, ParticleHandle};
+
+/// Most frames a run may record.
+const MAX_FRAMES: f64 = 1e7;
+
+impl World {
+    /// Drops the engine (the structure changed); its report is already in the totals.
+    pub(crate) fn retire_engine(&mut self) {
+        self.engine = None;
+        self.state_changed = false;
+    }
+
+    /// Whether the compiled world has colliders that can touch.
+    pub(crate) fn has_contact(&self, compiled: &Compiled) -> bool {
+        #[cfg(feature = "contact")]
+        return self.contact_scene(compiled).is_some();
+        #[cfg(not(feature = "contact"))]
+        {
+            let _ = compiled;
+            false
+        }
+    }
+
+    #[cfg(feature = "contact")]
+    fn contact_scene(&self, compiled: &Compiled) -> Option<crate::engine::contact_scene::ContactScene> {
+        crate::engine::contact_scene::ContactScene::build(
+            compiled.model.layout,
+            &self.particles,
+            &self.bodies,
+            &compiled.bodies,
+        )
+    }
+
+    /// A new engine for the world as it is.
+    fn build_engine(&self) -> Result<Engine, WorldError> {
+        let compiled = self.compile();
+        let y = compiled.pack(&self.particles, &self.bodies);
+        let scale = y.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        let spec = EngineSpec {
+            mode: self.mode,
+            settings: self.settings.clone().divergence_limit(self.divergence_factor * scale),
+            #[cfg(feature = "contact")]
+            scene: self.contact_scene(&compiled),
+            gravity: self.gravity.norm(),
+            threads: self.threads,
+        };
+        Engine::build(spec, compiled, self.time, y)
+    }
+
+    /// The engine, built if the structure changed and given any state the user set.
+    pub(crate) fn engine(&mut self) -> Result<&mut Engine, WorldError> {
+        if self.engine.is_none() {
+            self.engine = Some(self.build_engine()?);
+        } else if self.state_changed {
+            let e = self.engine.as_mut().expect("checked above");
+            let y = e.compiled().pack(&self.particles, &self.bodies);
+            e.set_state(self.time, &y)?;
+        }
+        self.state_changed = false;
+        Ok(self.engine.as_mut().expect("built above"))
+    }
+
+    /// Moves the engine's report into the totals and returns it.
+    fn book_report(&mut self) -> WorldReport {
+        let r = match &mut self.engine {
+            Some(e) => e.take_report(),
+            None => WorldReport::new(self.settings.method.name()),
+        };
+        self.totals.merge(&r);
+        r
+    }
+
+    /// Writes the engine's state into the particles and bodies.
+    fn store_state(&mut self) {
+        if let Some(e) = &self.engine {
+            e.compiled().unpack(e.state(), &mut self.particles, &mut self.bodies);
+            self.time = e.time();
+        }
+    }
+
+    /// Advances by `dt` (several internal steps if the method is adaptive; in fast mode a whole number of its
+    /// steps, else an error naming `dt`). On error the world is unchanged.
+    pub fn step(&mut self, dt: f64) -> Result<(), WorldError> {
+        check_scalar("dt", dt, true)?;
+        self.drive(dt, "dt", None, |_| true).map(|_| ())
+    }
+
+    /// Runs for `duration`, recording a frame every `frame_interval` (and at the end).
+    pub fn run(&mut self, duration: f64, frame_interval: f64) -> Result<Run, WorldError> {
+        self.run_with(duration, frame_interval, |_| true)
+    }
+
+    /// [`run`](World::run), calling `control(fraction_done)` between chunks of about a hundredth of the frames;
+    /// when it returns false the run stops with [`WorldError::Interrupted`]. On any error the world is as it was
+    /// before the call. In fast mode `duration` must be a whole number of steps, and each frame is the state of
+    /// the first step that reaches its time (frames closer than a step apart share it, and are recorded once).
+    pub fn run_with(
+        &mut self,
+        duration: f64,
+        frame_interval: f64,
+        control: impl FnMut(f64) -> bool,
+    ) -> Result<Run, WorldError> {
+        check_scalar("duration", duration, true)?;
+        check_scalar("frame_interval", frame_interval, true)?;
+        let count = (duration / frame_interval * (1.0 + 1e-12)).floor();
+        if count > MAX_FRAMES {
+            return Err(WorldError::invalid("frame_interval", format!("{count:e} frames are too many to record")));
+        }
+        let run = self.drive(duration, "duration", Some(frame_interval), control)?;
+        Ok(run.expect("frames were asked for"))
+    }
+
+    /// The run loop of every mode: advances by `span` (named `name` in errors), recording frames every
+    /// `frame_interval` if given.
+    fn drive(
+        &mut self,
+        span: f64,
+        name: &'static str,
+        frame_interval: Option<f64>,
+        mut control: impl FnMut(f64) -> bool,
+    ) -> Result<Option<Run>, WorldError> {
+        let mut run = frame_interval.map(|_| self.new_run());
+        let e = self.engine()?;
+        let t0 = e.time();
+        let t_end = e.end_time(span, name)?;
+        let times = match frame_interval {
+            Some(interval) => frame_times(t0, t_end, span, interval),
+            None => Vec::new(),
+        };
+        let snapshot = e.snapshot();
+        // Pause about a hundred times to report progress; pausing does not shorten a step, so the run takes the
+        // same steps as one call would.
+        let chunk = times.len().div_ceil(100).max(1);
+        let mut done = 0;
+        let outcome = loop {
+            let pause = if times.is_empty() { t_end } else { times[(done + chunk).min(times.len()) - 1] };
+            match e.advance(t_end, pause, &times[done..], run.as_mut()) {
+                Ok(delivered) => done += delivered,
+                Err(err) => break Err(err),
+            }
+            if done >= times.len() && (!times.is_empty() || e.time() >= t_end) {
+                break Ok(());
+            }
+            if !control(done as f64 / times.len().max(1) as f64) {
+                break Err(WorldError::Interrupted);
+            }
+        };
+        let report = self.book_report();
+        if let Err(err) = outcome {
+            if let Some(e) = &mut self.engine {
+                e.restore(snapshot)?;
+            }
+            return Err(err);
+        }
+        self.store_state();
+        Ok(run.map(|mut run| {
+            run.report = report;
+            run
+        }))
+    }
+
+    /// An empty run of this world's particles and bodies (all bodies, static ones at their fixed poses).
+    fn new_run(&self) -> Run {
+        let c = self.compile();
+        let sources: Vec<BodySource> = self
+            .bodies
+            .iter()
+            .map(|(h, b)| match c.bodies.iter().position(|&d| d == h) {
+                Some(j) => BodySource::Dynamic(j),
+                None => BodySource::Static(b.position, b.orientation),
+            })
+            .collect();
+        let particles: Vec<ParticleHandle> = self.particles.iter().map(|(h, _)| h).collect();
+        let bodies: Vec<BodyHandle> = self.bodies.iter().map(|(h, _)| h).collect();
+        Run::new(particles, bodies, sources, self.settings.method.name())
+    }
+}
+
+/// Frame times from t0 every `interval` over `span`, the last one at `t_end` (the end of the advance).
+fn frame_times(t0: f64, t_end: f64, span: f64, interval: f64) -> Vec<f64> {
+    let count = (span / interval * (1.0 + 1e-12)).floor() as usize;
+    let mut times: Vec<f64> = (0..=count).map(|k| t0 + k as f64 * interval).filter(|&t| t < t_end).collect();
+    match times.last_mut() {
+        Some(last) if (t_end - *last).abs() <= 1e-9 * interval => *last = t_end,
+        _ => times.push(t_end),
+    }
+    times
+}
