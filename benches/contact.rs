@@ -8,32 +8,10 @@
 //! once) only the 100-box pile is built: the others take minutes to set up.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use nalgebra::{UnitQuaternion, Vector3};
-use tumble::{FastSettings, Material, Mode, RigidBodyBuilder, Shape, World};
+use tumble::World;
 
-fn pile(k: usize, layers: usize) -> World {
-    let mut w = World::new();
-    w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0))).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.2, friction: 0.6 }).unwrap();
-    let cube = Shape::cuboid(Vector3::repeat(0.25)).unwrap();
-    let mut n = 0u32;
-    for layer in 0..layers {
-        for i in 0..k {
-            for j in 0..k {
-                n += 1;
-                let tilt = 0.05 * ((n * 7919 % 13) as f64 / 13.0 - 0.5);
-                w.add_body(
-                    RigidBodyBuilder::from_shape(cube.clone(), 500.0)
-                        .position(Vector3::new(0.6 * i as f64, 0.6 * j as f64, 0.3 + 0.6 * layer as f64))
-                        .orientation(UnitQuaternion::from_euler_angles(tilt, -tilt, 2.0 * tilt))
-                        .restitution(0.2)
-                        .friction(0.6),
-                )
-                .unwrap();
-            }
-        }
-    }
-    w
+fn pile(side: usize, layers: usize) -> World {
+    tumble::scenes::Pile { side, layers }.build().unwrap().0
 }
 
 /// Prints where `seconds` of stepping went, from the world's report of those steps.

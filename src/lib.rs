@@ -42,7 +42,7 @@ pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
 pub use mode::{AccurateSettings, FastFriction, FastSettings, Mode};
 pub use model::ForceCounters;
 pub use particle::{Particle, ParticleBuilder};
-pub use options::{BodyOptions, IntegratorOptions, WorldOptions};
+pub use options::{mode_from, BodyOptions, IntegratorOptions, WorldOptions, DEFAULT_DENSITY, DEFAULT_DT};
 pub use plan::{Plan, Stage, StageCounts};
 pub use report::{ReportValue, WorldReport};
 pub use run::{Run, RunArrays};

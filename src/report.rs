@@ -149,6 +149,7 @@ impl fmt::Display for WorldReport {
             f,
             "                 max penetration {:.3e} m, {} asleep; {:.3} s finding contacts, {:.3} s solving them",
             self.max_penetration, self.sleepers, self.collision_seconds, self.contact_seconds
-        )
+        )?;
+        write!(f, "\nstages ran       {}", self.stages.ran().join(" -> "))
     }
 }

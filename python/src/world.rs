@@ -10,23 +10,13 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::sync::{Arc, Mutex};
-use tumble::integrate::{LinearSolver, NewtonMode};
 use tumble::{
-    Attachment, FastSettings, Material, Method, Mode, ParticleBuilder, RigidBodyBuilder, RunArrays, Settings,
-    SpringBuilder, Target, World, WorldError, WorldReport, Wrench,
+    mode_from, Attachment, BodyOptions, IntegratorOptions, Material, ParticleBuilder, ReportValue, RunArrays,
+    SpringBuilder, Target, World, WorldError, WorldOptions, WorldReport, Wrench,
 };
 
 /// A body's colliders: each shape with its pose in the body frame (position, quaternion w, x, y, z).
 type BodyShapes = Vec<(Py<PyShape>, [f64; 3], [f64; 4])>;
-
-/// The contact mode from the constructor's or `set_mode`'s arguments (`sleep` applies to fast mode).
-fn mode_of(name: &str, dt: Option<f64>, sleep: bool) -> PyResult<Mode> {
-    match name {
-        "accurate" => Ok(Mode::default()),
-        "fast" => Ok(Mode::Fast(FastSettings { sleep, ..FastSettings::new(dt.unwrap_or(1.0 / 240.0)) })),
-        other => Err(invalid("mode", format!("expected \"accurate\" or \"fast\", got {other:?}"))),
-    }
-}
 
 /// A world of particles and rigid bodies (see the package documentation for the whole contract).
 #[pyclass(module = "tumble._tumble", name = "World", subclass)]
@@ -37,52 +27,20 @@ pub struct PyWorld {
     callback_error: Arc<Mutex<Option<PyErr>>>,
 }
 
-/// The integrator settings from the constructor's keyword arguments.
+/// The integrator options from keyword arguments (the rules and defaults live in `tumble::IntegratorOptions`).
 #[allow(clippy::too_many_arguments)]
-fn settings(
-    integrator: &str,
+fn integrator_options(
+    integrator: Option<String>,
     rtol: Option<f64>,
     atol: Option<f64>,
     dt: Option<f64>,
     step_doubling: bool,
     tolerance: Option<f64>,
-    linear_solver: &str,
+    linear_solver: Option<String>,
     newton: bool,
     max_steps: Option<usize>,
-) -> PyResult<Settings> {
-    let method: Method =
-        integrator.parse().map_err(|e: tumble::integrate::OdeError| PyValueError::new_err(e.to_string()))?;
-    let mut s = if step_doubling {
-        if !method.is_one_step() {
-            return Err(invalid("step_doubling", format!("needs a one-step method, not {method}")));
-        }
-        Settings::step_doubling(method, tolerance.unwrap_or(1e-6), dt.unwrap_or(1e-3))
-    } else if method == Method::EulerVariable {
-        Settings::euler_variable(tolerance.unwrap_or(1e-6))
-    } else if method.has_error_estimate() && (dt.is_none() || rtol.is_some() || atol.is_some()) {
-        let s = Settings::tolerances(method, rtol.unwrap_or(1e-6), atol.unwrap_or(1e-9));
-        match dt {
-            Some(h) => s.initial_step(h),
-            None => s,
-        }
-    } else {
-        if rtol.is_some() || atol.is_some() {
-            return Err(invalid("rtol", format!("{method} is a fixed-step method: give dt, or step_doubling=True")));
-        }
-        Settings::fixed(method, dt.unwrap_or(1.0 / 240.0))
-    };
-    s = s.linear_solver(match linear_solver {
-        "direct" => LinearSolver::Direct,
-        "iterative" => LinearSolver::Iterative { rtol: 1e-6, max_iter: 2000 },
-        other => return Err(invalid("linear_solver", format!("expected \"direct\" or \"iterative\", got {other:?}"))),
-    });
-    if newton {
-        s = s.newton(NewtonMode::Newton { tol: 1e-9, max_iter: 10 });
-    }
-    if let Some(n) = max_steps {
-        s = s.max_steps(n);
-    }
-    Ok(s)
+) -> IntegratorOptions {
+    IntegratorOptions { integrator, rtol, atol, dt, step_doubling, tolerance, linear_solver, newton, max_steps }
 }
 
 fn to_target(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Target> {
@@ -126,39 +84,20 @@ fn rows<'py, const W: usize>(
     array(py, items.flatten().collect(), &[count, W])
 }
 
-/// The report as a plain dict (the package wraps it in `tumble.Report`).
+/// The report as a plain dict of its fields (the package wraps it in `tumble.Report`), with the stages that ran
+/// under "stages_ran" and the report's text under "_text".
 pub fn report_dict<'py>(py: Python<'py>, r: &WorldReport) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    let i = &r.integrator;
-    d.set_item("method", i.method)?;
-    d.set_item("steps", i.steps)?;
-    d.set_item("rejected", i.rejected)?;
-    d.set_item("rhs_evals", i.rhs_evals)?;
-    d.set_item("jacobians", i.jacobians)?;
-    d.set_item("factorizations", i.factorizations)?;
-    d.set_item("linear_solves", i.linear_solves)?;
-    d.set_item("newton_iterations", i.newton_iterations)?;
-    d.set_item("krylov_iterations", i.krylov_iterations)?;
-    d.set_item("min_step", if i.steps > 0 { Some(i.min_step) } else { None })?;
-    d.set_item("max_step", if i.steps > 0 { Some(i.max_step) } else { None })?;
-    d.set_item("wall_seconds", i.wall_seconds)?;
-    d.set_item("error_estimate", i.error_estimate)?;
-    d.set_item("qp_solves", r.qp_solves)?;
-    d.set_item("collisions", r.collisions)?;
-    d.set_item("impulses", r.impulses)?;
-    d.set_item("bisection_steps", r.bisection_steps)?;
-    d.set_item("collision_checks", r.collision_checks)?;
-    d.set_item("islands", r.islands)?;
-    d.set_item("sleepers", r.sleepers)?;
-    d.set_item("max_penetration", r.max_penetration)?;
-    d.set_item("collision_seconds", r.collision_seconds)?;
-    d.set_item("contact_seconds", r.contact_seconds)?;
-    let f = &r.forces;
-    d.set_item("evaluations", f.evaluations)?;
-    d.set_item("spring_evaluations", f.spring_evaluations)?;
-    d.set_item("load_evaluations", f.load_evaluations)?;
-    d.set_item("callback_calls", f.callback_calls)?;
-    d.set_item("projections", f.projections)?;
+    for (name, value) in r.fields() {
+        match value {
+            ReportValue::Count(n) => d.set_item(name, n)?,
+            ReportValue::Number(x) => d.set_item(name, x)?,
+            ReportValue::Optional(x) => d.set_item(name, x)?,
+            ReportValue::Text(t) => d.set_item(name, t)?,
+        }
+    }
+    d.set_item("stages_ran", r.stages.ran())?;
+    d.set_item("_text", r.to_string())?;
     Ok(d)
 }
 
@@ -190,7 +129,6 @@ impl PyWorld {
         handles: (Vec<PyParticleHandle>, Vec<PyBodyHandle>),
     ) -> PyResult<Bound<'py, PyDict>> {
         let (f, p, b) = (a.times.len(), a.particle_count, a.body_count);
-        let energy: Vec<f64> = a.kinetic_energy.iter().zip(&a.potential_energy).map(|(k, u)| k + u).collect();
         let steps = a.step_times.len();
         let d = PyDict::new(py);
         d.set_item("times", array(py, a.times, &[f])?)?;
@@ -202,7 +140,7 @@ impl PyWorld {
         d.set_item("body_angular_velocities", array(py, a.body_angular_velocities, &[f, b, 3])?)?;
         d.set_item("kinetic_energy", array(py, a.kinetic_energy, &[f])?)?;
         d.set_item("potential_energy", array(py, a.potential_energy, &[f])?)?;
-        d.set_item("energy", array(py, energy, &[f])?)?;
+        d.set_item("energy", array(py, a.energy, &[f])?)?;
         d.set_item("momentum", array(py, a.momentum, &[f, 3])?)?;
         d.set_item("angular_momentum", array(py, a.angular_momentum, &[f, 3])?)?;
         d.set_item("step_times", array(py, a.step_times, &[steps])?)?;
@@ -220,38 +158,48 @@ impl PyWorld {
 #[pymethods]
 impl PyWorld {
     #[new]
-    #[pyo3(signature = (gravity = None, integrator = "dopri5", rtol = None, atol = None, dt = None,
-                        step_doubling = false, tolerance = None, mode = "accurate", linear_solver = "direct",
-                        newton = false, max_steps = None))]
+    #[pyo3(signature = (gravity = None, integrator = None, rtol = None, atol = None, dt = None,
+                        step_doubling = false, tolerance = None, mode = "accurate", linear_solver = None,
+                        newton = false, max_steps = None, sleep = None, threads = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         gravity: Option<&Bound<'_, PyAny>>,
-        integrator: &str,
+        integrator: Option<String>,
         rtol: Option<f64>,
         atol: Option<f64>,
         dt: Option<f64>,
         step_doubling: bool,
         tolerance: Option<f64>,
         mode: &str,
-        linear_solver: &str,
+        linear_solver: Option<String>,
         newton: bool,
         max_steps: Option<usize>,
+        sleep: Option<bool>,
+        threads: Option<usize>,
     ) -> PyResult<Self> {
-        let contact = mode_of(mode, dt, true)?;
-        let mut inner = World::new();
-        if let Some(g) = opt_vec3("gravity", gravity)? {
-            inner.set_gravity(g).map_err(world_error)?;
-        }
-        if matches!(contact, Mode::Accurate(_)) {
-            let s = settings(integrator, rtol, atol, dt, step_doubling, tolerance, linear_solver, newton, max_steps)?;
-            inner.set_integrator(s).map_err(world_error)?;
-        }
-        inner.set_mode(contact).map_err(world_error)?;
+        let options = WorldOptions {
+            gravity: opt_vec3("gravity", gravity)?,
+            mode: Some(mode.to_string()),
+            sleep,
+            threads,
+            integrator: integrator_options(
+                integrator,
+                rtol,
+                atol,
+                dt,
+                step_doubling,
+                tolerance,
+                linear_solver,
+                newton,
+                max_steps,
+            ),
+        };
+        let inner = options.build().map_err(world_error)?;
         Ok(PyWorld { inner: Mutex::new(inner), callback_error: Arc::new(Mutex::new(None)) })
     }
 
-    /// A built-in scene built by the Rust library (for comparing with the same scene built from Python):
-    /// "cloth" (keyword arguments n, size, mass, stiffness, damping, pin_stiffness) or "spinning_top".
+    /// A built-in scene built by the Rust library (`tumble::scenes::build`), with its numeric parameters by
+    /// keyword.
     #[classmethod]
     #[pyo3(signature = (name, **params))]
     fn _rust_scene<'py>(
@@ -259,64 +207,15 @@ impl PyWorld {
         name: &str,
         params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let get = |key: &str, default: f64| -> PyResult<f64> {
-            match params.map(|p| p.get_item(key)).transpose()?.flatten() {
-                Some(v) => v.extract(),
-                None => Ok(default),
+        let mut given: Vec<(String, f64)> = Vec::new();
+        if let Some(p) = params {
+            for (k, v) in p.iter() {
+                let key: String = k.extract()?;
+                let value: f64 = v.extract().map_err(|_| invalid(&key, "must be a number"))?;
+                given.push((key, value));
             }
-        };
-        let world = match name {
-            "cloth" => {
-                let d = tumble::scenes::Cloth::default();
-                let cloth = tumble::scenes::Cloth {
-                    n: get("n", d.n as f64)? as usize,
-                    size: get("size", d.size)?,
-                    mass: get("mass", d.mass)?,
-                    stiffness: get("stiffness", d.stiffness)?,
-                    damping: get("damping", d.damping)?,
-                    pin_stiffness: get("pin_stiffness", d.pin_stiffness)?,
-                };
-                cloth.build().map_err(world_error)?.0
-            }
-            "spinning_top" => tumble::scenes::spinning_top().map_err(world_error)?.0,
-            "bouncing_ball" => {
-                let d = tumble::scenes::BouncingBall::default();
-                let ball = tumble::scenes::BouncingBall {
-                    restitution: get("restitution", d.restitution)?,
-                    radius: get("radius", d.radius)?,
-                    height: get("height", d.height)?,
-                };
-                ball.build().map_err(world_error)?.0
-            }
-            "tumbling_box" => tumble::scenes::tumbling_box().map_err(world_error)?.0,
-            "dominoes" => {
-                let d = tumble::scenes::Dominoes::default();
-                let row = tumble::scenes::Dominoes {
-                    count: get("count", d.count as f64)? as usize,
-                    spacing: get("spacing", d.spacing)?,
-                };
-                row.build().map_err(world_error)?.0
-            }
-            "pyramid" => {
-                let layers = get("layers", tumble::scenes::Pyramid::default().layers as f64)? as usize;
-                tumble::scenes::Pyramid { layers }.build().map_err(world_error)?.0
-            }
-            "cloth_drape" => {
-                let d = tumble::scenes::ClothDrape::default();
-                let drape =
-                    tumble::scenes::ClothDrape { n: get("n", d.n as f64)? as usize, size: get("size", d.size)? };
-                drape.build().map_err(world_error)?.0
-            }
-            other => {
-                return Err(invalid(
-                    "name",
-                    format!(
-                        "unknown scene {other:?}; expected one of \"cloth\", \"spinning_top\", \"bouncing_ball\", \
-                         \"tumbling_box\", \"dominoes\", \"pyramid\", \"cloth_drape\""
-                    ),
-                ))
-            }
-        };
+        }
+        let world = tumble::scenes::build(name, &given).map_err(world_error)?;
         let obj = cls.call0()?;
         {
             let mut w: PyRefMut<'_, PyWorld> = obj.extract()?;
@@ -325,32 +224,53 @@ impl PyWorld {
         Ok(obj)
     }
 
-    /// Chooses the integrator, with the constructor's keyword arguments.
-    #[pyo3(signature = (integrator = "dopri5", rtol = None, atol = None, dt = None, step_doubling = false,
-                        tolerance = None, linear_solver = "direct", newton = false, max_steps = None))]
+    /// The built-in scenes' names.
+    #[staticmethod]
+    fn _scene_names() -> Vec<&'static str> {
+        tumble::scenes::NAMES.to_vec()
+    }
+
+    /// Chooses the integrator, with the constructor's keyword arguments (accurate mode only).
+    #[pyo3(signature = (integrator = None, rtol = None, atol = None, dt = None, step_doubling = false,
+                        tolerance = None, linear_solver = None, newton = false, max_steps = None))]
     #[allow(clippy::too_many_arguments)]
     fn set_integrator(
         &mut self,
-        integrator: &str,
+        integrator: Option<String>,
         rtol: Option<f64>,
         atol: Option<f64>,
         dt: Option<f64>,
         step_doubling: bool,
         tolerance: Option<f64>,
-        linear_solver: &str,
+        linear_solver: Option<String>,
         newton: bool,
         max_steps: Option<usize>,
     ) -> PyResult<()> {
-        let s = settings(integrator, rtol, atol, dt, step_doubling, tolerance, linear_solver, newton, max_steps)?;
-        self.r().set_integrator(s).map_err(world_error)
+        let options =
+            integrator_options(integrator, rtol, atol, dt, step_doubling, tolerance, linear_solver, newton, max_steps);
+        let s = options.settings().map_err(world_error)?;
+        self.w().set_integrator(s).map_err(world_error)
     }
 
     /// Chooses how contact is handled: mode="accurate" (event-driven, the integrator's error control) or "fast"
-    /// (time stepping at dt, default 1/240 s; with sleep=False islands at rest keep being simulated).
-    #[pyo3(signature = (mode, dt = None, sleep = true))]
-    fn set_mode(&mut self, mode: &str, dt: Option<f64>, sleep: bool) -> PyResult<()> {
-        let m = mode_of(mode, dt, sleep)?;
-        self.r().set_mode(m).map_err(world_error)
+    /// (time stepping at dt, default 1/240 s; with sleep=False islands at rest keep being simulated). `dt` and
+    /// `sleep` apply to fast mode only.
+    #[pyo3(signature = (mode, dt = None, sleep = None))]
+    fn set_mode(&mut self, mode: &str, dt: Option<f64>, sleep: Option<bool>) -> PyResult<()> {
+        let m = mode_from(mode, dt, sleep).map_err(world_error)?;
+        self.w().set_mode(m).map_err(world_error)
+    }
+
+    /// Threads of the contact solves: 0 is one per core (the default), 1 the calling thread only. Results are the
+    /// same bit for bit whatever the count.
+    #[getter]
+    fn threads(&self) -> usize {
+        self.r().threads()
+    }
+
+    #[setter]
+    fn set_threads(&mut self, threads: usize) -> PyResult<()> {
+        self.w().set_threads(threads).map_err(world_error)
     }
 
     /// The contact mode: "accurate" or "fast".
@@ -446,30 +366,7 @@ impl PyWorld {
             }
         }
         let inertia = inertia.filter(|i| !i.is_none()).map(|i| mat3("inertia", i)).transpose()?;
-        let mut b = if r#static {
-            if density.is_some() || mass.is_some() || inertia.is_some() {
-                return Err(invalid("static", "a static body has no density, mass or inertia"));
-            }
-            RigidBodyBuilder::fixed(shape)
-        } else {
-            match (shape, density, mass, inertia) {
-                (shape, None, Some(m), Some(i)) => {
-                    let b = RigidBodyBuilder::new(m, i);
-                    match shape {
-                        Some(s) => b.shape(s),
-                        None => b,
-                    }
-                }
-                (Some(s), Some(d), None, None) => RigidBodyBuilder::from_shape(s, d),
-                (Some(s), None, Some(m), None) => RigidBodyBuilder::from_shape_with_mass(s, m),
-                (Some(s), None, None, None) => RigidBodyBuilder::from_shape(s, 1000.0),
-                (_, Some(_), Some(_), _) => return Err(invalid("density", "give either density or mass, not both")),
-                (_, _, None, Some(_)) => return Err(invalid("inertia", "an inertia tensor needs a mass")),
-                (None, _, _, None) => {
-                    return Err(invalid("shape", "a dynamic body needs a shape, or a mass and an inertia"))
-                }
-            }
-        };
+        let mut b = BodyOptions { shape, density, mass, inertia, is_static: r#static }.builder().map_err(world_error)?;
         if let Some(p) = opt_vec3("position", position)? {
             b = b.position(p);
         }

@@ -1,76 +1,63 @@
-"""The report of what a world's steps cost: a plain dataclass."""
+"""The report of what a world's steps cost. Its fields come from the Rust library (``WorldReport::fields``), the one
+list of them; this class only gives them attribute access."""
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from typing import Any
 
 
-@dataclass(frozen=True)
 class Report:
-    """Cost and accuracy of a world's steps (or of one run).
+    """Cost and accuracy of a world's steps (or of one run), read-only.
 
-    Integrator counters (accepted and rejected steps, right-hand-side evaluations, Jacobians, LU factorizations,
-    linear solves, Newton and Krylov iterations), the smallest and largest accepted step, wall time, and the
-    integrator's error estimate (the sum of its local error estimates, ``None`` for methods without one); contact
-    counters (clarabel solves, collisions resolved, contacts given an impulse, bisection steps, narrow-phase pair
-    checks, islands solved, actors asleep, the largest penetration, and the time spent finding and solving
-    contacts: zero wherever a stage never ran); and how often each force loop ran.
+    Integrator counters (``steps``, ``rejected``, ``rhs_evals``, ``jacobians``, ``factorizations``,
+    ``linear_solves``, ``newton_iterations``, ``krylov_iterations``), the smallest and largest accepted step
+    (``min_step``, ``max_step``; ``None`` before any step), ``wall_seconds``, the integrator's ``error_estimate``
+    (the sum of its local error estimates, ``None`` for methods without one); contact counters (``qp_solves``,
+    ``collisions``, ``impulses``, ``bisection_steps``, ``collision_checks``, ``islands``, ``sleepers``,
+    ``max_penetration``, ``collision_seconds``, ``contact_seconds``: zero wherever a stage never ran); how often each
+    force loop ran (``evaluations``, ``spring_evaluations``, ``load_evaluations``, ``callback_calls``,
+    ``projections``); and ``stages_ran``, the stages that ran, in pipeline order (compare with ``World.plan()``).
+    ``str(report)`` is the library's table of it.
     """
 
-    method: str
-    steps: int
-    rejected: int
-    rhs_evals: int
-    jacobians: int
-    factorizations: int
-    linear_solves: int
-    newton_iterations: int
-    krylov_iterations: int
-    min_step: float | None
-    max_step: float | None
-    wall_seconds: float
-    error_estimate: float | None
-    qp_solves: int
-    collisions: int
-    impulses: int
-    bisection_steps: int
-    collision_checks: int
-    islands: int
-    sleepers: int
-    max_penetration: float
-    collision_seconds: float
-    contact_seconds: float
-    evaluations: int
-    spring_evaluations: int
-    load_evaluations: int
-    callback_calls: int
-    projections: int
+    __slots__ = ("_fields", "_text")
 
-    def as_dict(self) -> dict:
+    def __init__(self, fields: dict[str, Any]) -> None:
+        fields = dict(fields)
+        object.__setattr__(self, "_text", fields.pop("_text", ""))
+        object.__setattr__(self, "_fields", fields)
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self._fields[name]
+        except KeyError:
+            raise AttributeError(f"Report has no field {name!r}") from None
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError("a Report is read-only")
+
+    def __dir__(self) -> list[str]:
+        return sorted(set(super().__dir__()) | set(self._fields))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Report) and self._fields == other._fields
+
+    def __hash__(self) -> int:
+        return hash(tuple(sorted((k, str(v)) for k, v in self._fields.items())))
+
+    def __reduce__(self):
+        return (Report, ({**self._fields, "_text": self._text},))
+
+    def fields(self) -> list[str]:
+        """The field names, in the library's order."""
+        return list(self._fields)
+
+    def as_dict(self) -> dict[str, Any]:
         """The fields as a dict."""
-        return asdict(self)
+        return dict(self._fields)
+
+    def __repr__(self) -> str:
+        return "Report(" + ", ".join(f"{k}={v!r}" for k, v in self._fields.items()) + ")"
 
     def __str__(self) -> str:
-        def step(h: float | None) -> str:
-            return "-" if h is None else f"{h:.3e}"
-
-        estimate = "none (the method has no estimate)" if self.error_estimate is None else f"{self.error_estimate:.3e}"
-        return "\n".join(
-            [
-                f"method           {self.method}",
-                f"steps            {self.steps} accepted, {self.rejected} rejected",
-                f"rhs evaluations  {self.rhs_evals}",
-                f"linear algebra   {self.jacobians} jacobians, {self.factorizations} factorizations, "
-                f"{self.linear_solves} solves, {self.newton_iterations} newton / {self.krylov_iterations} krylov iterations",
-                f"step size        {step(self.min_step)} .. {step(self.max_step)}",
-                f"wall time        {self.wall_seconds:.6f} s",
-                f"error estimate   {estimate}",
-                f"force loops      {self.evaluations} evaluations: {self.spring_evaluations} spring, "
-                f"{self.load_evaluations} load, {self.callback_calls} callback; {self.projections} projections",
-                f"contact          {self.collision_checks} collision checks, {self.collisions} collisions, "
-                f"{self.impulses} impulses, {self.bisection_steps} bisection steps, {self.qp_solves} qp solves "
-                f"over {self.islands} islands",
-                f"                 max penetration {self.max_penetration:.3e} m, {self.sleepers} asleep; "
-                f"{self.collision_seconds:.3f} s finding contacts, {self.contact_seconds:.3f} s solving them",
-            ]
-        )
+        return self._text

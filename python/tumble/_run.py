@@ -43,7 +43,7 @@ class Run:
     @classmethod
     def from_dict(cls, data: dict[str, Any], shapes: list | None = None) -> "Run":
         data = dict(data)
-        data["report"] = Report(**data["report"])
+        data["report"] = Report(data["report"])
         return cls(**data, shapes=shapes or [])
 
     @property

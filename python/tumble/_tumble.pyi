@@ -69,30 +69,36 @@ class World:
     def __init__(
         self,
         gravity: Vec3 | None = None,
-        integrator: str = "dopri5",
+        integrator: str | None = None,
         rtol: float | None = None,
         atol: float | None = None,
         dt: float | None = None,
         step_doubling: bool = False,
         tolerance: float | None = None,
         mode: str = "accurate",
-        linear_solver: str = "direct",
+        linear_solver: str | None = None,
         newton: bool = False,
         max_steps: int | None = None,
+        sleep: bool | None = None,
+        threads: int | None = None,
     ) -> None: ...
     def set_integrator(
         self,
-        integrator: str = "dopri5",
+        integrator: str | None = None,
         rtol: float | None = None,
         atol: float | None = None,
         dt: float | None = None,
         step_doubling: bool = False,
         tolerance: float | None = None,
-        linear_solver: str = "direct",
+        linear_solver: str | None = None,
         newton: bool = False,
         max_steps: int | None = None,
     ) -> None: ...
-    def set_mode(self, mode: str, dt: float | None = None, sleep: bool = True) -> None: ...
+    def set_mode(self, mode: str, dt: float | None = None, sleep: bool | None = None) -> None: ...
+    @property
+    def threads(self) -> int: ...
+    @threads.setter
+    def threads(self, threads: int) -> None: ...
     @property
     def mode(self) -> str: ...
     def add_ground(self, height: float = 0.0, restitution: float = 0.5, friction: float = 0.5) -> BodyHandle: ...

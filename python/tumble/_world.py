@@ -75,13 +75,13 @@ class BodiesView:
 class World(_World):
     """A world of particles and rigid bodies.
 
-    ``World(gravity=(0, 0, -9.81), integrator="dopri5", rtol=None, atol=None, dt=None, step_doubling=False,
-    tolerance=None, mode="accurate", linear_solver="direct", newton=False, max_steps=None)``
+    ``World(gravity=(0, 0, -9.81), integrator=None, rtol=None, atol=None, dt=None, step_doubling=False,
+    tolerance=None, mode="accurate", linear_solver=None, newton=False, max_steps=None, sleep=None, threads=None)``
 
     ``integrator`` is one of "euler", "euler-variable", "midpoint", "rk4", "ab4", "am4", "implicit-euler",
     "dopri5", "dop853", "symplectic-euler", "verlet", "rodas4", "radau5". Methods with an error estimate (dopri5,
     dop853, rodas4, radau5, am4) control it to ``rtol``/``atol`` (default 1e-6/1e-9) unless only ``dt`` is given;
-    the others take fixed steps of ``dt`` (default 1/240 s). ``step_doubling=True`` wraps a one-step method in the
+    the others take fixed steps of ``dt`` (default 1/240 s); ``integrator`` defaults to "dopri5". ``step_doubling=True`` wraps a one-step method in the
     chapter's step doubling with per-step error ``tolerance``. ``linear_solver="iterative"`` solves implicit Euler's
     sparse systems by BiCGSTAB (for large cloths); ``newton=True`` iterates implicit Euler to convergence.
 
@@ -89,7 +89,11 @@ class World(_World):
     control, collisions are located by bisection on its dense output and resolved by impulses (restitution), and
     resting contacts get exact QP forces; it is frictionless. ``mode="fast"`` steps at ``dt`` (default 1/240 s) with
     contacts, Coulomb friction and restitution solved as one conic program per island each step, and resting
-    islands sleep. Bodies collide through their shapes (``add_body(shape, ...)``, ``colliders=[(shape, position,
+    islands sleep (``sleep=False`` keeps them awake); it always steps by ``dt``: ``step`` and ``run`` durations must be
+    whole numbers of steps, and a frame is the state of the first step that reaches its time. An option that does not
+    apply to the mode (an integrator option in fast mode, ``sleep`` in accurate mode) raises ValueError naming it.
+    ``threads`` sets how many threads the contact solves use (0, the default: one per core); results do not depend
+    on it. Bodies collide through their shapes (``add_body(shape, ...)``, ``colliders=[(shape, position,
     orientation), ...]`` for more), particles through ``add_particle(radius=...)``; ``add_ground()`` adds a
     static floor. Two surfaces combine to the larger restitution and the geometric mean of the frictions.
     """
@@ -107,7 +111,7 @@ class World(_World):
     @property
     def report(self) -> Report:
         """Everything the world's steps have cost so far."""
-        return Report(**self._report())
+        return Report(self._report())
 
     def run(
         self,

@@ -7,7 +7,7 @@ mod contact;
 mod registry;
 pub use registry::{build, NAMES};
 #[cfg(feature = "contact")]
-pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pyramid};
+pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
 
 use crate::body::RigidBodyBuilder;
 use crate::error::WorldError;

@@ -7,7 +7,8 @@ use crate::error::WorldError;
 use crate::world::World;
 
 /// The built-in scenes' names.
-pub const NAMES: [&str; 7] = ["cloth", "spinning_top", "bouncing_ball", "tumbling_box", "dominoes", "pyramid", "cloth_drape"];
+pub const NAMES: [&str; 8] =
+    ["cloth", "spinning_top", "bouncing_ball", "tumbling_box", "dominoes", "pyramid", "pile", "cloth_drape"];
 
 /// Largest count a scene parameter may take (particles a side, dominoes, pyramid layers).
 const MAX_COUNT: f64 = 1000.0;
@@ -95,7 +96,7 @@ fn unknown(name: &str) -> WorldError {
 
 #[cfg(feature = "contact")]
 fn contact_scene(name: &str, mut p: Params<'_>) -> Result<World, WorldError> {
-    use super::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pyramid};
+    use super::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
     let world = match name {
         "bouncing_ball" => {
             let d = BouncingBall::default();
@@ -121,6 +122,15 @@ fn contact_scene(name: &str, mut p: Params<'_>) -> Result<World, WorldError> {
             let pyramid = Pyramid { layers: p.count("layers", Pyramid::default().layers)? };
             p.finish(name)?;
             pyramid.build()?.0
+        }
+        "pile" => {
+            let d = Pile::default();
+            let pile = Pile { side: p.count("side", d.side)?, layers: p.count("layers", d.layers)? };
+            p.finish(name)?;
+            if pile.side * pile.side * pile.layers > 100_000 {
+                return Err(WorldError::invalid("side", "a pile of more than 100,000 cubes is too large to build"));
+            }
+            pile.build()?.0
         }
         "cloth_drape" => {
             let d = ClothDrape::default();

@@ -149,11 +149,12 @@ impl World {
                 Ok(delivered) => done += delivered,
                 Err(err) => break Err(err),
             }
-            if done >= times.len() && (!times.is_empty() || e.time() >= t_end) {
-                break Ok(());
-            }
+            let finished = done >= times.len() && (!times.is_empty() || e.time() >= t_end);
             if !control(done as f64 / times.len().max(1) as f64) {
                 break Err(WorldError::Interrupted);
+            }
+            if finished {
+                break Ok(());
             }
         };
         let report = self.book_report();
