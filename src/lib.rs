@@ -45,7 +45,7 @@ pub use particle::{Particle, ParticleBuilder};
 pub use options::{mode_from, BodyOptions, IntegratorOptions, WorldOptions, DEFAULT_DENSITY, DEFAULT_DT};
 pub use plan::{Plan, Stage, StageCounts};
 pub use report::{ReportValue, WorldReport};
-pub use run::{Run, RunArrays};
+pub use run::{Run, RunArrays, DEFAULT_FRAME_INTERVAL};
 pub use spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
 pub use world::{SpringJacobian, World};
 

@@ -59,7 +59,29 @@ pub struct ParticleBuilder {
     particle: Particle,
 }
 
+impl Default for ParticleBuilder {
+    /// A 1 kg particle at rest at the origin (the API's default).
+    fn default() -> Self {
+        ParticleBuilder::new(1.0)
+    }
+}
+
 impl ParticleBuilder {
+    /// Mass (> 0).
+    pub fn mass(mut self, m: f64) -> Self {
+        self.particle.mass = m;
+        self
+    }
+    /// Coefficient of restitution of its collisions.
+    pub fn restitution(mut self, e: f64) -> Self {
+        self.particle.material.restitution = e;
+        self
+    }
+    /// Coefficient of friction of its collisions.
+    pub fn friction(mut self, mu: f64) -> Self {
+        self.particle.material.friction = mu;
+        self
+    }
     /// A particle of mass `mass` at rest at the origin, without damping or restoring force.
     pub fn new(mass: f64) -> Self {
         ParticleBuilder {

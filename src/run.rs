@@ -7,6 +7,9 @@ use crate::report::WorldReport;
 use crate::spring::{BodyHandle, ParticleHandle};
 use nalgebra::{UnitQuaternion, Vector3};
 
+/// The frame interval of a run when none is given (s): 60 frames a second.
+pub const DEFAULT_FRAME_INTERVAL: f64 = 1.0 / 60.0;
+
 /// Where a body's frame data comes from: the state (dynamic) or its fixed pose (static).
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum BodySource {

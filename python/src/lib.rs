@@ -3,10 +3,13 @@
 
 use pyo3::prelude::*;
 
+mod args;
 mod convert;
 mod handles;
+mod report;
 mod shapes;
 mod world;
+mod world_state;
 
 pyo3::create_exception!(
     tumble,

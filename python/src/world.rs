@@ -1,22 +1,21 @@
-//! `World` for Python: the keyword arguments of the public contract mapped onto the Rust world, state as numpy
-//! arrays, runs with the interpreter lock released and a progress callback between chunks.
+//! `World` for Python, building and stepping: the keyword arguments of the public contract mapped onto the Rust
+//! world, runs with the interpreter lock released and a progress callback between chunks. Reading state is in
+//! `world_state.rs`.
 
+use crate::args::{attachment, integrator_options, to_target};
 use crate::convert::{array, invalid, mat3, opt_vec3, quat, vec3, world_error};
 use crate::handles::{PyBodyHandle, PyLoadHandle, PyParticleHandle, PySpringHandle};
+use crate::report::run_arrays;
 use crate::shapes::PyShape;
 use crate::SimulationError;
 use nalgebra::{UnitQuaternion, Vector3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 use std::sync::{Arc, Mutex};
 use tumble::{
-    mode_from, Attachment, BodyOptions, IntegratorOptions, Material, ParticleBuilder, ReportValue, RunArrays,
-    SpringBuilder, Target, World, WorldError, WorldOptions, WorldReport, Wrench,
+    mode_from, BodyOptions, Material, ParticleBuilder, SpringBuilder, World, WorldError, WorldOptions, Wrench,
 };
-
-/// A body's colliders: each shape with its pose in the body frame (position, quaternion w, x, y, z).
-type BodyShapes = Vec<(Py<PyShape>, [f64; 3], [f64; 4])>;
 
 /// A world of particles and rigid bodies (see the package documentation for the whole contract).
 #[pyclass(module = "tumble._tumble", name = "World", subclass)]
@@ -27,86 +26,12 @@ pub struct PyWorld {
     callback_error: Arc<Mutex<Option<PyErr>>>,
 }
 
-/// The integrator options from keyword arguments (the rules and defaults live in `tumble::IntegratorOptions`).
-#[allow(clippy::too_many_arguments)]
-fn integrator_options(
-    integrator: Option<String>,
-    rtol: Option<f64>,
-    atol: Option<f64>,
-    dt: Option<f64>,
-    step_doubling: bool,
-    tolerance: Option<f64>,
-    linear_solver: Option<String>,
-    newton: bool,
-    max_steps: Option<usize>,
-) -> IntegratorOptions {
-    IntegratorOptions { integrator, rtol, atol, dt, step_doubling, tolerance, linear_solver, newton, max_steps }
-}
-
-fn to_target(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Target> {
-    if let Ok(p) = obj.extract::<PyParticleHandle>() {
-        return Ok(Target::Particle(p.into()));
-    }
-    if let Ok(b) = obj.extract::<PyBodyHandle>() {
-        return Ok(Target::Body(b.into()));
-    }
-    Err(invalid(name, "expected a ParticleHandle or a BodyHandle"))
-}
-
-fn attachment(
-    obj: Option<&Bound<'_, PyAny>>,
-    anchor: Option<Vector3<f64>>,
-    point: Option<Vector3<f64>>,
-    name: &str,
-) -> PyResult<Attachment> {
-    match obj.filter(|o| !o.is_none()) {
-        Some(o) => match to_target(o, name)? {
-            Target::Particle(p) => {
-                if anchor.is_some_and(|a| a != Vector3::zeros()) {
-                    return Err(invalid(&format!("anchor_{name}"), "a particle has no body frame"));
-                }
-                Ok(Attachment::Particle(p))
-            }
-            Target::Body(b) => Ok(Attachment::Body(b, anchor.unwrap_or_else(Vector3::zeros))),
-        },
-        None => point
-            .map(Attachment::Point)
-            .ok_or_else(|| invalid("world_point", format!("`{name}` is None, so the spring needs a world_point"))),
-    }
-}
-
-/// A (count, W) array from rows.
-fn rows<'py, const W: usize>(
-    py: Python<'py>,
-    count: usize,
-    items: impl Iterator<Item = [f64; W]>,
-) -> PyResult<Bound<'py, PyAny>> {
-    array(py, items.flatten().collect(), &[count, W])
-}
-
-/// The report as a plain dict of its fields (the package wraps it in `tumble.Report`), with the stages that ran
-/// under "stages_ran" and the report's text under "_text".
-pub fn report_dict<'py>(py: Python<'py>, r: &WorldReport) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    for (name, value) in r.fields() {
-        match value {
-            ReportValue::Count(n) => d.set_item(name, n)?,
-            ReportValue::Number(x) => d.set_item(name, x)?,
-            ReportValue::Optional(x) => d.set_item(name, x)?,
-            ReportValue::Text(t) => d.set_item(name, t)?,
-        }
-    }
-    d.set_item("stages_ran", r.stages.ran())?;
-    d.set_item("_text", r.to_string())?;
-    Ok(d)
-}
-
 impl PyWorld {
-    fn w(&mut self) -> &mut World {
+    pub(crate) fn w(&mut self) -> &mut World {
         self.inner.get_mut().unwrap_or_else(|e| e.into_inner())
     }
 
-    fn r(&self) -> std::sync::MutexGuard<'_, World> {
+    pub(crate) fn r(&self) -> std::sync::MutexGuard<'_, World> {
         self.inner.lock().unwrap_or_else(|e| e.into_inner())
     }
 
@@ -119,39 +44,6 @@ impl PyWorld {
             }
         }
         err
-    }
-
-    fn run_arrays<'py>(
-        &self,
-        py: Python<'py>,
-        a: RunArrays,
-        report: &WorldReport,
-        handles: (Vec<PyParticleHandle>, Vec<PyBodyHandle>),
-    ) -> PyResult<Bound<'py, PyDict>> {
-        let (f, p, b) = (a.times.len(), a.particle_count, a.body_count);
-        let steps = a.step_times.len();
-        let d = PyDict::new(py);
-        d.set_item("times", array(py, a.times, &[f])?)?;
-        d.set_item("particle_positions", array(py, a.particle_positions, &[f, p, 3])?)?;
-        d.set_item("particle_velocities", array(py, a.particle_velocities, &[f, p, 3])?)?;
-        d.set_item("body_positions", array(py, a.body_positions, &[f, b, 3])?)?;
-        d.set_item("body_orientations", array(py, a.body_orientations, &[f, b, 4])?)?;
-        d.set_item("body_velocities", array(py, a.body_velocities, &[f, b, 3])?)?;
-        d.set_item("body_angular_velocities", array(py, a.body_angular_velocities, &[f, b, 3])?)?;
-        d.set_item("kinetic_energy", array(py, a.kinetic_energy, &[f])?)?;
-        d.set_item("potential_energy", array(py, a.potential_energy, &[f])?)?;
-        d.set_item("energy", array(py, a.energy, &[f])?)?;
-        d.set_item("momentum", array(py, a.momentum, &[f, 3])?)?;
-        d.set_item("angular_momentum", array(py, a.angular_momentum, &[f, 3])?)?;
-        d.set_item("step_times", array(py, a.step_times, &[steps])?)?;
-        d.set_item("step_sizes", array(py, a.step_sizes, &[steps])?)?;
-        let events = a.contact_events.len();
-        d.set_item("penetration", array(py, a.penetration, &[f])?)?;
-        d.set_item("contact_events", array(py, a.contact_events, &[events])?)?;
-        d.set_item("report", report_dict(py, report)?)?;
-        d.set_item("particles", PyList::new(py, handles.0)?)?;
-        d.set_item("bodies", PyList::new(py, handles.1)?)?;
-        Ok(d)
     }
 }
 
@@ -280,33 +172,42 @@ impl PyWorld {
     }
 
     /// Adds a ground: a static half-space below the plane z = height (normal +z). Returns its body handle.
-    #[pyo3(signature = (height = 0.0, restitution = 0.5, friction = 0.5))]
-    fn add_ground(&mut self, height: f64, restitution: f64, friction: f64) -> PyResult<PyBodyHandle> {
-        self.r().add_ground(height, Material { restitution, friction }).map(Into::into).map_err(world_error)
+    /// Restitution and friction default to `tumble::Material::default()`.
+    #[pyo3(signature = (height = 0.0, restitution = None, friction = None))]
+    fn add_ground(&mut self, height: f64, restitution: Option<f64>, friction: Option<f64>) -> PyResult<PyBodyHandle> {
+        let d = Material::default();
+        let material =
+            Material { restitution: restitution.unwrap_or(d.restitution), friction: friction.unwrap_or(d.friction) };
+        self.w().add_ground(height, material).map(Into::into).map_err(world_error)
     }
 
     /// Adds a particle obeying m x'' + d x' + h (x - anchor) = sum F.
     /// With `radius` > 0 it collides with bodies as a small sphere (particles do not collide with each other).
-    #[pyo3(signature = (mass = 1.0, position = None, velocity = None, damping = 0.0, stiffness = 0.0, anchor = None,
-                        radius = 0.0, restitution = 0.5, friction = 0.5))]
+    #[pyo3(signature = (mass = None, position = None, velocity = None, damping = 0.0, stiffness = 0.0, anchor = None,
+                        radius = 0.0, restitution = None, friction = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_particle(
         &mut self,
-        mass: f64,
+        mass: Option<f64>,
         position: Option<&Bound<'_, PyAny>>,
         velocity: Option<&Bound<'_, PyAny>>,
         damping: f64,
         stiffness: f64,
         anchor: Option<&Bound<'_, PyAny>>,
         radius: f64,
-        restitution: f64,
-        friction: f64,
+        restitution: Option<f64>,
+        friction: Option<f64>,
     ) -> PyResult<PyParticleHandle> {
-        let mut b = ParticleBuilder::new(mass)
-            .damping(damping)
-            .stiffness(stiffness)
-            .radius(radius)
-            .material(Material { restitution, friction });
+        let mut b = ParticleBuilder::default().damping(damping).stiffness(stiffness).radius(radius);
+        if let Some(m) = mass {
+            b = b.mass(m);
+        }
+        if let Some(e) = restitution {
+            b = b.restitution(e);
+        }
+        if let Some(mu) = friction {
+            b = b.friction(mu);
+        }
         if let Some(p) = opt_vec3("position", position)? {
             b = b.position(p);
         }
@@ -321,8 +222,8 @@ impl PyWorld {
 
     /// Adds a rigid body: from a shape and a density (or a total mass), or from a mass and a 3x3 inertia tensor.
     #[pyo3(signature = (shape = None, density = None, mass = None, inertia = None, position = None,
-                        orientation = None, velocity = None, angular_velocity = None, restitution = 0.5,
-                        friction = 0.5, r#static = false, linear_damping = 0.0, angular_damping = 0.0,
+                        orientation = None, velocity = None, angular_velocity = None, restitution = None,
+                        friction = None, r#static = false, linear_damping = 0.0, angular_damping = 0.0,
                         colliders = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
@@ -335,8 +236,8 @@ impl PyWorld {
         orientation: Option<&Bound<'_, PyAny>>,
         velocity: Option<&Bound<'_, PyAny>>,
         angular_velocity: Option<&Bound<'_, PyAny>>,
-        restitution: f64,
-        friction: f64,
+        restitution: Option<f64>,
+        friction: Option<f64>,
         r#static: bool,
         linear_damping: f64,
         angular_damping: f64,
@@ -382,25 +283,27 @@ impl PyWorld {
         for (s, pose) in extra {
             b = b.collider(s, pose);
         }
-        b = b
-            .restitution(restitution)
-            .friction(friction)
-            .linear_damping(linear_damping)
-            .angular_damping(angular_damping);
+        if let Some(e) = restitution {
+            b = b.restitution(e);
+        }
+        if let Some(mu) = friction {
+            b = b.friction(mu);
+        }
+        b = b.linear_damping(linear_damping).angular_damping(angular_damping);
         self.r().add_body(b).map(Into::into).map_err(world_error)
     }
 
     /// Adds a damped spring between `a` and `b` (particles or bodies; `b=None` with `world_point` for a fixed
     /// point). Anchors are body-frame points relative to the centre of mass; `rest_length=None` takes the current
     /// distance.
-    #[pyo3(signature = (a, b = None, stiffness = 1.0, damping = 0.0, rest_length = None, anchor_a = None,
+    #[pyo3(signature = (a, b = None, stiffness = None, damping = 0.0, rest_length = None, anchor_a = None,
                         anchor_b = None, world_point = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_spring(
         &mut self,
         a: &Bound<'_, PyAny>,
         b: Option<&Bound<'_, PyAny>>,
-        stiffness: f64,
+        stiffness: Option<f64>,
         damping: f64,
         rest_length: Option<f64>,
         anchor_a: Option<&Bound<'_, PyAny>>,
@@ -413,7 +316,10 @@ impl PyWorld {
         }
         let end_a = attachment(Some(a), opt_vec3("anchor_a", anchor_a)?, None, "a")?;
         let end_b = attachment(b, opt_vec3("anchor_b", anchor_b)?, point, "b")?;
-        let mut s = SpringBuilder::new(end_a, end_b).stiffness(stiffness).damping(damping);
+        let mut s = SpringBuilder::new(end_a, end_b).damping(damping);
+        if let Some(k) = stiffness {
+            s = s.stiffness(k);
+        }
         if let Some(l) = rest_length {
             s = s.rest_length(l);
         }
@@ -536,19 +442,19 @@ impl PyWorld {
     /// Runs for `duration`, recording a frame every `frame_interval`; returns a dict of arrays (the package
     /// wraps it in `tumble.Run`). `progress(fraction)` is called between chunks; Ctrl-C stops the run and
     /// restores the world.
-    #[pyo3(signature = (duration, frame_interval = 1.0 / 60.0, progress = None))]
+    #[pyo3(signature = (duration, frame_interval = None, progress = None))]
     fn _run<'py>(
         &mut self,
         py: Python<'py>,
         duration: f64,
-        frame_interval: f64,
+        frame_interval: Option<f64>,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let stopped: Arc<Mutex<Option<PyErr>>> = Arc::new(Mutex::new(None));
         let stop = stopped.clone();
         let inner = self.w();
         let result = py.detach(|| {
-            inner.run_with(duration, frame_interval, |fraction| {
+            inner.run_with(duration, frame_interval.unwrap_or(tumble::DEFAULT_FRAME_INTERVAL), |fraction| {
                 Python::attach(|py| {
                     let r = py.check_signals().and_then(|_| match &progress {
                         Some(cb) => cb.call1(py, (fraction,)).map(|_| ()),
@@ -569,7 +475,7 @@ impl PyWorld {
                 let handles =
                     (run.particles.iter().map(|&h| h.into()).collect(), run.bodies.iter().map(|&h| h.into()).collect());
                 let (arrays, report) = run.into_arrays();
-                self.run_arrays(py, arrays, &report, handles)
+                run_arrays(py, arrays, &report, handles)
             }
             Err(WorldError::Interrupted) => Err(stopped
                 .lock()
@@ -578,125 +484,5 @@ impl PyWorld {
                 .unwrap_or_else(|| world_error(WorldError::Interrupted))),
             Err(e) => Err(self.error(py, e)),
         }
-    }
-
-    /// Current time.
-    #[getter]
-    fn time(&self) -> f64 {
-        self.r().time()
-    }
-
-    /// Gravity, as a (3,) array.
-    #[getter]
-    fn gravity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        array(py, self.r().gravity().as_slice().to_vec(), &[3])
-    }
-
-    /// The particles' handles, in array order.
-    fn particle_handles(&self) -> Vec<PyParticleHandle> {
-        self.r().particles().map(|(h, _)| h.into()).collect()
-    }
-
-    /// The bodies' handles (static ones included), in array order.
-    fn body_handles(&self) -> Vec<PyBodyHandle> {
-        self.r().bodies().map(|(h, _)| h.into()).collect()
-    }
-
-    /// (P, 3) particle positions.
-    fn _particle_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let w = self.r();
-        rows(py, w.particle_count(), w.particles().map(|(_, p)| p.position().into()))
-    }
-
-    /// (P, 3) particle velocities.
-    fn _particle_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let w = self.r();
-        rows(py, w.particle_count(), w.particles().map(|(_, p)| p.velocity().into()))
-    }
-
-    /// (B, 3) body positions.
-    fn _body_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let w = self.r();
-        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.position().into()))
-    }
-
-    /// (B, 4) body orientations (w, x, y, z).
-    fn _body_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let w = self.r();
-        rows(
-            py,
-            w.body_count(),
-            w.bodies().map(|(_, b)| {
-                let q: UnitQuaternion<f64> = b.orientation();
-                [q.w, q.i, q.j, q.k]
-            }),
-        )
-    }
-
-    /// (B, 3) body velocities.
-    fn _body_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let w = self.r();
-        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.velocity().into()))
-    }
-
-    /// (B, 3) body angular velocities.
-    fn _body_angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let w = self.r();
-        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.angular_velocity().into()))
-    }
-
-    /// Each body's colliders (empty where a body has none) as (shape, position, orientation w x y z) in its body
-    /// frame, in array order.
-    fn _body_shapes(&self, py: Python<'_>) -> PyResult<Vec<BodyShapes>> {
-        self.r()
-            .bodies()
-            .map(|(_, b)| {
-                b.colliders()
-                    .iter()
-                    .map(|c| {
-                        let shape = Py::new(py, PyShape { shape: c.shape.clone() })?;
-                        let (t, q) = (c.offset.translation.vector, c.offset.rotation);
-                        Ok((shape, [t.x, t.y, t.z], [q.w, q.i, q.j, q.k]))
-                    })
-                    .collect()
-            })
-            .collect()
-    }
-
-    /// Kinetic energy.
-    fn kinetic_energy(&self) -> f64 {
-        self.r().kinetic_energy()
-    }
-
-    /// Potential energy of gravity, springs and the particles' restoring terms.
-    fn potential_energy(&self) -> f64 {
-        self.r().potential_energy()
-    }
-
-    /// Total linear momentum, (3,).
-    fn momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        array(py, self.r().momentum().as_slice().to_vec(), &[3])
-    }
-
-    /// Total angular momentum about the origin, (3,).
-    fn angular_momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        array(py, self.r().angular_momentum().as_slice().to_vec(), &[3])
-    }
-
-    /// The stages the world runs: {"stages": [...], "state_len": int, "method": str, "jacobian": str | None}.
-    fn plan<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let p = self.r().plan();
-        let d = PyDict::new(py);
-        d.set_item("stages", p.stages)?;
-        d.set_item("state_len", p.state_len)?;
-        d.set_item("method", p.method)?;
-        d.set_item("mode", p.mode)?;
-        d.set_item("jacobian", p.jacobian)?;
-        Ok(d)
-    }
-
-    /// Everything the world's steps have cost so far, as a dict (the package wraps it in `tumble.Report`).
-    fn _report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        report_dict(py, &self.r().report())
     }
 }

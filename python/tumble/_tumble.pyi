@@ -101,18 +101,18 @@ class World:
     def threads(self, threads: int) -> None: ...
     @property
     def mode(self) -> str: ...
-    def add_ground(self, height: float = 0.0, restitution: float = 0.5, friction: float = 0.5) -> BodyHandle: ...
+    def add_ground(self, height: float = 0.0, restitution: float | None = None, friction: float | None = None) -> BodyHandle: ...
     def add_particle(
         self,
-        mass: float = 1.0,
+        mass: float | None = None,
         position: Vec3 | None = None,
         velocity: Vec3 | None = None,
         damping: float = 0.0,
         stiffness: float = 0.0,
         anchor: Vec3 | None = None,
         radius: float = 0.0,
-        restitution: float = 0.5,
-        friction: float = 0.5,
+        restitution: float | None = None,
+        friction: float | None = None,
     ) -> ParticleHandle: ...
     def add_body(
         self,
@@ -124,8 +124,8 @@ class World:
         orientation: Quat | None = None,
         velocity: Vec3 | None = None,
         angular_velocity: Vec3 | None = None,
-        restitution: float = 0.5,
-        friction: float = 0.5,
+        restitution: float | None = None,
+        friction: float | None = None,
         static: bool = False,
         linear_damping: float = 0.0,
         angular_damping: float = 0.0,
@@ -135,7 +135,7 @@ class World:
         self,
         a: ParticleHandle | BodyHandle,
         b: ParticleHandle | BodyHandle | None = None,
-        stiffness: float = 1.0,
+        stiffness: float | None = None,
         damping: float = 0.0,
         rest_length: float | None = None,
         anchor_a: Vec3 | None = None,
@@ -169,7 +169,7 @@ class World:
     def momentum(self) -> np.ndarray: ...
     def angular_momentum(self) -> np.ndarray: ...
     def plan(self) -> dict[str, Any]: ...
-    def _run(self, duration: float, frame_interval: float = ..., progress: Callable[[float], None] | None = None) -> dict[str, Any]: ...
+    def _run(self, duration: float, frame_interval: float | None = None, progress: Callable[[float], None] | None = None) -> dict[str, Any]: ...
     def _report(self) -> dict[str, Any]: ...
     def _particle_positions(self) -> np.ndarray: ...
     def _particle_velocities(self) -> np.ndarray: ...

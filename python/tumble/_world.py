@@ -92,6 +92,8 @@ class World(_World):
     islands sleep (``sleep=False`` keeps them awake); it always steps by ``dt``: ``step`` and ``run`` durations must be
     whole numbers of steps, and a frame is the state of the first step that reaches its time. An option that does not
     apply to the mode (an integrator option in fast mode, ``sleep`` in accurate mode) raises ValueError naming it.
+    Arguments left as ``None`` take the library's defaults: particles of 1 kg, restitution and friction 0.5, spring
+    stiffness 1 N/m, bodies of density 1000 kg/m^3 when given only a shape, frames every 1/60 s.
     ``threads`` sets how many threads the contact solves use (0, the default: one per core); results do not depend
     on it. Bodies collide through their shapes (``add_body(shape, ...)``, ``colliders=[(shape, position,
     orientation), ...]`` for more), particles through ``add_particle(radius=...)``; ``add_ground()`` adds a
@@ -116,10 +118,10 @@ class World(_World):
     def run(
         self,
         duration: float,
-        frame_interval: float = 1.0 / 60.0,
+        frame_interval: float | None = None,
         progress: bool | Callable[[float], None] = False,
     ) -> Run:
-        """Runs for ``duration`` seconds, recording a frame every ``frame_interval`` (and at the end).
+        """Runs for ``duration`` seconds, recording a frame every ``frame_interval`` (default 1/60 s) and at the end.
 
         The interpreter lock is released while the world steps. ``progress=True`` shows a progress bar (tqdm if
         installed); a callable is called with the fraction done. Ctrl-C stops the run and restores the world.

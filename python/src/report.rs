@@ -1,0 +1,69 @@
+//! Reports, plans and runs as Python dicts of plain values and numpy arrays (the package wraps them in
+//! `tumble.Report` and `tumble.Run`); the field lists come from the root crate.
+
+use crate::convert::array;
+use crate::handles::{PyBodyHandle, PyParticleHandle};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use tumble::{Plan, ReportValue, RunArrays, WorldReport};
+
+/// The report as a plain dict of its fields (the package wraps it in `tumble.Report`), with the stages that ran
+/// under "stages_ran" and the report's text under "_text".
+pub fn report_dict<'py>(py: Python<'py>, r: &WorldReport) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (name, value) in r.fields() {
+        match value {
+            ReportValue::Count(n) => d.set_item(name, n)?,
+            ReportValue::Number(x) => d.set_item(name, x)?,
+            ReportValue::Optional(x) => d.set_item(name, x)?,
+            ReportValue::Text(t) => d.set_item(name, t)?,
+        }
+    }
+    d.set_item("stages_ran", r.stages.ran())?;
+    d.set_item("_text", r.to_string())?;
+    Ok(d)
+}
+
+/// A run's arrays as a dict: frames (F, ...) and steps, with the report and the handles of its columns.
+pub fn run_arrays<'py>(
+    py: Python<'py>,
+    a: RunArrays,
+    report: &WorldReport,
+    handles: (Vec<PyParticleHandle>, Vec<PyBodyHandle>),
+) -> PyResult<Bound<'py, PyDict>> {
+    let (f, p, b) = (a.times.len(), a.particle_count, a.body_count);
+    let steps = a.step_times.len();
+    let d = PyDict::new(py);
+    d.set_item("times", array(py, a.times, &[f])?)?;
+    d.set_item("particle_positions", array(py, a.particle_positions, &[f, p, 3])?)?;
+    d.set_item("particle_velocities", array(py, a.particle_velocities, &[f, p, 3])?)?;
+    d.set_item("body_positions", array(py, a.body_positions, &[f, b, 3])?)?;
+    d.set_item("body_orientations", array(py, a.body_orientations, &[f, b, 4])?)?;
+    d.set_item("body_velocities", array(py, a.body_velocities, &[f, b, 3])?)?;
+    d.set_item("body_angular_velocities", array(py, a.body_angular_velocities, &[f, b, 3])?)?;
+    d.set_item("kinetic_energy", array(py, a.kinetic_energy, &[f])?)?;
+    d.set_item("potential_energy", array(py, a.potential_energy, &[f])?)?;
+    d.set_item("energy", array(py, a.energy, &[f])?)?;
+    d.set_item("momentum", array(py, a.momentum, &[f, 3])?)?;
+    d.set_item("angular_momentum", array(py, a.angular_momentum, &[f, 3])?)?;
+    d.set_item("step_times", array(py, a.step_times, &[steps])?)?;
+    d.set_item("step_sizes", array(py, a.step_sizes, &[steps])?)?;
+    let events = a.contact_events.len();
+    d.set_item("penetration", array(py, a.penetration, &[f])?)?;
+    d.set_item("contact_events", array(py, a.contact_events, &[events])?)?;
+    d.set_item("report", report_dict(py, report)?)?;
+    d.set_item("particles", PyList::new(py, handles.0)?)?;
+    d.set_item("bodies", PyList::new(py, handles.1)?)?;
+    Ok(d)
+}
+
+/// The plan as a dict: stages, state length, mode, method and how the Jacobian is formed.
+pub fn plan_dict<'py>(py: Python<'py>, p: Plan) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("stages", p.stages)?;
+    d.set_item("state_len", p.state_len)?;
+    d.set_item("method", p.method)?;
+    d.set_item("mode", p.mode)?;
+    d.set_item("jacobian", p.jacobian)?;
+    Ok(d)
+}

@@ -1,0 +1,139 @@
+//! `World` for Python, reading state: time, gravity, handles, state arrays, colliders, energies, the plan and
+//! the report.
+
+use crate::convert::array;
+use crate::handles::{PyBodyHandle, PyParticleHandle};
+use crate::report::{plan_dict, report_dict};
+use crate::shapes::PyShape;
+use crate::world::PyWorld;
+use nalgebra::UnitQuaternion;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// A body's colliders: each shape with its pose in the body frame (position, quaternion w, x, y, z).
+type BodyShapes = Vec<(Py<PyShape>, [f64; 3], [f64; 4])>;
+
+/// A (count, W) array from rows.
+fn rows<'py, const W: usize>(
+    py: Python<'py>,
+    count: usize,
+    items: impl Iterator<Item = [f64; W]>,
+) -> PyResult<Bound<'py, PyAny>> {
+    array(py, items.flatten().collect(), &[count, W])
+}
+
+#[pymethods]
+impl PyWorld {
+    /// Current time.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.r().time()
+    }
+
+    /// Gravity, as a (3,) array.
+    #[getter]
+    fn gravity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        array(py, self.r().gravity().as_slice().to_vec(), &[3])
+    }
+
+    /// The particles' handles, in array order.
+    fn particle_handles(&self) -> Vec<PyParticleHandle> {
+        self.r().particles().map(|(h, _)| h.into()).collect()
+    }
+
+    /// The bodies' handles (static ones included), in array order.
+    fn body_handles(&self) -> Vec<PyBodyHandle> {
+        self.r().bodies().map(|(h, _)| h.into()).collect()
+    }
+
+    /// (P, 3) particle positions.
+    fn _particle_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.r();
+        rows(py, w.particle_count(), w.particles().map(|(_, p)| p.position().into()))
+    }
+
+    /// (P, 3) particle velocities.
+    fn _particle_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.r();
+        rows(py, w.particle_count(), w.particles().map(|(_, p)| p.velocity().into()))
+    }
+
+    /// (B, 3) body positions.
+    fn _body_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.r();
+        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.position().into()))
+    }
+
+    /// (B, 4) body orientations (w, x, y, z).
+    fn _body_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.r();
+        rows(
+            py,
+            w.body_count(),
+            w.bodies().map(|(_, b)| {
+                let q: UnitQuaternion<f64> = b.orientation();
+                [q.w, q.i, q.j, q.k]
+            }),
+        )
+    }
+
+    /// (B, 3) body velocities.
+    fn _body_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.r();
+        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.velocity().into()))
+    }
+
+    /// (B, 3) body angular velocities.
+    fn _body_angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.r();
+        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.angular_velocity().into()))
+    }
+
+    /// Each body's colliders (empty where a body has none) as (shape, position, orientation w x y z) in its body
+    /// frame, in array order.
+    fn _body_shapes(&self, py: Python<'_>) -> PyResult<Vec<BodyShapes>> {
+        self.r()
+            .bodies()
+            .map(|(_, b)| {
+                b.colliders()
+                    .iter()
+                    .map(|c| {
+                        let shape = Py::new(py, PyShape { shape: c.shape.clone() })?;
+                        let (t, q) = (c.offset.translation.vector, c.offset.rotation);
+                        Ok((shape, [t.x, t.y, t.z], [q.w, q.i, q.j, q.k]))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Kinetic energy.
+    fn kinetic_energy(&self) -> f64 {
+        self.r().kinetic_energy()
+    }
+
+    /// Potential energy of gravity, springs and the particles' restoring terms.
+    fn potential_energy(&self) -> f64 {
+        self.r().potential_energy()
+    }
+
+    /// Total linear momentum, (3,).
+    fn momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        array(py, self.r().momentum().as_slice().to_vec(), &[3])
+    }
+
+    /// Total angular momentum about the origin, (3,).
+    fn angular_momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        array(py, self.r().angular_momentum().as_slice().to_vec(), &[3])
+    }
+
+    /// The stages the world runs: {"stages": [...], "state_len": int, "method": str, "jacobian": str | None}.
+    fn plan<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        plan_dict(py, self.r().plan())
+    }
+
+    /// Everything the world's steps have cost so far, as a dict (the package wraps it in `tumble.Report`).
+    fn _report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        report_dict(py, &self.r().report())
+    }
+}
