@@ -231,7 +231,9 @@ impl BodyOptions {
             (_, Some(_), Some(_), _) => Err(WorldError::invalid("density", "give either density or mass, not both")),
             (_, Some(_), None, Some(_)) => Err(WorldError::invalid("inertia", "an inertia tensor needs a mass")),
             (_, None, None, Some(_)) => Err(WorldError::invalid("inertia", "an inertia tensor needs a mass")),
-            (None, _, _, None) => Err(WorldError::invalid("shape", "a dynamic body needs a shape, or a mass and an inertia")),
+            (None, _, _, None) => {
+                Err(WorldError::invalid("shape", "a dynamic body needs a shape, or a mass and an inertia"))
+            }
         }
     }
 }

@@ -16,7 +16,9 @@ fn state_bits(w: &World) -> Vec<u64> {
     }
     for (_, b) in w.bodies() {
         let q = b.orientation();
-        out.extend(b.position().iter().chain(b.velocity().iter()).chain(b.angular_velocity().iter()).map(|v| v.to_bits()));
+        out.extend(
+            b.position().iter().chain(b.velocity().iter()).chain(b.angular_velocity().iter()).map(|v| v.to_bits()),
+        );
         out.extend([q.w, q.i, q.j, q.k].iter().map(|v| v.to_bits()));
     }
     out

@@ -53,4 +53,3 @@ pub fn attachment(
             .ok_or_else(|| invalid("world_point", format!("`{name}` is None, so the spring needs a world_point"))),
     }
 }
-

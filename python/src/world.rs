@@ -267,7 +267,8 @@ impl PyWorld {
             }
         }
         let inertia = inertia.filter(|i| !i.is_none()).map(|i| mat3("inertia", i)).transpose()?;
-        let mut b = BodyOptions { shape, density, mass, inertia, is_static: r#static }.builder().map_err(world_error)?;
+        let mut b =
+            BodyOptions { shape, density, mass, inertia, is_static: r#static }.builder().map_err(world_error)?;
         if let Some(p) = opt_vec3("position", position)? {
             b = b.position(p);
         }

@@ -21,7 +21,9 @@ use crate::report::WorldReport;
 use crate::run::Run;
 use tumble_integrate::Settings;
 
-/// What an engine is built from, besides the compiled model and its state.
+/// What an engine is built from, besides the compiled model and its state (without the `contact` feature only
+/// the integrator's settings matter).
+#[cfg_attr(not(feature = "contact"), allow(dead_code))]
 pub(crate) struct EngineSpec {
     /// The contact mode and its settings.
     pub mode: Mode,
@@ -36,7 +38,8 @@ pub(crate) struct EngineSpec {
     pub threads: usize,
 }
 
-/// One engine of a world.
+/// One engine of a world (one lives per world, so the variants' sizes do not matter).
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum Engine {
     Smooth(SmoothEngine),
     #[cfg(feature = "contact")]
@@ -75,10 +78,12 @@ impl Engine {
         {
             let EngineSpec { mode, settings, scene, gravity, threads } = spec;
             match (mode, scene) {
-                (Mode::Fast(fast), scene) => Ok(Engine::Fast(fast::FastEngine::new(compiled, scene, t, y, fast, threads))),
-                (Mode::Accurate(acc), Some(scene)) => Ok(Engine::Accurate(accurate::AccurateEngine::new(
-                    compiled, scene, settings, acc, gravity, t, y,
-                )?)),
+                (Mode::Fast(fast), scene) => {
+                    Ok(Engine::Fast(fast::FastEngine::new(compiled, scene, t, y, fast, threads)))
+                }
+                (Mode::Accurate(acc), Some(scene)) => {
+                    Ok(Engine::Accurate(accurate::AccurateEngine::new(compiled, scene, settings, acc, gravity, t, y)?))
+                }
                 (Mode::Accurate(_), None) => Ok(Engine::Smooth(SmoothEngine::new(compiled, settings, t, y)?)),
             }
         }

@@ -28,11 +28,8 @@ pub(crate) struct SmoothSnapshot {
 
 impl SmoothEngine {
     pub fn new(mut compiled: Compiled, settings: Settings, t: f64, y: Vec<f64>) -> Result<Self, WorldError> {
-        let integrator = if y.is_empty() {
-            None
-        } else {
-            Some(Integrator::new(&mut compiled.model, settings.clone(), t, &y)?)
-        };
+        let integrator =
+            if y.is_empty() { None } else { Some(Integrator::new(&mut compiled.model, settings.clone(), t, &y)?) };
         Ok(SmoothEngine { compiled, integrator, settings, t })
     }
 

@@ -3,8 +3,8 @@
 //! loads and callbacks. The kinematic part (q rates) and the force part (p rates) are separate, which is the split
 //! the symplectic methods use.
 
-use crate::model::layout::{add3, get3, get_quat, set3};
 use crate::load::{TargetState, Wrench};
+use crate::model::layout::{add3, get3, get_quat, set3};
 use crate::model::{BodyKin, CompiledLoad, End, JacobianKind, Model, On};
 use crate::plan::Stage;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};

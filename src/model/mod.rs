@@ -13,12 +13,12 @@ pub(crate) use actors::{actor_poses, StateOptions};
 
 use crate::body::RigidBody;
 use crate::handle::Arena;
-use crate::model::layout::{get3, get_quat, set3, set_quat, Layout};
 use crate::load::{ForceCallback, Load, Target};
+use crate::model::layout::{get3, get_quat, set3, set_quat, Layout};
 use crate::particle::Particle;
+use crate::plan::{Stage, StageCounts};
 use crate::spring::{Attachment, BodyHandle, ParticleHandle, Spring};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
-use crate::plan::{Stage, StageCounts};
 use std::collections::HashMap;
 
 pub(crate) struct ParticleProps {

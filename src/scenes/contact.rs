@@ -171,13 +171,15 @@ impl Pile {
                 for j in 0..self.side {
                     n += 1;
                     let tilt = 0.05 * ((n * 7919 % 13) as f64 / 13.0 - 0.5);
-                    cubes.push(w.add_body(
-                        RigidBodyBuilder::from_shape(cube.clone(), 500.0)
-                            .position(Vector3::new(0.6 * i as f64, 0.6 * j as f64, 0.3 + 0.6 * layer as f64))
-                            .orientation(UnitQuaternion::from_euler_angles(tilt, -tilt, 2.0 * tilt))
-                            .restitution(0.2)
-                            .friction(0.6),
-                    )?);
+                    cubes.push(
+                        w.add_body(
+                            RigidBodyBuilder::from_shape(cube.clone(), 500.0)
+                                .position(Vector3::new(0.6 * i as f64, 0.6 * j as f64, 0.3 + 0.6 * layer as f64))
+                                .orientation(UnitQuaternion::from_euler_angles(tilt, -tilt, 2.0 * tilt))
+                                .restitution(0.2)
+                                .friction(0.6),
+                        )?,
+                    );
                 }
             }
         }

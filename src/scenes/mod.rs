@@ -5,9 +5,9 @@
 #[cfg(feature = "contact")]
 mod contact;
 mod registry;
-pub use registry::{build, NAMES};
 #[cfg(feature = "contact")]
 pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
+pub use registry::{build, NAMES};
 
 use crate::body::RigidBodyBuilder;
 use crate::error::WorldError;

@@ -52,10 +52,9 @@ impl<'a> Params<'a> {
     /// An error naming the first parameter the scene did not take.
     fn finish(&self, scene: &str) -> Result<(), WorldError> {
         match self.used.iter().position(|u| !u) {
-            Some(i) => Err(WorldError::invalid(
-                "params",
-                format!("scene {scene:?} has no parameter {:?}", self.given[i].0),
-            )),
+            Some(i) => {
+                Err(WorldError::invalid("params", format!("scene {scene:?} has no parameter {:?}", self.given[i].0)))
+            }
             None => Ok(()),
         }
     }

@@ -60,15 +60,21 @@ impl World {
 
     /// The engine, built if the structure changed and given any state the user set.
     pub(crate) fn engine(&mut self) -> Result<&mut Engine, WorldError> {
-        if self.engine.is_none() {
-            self.engine = Some(self.build_engine()?);
-        } else if self.state_changed {
-            let e = self.engine.as_mut().expect("checked above");
-            let y = e.compiled().pack(&self.particles, &self.bodies);
-            e.set_state(self.time, &y)?;
-        }
+        let engine = match self.engine.take() {
+            None => self.build_engine()?,
+            Some(mut e) => {
+                if self.state_changed {
+                    let y = e.compiled().pack(&self.particles, &self.bodies);
+                    if let Err(err) = e.set_state(self.time, &y) {
+                        self.engine = Some(e);
+                        return Err(err);
+                    }
+                }
+                e
+            }
+        };
         self.state_changed = false;
-        Ok(self.engine.as_mut().expect("built above"))
+        Ok(self.engine.insert(engine))
     }
 
     /// Moves the engine's report into the totals and returns it.

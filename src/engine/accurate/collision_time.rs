@@ -44,7 +44,7 @@ impl Contacts {
         let touching0: BTreeSet<(u32, u32)> = if candidate.is_empty() {
             BTreeSet::new()
         } else {
-            let found0 = self.scene.pair_contacts(&candidate, &poses0, |_, _| delta);
+            let found0 = self.scene.pair_contacts(&candidate, poses0, |_, _| delta);
             found0.iter().filter(|f| f.contact.distance <= delta).map(|f| f.key.colliders).collect()
         };
         // In a pair that has resting contacts, a contact parry names differently (it may renumber the features of

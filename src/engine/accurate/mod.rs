@@ -80,8 +80,7 @@ impl AccurateEngine {
     ) -> Result<Self, WorldError> {
         let integrator = Integrator::new(&mut compiled.model, settings.clone(), t, &y)?;
         let size = scene.size(&y);
-        let resting_speed =
-            accurate.resting_speed.unwrap_or_else(|| tumble_contact::velocity_tolerance(size, gravity));
+        let resting_speed = accurate.resting_speed.unwrap_or_else(|| tumble_contact::velocity_tolerance(size, gravity));
         let contacts = Contacts {
             scene,
             settings: accurate,

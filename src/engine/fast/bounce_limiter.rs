@@ -22,10 +22,9 @@ pub(super) fn limit_bounce_energy(
 ) -> Result<(), WorldError> {
     let (h, threshold, states) = (solver.settings.dt, solver.settings.bounce_threshold, solver.states);
     for island in groups {
-        let bounces = island.iter().any(|&i| {
-            contacts[i].restitution > 0.0
-                && contacts[i].relative_normal_velocity(states) < -threshold
-        });
+        let bounces = island
+            .iter()
+            .any(|&i| contacts[i].restitution > 0.0 && contacts[i].relative_normal_velocity(states) < -threshold);
         if !bounces {
             continue;
         }
@@ -116,4 +115,3 @@ fn kinetic(states: &[BodyState], v: &[BodyVelocity], members: &[usize]) -> f64 {
         })
         .sum()
 }
-

@@ -28,8 +28,10 @@ impl FastEngine {
         if self.sleep.wake_touched(&found, dynamic) {
             *states = self.body_states();
         }
-        let found: Vec<Found> =
-            found.into_iter().filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic()).collect();
+        let found: Vec<Found> = found
+            .into_iter()
+            .filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic())
+            .collect();
         self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
         found
     }

@@ -148,7 +148,10 @@ impl FastEngine {
             ));
         }
         if n > MAX_STEPS {
-            return Err(WorldError::invalid(name, format!("{span} s is {n:e} steps of {dt} s, over the {MAX_STEPS:e} a call may take")));
+            return Err(WorldError::invalid(
+                name,
+                format!("{span} s is {n:e} steps of {dt} s, over the {MAX_STEPS:e} a call may take"),
+            ));
         }
         Ok(self.time_at(self.steps + n as u64))
     }

@@ -4,12 +4,12 @@
 
 use super::FastEngine;
 use crate::engine::contact_scene::Found;
-use crate::plan::Stage;
-use tumble_contact::{BodyState, BodyVelocity};
-use crate::model::layout::set3;
 use crate::mode::FastSettings;
+use crate::model::layout::set3;
 use crate::model::Model;
+use crate::plan::Stage;
 use nalgebra::Vector3;
+use tumble_contact::{BodyState, BodyVelocity};
 
 /// Who sleeps, and how long each awake actor has been still.
 #[derive(Clone, Debug)]
@@ -136,8 +136,11 @@ impl FastEngine {
     /// still islands to sleep, their momenta zeroed.
     pub(super) fn update_sleep(&mut self, states: &[BodyState], v: &[BodyVelocity], found: &[Found], h: f64) {
         let (true, Some(scene)) = (self.settings.sleep, &self.scene) else { return };
-        let moved: Vec<BodyState> =
-            states.iter().zip(v).map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s }).collect();
+        let moved: Vec<BodyState> = states
+            .iter()
+            .zip(v)
+            .map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s })
+            .collect();
         let speeds = scene.reach(&moved, 1.0);
         self.sleep.update(found, &speeds, &self.settings, h);
         self.sleep.freeze(&mut self.y, &self.compiled.model);
