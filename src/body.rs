@@ -3,6 +3,7 @@
 
 use crate::collider::{compound_mass, Collider, Material};
 use crate::error::{check_finite, check_scalar, WorldError};
+use crate::limits;
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use tumble_collide::Shape;
 
@@ -228,16 +229,17 @@ impl RigidBodyBuilder {
 
     /// Resolves the mass properties and checks every field.
     pub(crate) fn build(self) -> Result<RigidBody, WorldError> {
-        check_finite("position", self.position.iter())?;
+        limits::vector("position", &self.position, limits::COORDINATE, "m")?;
         check_finite("orientation", self.orientation.coords.iter())?;
-        check_finite("velocity", self.velocity.iter())?;
-        check_finite("angular_velocity", self.angular_velocity.iter())?;
-        check_scalar("linear_damping", self.linear_damping, false)?;
-        check_scalar("angular_damping", self.angular_damping, false)?;
+        limits::vector("velocity", &self.velocity, limits::SPEED, "m/s")?;
+        limits::vector("angular_velocity", &self.angular_velocity, limits::SPEED, "rad/s")?;
+        limits::non_negative("linear_damping", self.linear_damping, limits::STIFFNESS, "N s/m")?;
+        limits::non_negative("angular_damping", self.angular_damping, limits::STIFFNESS, "N m s")?;
         let material = Material { restitution: self.restitution, friction: self.friction };
         material.check()?;
         for (_, pose) in &self.extra {
-            check_finite("offset", pose.translation.vector.iter().chain(pose.rotation.coords.iter()))?;
+            check_finite("offset", pose.rotation.coords.iter())?;
+            limits::vector("offset", &pose.translation.vector, limits::COORDINATE, "m")?;
         }
         let (mass, inertia, offset) = if self.is_static {
             (f64::INFINITY, Matrix3::identity(), Vector3::zeros())
@@ -256,7 +258,14 @@ impl RigidBodyBuilder {
                 ));
             }
         }
-        let inv_inertia = if self.is_static { Matrix3::zeros() } else { check_inertia(&inertia)? };
+        let inv_inertia = if self.is_static {
+            Matrix3::zeros()
+        } else {
+            let source = if self.density.is_some() { "density" } else { "mass" };
+            limits::mass(source, mass)?;
+            limits::inertia(if self.inertia.is_some() { "inertia" } else { source }, &inertia)?;
+            check_inertia(&inertia)?
+        };
         let (momentum, angular_momentum) = if self.is_static {
             (Vector3::zeros(), Vector3::zeros())
         } else {
@@ -330,5 +339,8 @@ fn check_inertia(i: &Matrix3<f64>) -> Result<Matrix3<f64>, WorldError> {
             format!("must be positive definite; its eigenvalues are {:?}", eig.as_slice()),
         ));
     }
-    sym.try_inverse().ok_or_else(|| WorldError::invalid("inertia", "is singular"))
+    match sym.try_inverse() {
+        Some(inv) if inv.iter().all(|v| v.is_finite()) => Ok(inv),
+        _ => Err(WorldError::invalid("inertia", "is singular")),
+    }
 }

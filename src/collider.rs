@@ -1,7 +1,7 @@
 //! Colliders and materials: the shapes a body carries (each with its pose in the body frame, whose origin is the
 //! centre of mass) and the restitution and friction its contacts use, with the rule that combines two materials.
 
-use crate::error::{check_scalar, WorldError};
+use crate::error::WorldError;
 use nalgebra::{Isometry3, Matrix3, Vector3};
 use tumble_collide::{MassProperties, Shape};
 
@@ -36,7 +36,7 @@ impl Material {
         if !(0.0..=1.0).contains(&self.restitution) {
             return Err(WorldError::invalid("restitution", format!("must be in [0, 1], got {}", self.restitution)));
         }
-        check_scalar("friction", self.friction, false)?;
+        crate::limits::non_negative("friction", self.friction, 1e3, "")?;
         Ok(())
     }
 

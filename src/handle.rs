@@ -1,11 +1,14 @@
 //! Typed generational handles and the arena that hands them out: a handle stays valid until its object is
 //! removed, and a removed slot's new occupant gets a new generation, so a stale handle is caught, never aliased.
+//! Each world numbers itself (a process-wide counter), and its handles carry that number, so a handle from another
+//! world is caught too.
 
 use std::fmt;
 use std::marker::PhantomData;
 
 /// A handle to an object of type `T` in a world.
 pub struct Handle<T> {
+    world: u64,
     index: u32,
     generation: u32,
     _type: PhantomData<fn() -> T>,
@@ -22,9 +25,20 @@ impl<T> Handle<T> {
         self.generation
     }
 
+    /// The number of the world that issued it.
+    pub fn world(&self) -> u64 {
+        self.world
+    }
+
     /// Rebuilds a handle from its parts (for bindings that pass handles through other languages).
+    pub fn from_world_parts(world: u64, index: u32, generation: u32) -> Self {
+        Handle { world, index, generation, _type: PhantomData }
+    }
+
+    /// A handle of no world (world number 0, which no world has) with this index and generation: every world
+    /// refuses it.
     pub fn from_parts(index: u32, generation: u32) -> Self {
-        Handle { index, generation, _type: PhantomData }
+        Handle::from_world_parts(0, index, generation)
     }
 }
 
@@ -36,13 +50,13 @@ impl<T> Clone for Handle<T> {
 impl<T> Copy for Handle<T> {}
 impl<T> PartialEq for Handle<T> {
     fn eq(&self, o: &Self) -> bool {
-        self.index == o.index && self.generation == o.generation
+        self.world == o.world && self.index == o.index && self.generation == o.generation
     }
 }
 impl<T> Eq for Handle<T> {}
 impl<T> std::hash::Hash for Handle<T> {
     fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
-        (self.index, self.generation).hash(state)
+        (self.world, self.index, self.generation).hash(state)
     }
 }
 impl<T> fmt::Debug for Handle<T> {
@@ -59,38 +73,53 @@ struct Slot<T> {
 
 /// Objects in slots, iterated in slot order (which is the order of the state vector).
 pub(crate) struct Arena<T> {
+    world: u64,
     slots: Vec<Slot<T>>,
     free: Vec<u32>,
     len: usize,
 }
 
-impl<T> Default for Arena<T> {
-    fn default() -> Self {
-        Arena { slots: Vec::new(), free: Vec::new(), len: 0 }
-    }
+/// A number no other world of this process has.
+pub(crate) fn new_world_number() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl<T> Arena<T> {
+    /// An empty arena of world number `world`.
+    pub fn new(world: u64) -> Self {
+        Arena { world, slots: Vec::new(), free: Vec::new(), len: 0 }
+    }
+
     pub fn insert(&mut self, value: T) -> Handle<T> {
         self.len += 1;
         if let Some(index) = self.free.pop() {
             let slot = &mut self.slots[index as usize];
             slot.value = Some(value);
-            return Handle::from_parts(index, slot.generation);
+            return Handle::from_world_parts(self.world, index, slot.generation);
         }
         self.slots.push(Slot { generation: 0, value: Some(value) });
-        Handle::from_parts(self.slots.len() as u32 - 1, 0)
+        Handle::from_world_parts(self.world, self.slots.len() as u32 - 1, 0)
     }
 
     pub fn get(&self, h: Handle<T>) -> Option<&T> {
+        if h.world != self.world {
+            return None;
+        }
         self.slots.get(h.index as usize).filter(|s| s.generation == h.generation).and_then(|s| s.value.as_ref())
     }
 
     pub fn get_mut(&mut self, h: Handle<T>) -> Option<&mut T> {
+        if h.world != self.world {
+            return None;
+        }
         self.slots.get_mut(h.index as usize).filter(|s| s.generation == h.generation).and_then(|s| s.value.as_mut())
     }
 
     pub fn remove(&mut self, h: Handle<T>) -> Option<T> {
+        if h.world != self.world {
+            return None;
+        }
         let slot = self.slots.get_mut(h.index as usize).filter(|s| s.generation == h.generation)?;
         let value = slot.value.take()?;
         slot.generation = slot.generation.wrapping_add(1);
@@ -105,10 +134,9 @@ impl<T> Arena<T> {
 
     /// Live objects in slot order.
     pub fn iter(&self) -> impl Iterator<Item = (Handle<T>, &T)> {
-        self.slots
-            .iter()
-            .enumerate()
-            .filter_map(|(i, s)| s.value.as_ref().map(|v| (Handle::from_parts(i as u32, s.generation), v)))
+        self.slots.iter().enumerate().filter_map(|(i, s)| {
+            s.value.as_ref().map(|v| (Handle::from_world_parts(self.world, i as u32, s.generation), v))
+        })
     }
 
     pub fn retain(&mut self, mut keep: impl FnMut(&T) -> bool) {
@@ -125,7 +153,7 @@ mod tests {
 
     #[test]
     fn stale_handles_are_caught_after_reuse() {
-        let mut a: Arena<&str> = Arena::default();
+        let mut a: Arena<&str> = Arena::new(1);
         let x = a.insert("x");
         let y = a.insert("y");
         assert_eq!(a.remove(x), Some("x"));

@@ -22,6 +22,7 @@ mod collider;
 mod engine;
 mod error;
 mod handle;
+mod limits;
 mod load;
 mod mode;
 mod model;
@@ -38,6 +39,10 @@ pub use body::{RigidBody, RigidBodyBuilder};
 pub use collider::{Collider, Material};
 pub use error::WorldError;
 pub use handle::Handle;
+/// The ranges of accepted values.
+pub mod limit {
+    pub use crate::limits::{COORDINATE, FORCE, GRAVITY, INERTIA, MASS, SPEED, STIFFNESS, TIME};
+}
 pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
 pub use mode::{AccurateSettings, FastFriction, FastSettings, Mode};
 pub use model::ForceCounters;

@@ -1,7 +1,8 @@
 //! How a world treats contact: accurate (event-driven, the chapter's scheme) or fast (time stepping), and the
 //! settings of each.
 
-use crate::error::{check_scalar, WorldError};
+use crate::error::WorldError;
+use crate::limits;
 
 /// How a world steps when bodies touch.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,10 +64,10 @@ impl Default for AccurateSettings {
 
 impl AccurateSettings {
     fn check(&self) -> Result<(), WorldError> {
-        check_scalar("time_tolerance", self.time_tolerance, true)?;
-        check_scalar("contact_distance", self.contact_distance, true)?;
+        limits::positive("time_tolerance", self.time_tolerance, 1.0, "s")?;
+        limits::positive("contact_distance", self.contact_distance, 1.0, "m")?;
         if let Some(v) = self.resting_speed {
-            check_scalar("resting_speed", v, true)?;
+            limits::positive("resting_speed", v, limits::SPEED, "m/s")?;
         }
         Ok(())
     }
@@ -121,14 +122,14 @@ impl FastSettings {
     }
 
     fn check(&self) -> Result<(), WorldError> {
-        check_scalar("dt", self.dt, true)?;
-        check_scalar("margin", self.margin, false)?;
+        limits::positive("dt", self.dt, 1.0, "s")?;
+        limits::non_negative("margin", self.margin, limits::COORDINATE, "m")?;
         if !(0.0..=1.0).contains(&self.erp) {
             return Err(WorldError::invalid("erp", format!("must be in [0, 1], got {}", self.erp)));
         }
-        check_scalar("bounce_threshold", self.bounce_threshold, false)?;
-        check_scalar("sleep_speed", self.sleep_speed, false)?;
-        check_scalar("sleep_time", self.sleep_time, false)?;
+        limits::non_negative("bounce_threshold", self.bounce_threshold, limits::SPEED, "m/s")?;
+        limits::non_negative("sleep_speed", self.sleep_speed, limits::SPEED, "m/s")?;
+        limits::non_negative("sleep_time", self.sleep_time, limits::TIME, "s")?;
         Ok(())
     }
 }

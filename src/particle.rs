@@ -1,7 +1,8 @@
 //! Particles: point masses obeying the chapter's m x'' + d x' + h (x - anchor) = sum F.
 
 use crate::collider::Material;
-use crate::error::{check_finite, check_scalar, WorldError};
+use crate::error::WorldError;
+use crate::limits;
 use nalgebra::Vector3;
 
 /// A particle in a world. Its state is read here; build one with [`ParticleBuilder`].
@@ -136,13 +137,16 @@ impl ParticleBuilder {
     /// Checks every field and returns the particle.
     pub(crate) fn build(self) -> Result<Particle, WorldError> {
         let p = self.particle;
-        check_scalar("mass", p.mass, true)?;
-        check_finite("position", p.position.iter())?;
-        check_finite("velocity", p.velocity.iter())?;
-        check_scalar("damping", p.damping, false)?;
-        check_scalar("stiffness", p.stiffness, false)?;
-        check_finite("anchor", p.anchor.iter())?;
-        check_scalar("radius", p.radius, false)?;
+        limits::mass("mass", p.mass)?;
+        limits::vector("position", &p.position, limits::COORDINATE, "m")?;
+        limits::vector("velocity", &p.velocity, limits::SPEED, "m/s")?;
+        limits::non_negative("damping", p.damping, limits::STIFFNESS, "N s/m")?;
+        limits::non_negative("stiffness", p.stiffness, limits::STIFFNESS, "N/m")?;
+        limits::vector("anchor", &p.anchor, limits::COORDINATE, "m")?;
+        if p.radius != 0.0 {
+            let (lo, hi) = tumble_collide::LENGTH;
+            limits::in_range("radius", p.radius, lo, hi, "m (or 0: no collisions)")?;
+        }
         p.material.check()?;
         Ok(p)
     }

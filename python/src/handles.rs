@@ -9,6 +9,7 @@ macro_rules! handle_class {
         #[pyclass(module = "tumble._tumble", name = $name, frozen, eq, hash, from_py_object)]
         #[derive(Clone, Copy, PartialEq, Eq, Hash)]
         pub struct $py {
+            pub world: u64,
             pub index: u32,
             pub generation: u32,
         }
@@ -25,6 +26,11 @@ macro_rules! handle_class {
             fn generation(&self) -> u32 {
                 self.generation
             }
+            /// The number of the world that issued it.
+            #[getter]
+            fn world(&self) -> u64 {
+                self.world
+            }
             fn __repr__(&self) -> String {
                 format!("{}({}v{})", $name, self.index, self.generation)
             }
@@ -32,13 +38,13 @@ macro_rules! handle_class {
 
         impl From<$rust> for $py {
             fn from(h: $rust) -> Self {
-                $py { index: h.index(), generation: h.generation() }
+                $py { world: h.world(), index: h.index(), generation: h.generation() }
             }
         }
 
         impl From<$py> for $rust {
             fn from(h: $py) -> Self {
-                <$rust>::from_parts(h.index, h.generation)
+                <$rust>::from_world_parts(h.world, h.index, h.generation)
             }
         }
     };

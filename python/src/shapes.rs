@@ -31,6 +31,8 @@ impl PyShape {
     }
 
     /// The surface as (vertices (V, 3), triangles (T, 3)) in the shape's frame.
+    /// `subdivisions` (3 ..= 1024) sets the resolution of curved shapes, `extent` (finite, > 0) the half-size of a
+    /// half-space's square.
     #[pyo3(signature = (subdivisions = 24, extent = 10.0))]
     fn triangle_mesh<'py>(
         &self,
@@ -38,6 +40,12 @@ impl PyShape {
         subdivisions: u32,
         extent: f64,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        if !(3..=1024).contains(&subdivisions) {
+            return Err(invalid("subdivisions", format!("must be from 3 to 1024, got {subdivisions}")));
+        }
+        if !(extent.is_finite() && extent > 0.0 && extent <= 1e12) {
+            return Err(invalid("extent", format!("must be finite, > 0 and at most 1e12, got {extent}")));
+        }
         let (v, t) = self.shape.triangle_mesh(subdivisions, extent);
         let nv = v.len();
         let nt = t.len();
@@ -140,13 +148,22 @@ impl TriMesh {
     #[new]
     fn new(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
         let v = to_points("vertices", vertices)?;
-        let t: Vec<[u32; 3]> = triangles
-            .extract()
-            .or_else(|_| {
-                let a: numpy::PyReadonlyArray2<'_, i64> = triangles.extract()?;
-                a.as_array().rows().into_iter().map(|r| Ok([r[0] as u32, r[1] as u32, r[2] as u32])).collect()
-            })
-            .map_err(|_: PyErr| invalid("triangles", "expected (T, 3) non-negative vertex indices"))?;
+        let expected = || invalid("triangles", "expected (T, 3) vertex indices, each in 0 .. 2**32 - 1");
+        let t: Vec<[u32; 3]> = match triangles.extract::<Vec<[u32; 3]>>() {
+            Ok(t) => t,
+            Err(_) => {
+                let a: numpy::PyReadonlyArray2<'_, i64> = triangles.extract().map_err(|_| expected())?;
+                let view = a.as_array();
+                if view.ncols() != 3 {
+                    return Err(invalid("triangles", format!("expected (T, 3) indices, got shape {:?}", view.shape())));
+                }
+                let index = |k: i64| u32::try_from(k).map_err(|_| expected());
+                view.rows()
+                    .into_iter()
+                    .map(|r| Ok([index(r[0])?, index(r[1])?, index(r[2])?]))
+                    .collect::<PyResult<_>>()?
+            }
+        };
         Ok(PyClassInitializer::from(PyShape { shape: Shape::trimesh(&v, &t).map_err(shape_err)? })
             .add_subclass(TriMesh))
     }

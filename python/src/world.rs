@@ -394,7 +394,12 @@ impl PyWorld {
         } else {
             return Err(invalid("handle", "expected a particle, body, spring or load handle"));
         };
-        r.map_err(world_error)
+        // The argument here is `handle`, whatever kind it is.
+        r.map_err(|e| match e {
+            WorldError::UnknownHandle { handle, .. } => WorldError::UnknownHandle { name: "handle", handle },
+            other => other,
+        })
+        .map_err(world_error)
     }
 
     /// Sets a particle's position and/or velocity.

@@ -136,7 +136,8 @@ impl ContactScene {
     pub fn size(&self, y: &[f64]) -> f64 {
         let poses = self.poses(y);
         let zeros = vec![0.0; self.actors()];
-        let boxes: Vec<Aabb> = self.boxes(&poses, &zeros).into_iter().filter(|b| b.is_finite()).collect();
+        let boxes: Vec<Aabb> =
+            self.boxes(&poses, &zeros).unwrap_or_default().into_iter().filter(|b| b.is_finite()).collect();
         boxes
             .iter()
             .skip(1)
@@ -162,24 +163,30 @@ impl ContactScene {
     }
 
     /// The world box of every collider at `poses`, each grown by its actor's `margins` entry.
-    fn boxes(&self, poses: &[Isometry3<f64>], margins: &[f64]) -> Vec<Aabb> {
+    /// An error (a message) if a pose or margin is not finite: a diverging step, which the caller fails cleanly.
+    fn boxes(&self, poses: &[Isometry3<f64>], margins: &[f64]) -> Result<Vec<Aabb>, String> {
         self.colliders
             .iter()
             .map(|c| {
                 let actor = self.index(c.actor);
                 let pose = poses[actor] * c.offset;
-                c.shape.aabb(&pose).expect("poses are finite").loosened(margins[actor])
+                let margin = margins[actor];
+                if !margin.is_finite() {
+                    return Err(format!("actor {actor} moves at a speed that is not finite"));
+                }
+                let aabb = c.shape.aabb(&pose).map_err(|e| format!("actor {actor}'s pose is not finite ({e})"))?;
+                Ok(aabb.loosened(margin))
             })
             .collect()
     }
 
     /// The contacts at `poses` closer than their pair's prediction distance (the sum of the two actors'
     /// `margins`, plus `base`): broad phase on boxes grown by the margins, then parry's manifolds.
-    pub fn find(&mut self, poses: &[Isometry3<f64>], margins: &[f64], base: f64) -> Vec<Found> {
+    pub fn find(&mut self, poses: &[Isometry3<f64>], margins: &[f64], base: f64) -> Result<Vec<Found>, String> {
         let grown: Vec<f64> = margins.iter().map(|m| m + 0.5 * base).collect();
-        let boxes = self.boxes(poses, &grown);
-        let pairs = self.broad_pairs(&boxes);
-        self.pair_contacts(&pairs, poses, |a, b| grown[a] + grown[b])
+        let boxes = self.boxes(poses, &grown)?;
+        let pairs = self.broad_pairs(&boxes)?;
+        Ok(self.pair_contacts(&pairs, poses, |a, b| grown[a] + grown[b]))
     }
 
     /// The pairs of colliders (first one moving) whose boxes, swept from `from` to `to` and grown by each actor's
@@ -189,16 +196,16 @@ impl ContactScene {
         from: &[Isometry3<f64>],
         to: &[Isometry3<f64>],
         margins: &[f64],
-    ) -> Vec<(usize, usize)> {
+    ) -> Result<Vec<(usize, usize)>, String> {
         let boxes: Vec<Aabb> =
-            self.boxes(from, margins).iter().zip(self.boxes(to, margins)).map(|(a, b)| a.merged(&b)).collect();
+            self.boxes(from, margins)?.iter().zip(self.boxes(to, margins)?).map(|(a, b)| a.merged(&b)).collect();
         self.broad_pairs(&boxes)
     }
 
     /// The overlapping pairs that may touch, sorted: the order the broad phase found them in depends on its
     /// history (columns, insertion sorts), and must not reach the contact solves.
-    fn broad_pairs(&mut self, boxes: &[Aabb]) -> Vec<(usize, usize)> {
-        let pairs = self.broad.update(boxes).expect("boxes are well formed").to_vec();
+    fn broad_pairs(&mut self, boxes: &[Aabb]) -> Result<Vec<(usize, usize)>, String> {
+        let pairs = self.broad.update(boxes).map_err(|e| e.to_string())?.to_vec();
         let mut pairs: Vec<(usize, usize)> = pairs
             .into_iter()
             .map(|(i, j)| (i as usize, j as usize))
@@ -207,7 +214,7 @@ impl ContactScene {
             .map(|(i, j)| if matches!(self.colliders[i].actor, Actor::Static(_)) { (j, i) } else { (i, j) })
             .collect();
         pairs.sort_unstable();
-        pairs
+        Ok(pairs)
     }
 
     /// The contacts of the collider pairs `pairs` at `poses`, each pair within `prediction(actor_a, actor_b)`.

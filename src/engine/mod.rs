@@ -79,7 +79,8 @@ impl Engine {
             let EngineSpec { mode, settings, scene, gravity, threads } = spec;
             match (mode, scene) {
                 (Mode::Fast(fast), scene) => {
-                    Ok(Engine::Fast(fast::FastEngine::new(compiled, scene, t, y, fast, threads)))
+                    let limit = settings.divergence_limit;
+                    Ok(Engine::Fast(fast::FastEngine::new(compiled, scene, t, y, fast, threads, limit)))
                 }
                 (Mode::Accurate(acc), Some(scene)) => {
                     Ok(Engine::Accurate(accurate::AccurateEngine::new(compiled, scene, settings, acc, gravity, t, y)?))

@@ -19,11 +19,11 @@ pub(crate) struct SmoothEngine {
     t: f64,
 }
 
-/// What a failed call puts back.
+/// What a failed call puts back: the whole integrator (state, next step, controller, the method's caches and
+/// histories), so that continuing after a failure is continuing from before it.
 pub(crate) struct SmoothSnapshot {
     t: f64,
-    y: Vec<f64>,
-    h: Option<f64>,
+    integrator: Option<Integrator<Model>>,
 }
 
 impl SmoothEngine {
@@ -106,21 +106,16 @@ impl SmoothEngine {
     }
 
     pub fn snapshot(&self) -> SmoothSnapshot {
-        SmoothSnapshot {
-            t: self.time(),
-            y: self.state().to_vec(),
-            h: self.integrator.as_ref().and_then(|i| i.proposed_step()),
-        }
+        SmoothSnapshot { t: self.t, integrator: self.integrator.clone() }
     }
 
+    /// Puts the snapshot back; the report of the failed call's work is kept (the caller took it).
     pub fn restore(&mut self, s: SmoothSnapshot) -> Result<(), WorldError> {
-        match &mut self.integrator {
-            Some(i) => {
-                i.set_state(s.t, &s.y)?;
-                i.set_proposed_step(s.h)?;
-            }
-            None => self.t = s.t,
-        }
+        self.t = s.t;
+        self.integrator = s.integrator.map(|mut i| {
+            i.take_report();
+            i
+        });
         Ok(())
     }
 

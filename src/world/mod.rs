@@ -11,8 +11,9 @@ mod stepping;
 
 use crate::body::{RigidBody, RigidBodyBuilder};
 use crate::engine::Engine;
-use crate::error::{check_finite, check_scalar, WorldError};
+use crate::error::WorldError;
 use crate::handle::{Arena, Handle};
+use crate::limits;
 use crate::load::Load;
 use crate::mode::Mode;
 use crate::particle::Particle;
@@ -65,15 +66,16 @@ impl World {
     /// An empty world with gravity (0, 0, -9.81) and Dormand-Prince at rtol = 1e-6, atol = 1e-9.
     pub fn new() -> Self {
         let settings = Settings::tolerances(Method::Dopri5, 1e-6, 1e-9);
+        let number = crate::handle::new_world_number();
         World {
             gravity: Vector3::new(0.0, 0.0, -9.81),
             totals: WorldReport::new(settings.method.name()),
             settings,
             time: 0.0,
-            particles: Arena::default(),
-            bodies: Arena::default(),
-            springs: Arena::default(),
-            loads: Arena::default(),
+            particles: Arena::new(number),
+            bodies: Arena::new(number),
+            springs: Arena::new(number),
+            loads: Arena::new(number),
             engine: None,
             state_changed: false,
             divergence_factor: 1e9,
@@ -101,7 +103,7 @@ impl World {
 
     /// Adds a ground: a static half-space below the plane z = `height` (normal +z) with this material.
     pub fn add_ground(&mut self, height: f64, material: crate::Material) -> Result<BodyHandle, WorldError> {
-        check_finite("height", [height].iter())?;
+        limits::in_range("height", height, -limits::COORDINATE, limits::COORDINATE, "m")?;
         let ground = tumble_collide::Shape::half_space(Vector3::z())?;
         self.add_body(
             RigidBodyBuilder::fixed(Some(ground))
@@ -118,7 +120,7 @@ impl World {
 
     /// Sets gravity.
     pub fn set_gravity(&mut self, g: Vector3<f64>) -> Result<(), WorldError> {
-        check_finite("gravity", g.iter())?;
+        limits::vector("gravity", &g, limits::GRAVITY, "m/s^2")?;
         self.gravity = g;
         self.retire_engine();
         Ok(())
@@ -148,7 +150,7 @@ impl World {
     /// A state whose max norm grows past `factor` times that of the state a run starts from (at least 1) is
     /// reported as diverging (default 1e9): an unstable explicit step fails with an error long before overflow.
     pub fn set_divergence_factor(&mut self, factor: f64) -> Result<(), WorldError> {
-        self.divergence_factor = check_scalar("factor", factor, true)?;
+        self.divergence_factor = limits::positive("factor", factor, 1e100, "")?;
         self.retire_engine();
         Ok(())
     }

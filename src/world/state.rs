@@ -6,6 +6,7 @@ use crate::body::RigidBody;
 use crate::error::{check_finite, WorldError};
 #[cfg(test)]
 use crate::handle::Arena;
+use crate::limits;
 use crate::model::{compile, Compiled, Model};
 use crate::particle::Particle;
 use crate::spring::{BodyHandle, ParticleHandle, Spring, SpringHandle};
@@ -20,8 +21,8 @@ impl World {
         position: Vector3<f64>,
         velocity: Vector3<f64>,
     ) -> Result<(), WorldError> {
-        check_finite("position", position.iter())?;
-        check_finite("velocity", velocity.iter())?;
+        limits::vector("position", &position, limits::COORDINATE, "m")?;
+        limits::vector("velocity", &velocity, limits::SPEED, "m/s")?;
         let p = self.particles.get_mut(h).ok_or_else(|| unknown("particle", h))?;
         p.position = position;
         p.velocity = velocity;
@@ -38,10 +39,10 @@ impl World {
         velocity: Vector3<f64>,
         angular_velocity: Vector3<f64>,
     ) -> Result<(), WorldError> {
-        check_finite("position", position.iter())?;
+        limits::vector("position", &position, limits::COORDINATE, "m")?;
         check_finite("orientation", orientation.coords.iter())?;
-        check_finite("velocity", velocity.iter())?;
-        check_finite("angular_velocity", angular_velocity.iter())?;
+        limits::vector("velocity", &velocity, limits::SPEED, "m/s")?;
+        limits::vector("angular_velocity", &angular_velocity, limits::SPEED, "rad/s")?;
         let b = self.bodies.get_mut(h).ok_or_else(|| unknown("body", h))?;
         if b.is_static {
             b.position = position;

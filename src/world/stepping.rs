@@ -5,7 +5,8 @@
 
 use super::World;
 use crate::engine::{Engine, EngineSpec};
-use crate::error::{check_scalar, WorldError};
+use crate::error::WorldError;
+use crate::limits;
 use crate::model::Compiled;
 use crate::report::WorldReport;
 use crate::run::{BodySource, Run};
@@ -98,7 +99,7 @@ impl World {
     /// Advances by `dt` (several internal steps if the method is adaptive; in fast mode a whole number of its
     /// steps, else an error naming `dt`). On error the world is unchanged.
     pub fn step(&mut self, dt: f64) -> Result<(), WorldError> {
-        check_scalar("dt", dt, true)?;
+        limits::positive("dt", dt, limits::TIME, "s")?;
         self.drive(dt, "dt", None, |_| true).map(|_| ())
     }
 
@@ -117,8 +118,8 @@ impl World {
         frame_interval: f64,
         control: impl FnMut(f64) -> bool,
     ) -> Result<Run, WorldError> {
-        check_scalar("duration", duration, true)?;
-        check_scalar("frame_interval", frame_interval, true)?;
+        limits::positive("duration", duration, limits::TIME, "s")?;
+        limits::positive("frame_interval", frame_interval, limits::TIME, "s")?;
         let count = (duration / frame_interval * (1.0 + 1e-12)).floor();
         if count > MAX_FRAMES {
             return Err(WorldError::invalid("frame_interval", format!("{count:e} frames are too many to record")));
@@ -140,6 +141,15 @@ impl World {
         let e = self.engine()?;
         let t0 = e.time();
         let t_end = e.end_time(span, name)?;
+        if !(t_end > t0 && t_end <= limits::TIME) {
+            return Err(WorldError::invalid(
+                name,
+                format!(
+                    "{span:e} s from t = {t0} ends at {t_end:e} s: time must advance and stay within {:e} s",
+                    limits::TIME
+                ),
+            ));
+        }
         let times = match frame_interval {
             Some(interval) => frame_times(t0, t_end, span, interval),
             None => Vec::new(),

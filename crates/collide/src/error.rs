@@ -25,11 +25,15 @@ impl fmt::Display for ShapeError {
 
 impl std::error::Error for ShapeError {}
 
-/// Checks that a length is finite and > 0.
+/// Shortest and longest dimension of a shape (m): a nanometre to a million kilometres, so that no product of two
+/// dimensions (areas, inertias) can overflow or vanish.
+pub const LENGTH: (f64, f64) = (1e-9, 1e9);
+
+/// Checks that a length is finite and within `LENGTH`.
 pub(crate) fn positive(name: &'static str, v: f64) -> Result<f64, ShapeError> {
-    if v.is_finite() && v > 0.0 {
+    if v.is_finite() && v >= LENGTH.0 && v <= LENGTH.1 {
         Ok(v)
     } else {
-        Err(ShapeError::new(name, format!("must be finite and > 0, got {v}")))
+        Err(ShapeError::new(name, format!("must be finite and within [{:e}, {:e}] m, got {v:e}", LENGTH.0, LENGTH.1)))
     }
 }

@@ -41,7 +41,7 @@ mod toi;
 
 pub use aabb::Aabb;
 pub use contact::{contacts, Contact, ContactKind, Feature};
-pub use error::ShapeError;
+pub use error::{ShapeError, LENGTH};
 pub use mass::MassProperties;
 pub use motion::Motion;
 pub use polyhedron::Polyhedron;

@@ -1,7 +1,7 @@
 //! Mass properties of shapes at a density (parry computes them), in the shape's frame and nalgebra types.
 
 use crate::convert::{from_parry, matrix_from_parry, to_parry};
-use crate::error::{positive, ShapeError};
+use crate::error::ShapeError;
 use crate::shape::Shape;
 use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, Shape as ParryShape};
@@ -20,7 +20,9 @@ pub struct MassProperties {
 impl Shape {
     /// Mass properties at `density` (> 0). Static-only shapes (triangle mesh, half-space) have none.
     pub fn mass_properties(&self, density: f64) -> Result<MassProperties, ShapeError> {
-        let density = positive("density", density)?;
+        if !(density.is_finite() && density > 0.0) {
+            return Err(ShapeError::new("density", format!("must be finite and > 0, got {density}")));
+        }
         let props = match self {
             Shape::Sphere { radius } => Ball::new(*radius).mass_properties(density),
             Shape::Cuboid { half_extents } => Cuboid::new(to_parry(half_extents)).mass_properties(density),

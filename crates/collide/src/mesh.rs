@@ -6,10 +6,10 @@ use nalgebra::{Point3, Rotation3, Vector3};
 use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder};
 
 impl Shape {
-    /// The shape's surface as triangles in its own frame, curved shapes with `subdivisions` segments around (at
-    /// least 3). A half-space is drawn as a square of side `2 * extent` on its plane.
+    /// The shape's surface as triangles in its own frame, curved shapes with `subdivisions` segments around (3 to
+    /// 1024; values outside are clamped, so the mesh stays below a few million triangles). A half-space is drawn as a square of side `2 * extent` on its plane.
     pub fn triangle_mesh(&self, subdivisions: u32, extent: f64) -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
-        let n = subdivisions.max(3);
+        let n = subdivisions.clamp(3, 1024);
         let (vertices, triangles) = match self {
             Shape::Sphere { radius } => Ball::new(*radius).to_trimesh(n, n / 2 + 1),
             Shape::Cuboid { half_extents } => Cuboid::new(to_parry(half_extents)).to_trimesh(),

@@ -53,10 +53,10 @@ pub enum Shape {
 }
 
 fn finite_point(name: &'static str, i: usize, p: &Point3<f64>) -> Result<(), ShapeError> {
-    if p.iter().all(|c| c.is_finite()) {
+    if p.iter().all(|c| c.is_finite() && c.abs() <= crate::error::LENGTH.1) {
         Ok(())
     } else {
-        Err(ShapeError::new(name, format!("point {i} is not finite: {p:?}")))
+        Err(ShapeError::new(name, format!("point {i} must be finite and within 1e9 m of the origin: {p:?}")))
     }
 }
 
@@ -69,12 +69,8 @@ impl Shape {
     /// A box; every half extent > 0.
     pub fn cuboid(half_extents: Vector3<f64>) -> Result<Shape, ShapeError> {
         for (axis, v) in ["x", "y", "z"].iter().zip(half_extents.iter()) {
-            if !(v.is_finite() && *v > 0.0) {
-                return Err(ShapeError::new(
-                    "half_extents",
-                    format!("the {axis} half extent must be finite and > 0, got {v}"),
-                ));
-            }
+            positive("half_extents", *v)
+                .map_err(|e| ShapeError::new("half_extents", format!("the {axis} half extent {}", e.reason)))?;
         }
         Ok(Shape::Cuboid { half_extents })
     }

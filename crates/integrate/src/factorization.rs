@@ -6,8 +6,9 @@
 use crate::error::OdeError;
 use crate::jacobian::{Jacobian, Values};
 use crate::report::Report;
+use crate::scratch::Scratch;
 use crate::small_lu::{self, SMALL};
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::MemStack;
 use faer::linalg::lu::partial_pivoting::{factor as dense_factor, solve as dense_solve};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
@@ -24,6 +25,7 @@ pub(crate) enum Shift {
 
 /// Dense factors. For the complex shift of a small matrix, `lu` and `lu_im` hold the real and imaginary parts of
 /// the n x n complex factors (half the arithmetic of the 2n x 2n real form); otherwise `lu` holds real factors.
+#[derive(Clone)]
 struct DenseLu {
     lu: Vec<f64>,
     lu_im: Vec<f64>,
@@ -31,9 +33,10 @@ struct DenseLu {
     perm: Vec<usize>,
     perm_inv: Vec<usize>,
     inv_diag: Vec<f64>,
-    mem: MemBuffer,
+    mem: Scratch,
 }
 
+#[derive(Clone)]
 struct SparseLu {
     symbolic: SymbolicSparseColMat<usize>,
     /// Slots of each Jacobian entry in W: one per diagonal block.
@@ -45,15 +48,17 @@ struct SparseLu {
     w: Vec<f64>,
     lu_symbolic: SymbolicLu<usize>,
     numeric: NumericLu<usize, f64>,
-    factor_mem: MemBuffer,
-    solve_mem: MemBuffer,
+    factor_mem: Scratch,
+    solve_mem: Scratch,
 }
 
+#[derive(Clone)]
 enum Storage {
     Dense(Box<DenseLu>),
     Sparse(Box<SparseLu>),
 }
 
+#[derive(Clone)]
 pub(crate) struct Factorization {
     shift: Shift,
     n: usize,
@@ -78,7 +83,7 @@ impl Factorization {
                     perm: vec![0; dim],
                     perm_inv: vec![0; dim],
                     inv_diag: vec![0.0; dim],
-                    mem: MemBuffer::new(req),
+                    mem: Scratch::new(req),
                 }))
             }
             Values::Sparse { pattern, .. } => Storage::Sparse(Box::new(SparseLu::new(n, pattern, shift)?)),
@@ -245,8 +250,8 @@ impl SparseLu {
         let nnz = symbolic.row_idx().len();
         let lu_symbolic = factorize_symbolic_lu(symbolic.as_ref(), Default::default())
             .map_err(|e| OdeError::invalid("jacobian pattern", format!("symbolic LU failed: {e:?}")))?;
-        let factor_mem = MemBuffer::new(lu_symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()));
-        let solve_mem = MemBuffer::new(lu_symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        let factor_mem = Scratch::new(lu_symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()));
+        let solve_mem = Scratch::new(lu_symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         Ok(SparseLu {
             symbolic,
             jac_slots,

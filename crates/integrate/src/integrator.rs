@@ -28,6 +28,27 @@ pub struct Integrator<S: OdeSystem + ?Sized> {
     backup: Vec<f64>,
 }
 
+impl<S: OdeSystem + ?Sized> Clone for Integrator<S> {
+    /// A copy of the whole integration: state, step, controller, the method's caches and histories. Continuing the
+    /// copy gives the same numbers as continuing the original.
+    fn clone(&self) -> Self {
+        Integrator {
+            settings: self.settings.clone(),
+            stepper: self.stepper.clone_box(),
+            controller: self.controller.clone(),
+            ctx: self.ctx.clone(),
+            cur: self.cur.clone(),
+            next: self.next.clone(),
+            h: self.h,
+            last_step: self.last_step,
+            step_log: self.step_log.clone(),
+            last_rejected: self.last_rejected,
+            dense_buf: self.dense_buf.clone(),
+            backup: self.backup.clone(),
+        }
+    }
+}
+
 /// The detector of calls that watch for no events.
 fn no_events<S: OdeSystem + ?Sized>(_: &mut StepView<'_, S>) -> Result<Option<f64>, OdeError> {
     Ok(None)

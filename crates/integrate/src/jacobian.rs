@@ -8,6 +8,7 @@ use crate::system::{JacobianStructure, OdeSystem};
 use faer::MatMut;
 
 /// Where the values live.
+#[derive(Clone)]
 pub(crate) enum Values {
     /// Column-major n x n.
     Dense { analytic: bool, values: Vec<f64> },
@@ -19,6 +20,7 @@ pub(crate) enum Values {
 /// Columns grouped so that no two columns of a group share a row; for each column, the pattern entries (index,
 /// row) its difference quotient fills (each (row, column) pair once, so repeated pattern entries are not counted
 /// twice).
+#[derive(Clone)]
 pub(crate) struct Coloring {
     groups: Vec<Vec<usize>>,
     entries: Vec<Vec<(usize, usize)>>,
@@ -56,6 +58,7 @@ impl Coloring {
     }
 }
 
+#[derive(Clone)]
 pub(crate) struct Jacobian {
     pub n: usize,
     pub values: Values,

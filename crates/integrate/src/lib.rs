@@ -30,6 +30,7 @@ mod point;
 pub mod problems;
 mod reduced;
 mod report;
+mod scratch;
 mod second_order;
 mod settings;
 mod small_lu;

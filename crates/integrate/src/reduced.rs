@@ -5,8 +5,9 @@
 
 use crate::error::OdeError;
 use crate::report::Report;
+use crate::scratch::Scratch;
 use crate::settings::LinearSolver;
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::MemStack;
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
 use faer::sparse::{Pair, SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par};
@@ -21,12 +22,13 @@ enum Target {
 }
 
 #[allow(clippy::large_enum_variant)]
+#[derive(Clone)]
 enum Solve {
     Direct {
         lu: SymbolicLu<usize>,
         numeric: NumericLu<usize, f64>,
-        factor_mem: MemBuffer,
-        solve_mem: MemBuffer,
+        factor_mem: Scratch,
+        solve_mem: Scratch,
     },
     /// The matrix is kept by rows (the compressed columns of its transpose), so products gather; `guess` is the
     /// last solution, the start of the next solve.
@@ -38,6 +40,7 @@ enum Solve {
     },
 }
 
+#[derive(Clone)]
 pub(crate) struct Reduced {
     m: usize,
     q_len: usize,
@@ -85,8 +88,8 @@ impl Reduced {
             LinearSolver::Direct => {
                 let lu = factorize_symbolic_lu(symbolic.as_ref(), Default::default())
                     .map_err(|e| OdeError::invalid("jacobian pattern", format!("symbolic LU failed: {e:?}")))?;
-                let factor_mem = MemBuffer::new(lu.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()));
-                let solve_mem = MemBuffer::new(lu.solve_in_place_scratch::<f64>(1, Par::Seq));
+                let factor_mem = Scratch::new(lu.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()));
+                let solve_mem = Scratch::new(lu.solve_in_place_scratch::<f64>(1, Par::Seq));
                 Solve::Direct { lu, numeric: NumericLu::new(), factor_mem, solve_mem }
             }
             LinearSolver::Iterative { rtol, max_iter } => {

@@ -20,7 +20,7 @@ impl Contacts {
     pub fn contact_phase(&mut self, model: &mut Model, integ: &mut Integrator<Model>) -> Result<(), OdeError> {
         let t = integ.time();
         let mut y = integ.state().to_vec();
-        let mut active = self.touching(model, &y);
+        let mut active = self.touching(model, &y, t)?;
         let clock = Instant::now();
         if active.iter().any(|(_, v)| *v < 0.0) {
             self.apply_impulses(model, &mut y, &mut active, t)?;
@@ -34,6 +34,9 @@ impl Contacts {
             let states = contact_states(model, &y, &statics);
             let contacts: Vec<Contact> = active.iter().map(|(f, _)| f.contact).collect();
             self.report.qp_solves += correct_drift(model, &mut y, &states, &contacts, &self.solver, t)?;
+        }
+        if let Some(i) = y.iter().position(|v| !v.is_finite()) {
+            return Err(OdeError::NonFinite { t, what: "state after the contact phase", index: i });
         }
         let poses = actor_poses(model.layout, &y, &statics);
         let contacts: Vec<RestingContact> = active.iter().map(|(f, _)| RestingContact::attach(f, &poses)).collect();
@@ -49,14 +52,14 @@ impl Contacts {
     /// The contacts touching in state y that do not separate faster than the resting speed, with their relative
     /// normal velocities. The bisection stops up to `time_tolerance` before contact, when a pair may still be apart
     /// by as much as it closes in that time: contacts within that distance (plus the contact distance) count.
-    fn touching(&mut self, model: &mut Model, y: &[f64]) -> Vec<(Found, f64)> {
+    fn touching(&mut self, model: &mut Model, y: &[f64], t: f64) -> Result<Vec<(Found, f64)>, OdeError> {
         let clock = Instant::now();
         let statics = self.scene.static_poses.clone();
         let states = contact_states(model, y, &statics);
         let poses = actor_poses(model.layout, y, &statics);
         let closing = self.scene.reach(&states, 2.0 * self.settings.time_tolerance);
         let checks = self.scene.checks;
-        let found = self.scene.find(&poses, &closing, self.settings.contact_distance);
+        let found = self.scene.find(&poses, &closing, self.settings.contact_distance).map_err(|e| failure(t, e))?;
         self.report.collision_checks += self.scene.checks - checks;
         self.report.stages.mark(Stage::CollisionDetection);
         self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
@@ -71,7 +74,7 @@ impl Contacts {
             .filter(|(_, v)| *v <= v_rest)
             .collect();
         self.report.collision_seconds += clock.elapsed().as_secs_f64();
-        active
+        Ok(active)
     }
 
     /// Newton's law at every active contact at once; the relative normal velocities are updated.

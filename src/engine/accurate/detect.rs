@@ -43,7 +43,7 @@ impl Contacts {
         let margins: Vec<f64> = speeds.iter().map(|(s, bulge)| bulge * h + delta + 1e-12 * s).collect();
         let checks = self.scene.checks;
         self.report.stages.mark(Stage::CollisionDetection);
-        let pairs = self.scene.swept_pairs(&poses0, &poses1, &margins);
+        let pairs = self.scene.swept_pairs(&poses0, &poses1, &margins).map_err(|e| super::failure(t0, e))?;
         if pairs.is_empty() {
             return Ok(None);
         }

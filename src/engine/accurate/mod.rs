@@ -54,11 +54,10 @@ pub(crate) struct AccurateEngine {
     contacts: Contacts,
 }
 
-/// What a failed call puts back: time, state, next step, the resting set and what the contact phase knew.
+/// What a failed call puts back: the whole integrator (state, next step, controller, caches, histories), the
+/// resting set and what the contact phase knew.
 pub(crate) struct AccurateSnapshot {
-    t: f64,
-    y: Vec<f64>,
-    h: Option<f64>,
+    integrator: Integrator<Model>,
     resting: Option<RestingSet>,
     resting_keys: BTreeSet<ContactKey>,
     penetration: f64,
@@ -135,10 +134,16 @@ impl AccurateEngine {
     ) -> Result<usize, WorldError> {
         let (model, integrator, contacts) = (&mut self.compiled.model, &mut self.integrator, &mut self.contacts);
         integrator.log_steps(run.is_some());
+        // One step budget for the whole call (the integrator's own budget restarts at every event).
+        let attempts = |i: &Integrator<Model>| i.report().steps + i.report().rejected;
+        let (budget, spent) = (self.settings.max_steps, attempts(integrator));
         let result = (|| {
             contacts.contact_phase(model, integrator)?;
             let (mut done, mut stuck, mut last) = (0, 0, integrator.time());
             loop {
+                if attempts(integrator) - spent > budget {
+                    return Err(OdeError::TooManySteps { t: integrator.time(), max_steps: budget });
+                }
                 let penetration = contacts.penetration;
                 let adv = integrator.advance_with_events(
                     model,
@@ -176,9 +181,7 @@ impl AccurateEngine {
 
     pub fn snapshot(&self) -> AccurateSnapshot {
         AccurateSnapshot {
-            t: self.integrator.time(),
-            y: self.integrator.state().to_vec(),
-            h: self.integrator.proposed_step(),
+            integrator: self.integrator.clone(),
             resting: self.compiled.model.resting.clone(),
             resting_keys: self.contacts.resting_keys.clone(),
             penetration: self.contacts.penetration,
@@ -186,8 +189,8 @@ impl AccurateEngine {
     }
 
     pub fn restore(&mut self, s: AccurateSnapshot) -> Result<(), WorldError> {
-        self.integrator.set_state(s.t, &s.y)?;
-        self.integrator.set_proposed_step(s.h)?;
+        self.integrator = s.integrator;
+        self.integrator.take_report();
         // (The run loop takes the report, with the resting set's counters, before it restores.)
         self.compiled.model.resting = s.resting;
         self.contacts.resting_keys = s.resting_keys;

@@ -3,14 +3,18 @@
 
 use super::{failure, FastEngine};
 use crate::model::StateOptions;
+use crate::WorldError;
 use tumble_contact::BodyState;
-use tumble_integrate::OdeSystem;
+use tumble_integrate::{OdeError, OdeSystem};
 
 impl FastEngine {
     /// Evaluates the equations of motion at the current state; returns the actors with those forces.
-    pub(super) fn applied_forces(&mut self) -> Result<Vec<BodyState>, crate::WorldError> {
+    pub(super) fn applied_forces(&mut self) -> Result<Vec<BodyState>, WorldError> {
         let t = self.time();
         self.compiled.model.rhs(t, &self.y, &mut self.dy).map_err(|e| failure(t, e.to_string()))?;
+        if let Some(index) = self.dy.iter().position(|v| !v.is_finite()) {
+            return Err(WorldError::Simulation(OdeError::NonFinite { t, what: "force", index }));
+        }
         Ok(self.body_states())
     }
 

@@ -3,16 +3,18 @@
 //! to at most four points a pair; a sleeping island touched by a moving actor wakes.
 
 use super::manifold::reduce;
-use super::FastEngine;
+use super::{failure, FastEngine};
 use crate::engine::contact_scene::Found;
+use crate::error::WorldError;
 use crate::plan::Stage;
 use std::time::Instant;
 use tumble_contact::BodyState;
 
 impl FastEngine {
     /// The contacts within reach in step h; `states` are renewed if an island woke.
-    pub(super) fn find_contacts(&mut self, states: &mut Vec<BodyState>, h: f64) -> Vec<Found> {
-        let Some(scene) = &mut self.scene else { return Vec::new() };
+    pub(super) fn find_contacts(&mut self, states: &mut Vec<BodyState>, h: f64) -> Result<Vec<Found>, WorldError> {
+        let Some(scene) = &mut self.scene else { return Ok(Vec::new()) };
+        let t = self.origin + self.steps as f64 * self.settings.dt;
         let clock = Instant::now();
         let dynamic = self.sleep.len();
         for a in 0..dynamic {
@@ -21,7 +23,7 @@ impl FastEngine {
         let poses = scene.poses(&self.y);
         let reach = scene.reach(states, h);
         let checks = scene.checks;
-        let found = reduce(scene.find(&poses, &reach, self.settings.margin));
+        let found = reduce(scene.find(&poses, &reach, self.settings.margin).map_err(|e| failure(t, e))?);
         self.report.collision_checks += scene.checks - checks;
         self.report.stages.mark(Stage::CollisionDetection);
         self.report.collision_seconds += clock.elapsed().as_secs_f64();
@@ -33,6 +35,6 @@ impl FastEngine {
             .filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic())
             .collect();
         self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
-        found
+        Ok(found)
     }
 }

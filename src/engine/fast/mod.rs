@@ -41,6 +41,8 @@ pub(crate) struct FastEngine {
     y: Vec<f64>,
     settings: FastSettings,
     threads: usize,
+    /// A state component larger than this is divergence: the step fails instead of running on to overflow.
+    divergence_limit: f64,
     /// Each contact's normal impulse of the last step (ordered: the warm start sums them in key order).
     previous: BTreeMap<ContactKey, f64>,
     sleep: Sleep,
@@ -73,6 +75,7 @@ impl FastEngine {
         y: Vec<f64>,
         settings: FastSettings,
         threads: usize,
+        divergence_limit: f64,
     ) -> Self {
         let actors = compiled.model.layout.particles + compiled.model.layout.bodies;
         FastEngine {
@@ -85,6 +88,7 @@ impl FastEngine {
             y,
             settings,
             threads,
+            divergence_limit,
             previous: BTreeMap::new(),
             report: WorldReport::new(FAST),
             penetration: 0.0,
@@ -191,13 +195,29 @@ impl FastEngine {
     fn step(&mut self, h: f64) -> Result<(), WorldError> {
         let clock = Instant::now();
         let mut states = self.applied_forces()?;
-        let found = self.find_contacts(&mut states, h);
+        let found = self.find_contacts(&mut states, h)?;
         let velocities = self.solve_velocities(&states, &found, h)?;
         self.integrate_positions(&velocities, h);
+        self.check_state(h)?;
         self.update_sleep(&states, &velocities, &found, h);
         self.steps += 1;
         self.book_step(h, clock);
         Ok(())
+    }
+
+    /// Fails the step if the new state is not finite or has diverged past the limit (one comparison a component;
+    /// NaN fails it too).
+    fn check_state(&self, h: f64) -> Result<(), WorldError> {
+        let limit = self.divergence_limit;
+        if self.y.iter().all(|v| v.abs() <= limit) {
+            return Ok(());
+        }
+        let t = self.time_at(self.steps + 1);
+        let error = match self.y.iter().position(|v| !v.is_finite()) {
+            Some(index) => OdeError::NonFinite { t, what: "state", index },
+            None => OdeError::Divergence { t, norm: self.y.iter().fold(0.0, |m, v| m.max(v.abs())), limit, h },
+        };
+        Err(WorldError::Simulation(error))
     }
 
     /// The report's share of a step.

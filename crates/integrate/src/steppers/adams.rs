@@ -12,6 +12,7 @@ use crate::system::OdeSystem;
 /// corrector's error is about -19/270 of (corrector - predictor).
 const MILNE: f64 = 19.0 / 270.0;
 
+#[derive(Clone)]
 pub(crate) struct Adams {
     corrector: bool,
     /// f_{i-1}, f_{i-2}, f_{i-3}: derivatives at the previous accepted points, newest first.

@@ -8,6 +8,7 @@ use crate::error::OdeError;
 use crate::point::{eval, Point};
 use crate::system::OdeSystem;
 
+#[derive(Clone)]
 pub(crate) struct Dop853 {
     /// Stages 2..12 (stage 1 is the starting point's derivative).
     k: Vec<Vec<f64>>,

@@ -43,6 +43,7 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
+#[derive(Clone)]
 pub(crate) struct Dopri5 {
     k2: Vec<f64>,
     k3: Vec<f64>,

@@ -7,6 +7,7 @@ use crate::point::{eval, norm2, Point};
 use crate::system::OdeSystem;
 
 /// An explicit Butcher tableau: stage i uses `a[i]` (length i), the solution uses `b`.
+#[derive(Clone)]
 pub(crate) struct Tableau {
     pub a: &'static [&'static [f64]],
     pub b: &'static [f64],
@@ -43,6 +44,7 @@ pub(crate) fn combine(out: &mut [f64], y: &[f64], h: f64, coef: &[f64], f0: &[f6
 }
 
 /// An explicit Runge-Kutta method given by its tableau.
+#[derive(Clone)]
 pub(crate) struct ExplicitRk {
     tableau: &'static Tableau,
     k: Vec<Vec<f64>>,
@@ -92,6 +94,7 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for ExplicitRk {
 /// The chapter's improved (variable-step) Euler: each step is an Euler step of length
 /// h = sqrt(2 eps / ||df/dt||_2), where the total derivative df/dt = (df/dX) f + df/dt is the directional
 /// difference quotient (f(t + d, X + d f) - f(t, X)) / d: one extra evaluation a step, no Jacobian.
+#[derive(Clone)]
 pub(crate) struct EulerVariable {
     tolerance: f64,
     dfdt_norm: f64,

@@ -12,6 +12,7 @@ use crate::reduced::Reduced;
 use crate::settings::{LinearSolver, NewtonMode};
 use crate::system::OdeSystem;
 
+#[derive(Clone)]
 pub(crate) struct ImplicitEuler {
     jac: Jacobian,
     matrix: Factorization,

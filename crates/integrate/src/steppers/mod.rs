@@ -20,6 +20,7 @@ use crate::settings::{Control, NewtonMode, Settings};
 use crate::system::OdeSystem;
 
 /// What a step needs besides the system and the points: counters and the error weights.
+#[derive(Clone)]
 pub(crate) struct Ctx {
     pub report: Report,
     pub rtol: f64,
@@ -40,7 +41,18 @@ pub(crate) struct Estimate {
 
 /// One method's step. `step` advances from `from` by `h` into `to` (whose `t` and id the driver has already
 /// renewed); it may evaluate `from`'s derivative and may set `to`'s (first-same-as-last).
-pub(crate) trait Stepper<S: OdeSystem + ?Sized> {
+/// Copies a boxed stepper (its caches and histories included), for integrators that are copied whole.
+pub(crate) trait StepperClone<S: OdeSystem + ?Sized> {
+    fn clone_box(&self) -> Box<dyn Stepper<S> + Send>;
+}
+
+impl<S: OdeSystem + ?Sized, T: Stepper<S> + Clone + Send + 'static> StepperClone<S> for T {
+    fn clone_box(&self) -> Box<dyn Stepper<S> + Send> {
+        Box::new(self.clone())
+    }
+}
+
+pub(crate) trait Stepper<S: OdeSystem + ?Sized>: StepperClone<S> {
     fn step(
         &mut self,
         sys: &mut S,
@@ -116,7 +128,7 @@ pub(crate) fn build<S: OdeSystem + ?Sized>(
 }
 
 /// Boxes a one-step method, inside the chapter's step doubling when the control asks for it.
-fn finish<S: OdeSystem + ?Sized, T: Stepper<S> + Send + 'static>(
+fn finish<S: OdeSystem + ?Sized, T: Stepper<S> + Clone + Send + 'static>(
     stepper: T,
     n: usize,
     settings: &Settings,

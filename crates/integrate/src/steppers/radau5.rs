@@ -42,6 +42,7 @@ const NIT: usize = 7;
 /// Keep the Jacobian while Newton's contraction rate stays below this.
 const THET: f64 = 0.001;
 
+#[derive(Clone)]
 pub(crate) struct Radau5 {
     jac: Jacobian,
     real: Factorization,

@@ -53,6 +53,7 @@ const H33: f64 = 16.43084320892478;
 const H34: f64 = 24.76722511418386;
 const H35: f64 = -6.594389125716872;
 
+#[derive(Clone)]
 pub(crate) struct Rodas4 {
     jac: Jacobian,
     matrix: Factorization,

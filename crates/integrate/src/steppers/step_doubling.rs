@@ -6,6 +6,7 @@ use crate::error::OdeError;
 use crate::point::{max_norm, Point};
 use crate::system::OdeSystem;
 
+#[derive(Clone)]
 pub(crate) struct StepDoubling<T> {
     inner: T,
     tolerance: f64,
@@ -30,7 +31,7 @@ impl<T> StepDoubling<T> {
     }
 }
 
-impl<S: OdeSystem + ?Sized, T: Stepper<S>> Stepper<S> for StepDoubling<T> {
+impl<S: OdeSystem + ?Sized, T: Stepper<S> + Clone + Send + 'static> Stepper<S> for StepDoubling<T> {
     fn step(
         &mut self,
         sys: &mut S,

@@ -8,6 +8,7 @@ use crate::error::OdeError;
 use crate::point::Point;
 use crate::system::{OdeSystem, Split};
 
+#[derive(Clone)]
 pub(crate) struct Symplectic {
     verlet: bool,
     split: Split,
