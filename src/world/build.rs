@@ -3,7 +3,8 @@
 
 use super::{unknown, World};
 use crate::body::{RigidBody, RigidBodyBuilder};
-use crate::error::{check_finite, check_scalar, WorldError};
+use crate::error::WorldError;
+use crate::limits;
 use crate::load::{Load, LoadHandle, Target, TargetState, Wrench};
 use crate::particle::{Particle, ParticleBuilder};
 use crate::spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
@@ -28,11 +29,11 @@ impl World {
         match *a {
             Attachment::Particle(h) => Ok(self.particles.get(h).ok_or_else(|| unknown(name, h))?.position),
             Attachment::Body(h, local) => {
-                check_finite(if name == "a" { "anchor_a" } else { "anchor_b" }, local.iter())?;
+                limits::vector(if name == "a" { "anchor_a" } else { "anchor_b" }, &local, limits::COORDINATE, "m")?;
                 Ok(self.bodies.get(h).ok_or_else(|| unknown(name, h))?.world_point(local))
             }
             Attachment::Point(p) => {
-                check_finite("world_point", p.iter())?;
+                limits::vector("world_point", &p, limits::COORDINATE, "m")?;
                 Ok(p)
             }
         }
@@ -50,10 +51,10 @@ impl World {
                 return Err(WorldError::invalid("b", "a spring needs two different ends"));
             }
         }
-        let stiffness = check_scalar("stiffness", spring.stiffness, true)?;
-        let damping = check_scalar("damping", spring.damping, false)?;
+        let stiffness = limits::positive("stiffness", spring.stiffness, limits::STIFFNESS, "N/m")?;
+        let damping = limits::non_negative("damping", spring.damping, limits::STIFFNESS, "N s/m")?;
         let rest_length = match spring.rest_length {
-            Some(l) => check_scalar("rest_length", l, false)?,
+            Some(l) => limits::non_negative("rest_length", l, 4.0 * limits::COORDINATE, "m")?,
             None => (pa - pb).norm(),
         };
         self.retire_engine();
@@ -78,9 +79,9 @@ impl World {
         self.check_target(load.target())?;
         match &load {
             Load::Force { target, force, at } => {
-                check_finite("force", force.iter())?;
+                limits::vector("force", force, limits::FORCE, "N")?;
                 if let Some(at) = at {
-                    check_finite("at", at.iter())?;
+                    limits::vector("at", at, limits::COORDINATE, "m")?;
                     if matches!(target, Target::Particle(_)) {
                         return Err(WorldError::invalid(
                             "at",
@@ -89,7 +90,7 @@ impl World {
                     }
                 }
             }
-            Load::Torque { torque, .. } => check_finite("torque", torque.iter())?,
+            Load::Torque { torque, .. } => limits::vector("torque", torque, limits::FORCE, "N m")?,
             Load::Callback { .. } => {}
         }
         self.retire_engine();

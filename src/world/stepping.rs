@@ -47,7 +47,11 @@ impl World {
     fn build_engine(&self) -> Result<Engine, WorldError> {
         let compiled = self.compile();
         let y = compiled.pack(&self.particles, &self.bodies);
-        let scale = y.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        // The divergence limit is relative to the state's own scale: its largest component, and the momenta that
+        // gravity alone gives the bodies in a second (a kilometre-sized body's momentum is large from the start).
+        let lift = 1.0 + self.gravity.norm();
+        let momenta = compiled.model.bodies.iter().map(|b| (b.mass + b.inertia.amax()) * lift).fold(0.0f64, f64::max);
+        let scale = y.iter().fold(1.0f64, |m, v| m.max(v.abs())).max(momenta);
         let spec = EngineSpec {
             mode: self.mode,
             settings: self.settings.clone().divergence_limit(self.divergence_factor * scale),

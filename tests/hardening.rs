@@ -1,0 +1,232 @@
+//! Regression tests for what a hostile user broke (issue 11), each named after what broke: panics on non-finite
+//! poses, NaN escaping from fast mode, overflowing inputs accepted, time running to infinity, hangs, hidden state
+//! changed by a failed call, handles of another world. A refused or failed call must leave the world exactly as it
+//! was; one that succeeds must leave it finite.
+
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use tumble::scenes::{BouncingBall, ClothDrape, Pile};
+use tumble::{
+    Attachment, FastSettings, Material, Mode, ParticleBuilder, RigidBodyBuilder, Shape, SpringBuilder, Target, World,
+    WorldError, Wrench,
+};
+
+/// Every number of a world's state and its time, as bits.
+fn bits(w: &World) -> Vec<u64> {
+    let mut out = vec![w.time().to_bits()];
+    for (_, p) in w.particles() {
+        out.extend(p.position().iter().chain(p.velocity().iter()).map(|v| v.to_bits()));
+    }
+    for (_, b) in w.bodies() {
+        let q = b.orientation();
+        out.extend(
+            b.position().iter().chain(b.velocity().iter()).chain(b.angular_velocity().iter()).map(|v| v.to_bits()),
+        );
+        out.extend([q.w, q.i, q.j, q.k].iter().map(|v| v.to_bits()));
+    }
+    out
+}
+
+fn finite(w: &World) -> bool {
+    bits(w).iter().all(|b| f64::from_bits(*b).is_finite())
+}
+
+/// Runs `call`; on success the world must be finite, on failure exactly as before. Returns the error, if any.
+fn guarded<T>(w: &mut World, call: impl FnOnce(&mut World) -> Result<T, WorldError>) -> Option<WorldError> {
+    let before = bits(w);
+    match call(w) {
+        Ok(_) => {
+            assert!(finite(w), "a call succeeded and left a non-finite state");
+            None
+        }
+        Err(e) => {
+            assert_eq!(bits(w), before, "a failed call ({e}) changed the world");
+            Some(e)
+        }
+    }
+}
+
+fn fast_box_on_floor() -> (World, tumble::BodyHandle) {
+    let mut w = World::new();
+    w.set_mode(Mode::fast(1.0 / 240.0)).unwrap();
+    w.add_ground(0.0, Material::default()).unwrap();
+    let b = w
+        .add_body(
+            RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::repeat(0.5)).unwrap(), 1000.0)
+                .position(Vector3::new(0.0, 0.0, 0.6)),
+        )
+        .unwrap();
+    (w, b)
+}
+
+#[test]
+fn fast_mode_with_a_nan_force_callback_fails_cleanly_instead_of_panicking() {
+    for value in [f64::NAN, f64::INFINITY, 1e308] {
+        let (mut w, b) = fast_box_on_floor();
+        w.add_force_callback(Target::Body(b), move |_, _| {
+            Ok(Wrench { force: Vector3::new(value, 0.0, 0.0), torque: Vector3::zeros() })
+        })
+        .unwrap();
+        let e = guarded(&mut w, |w| w.step(0.1)).expect("a non-finite force fails the step");
+        assert!(matches!(e, WorldError::Simulation(_)), "{e}");
+    }
+}
+
+#[test]
+fn overflowing_inputs_are_refused_where_they_enter() {
+    let mut w = World::new();
+    let cube = || Shape::cuboid(Vector3::repeat(0.5)).unwrap();
+    let named = |r: Result<tumble::BodyHandle, WorldError>| r.unwrap_err().argument();
+    assert_eq!(named(w.add_body(RigidBodyBuilder::from_shape(cube(), 1e300))), Some("density"));
+    assert_eq!(
+        named(w.add_body(RigidBodyBuilder::from_shape(cube(), 1.0).linear_damping(1e300))),
+        Some("linear_damping")
+    );
+    assert_eq!(
+        named(w.add_body(RigidBodyBuilder::from_shape(cube(), 1.0).velocity(Vector3::repeat(1.7e308)))),
+        Some("velocity")
+    );
+    assert_eq!(
+        named(w.add_body(RigidBodyBuilder::new(1.0, Matrix3::identity() * 1e300))),
+        Some("inertia"),
+        "an inertia whose products overflow"
+    );
+    assert_eq!(w.set_gravity(Vector3::new(0.0, 0.0, -1e300)).unwrap_err().argument(), Some("gravity"));
+    assert_eq!(w.add_particle(ParticleBuilder::new(5e-324)).unwrap_err().argument(), Some("mass"));
+    let b = w.add_body(RigidBodyBuilder::from_shape(cube(), 1.0)).unwrap();
+    assert_eq!(w.add_torque(b, Vector3::new(1e308, 0.0, 0.0)).unwrap_err().argument(), Some("torque"));
+    let e =
+        w.set_body_state(b, Vector3::zeros(), UnitQuaternion::identity(), Vector3::repeat(1.7e308), Vector3::zeros());
+    assert_eq!(e.unwrap_err().argument(), Some("velocity"));
+    let e = ClothDrape { n: 4, size: 1e300 }.build().err().expect("a cloth of 1e300 m");
+    assert_eq!(e.argument(), Some("position"), "{e}");
+    assert!(finite(&w) && w.body_count() == 1);
+}
+
+#[test]
+fn stiff_springs_and_huge_steps_in_fast_mode_end_finite_or_fail_cleanly() {
+    for k in [1e8, 1e10] {
+        let mut w = World::new();
+        w.set_mode(Mode::fast(1.0 / 240.0)).unwrap();
+        let p = w.add_particle(ParticleBuilder::new(0.01).position(Vector3::new(0.0, 0.0, 1.0))).unwrap();
+        w.add_spring(
+            SpringBuilder::new(Attachment::Particle(p), Attachment::Point(Vector3::new(0.0, 0.0, 2.0)))
+                .stiffness(k)
+                .rest_length(0.5),
+        )
+        .unwrap();
+        // semi-implicit Euler with h^2 k/m = 1.7e5 and more: unstable, and it must say so
+        let e = guarded(&mut w, |w| w.run(0.2, 0.01)).expect("the explicit spring diverges");
+        assert!(matches!(e, WorldError::Simulation(_)), "k = {k}: {e}");
+    }
+    let mut w = World::new();
+    w.set_mode(Mode::Fast(FastSettings::new(1.0))).unwrap();
+    w.add_ground(0.0, Material::default()).unwrap();
+    w.add_body(RigidBodyBuilder::from_shape(Shape::sphere(0.5).unwrap(), 1000.0).position(Vector3::new(0.0, 0.0, 3.0)))
+        .unwrap();
+    w.add_particle(ParticleBuilder::new(1.0).radius(0.1).position(Vector3::new(2.0, 0.0, 3.0))).unwrap();
+    guarded(&mut w, |w| w.run(5.0, 1.0));
+}
+
+#[test]
+fn time_cannot_run_to_infinity() {
+    let mut w = World::new();
+    w.add_particle(ParticleBuilder::new(1.0)).unwrap();
+    assert_eq!(guarded(&mut w, |w| w.step(1e300)).map(|e| e.argument()), Some(Some("dt")));
+    assert_eq!(guarded(&mut w, |w| w.run(1e300, 1.0)).map(|e| e.argument()), Some(Some("duration")));
+    assert!(w.time() == 0.0);
+}
+
+#[test]
+fn fast_mode_has_a_step_budget_instead_of_hanging() {
+    let mut w = World::new();
+    w.set_mode(Mode::fast(1.0 / 240.0)).unwrap();
+    w.add_particle(ParticleBuilder::new(1.0)).unwrap();
+    assert!(guarded(&mut w, |w| w.step(1e11)).is_some(), "4e13 steps are refused");
+    w.set_mode(Mode::Fast(FastSettings::new(1e-300))).unwrap();
+    assert!(guarded(&mut w, |w| w.step(1.0 / 60.0)).is_some(), "1e298 steps are refused");
+}
+
+/// A scene whose force callback fails while `fail` is set (mid-call, after some steps); the world must come back
+/// exactly, and continuing must give the bits of a world that never failed.
+fn no_hidden_state_after(name: &str, build: impl Fn(Arc<AtomicBool>) -> World, duration: f64) {
+    let fail = Arc::new(AtomicBool::new(true));
+    let mut failed = build(fail.clone());
+    failed.run(0.5, 0.1).unwrap();
+    fail.store(true, Ordering::SeqCst);
+    // the callback fails from t = 0.7 s on, inside this call
+    let e = guarded(&mut failed, |w| w.run(duration, 0.05)).expect("the callback's failure fails the call");
+    assert!(matches!(e, WorldError::Simulation(_)), "{name}: {e}");
+    fail.store(false, Ordering::SeqCst);
+    failed.run(duration, 0.05).unwrap();
+    let clean = Arc::new(AtomicBool::new(false));
+    let mut fresh = build(clean);
+    fresh.run(0.5, 0.1).unwrap();
+    fresh.run(duration, 0.05).unwrap();
+    assert_eq!(bits(&failed), bits(&fresh), "{name}: a failed call left hidden state behind");
+}
+
+/// A callback on `target` that adds nothing, and fails after t = 0.7 s while `fail` is set.
+fn tripwire(w: &mut World, target: Target, fail: Arc<AtomicBool>) {
+    w.add_force_callback(target, move |t, _| {
+        if t > 0.7 && fail.load(Ordering::SeqCst) {
+            Err("tripwire".into())
+        } else {
+            Ok(Wrench::default())
+        }
+    })
+    .unwrap();
+}
+
+#[test]
+fn a_failed_call_leaves_no_hidden_state_behind() {
+    // fast mode: lagged impulses, sleep, warm starts
+    no_hidden_state_after(
+        "fast pile",
+        |fail| {
+            let (mut w, cubes) = Pile { side: 3, layers: 2 }.build().unwrap();
+            tripwire(&mut w, Target::Body(cubes[0]), fail);
+            w
+        },
+        1.0,
+    );
+    // accurate mode: resting set, resting keys, the integrator's step and caches
+    no_hidden_state_after(
+        "accurate ball",
+        |fail| {
+            let (mut w, ball) = BouncingBall::default().build().unwrap();
+            tripwire(&mut w, Target::Body(ball), fail);
+            w
+        },
+        1.0,
+    );
+    // Radau5 (Jacobian reuse, collocation history) and Adams-Moulton (a multistep history)
+    for method in [tumble::Method::Radau5, tumble::Method::Am4] {
+        no_hidden_state_after(
+            method.name(),
+            |fail| {
+                let (mut w, top) = tumble::scenes::spinning_top().unwrap();
+                if method == tumble::Method::Am4 {
+                    w.set_integrator(tumble::Settings::fixed(method, 1e-4)).unwrap();
+                }
+                tripwire(&mut w, Target::Body(top), fail);
+                w
+            },
+            0.5,
+        );
+    }
+}
+
+#[test]
+fn handles_of_another_world_are_refused() {
+    let mut a = World::new();
+    let mut b = World::new();
+    let pa = a.add_particle(ParticleBuilder::new(1.0)).unwrap();
+    let pb = b.add_particle(ParticleBuilder::new(2.0)).unwrap();
+    assert_eq!((pa.index(), pa.generation()), (pb.index(), pb.generation()), "same slot in both worlds");
+    assert_eq!(a.particle(pb).unwrap_err().argument(), Some("particle"));
+    assert_eq!(a.remove_particle(pb).unwrap_err().argument(), Some("particle"));
+    assert!(a.add_force(Target::Particle(pb), Vector3::x(), None).is_err());
+    assert_eq!(a.particle(pa).unwrap().mass(), 1.0);
+}
