@@ -1,0 +1,116 @@
+"""Regression tests for what a hostile user broke from Python (issue 11), each named after what broke: a failed or
+refused call raises ValueError or tumble.SimulationError naming what was wrong and leaves the world as it was."""
+
+import math
+
+import numpy as np
+import pytest
+
+import tumble
+
+
+def state(w: tumble.World) -> list:
+    """The world's state and time, comparable bit for bit (NaN-safe via bytes)."""
+    b, p = w.bodies, w.particles
+    arrays = (b.positions, b.orientations, b.velocities, b.angular_velocities, p.positions, p.velocities)
+    return [a.tobytes() for a in arrays] + [np.float64(w.time).tobytes()]
+
+
+def test_trimesh_with_bad_indices_is_refused_instead_of_panicking():
+    with pytest.raises(ValueError, match="`triangles`"):
+        tumble.TriMesh(np.eye(3), np.array([[0, 1]]))
+    with pytest.raises(ValueError, match="`triangles`"):
+        tumble.TriMesh(np.eye(3), np.array([[0, 1, 2**32]], dtype=np.int64))
+    with pytest.raises(ValueError, match="`triangles`"):
+        tumble.TriMesh(np.eye(3), np.array([[0, 1, -1]], dtype=np.int64))
+    with pytest.raises(ValueError, match="`triangles`"):
+        tumble.TriMesh(np.eye(3), np.array([[0, 1, 5]]))
+
+
+@pytest.mark.parametrize(
+    "build, name",
+    [
+        (lambda: tumble.scenes.dominoes(count=math.inf), "count"),
+        (lambda: tumble.scenes.pyramid(layers=math.inf), "layers"),
+        (lambda: tumble.scenes.cloth_drape(n=math.inf), "n"),
+        (lambda: tumble.scenes.cloth_drape(size=1e300), "position"),
+        (lambda: tumble.scenes.dominoes(count=10**9), "count"),
+    ],
+)
+def test_scene_builders_refuse_infinite_or_huge_sizes_before_allocating(build, name):
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        build()
+
+
+def test_triangle_meshes_are_bounded():
+    with pytest.raises(ValueError, match="`subdivisions`"):
+        tumble.Sphere(0.5).triangle_mesh(subdivisions=100000)
+    with pytest.raises(ValueError, match="`extent`"):
+        tumble.Sphere(0.5).triangle_mesh(extent=math.nan)
+    v, t = tumble.Sphere(0.5).triangle_mesh(subdivisions=8)
+    assert v.shape[1] == 3 and t.shape[1] == 3 and np.isfinite(v).all()
+
+
+def test_fast_mode_values_that_overflow_are_refused_where_they_enter():
+    w = tumble.World(mode="fast")
+    w.add_ground()
+    with pytest.raises(ValueError, match="`density`"):
+        w.add_body(tumble.Sphere(0.5), density=1e300)
+    with pytest.raises(ValueError, match="`linear_damping`"):
+        w.add_body(tumble.Sphere(0.5), linear_damping=1e300)
+    with pytest.raises(ValueError, match="`mass`"):
+        w.add_particle(mass=5e-324)
+    with pytest.raises(ValueError, match="`velocity`"):
+        w.add_body(tumble.Sphere(0.5), velocity=(1.7e308, 0, 0))
+    b = w.add_body(tumble.Sphere(0.5), position=(0, 0, 1))
+    with pytest.raises(ValueError, match="`velocity`"):
+        w.set_body_state(b, velocity=(1.7e308, 1.7e308, 1.7e308))
+    with pytest.raises(ValueError, match="`torque`"):
+        w.add_torque(b, (1e308, 0, 0))
+    with pytest.raises(ValueError, match="`gravity`"):
+        tumble.World(gravity=(0, 0, -1e300))
+
+
+def test_a_nan_force_callback_in_fast_mode_is_a_simulation_error():
+    w = tumble.World(mode="fast")
+    w.add_ground()
+    b = w.add_body(tumble.Box((0.5, 0.5, 0.5)), position=(0, 0, 0.6))
+    w.add_force_callback(b, lambda t, x, v: (math.nan, 0.0, 0.0))
+    before = state(w)
+    with pytest.raises(tumble.SimulationError):
+        w.step(0.1)
+    assert state(w) == before
+
+
+def test_time_and_steps_are_bounded():
+    w = tumble.World()
+    w.add_particle()
+    with pytest.raises(ValueError, match="`dt`"):
+        w.step(1e300)
+    assert w.time == 0.0
+    f = tumble.World(mode="fast")
+    f.add_particle()
+    with pytest.raises(ValueError, match="`dt`"):
+        f.step(1e300)
+    slow = tumble.World(mode="fast", dt=1e-300)
+    slow.add_particle()
+    with pytest.raises(ValueError, match="`dt`"):
+        slow.step(1 / 60)
+
+
+def test_unclear_errors_now_name_the_argument():
+    with pytest.raises(ValueError, match="`integrator`"):
+        tumble.World(mode="fast", integrator="nope", rtol=math.nan)
+    with pytest.raises(ValueError, match="`rtol`"):
+        tumble.World(rtol=math.nan)
+    a, b = tumble.World(), tumble.World()
+    pa = a.add_particle()
+    pb = b.add_particle(mass=2.0)
+    assert (pa.index, pa.generation) == (pb.index, pb.generation)
+    with pytest.raises(ValueError, match="not \\(or no longer\\) in this world"):
+        a.remove(pb)
+    s = a.add_spring(pa, None, stiffness=10.0, world_point=(0, 0, 1))
+    a.remove(s)
+    with pytest.raises(ValueError, match="`handle`"):
+        a.remove(s)
+    assert len(a.particles) == 1
