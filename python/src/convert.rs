@@ -23,6 +23,16 @@ pub fn world_error(e: WorldError) -> PyErr {
     }
 }
 
+/// A number (int or float); a TypeError naming the argument otherwise.
+pub fn number(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<f64> {
+    obj.extract::<f64>().map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err(format!(
+            "invalid argument `{name}`: expected a number, got {}",
+            repr(obj)
+        ))
+    })
+}
+
 /// Three numbers: a tuple, list or array.
 pub fn vec3(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
     let v: [f64; 3] = obj.extract().map_err(|_| invalid(name, format!("expected 3 numbers, got {}", repr(obj))))?;

@@ -1,7 +1,7 @@
 //! Shapes as Python classes: `Sphere`, `Box`, `Capsule`, `Cylinder`, `ConvexHull`, `TriMesh`, all subclasses of
 //! `Shape`, validated on construction (ValueError naming the argument).
 
-use crate::convert::{array, invalid, points as to_points, vec3};
+use crate::convert::{array, invalid, number, points as to_points, vec3};
 use numpy::PyArrayMethods;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -21,7 +21,8 @@ fn shape_err(e: tumble::collide::ShapeError) -> PyErr {
 impl PyShape {
     /// Mass properties at `density`: a dict with `mass`, `center_of_mass` (3,) and `inertia` (3, 3) about the
     /// centre of mass, in the shape's frame.
-    fn mass_properties<'py>(&self, py: Python<'py>, density: f64) -> PyResult<Bound<'py, PyDict>> {
+    fn mass_properties<'py>(&self, py: Python<'py>, density: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+        let density = number("density", density)?;
         let p = self.shape.mass_properties(density).map_err(shape_err)?;
         let d = PyDict::new(py);
         d.set_item("mass", p.mass)?;
@@ -31,22 +32,31 @@ impl PyShape {
     }
 
     /// The surface as (vertices (V, 3), triangles (T, 3)) in the shape's frame.
-    /// `subdivisions` (3 ..= 1024) sets the resolution of curved shapes, `extent` (finite, > 0) the half-size of a
-    /// half-space's square.
-    #[pyo3(signature = (subdivisions = 24, extent = 10.0))]
+    /// `subdivisions` (3 ..= 1024, default 24) sets the resolution of curved shapes, `extent` (finite, > 0, default
+    /// 10 m) the half-size of a half-space's square.
+    #[pyo3(signature = (subdivisions = None, extent = None))]
     fn triangle_mesh<'py>(
         &self,
         py: Python<'py>,
-        subdivisions: u32,
-        extent: f64,
+        subdivisions: Option<&Bound<'py, PyAny>>,
+        extent: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let subdivisions: i64 = match subdivisions {
+            None => 24,
+            Some(s) => s.extract().map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(format!(
+                    "invalid argument `subdivisions`: expected an integer, got {s}"
+                ))
+            })?,
+        };
+        let extent = extent.map(|e| number("extent", e)).transpose()?.unwrap_or(10.0);
         if !(3..=1024).contains(&subdivisions) {
             return Err(invalid("subdivisions", format!("must be from 3 to 1024, got {subdivisions}")));
         }
         if !(extent.is_finite() && extent > 0.0 && extent <= 1e12) {
             return Err(invalid("extent", format!("must be finite, > 0 and at most 1e12, got {extent}")));
         }
-        let (v, t) = self.shape.triangle_mesh(subdivisions, extent);
+        let (v, t) = self.shape.triangle_mesh(subdivisions as u32, extent);
         let nv = v.len();
         let nt = t.len();
         let verts = array(py, v.iter().flat_map(|p| [p.x, p.y, p.z]).collect(), &[nv, 3])?;
@@ -81,7 +91,8 @@ pub struct Sphere;
 #[pymethods]
 impl Sphere {
     #[new]
-    fn new(radius: f64) -> PyResult<PyClassInitializer<Self>> {
+    fn new(radius: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let radius = number("radius", radius)?;
         Ok(PyClassInitializer::from(PyShape { shape: Shape::sphere(radius).map_err(shape_err)? }).add_subclass(Sphere))
     }
 }
@@ -106,7 +117,8 @@ pub struct Capsule;
 #[pymethods]
 impl Capsule {
     #[new]
-    fn new(half_height: f64, radius: f64) -> PyResult<PyClassInitializer<Self>> {
+    fn new(half_height: &Bound<'_, PyAny>, radius: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let (half_height, radius) = (number("half_height", half_height)?, number("radius", radius)?);
         Ok(PyClassInitializer::from(PyShape { shape: Shape::capsule(half_height, radius).map_err(shape_err)? })
             .add_subclass(Capsule))
     }
@@ -119,7 +131,8 @@ pub struct Cylinder;
 #[pymethods]
 impl Cylinder {
     #[new]
-    fn new(half_height: f64, radius: f64) -> PyResult<PyClassInitializer<Self>> {
+    fn new(half_height: &Bound<'_, PyAny>, radius: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let (half_height, radius) = (number("half_height", half_height)?, number("radius", radius)?);
         Ok(PyClassInitializer::from(PyShape { shape: Shape::cylinder(half_height, radius).map_err(shape_err)? })
             .add_subclass(Cylinder))
     }

@@ -161,8 +161,9 @@ impl PyWorld {
     }
 
     #[setter]
-    fn set_threads(&mut self, threads: usize) -> PyResult<()> {
-        self.w().set_threads(threads).map_err(world_error)
+    fn set_threads(&mut self, threads: i64) -> PyResult<()> {
+        let n = usize::try_from(threads).map_err(|_| invalid("threads", format!("must be >= 0, got {threads}")))?;
+        self.w().set_threads(n).map_err(world_error)
     }
 
     /// The contact mode: "accurate" or "fast".

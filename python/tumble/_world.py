@@ -6,6 +6,7 @@ from typing import Callable
 
 import numpy as np
 
+from ._errors import named_arguments, renamed
 from ._progress import Progress, progress as _progress
 from ._report import Report
 from ._run import Run
@@ -100,6 +101,15 @@ class World(_World):
     static floor. Two surfaces combine to the larger restitution and the geometric mean of the frictions.
     """
 
+    def __new__(cls, *args, **kwargs):
+        try:
+            return super().__new__(cls, *args, **kwargs)
+        except (TypeError, OverflowError) as error:
+            better = renamed(error)
+            if better is None:
+                raise
+            raise better from error
+
     @property
     def particles(self) -> ParticlesView:
         """The particles' state as arrays."""
@@ -134,3 +144,9 @@ class World(_World):
             if isinstance(shown, Progress):
                 shown.close()
         return Run.from_dict(data, self._body_shapes())
+
+
+# Every compiled method names its argument in a type error (the compiled module only notes it).
+for _name, _method in vars(_World).items():
+    if type(_method).__name__ == "method_descriptor" and not _name.startswith("__") and _name not in vars(World):
+        setattr(World, _name, named_arguments(_method))
