@@ -14,6 +14,8 @@ use crate::spring::{BodyHandle, ParticleHandle};
 
 /// Most frames a run may record.
 const MAX_FRAMES: f64 = 1e7;
+/// Most numbers a run may record (2 GB of frames).
+const MAX_RECORDED: f64 = 2.5e8;
 
 impl World {
     /// Drops the engine (the structure changed); its report is already in the totals.
@@ -125,8 +127,13 @@ impl World {
         limits::positive("duration", duration, limits::TIME, "s")?;
         limits::positive("frame_interval", frame_interval, limits::TIME, "s")?;
         let count = (duration / frame_interval * (1.0 + 1e-12)).floor();
-        if count > MAX_FRAMES {
-            return Err(WorldError::invalid("frame_interval", format!("{count:e} frames are too many to record")));
+        // Each frame holds 6 numbers a particle and 13 a body, plus energies and momenta.
+        let per_frame = (6 * self.particles.len() + 13 * self.bodies.len() + 10) as f64;
+        if count > MAX_FRAMES || (count + 1.0) * per_frame > MAX_RECORDED {
+            return Err(WorldError::invalid(
+                "frame_interval",
+                format!("{count:e} frames of {per_frame} numbers are too many to record (at most {MAX_RECORDED:e} numbers)"),
+            ));
         }
         let run = self.drive(duration, "duration", Some(frame_interval), control)?;
         Ok(run.expect("frames were asked for"))
