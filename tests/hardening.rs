@@ -230,3 +230,18 @@ fn handles_of_another_world_are_refused() {
     assert!(a.add_force(Target::Particle(pb), Vector3::x(), None).is_err());
     assert_eq!(a.particle(pa).unwrap().mass(), 1.0);
 }
+
+#[test]
+fn accurate_mode_gives_up_clearly_on_a_light_box_under_a_million_times_heavier_one() {
+    // Densities 1000 and 1e9: it crawled at steps of 5e-9 s (15 s of work per simulated millisecond).
+    let mut w = World::new();
+    w.add_ground(0.0, Material::default()).unwrap();
+    let cube = |density: f64, z: f64| {
+        RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::repeat(0.5)).unwrap(), density)
+            .position(Vector3::new(0.0, 0.0, z))
+    };
+    w.add_body(cube(1000.0, 0.5)).unwrap();
+    w.add_body(cube(1e9, 1.5)).unwrap();
+    let e = guarded(&mut w, |w| w.step(0.01)).expect("a clear failure");
+    assert!(e.to_string().contains("too stiff for this method"), "{e}");
+}

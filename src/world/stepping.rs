@@ -132,7 +132,9 @@ impl World {
         if count > MAX_FRAMES || (count + 1.0) * per_frame > MAX_RECORDED {
             return Err(WorldError::invalid(
                 "frame_interval",
-                format!("{count:e} frames of {per_frame} numbers are too many to record (at most {MAX_RECORDED:e} numbers)"),
+                format!(
+                    "{count:e} frames of {per_frame} numbers are too many to record (at most {MAX_RECORDED:e} numbers)"
+                ),
             ));
         }
         let run = self.drive(duration, "duration", Some(frame_interval), control)?;

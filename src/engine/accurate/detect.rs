@@ -24,10 +24,36 @@ impl Contacts {
     /// Looks at an accepted step for a collision, a pass through a thin body or drift of a resting contact;
     /// returns the time to stop at.
     pub fn detect(&mut self, step: &mut StepView<'_, Model>) -> Result<Option<f64>, OdeError> {
+        self.watch_for_stall(step.t0(), step.t1())?;
         let clock = Instant::now();
         let result = self.detect_stages(step);
         self.report.collision_seconds += clock.elapsed().as_secs_f64();
         result
+    }
+
+    /// Fails when `STALL` accepted steps have taken less than `STALL` stall steps of time: the contact forces have
+    /// made the method crawl, and the call would otherwise run for hours.
+    fn watch_for_stall(&mut self, t0: f64, t1: f64) -> Result<(), OdeError> {
+        let (start, steps) = self.window;
+        let start = if steps == 0 { t0 } else { start };
+        if steps + 1 < super::STALL {
+            self.window = (start, steps + 1);
+            return Ok(());
+        }
+        self.window = (t1, 0);
+        let mean = (t1 - start) / super::STALL as f64;
+        if mean < self.stall_step {
+            return Err(super::failure(
+                t1,
+                format!(
+                    "{} steps took {:.1e} s, a mean step of {mean:.1e} s: the resting-contact forces are too stiff \
+                     for this method (try fast mode, or an implicit method)",
+                    super::STALL,
+                    t1 - start
+                ),
+            ));
+        }
+        Ok(())
     }
 
     fn detect_stages(&mut self, step: &mut StepView<'_, Model>) -> Result<Option<f64>, OdeError> {
