@@ -109,7 +109,12 @@ impl World {
 
     /// Adds a constant torque (world axes) on a body.
     pub fn add_torque(&mut self, body: BodyHandle, torque: Vector3<f64>) -> Result<LoadHandle, WorldError> {
-        self.add_load(Load::Torque { body, torque })
+        // The argument is `body` here (`add_load` calls it the load's target).
+        self.add_load(Load::Torque { body, torque }).map_err(|e| match e {
+            WorldError::UnknownHandle { name: "target", handle } => WorldError::UnknownHandle { name: "body", handle },
+            WorldError::InvalidArgument { name: "target", reason } => WorldError::InvalidArgument { name: "body", reason },
+            other => other,
+        })
     }
 
     /// Adds a force callback: `f(t, state)` returns the force (and, for a body, the torque) on `target`.

@@ -10,6 +10,9 @@ use nalgebra::Isometry3;
 use std::collections::BTreeSet;
 use tumble_integrate::{OdeError, StepView};
 
+/// Most halvings of a step's collision-time bisection (2^-100 of the step).
+const HALVINGS: usize = 100;
+
 impl Contacts {
     /// The time of the first new collision in the step (contacts `found1` at its end; actor poses `poses0` at its
     /// start), or None.
@@ -65,9 +68,13 @@ impl Contacts {
         if !fresh.is_empty() {
             // The chapter's bisection: the last time before any new contact interpenetrates. It goes on past the
             // tolerance until the time has moved off the step's start: a flight shorter than the tolerance (a tiny
-            // bounce) would otherwise stop at t0 again and again.
+            // bounce) would otherwise stop at t0 again and again. At most `HALVINGS` halvings: a contact that is
+            // already in at the step's start (a body placed inside another) would otherwise be halved toward t0 down
+            // to the last bit, a thousand fresh sub-steps for methods without dense output, at every step.
             let (mut lo, mut hi) = (t0, t1);
-            while hi - lo > self.settings.time_tolerance || lo <= t0 {
+            let mut halvings = 0;
+            while (hi - lo > self.settings.time_tolerance || lo <= t0) && halvings < HALVINGS {
+                halvings += 1;
                 let mid = 0.5 * (lo + hi);
                 if mid <= lo || mid >= hi {
                     break;
