@@ -21,15 +21,22 @@ A worker that dies (an abort, a segfault, an allocation failure) or does not ans
 ``TUMBLE_FUZZ_TIMEOUT`` seconds (default 20) per execution is a failure too, so hypothesis shrinks crashes and hangs
 like any other failure. Every failure message carries a runnable Python reproducer of the shrunk program.
 
+Failures are reported by kind (one exception class each, so that hypothesis shrinks each kind separately): Panic,
+Crash, Hang, WrongExceptionType, ArgumentNotNamed, AcceptedBadArgument (a stale, foreign or wrong-kind handle, a
+callback that is not callable), NonFiniteState, NonFiniteResult, FailedCallChangedState, NotRepeatable,
+FailedCallChangedHiddenState, CallbackErrorLost, SwallowedCallbackError, WrongTime, BadResult.
+
 Sizes:
 
-    python3 -m pytest python/tests/test_fuzz.py                              # CI: fixed seed, ~2 minutes
+    python3 -m pytest python/tests/test_fuzz.py                              # CI: fixed seed, under a minute
     TUMBLE_FUZZ_EXAMPLES=5000 python3 -m pytest python/tests/test_fuzz.py    # long local run, random seed
     TUMBLE_FUZZ_EXAMPLES=5000 TUMBLE_FUZZ_SEED=123 python3 -m pytest ...     # long run, given seed
 
-``TUMBLE_FUZZ_EXAMPLES`` sets the number of programs of ``test_programs`` (a quarter of it for
-``test_shape_programs``); the CI size is derandomized so that CI is reproducible. ``TUMBLE_FUZZ_TIMEOUT`` sets the
-hang limit.
+The CI size (150 programs, 100 shape programs) is derandomized so that CI is reproducible; it takes under a minute
+when nothing fails (shrinking a failure takes up to a few minutes more, a hang the longest). ``TUMBLE_FUZZ_EXAMPLES``
+sets the number of programs of ``test_programs`` (a quarter of it for ``test_shape_programs``);
+``TUMBLE_FUZZ_TIMEOUT`` the hang limit; ``TUMBLE_FUZZ_IGNORE=ArgumentNotNamed,...`` ignores failures of those kinds
+and runs on past them, to look beyond known failures.
 """
 
 from __future__ import annotations
@@ -59,8 +66,8 @@ import tumble
 EXAMPLES = int(os.environ.get("TUMBLE_FUZZ_EXAMPLES", "0") or 0)
 LONG = EXAMPLES > 0
 TIMEOUT = float(os.environ.get("TUMBLE_FUZZ_TIMEOUT", "20"))
-# Failure kinds to record and run past (to look beyond known failures), e.g. "ArgumentNotNamed,AcceptedBadArgument".
-CONTINUE = set(filter(None, os.environ.get("TUMBLE_FUZZ_CONTINUE", "").split(",")))
+# Failure kinds to ignore, running on past them (to look beyond known failures), e.g. "ArgumentNotNamed,Hang".
+IGNORE = set(filter(None, os.environ.get("TUMBLE_FUZZ_IGNORE", "").split(",")))
 MEMORY_LIMIT = 4 << 30
 MAX_OPS = 12
 
@@ -363,7 +370,7 @@ class Execution:
         self.uses_foreign = False
         self.fast_dt = 1 / 240
         self.final: list | None = None
-        self.failures: list[tuple[str, str]] = []  # those of kinds in CONTINUE
+        self.failures: list[tuple[str, str]] = []  # those of kinds in IGNORE
 
     # --- rendering
 
@@ -484,7 +491,7 @@ class Execution:
 
     def fail(self, kind: str, what: str) -> None:
         message = f"{what}\n\nReproducer:\n{assemble(self.entries, self.uses_foreign, kind, last=True)}"
-        if kind in CONTINUE:
+        if kind in IGNORE:
             self.failures.append((kind, message))
             return
         raise Failure(kind, message)
@@ -570,6 +577,14 @@ class Execution:
             self.track_fast_dt(op)
         if op.kind == "scene":
             self.fast_dt = 1 / 480 if op.name == "cloth_drape" else 1 / 240
+            # the scene's particles and bodies, for the calls that follow
+            line = "sp, sb = w.particle_handles(), w.body_handles()"
+            self.entries.append((line, "ok"))
+            if self.log:
+                self.log.write(f"C {line}\nO\n")
+            exec(line, ns)  # noqa: S102
+            self.handles["p"] = [f"sp[{k}]" for k in range(len(ns["sp"]))]
+            self.handles["b"] = [f"sb[{k}]" for k in range(len(ns["sb"]))]
         # a report holds wall-clock times: not compared
         self.trace.append((index, "ok", "report" if "report" in op.name else _digest(result)))
 
@@ -699,7 +714,7 @@ def read_log(path: str) -> tuple[list[tuple[str, str]], bool]:
 
 def check_program(program: Program, log: str | None, phase=lambda name: None) -> list[tuple[str, str]]:
     """Runs the three executions; returns the failures found, as (kind, message): the first one stops the checks
-    unless its kind is in CONTINUE."""
+    unless its kind is in IGNORE."""
     first = Execution(program, log=log)
     try:
         later = _compare_executions(program, log, phase, first)
@@ -813,7 +828,8 @@ def failure_class(kind: str) -> type:
 class Worker:
     """A subprocess that runs programs; restarted after it dies or hangs."""
 
-    def __init__(self) -> None:
+    def __init__(self, timeout: float = TIMEOUT) -> None:
+        self.timeout = timeout
         self.dir = tempfile.mkdtemp(prefix="tumble-fuzz-")
         self.log = os.path.join(self.dir, "calls.log")
         self.err = os.path.join(self.dir, "stderr.txt")
@@ -848,8 +864,8 @@ class Worker:
             return ""
 
     def check(self, program: Program) -> None:
-        """Raises the first failure of the program."""
-        failures = self.run(program)
+        """Raises the first failure of the program (of a kind not in IGNORE)."""
+        failures = [(kind, message) for kind, message in self.run(program) if kind not in IGNORE]
         if failures:
             kind, message = failures[0]
             others = sorted({k for k, _ in failures[1:]})
@@ -873,7 +889,7 @@ class Worker:
             _send(self.proc.stdin.fileno(), program)
             phase = "first run"
             while True:
-                msg = _recv(self.proc.stdout.fileno(), time.monotonic() + TIMEOUT)
+                msg = _recv(self.proc.stdout.fileno(), time.monotonic() + self.timeout)
                 if msg is None:
                     raise BrokenPipeError
                 if msg and msg[0] == "phase":
@@ -885,7 +901,7 @@ class Worker:
             self.stop()
             entries, foreign = read_log(self.log)
             raise failure_class("Hang")(
-                f"no answer within {TIMEOUT:g} s ({phase}); the last call of the reproducer did not return:\n"
+                f"no answer within {self.timeout:g} s ({phase}); the last call of the reproducer did not return:\n"
                 + assemble(entries, foreign, "hangs")
             ) from None
         except (BrokenPipeError, ConnectionResetError):
@@ -1345,6 +1361,52 @@ def operation(draw, made: frozenset, mode: str, shapes_only: bool = False):
 
 
 @st.composite
+def pile(draw):
+    """Bodies stacked, in layers or dropped onto a ground, as add_body calls: contact-rich scenes with now and then
+    a valid extreme (1 mm bodies, a mass ratio up to 1e6, overlapping starts, a 1 km base)."""
+    ops = [Op("call", "add_ground", ())] if draw(st.integers(0, 3)) > 0 else []
+    half = draw(st.sampled_from([0.2, 0.05, 0.5, 0.001]))
+    layout = draw(st.sampled_from(["stack", "layers", "drop"]))
+    n = draw(st.integers(2, 8 if layout != "stack" else 4))
+    ratio = draw(st.sampled_from([1.0, 10.0, 1e3, 1e6]))
+    gap = draw(st.sampled_from([0.0, 1e-6, 0.01, -0.1])) * half
+    if draw(st.integers(0, 5)) == 0:  # a 1 km base, static or not
+        big = 500.0
+        ops.append(Op("call", "add_body", (("shape", ShapeX("Box", (("half_extents", (big, big, big)),))),
+                                           ("position", (0.0, 0.0, big)),
+                                           ("static", True) if draw(st.booleans()) else ("density", 1000.0)), 1))
+        floor = 2 * big
+    else:
+        floor = 0.0
+    for k in range(n):
+        if layout == "stack":
+            x, y, z = draw(floats(-0.3, 0.3)) * half, draw(floats(-0.3, 0.3)) * half, (2 * k + 1) * half
+        elif layout == "layers":
+            layer, slot = divmod(k, 4)
+            x, y = (slot % 2) * 2.2 * half + layer * 1.1 * half, (slot // 2) * 2.2 * half
+            z = (2 * layer + 1) * half
+        else:
+            x, y, z = draw(floats(-4, 4)) * half, draw(floats(-4, 4)) * half, draw(floats(1, 10)) * half
+        kind = draw(st.sampled_from(["Box", "Box", "Sphere", "Capsule", "Cylinder", "ConvexHull"]))
+        shape = {
+            "Box": ShapeX("Box", (("half_extents", (half, half, half)),)),
+            "Sphere": ShapeX("Sphere", (("radius", half),)),
+            "Capsule": ShapeX("Capsule", (("half_height", half / 2), ("radius", half / 2))),
+            "Cylinder": ShapeX("Cylinder", (("half_height", half), ("radius", half))),
+            "ConvexHull": ShapeX("ConvexHull", (("points", [(sx * half, sy * half, sz * half) for sx in (-1, 1)
+                                                            for sy in (-1, 1) for sz in (-1, 1)]),)),
+        }[kind]
+        density = 1000.0 * (ratio if (k % 2 == 1) else 1.0)
+        body: tuple = (("shape", shape), ("density", density), ("position", (x, y, floor + z + (k + 1) * gap)))
+        if draw(st.integers(0, 3)) == 0:
+            body += (("orientation", draw(st.tuples(floats(0.9, 1.0), *[floats(-0.1, 0.1)] * 3))),)
+        if draw(st.integers(0, 3)) == 0:
+            body += (("velocity", draw(st.tuples(*[floats(-2.0, 2.0)] * 3))),)
+        ops.append(Op("call", "add_body", body, 1))
+    return ops
+
+
+@st.composite
 def programs(draw, shapes_only: bool = False):
     if shapes_only:
         init = Op("world", "World", ())
@@ -1357,12 +1419,16 @@ def programs(draw, shapes_only: bool = False):
         made, mode = set(), dict(init.params).get("mode", "accurate")
     ops = []
     for _ in range(draw(st.integers(0, MAX_OPS))):
-        op = draw(operation(frozenset(made), mode, shapes_only))
-        ops.append(op)
-        if op.name in CREATES:
-            made.add(CREATES[op.name])
-        if op.name == "set_mode":
-            mode = dict(op.params)["mode"]
+        if not shapes_only and draw(st.integers(0, 11)) == 0:
+            new = draw(pile())
+        else:
+            new = [draw(operation(frozenset(made), mode, shapes_only))]
+        for op in new:
+            ops.append(op)
+            if op.name in CREATES:
+                made.add(CREATES[op.name])
+            if op.name == "set_mode":
+                mode = dict(op.params)["mode"]
     return Program(init, tuple(ops))
 
 
@@ -1412,14 +1478,24 @@ if __name__ != "__main__":
         )
         worker.check(program)
 
-    def test_harness_reports_a_failure(worker):
-        """The checks themselves: an unnamed TypeError is reported, with a reproducer."""
-        program = Program(Op("world", "World", ()), (Op("call", "add_torque", (("body", 1.0), ("torque", 2.0)), 2),))
-        with pytest.raises(FuzzFailure, match="Reproducer"):
-            worker.check(program)
+    @pytest.mark.parametrize(
+        "expression, kind",
+        [("1 / 0", "WrongExceptionType"), ("__import__('os').abort()", "Crash"),
+         ("__import__('time').sleep(60)", "Hang")],
+    )
+    def test_harness_reports_failures(expression, kind):
+        """The checks themselves: an exception of the wrong type, a crash and a hang are reported with a
+        reproducer."""
+        worker = Worker(timeout=3.0)
+        try:
+            failures = worker.run(Program(Op("world", "World", ()), (Op("read", expression),)))
+        finally:
+            worker.stop()
+        assert [k for k, _ in failures] == [kind]
+        assert expression in failures[0][1] and "eproducer" in failures[0][1]
 
     @_seeded
-    @_settings(EXAMPLES or 100)
+    @_settings(EXAMPLES or 150)
     @given(program=programs())
     def test_programs(worker, program):
         """Random worlds and scenes, random calls: no panic, abort, hang or NaN; failed calls change nothing;
@@ -1427,7 +1503,7 @@ if __name__ != "__main__":
         worker.check(program)
 
     @_seeded
-    @_settings(max(EXAMPLES // 4, 1) if LONG else 60)
+    @_settings(max(EXAMPLES // 4, 1) if LONG else 100)
     @given(program=programs(shapes_only=True))
     def test_shape_programs(worker, program):
         """Shapes and their methods, with bounded and unbounded arguments."""
