@@ -2,27 +2,13 @@
 //! recording frames does not change fast mode's physics, the plan names exactly the stages that run, and step logs
 //! hold the steps actually taken.
 
+mod common;
+use common::state_bits;
 use nalgebra::{UnitQuaternion, Vector3};
 use tumble::scenes::{BouncingBall, Dominoes, Pile};
 use tumble::{
     FastSettings, IntegratorOptions, Material, Mode, ParticleBuilder, RigidBodyBuilder, Shape, World, WorldOptions,
 };
-
-/// Every number of a world's state, as bits: positions, orientations, velocities of particles and bodies.
-fn state_bits(w: &World) -> Vec<u64> {
-    let mut out = Vec::new();
-    for (_, p) in w.particles() {
-        out.extend(p.position().iter().chain(p.velocity().iter()).map(|v| v.to_bits()));
-    }
-    for (_, b) in w.bodies() {
-        let q = b.orientation();
-        out.extend(
-            b.position().iter().chain(b.velocity().iter()).chain(b.angular_velocity().iter()).map(|v| v.to_bits()),
-        );
-        out.extend([q.w, q.i, q.j, q.k].iter().map(|v| v.to_bits()));
-    }
-    out
-}
 
 /// A small reproducible random generator (64-bit LCG, top 53 bits) for scenes.
 struct Lcg(u64);

@@ -3,36 +3,22 @@
 //! must end finite or fail with a clean error that leaves the world as it was: never a NaN, a panic or a hang.
 //! `-- --nocapture` prints how each ended.
 
+mod common;
+use common::state_bits;
 use nalgebra::{UnitQuaternion, Vector3};
 use tumble::{
     Attachment, FastSettings, Material, Method, Mode, ParticleBuilder, RigidBodyBuilder, Settings, Shape,
     SpringBuilder, World, WorldError,
 };
 
-/// The state and time as bits.
-fn bits(w: &World) -> Vec<u64> {
-    let mut out = vec![w.time().to_bits()];
-    for (_, p) in w.particles() {
-        out.extend(p.position().iter().chain(p.velocity().iter()).map(|v| v.to_bits()));
-    }
-    for (_, b) in w.bodies() {
-        let q = b.orientation();
-        out.extend(
-            b.position().iter().chain(b.velocity().iter()).chain(b.angular_velocity().iter()).map(|v| v.to_bits()),
-        );
-        out.extend([q.w, q.i, q.j, q.k].iter().map(|v| v.to_bits()));
-    }
-    out
-}
-
 /// Runs `seconds` in steps of `chunk` (stopping at the first failure) and checks the outcome: finite if it ran,
 /// unchanged by the failed call if it failed, and the failure a simulation error. Returns how it ended.
 fn outcome(name: &str, w: &mut World, seconds: f64, chunk: f64) -> Result<(), WorldError> {
     let steps = (seconds / chunk).round() as usize;
     for _ in 0..steps {
-        let before = bits(w);
+        let before = state_bits(w);
         if let Err(e) = w.step(chunk) {
-            assert_eq!(bits(w), before, "{name}: the failed step ({e}) changed the world");
+            assert_eq!(state_bits(w), before, "{name}: the failed step ({e}) changed the world");
             assert!(
                 matches!(e, WorldError::Simulation(_)),
                 "{name}: a scene that was accepted fails as a simulation: {e}"
@@ -40,7 +26,11 @@ fn outcome(name: &str, w: &mut World, seconds: f64, chunk: f64) -> Result<(), Wo
             println!("{name}: clean error at t = {}: {e}", w.time());
             return Err(e);
         }
-        assert!(bits(w).iter().all(|b| f64::from_bits(*b).is_finite()), "{name}: non-finite state at t = {}", w.time());
+        assert!(
+            state_bits(w).iter().all(|b| f64::from_bits(*b).is_finite()),
+            "{name}: non-finite state at t = {}",
+            w.time()
+        );
     }
     println!("{name}: ran to t = {}", w.time());
     Ok(())

@@ -3,8 +3,11 @@
 //! world must be finite if the call succeeded and bit for bit unchanged if it failed; no call may panic; a program
 //! rerun on a fresh world must end in the same bits.
 //!
-//! CI runs a short, fixed-seed search; `TUMBLE_FUZZ_CASES=5000 cargo test --release --test fuzz` runs a long one.
+//! CI runs a short, fixed-seed search (1500 programs); `TUMBLE_FUZZ_CASES=20000 cargo test --release --test fuzz`
+//! runs a long one.
 
+mod common;
+use common::state_bits;
 use nalgebra::{UnitQuaternion, Vector3};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
@@ -162,7 +165,7 @@ fn apply(w: &mut World, made: &mut Made, op: &Op) -> Result<(), WorldError> {
         }
         Op::Spring { a, b, k, c } => {
             let end = |i: usize| match pick(&made.particles, i) {
-                Some(p) if i % 2 == 0 => Attachment::Particle(p),
+                Some(p) if i.is_multiple_of(2) => Attachment::Particle(p),
                 _ => match pick(&made.bodies, i) {
                     Some(b) => Attachment::Body(b, Vector3::new(0.1, 0.0, 0.0)),
                     None => Attachment::Point(Vector3::new(0.0, 0.0, 3.0)),
@@ -227,49 +230,33 @@ fn apply(w: &mut World, made: &mut Made, op: &Op) -> Result<(), WorldError> {
     Ok(())
 }
 
-/// The state and time as bits.
-fn bits(w: &World) -> Vec<u64> {
-    let mut out = vec![w.time().to_bits(), w.particle_count() as u64, w.body_count() as u64];
-    for (_, p) in w.particles() {
-        out.extend(p.position().iter().chain(p.velocity().iter()).map(|v| v.to_bits()));
-    }
-    for (_, b) in w.bodies() {
-        let q = b.orientation();
-        out.extend(
-            b.position().iter().chain(b.velocity().iter()).chain(b.angular_velocity().iter()).map(|v| v.to_bits()),
-        );
-        out.extend([q.w, q.i, q.j, q.k].iter().map(|v| v.to_bits()));
-    }
-    out
-}
-
 /// Runs a program, checking every call; returns the final bits.
 fn execute(ops: &[Op]) -> Result<Vec<u64>, TestCaseError> {
     let mut w = World::new();
     let mut made = Made::default();
     for (k, op) in ops.iter().enumerate() {
-        let before = bits(&w);
+        let before = state_bits(&w);
         match apply(&mut w, &mut made, op) {
             Ok(()) => {
-                let after = bits(&w);
+                let after = state_bits(&w);
                 prop_assert!(after.iter().all(|b| f64::from_bits(*b).is_finite()), "call {k} {op:?} left a NaN or inf");
                 let energy = w.kinetic_energy() + w.potential_energy();
                 prop_assert!(energy.is_finite(), "call {k} {op:?}: energy {energy}");
             }
             Err(e) => {
-                prop_assert_eq!(bits(&w), before, "call {} {:?} failed ({}) and changed the world", k, op, e);
+                prop_assert_eq!(state_bits(&w), before, "call {} {:?} failed ({}) and changed the world", k, op, e);
                 if let WorldError::InvalidArgument { name, .. } = &e {
                     prop_assert!(!name.is_empty());
                 }
             }
         }
     }
-    Ok(bits(&w))
+    Ok(state_bits(&w))
 }
 
 #[test]
 fn random_programs_never_panic_leak_nan_or_change_the_world_when_they_fail() {
-    let cases = std::env::var("TUMBLE_FUZZ_CASES").ok().and_then(|c| c.parse().ok()).unwrap_or(300);
+    let cases = std::env::var("TUMBLE_FUZZ_CASES").ok().and_then(|c| c.parse().ok()).unwrap_or(1500);
     let config = Config { cases, failure_persistence: None, ..Config::default() };
     // A fixed seed for CI (reproducible); a long local run draws from the same sequence further on.
     let rng = TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]);

@@ -3,6 +3,8 @@
 //! changed by a failed call, handles of another world. A refused or failed call must leave the world exactly as it
 //! was; one that succeeds must leave it finite.
 
+mod common;
+use common::state_bits;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -12,36 +14,20 @@ use tumble::{
     WorldError, Wrench,
 };
 
-/// Every number of a world's state and its time, as bits.
-fn bits(w: &World) -> Vec<u64> {
-    let mut out = vec![w.time().to_bits()];
-    for (_, p) in w.particles() {
-        out.extend(p.position().iter().chain(p.velocity().iter()).map(|v| v.to_bits()));
-    }
-    for (_, b) in w.bodies() {
-        let q = b.orientation();
-        out.extend(
-            b.position().iter().chain(b.velocity().iter()).chain(b.angular_velocity().iter()).map(|v| v.to_bits()),
-        );
-        out.extend([q.w, q.i, q.j, q.k].iter().map(|v| v.to_bits()));
-    }
-    out
-}
-
 fn finite(w: &World) -> bool {
-    bits(w).iter().all(|b| f64::from_bits(*b).is_finite())
+    state_bits(w).iter().all(|b| f64::from_bits(*b).is_finite())
 }
 
 /// Runs `call`; on success the world must be finite, on failure exactly as before. Returns the error, if any.
 fn guarded<T>(w: &mut World, call: impl FnOnce(&mut World) -> Result<T, WorldError>) -> Option<WorldError> {
-    let before = bits(w);
+    let before = state_bits(w);
     match call(w) {
         Ok(_) => {
             assert!(finite(w), "a call succeeded and left a non-finite state");
             None
         }
         Err(e) => {
-            assert_eq!(bits(w), before, "a failed call ({e}) changed the world");
+            assert_eq!(state_bits(w), before, "a failed call ({e}) changed the world");
             Some(e)
         }
     }
@@ -164,7 +150,7 @@ fn no_hidden_state_after(name: &str, build: impl Fn(Arc<AtomicBool>) -> World, d
     let mut fresh = build(clean);
     fresh.run(0.5, 0.1).unwrap();
     fresh.run(duration, 0.05).unwrap();
-    assert_eq!(bits(&failed), bits(&fresh), "{name}: a failed call left hidden state behind");
+    assert_eq!(state_bits(&failed), state_bits(&fresh), "{name}: a failed call left hidden state behind");
 }
 
 /// A callback on `target` that adds nothing, and fails after t = 0.7 s while `fail` is set.

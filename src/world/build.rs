@@ -112,7 +112,9 @@ impl World {
         // The argument is `body` here (`add_load` calls it the load's target).
         self.add_load(Load::Torque { body, torque }).map_err(|e| match e {
             WorldError::UnknownHandle { name: "target", handle } => WorldError::UnknownHandle { name: "body", handle },
-            WorldError::InvalidArgument { name: "target", reason } => WorldError::InvalidArgument { name: "body", reason },
+            WorldError::InvalidArgument { name: "target", reason } => {
+                WorldError::InvalidArgument { name: "body", reason }
+            }
             other => other,
         })
     }
