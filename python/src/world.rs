@@ -354,6 +354,9 @@ impl PyWorld {
     /// (SimulationError, caused by it).
     fn add_force_callback(&mut self, target: &Bound<'_, PyAny>, callback: Py<PyAny>) -> PyResult<PyLoadHandle> {
         let t = to_target(target, "target")?;
+        if !callback.bind(target.py()).is_callable() {
+            return Err(invalid("callback", "must be callable as callback(t, position, velocity)"));
+        }
         let slot = self.callback_error.clone();
         let f = move |time: f64, s: &tumble::TargetState| -> Result<Wrench, String> {
             Python::attach(|py| {

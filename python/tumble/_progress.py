@@ -44,4 +44,6 @@ def progress(enabled: bool | Callable[[float], None]) -> Progress | Callable[[fl
         return Progress()
     if callable(enabled):
         return enabled
-    return None
+    if enabled is False or enabled is None:
+        return None
+    raise ValueError(f"invalid argument `progress`: expected True, False, None or a callable, got {enabled!r}")
