@@ -147,19 +147,6 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         self.h
     }
 
-    /// Sets the step the adaptive control proposes next (as [`proposed_step`](Integrator::proposed_step) read it),
-    /// so that a caller restoring an earlier state also restores the step it would have taken.
-    pub fn set_proposed_step(&mut self, h: Option<f64>) -> Result<(), OdeError> {
-        if let Some(h) = h {
-            if !(h.is_finite() && h > 0.0) {
-                return Err(OdeError::invalid("h", format!("must be finite and > 0, got {h}")));
-            }
-        }
-        self.h = h;
-        self.last_rejected = false;
-        Ok(())
-    }
-
     /// Replaces the state (after an impulse, say). Histories and cached derivatives are dropped; the proposed
     /// step is kept.
     pub fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), OdeError> {
