@@ -61,7 +61,8 @@ impl<T> std::hash::Hash for Handle<T> {
 }
 impl<T> fmt::Debug for Handle<T> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let name = std::any::type_name::<T>().rsplit("::").next().unwrap_or("Object");
+        // `Handle<RigidBody>` is `BodyHandle` in both APIs
+        let name = std::any::type_name::<T>().rsplit("::").next().unwrap_or("Object").trim_start_matches("Rigid");
         write!(f, "{name}Handle({}v{})", self.index, self.generation)
     }
 }

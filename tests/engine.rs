@@ -125,7 +125,7 @@ fn fast_mode_steps_only_whole_steps_and_a_refusal_changes_nothing() {
     let e = w.run(0.001, 0.001).unwrap_err();
     assert_eq!(e.argument(), Some("duration"), "{e}");
     assert_eq!((state_bits(&w), w.time()), before);
-    // a call of more than the 1e8-step budget is refused, not run
+    // a call of more than the 1e7-step budget is refused, not run
     let e = w.step(1e7).unwrap_err();
     assert_eq!(e.argument(), Some("dt"), "{e}");
 }

@@ -99,21 +99,20 @@ impl PyWorld {
         name: &str,
         params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let mut given: Vec<(String, f64)> = Vec::new();
-        if let Some(p) = params {
-            for (k, v) in p.iter() {
-                let key: String = k.extract()?;
-                let value: f64 = v.extract().map_err(|_| invalid(&key, "must be a number"))?;
-                given.push((key, value));
-            }
-        }
-        let world = tumble::scenes::build(name, &given).map_err(world_error)?;
+        let world = tumble::scenes::build(name, &scene_params(params)?).map_err(world_error)?;
         let obj = cls.call0()?;
         {
             let mut w: PyRefMut<'_, PyWorld> = obj.extract()?;
             *w.w() = world;
         }
         Ok(obj)
+    }
+
+    /// Checks a built-in scene's parameters by name and range (`tumble::scenes::check`) without building it.
+    #[staticmethod]
+    #[pyo3(signature = (name, **params))]
+    fn _check_scene(name: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        tumble::scenes::check(name, &scene_params(params)?).map_err(world_error)
     }
 
     /// The built-in scenes' names.
@@ -161,8 +160,10 @@ impl PyWorld {
     }
 
     #[setter]
-    fn set_threads(&mut self, threads: i64) -> PyResult<()> {
-        let n = usize::try_from(threads).map_err(|_| invalid("threads", format!("must be >= 0, got {threads}")))?;
+    fn set_threads(&mut self, threads: &Bound<'_, PyAny>) -> PyResult<()> {
+        let whole = threads.is_instance_of::<pyo3::types::PyInt>() && !threads.is_instance_of::<pyo3::types::PyBool>();
+        let n = if whole { threads.extract::<usize>().ok() } else { None };
+        let n = n.ok_or_else(|| invalid("threads", format!("must be a whole number >= 0, got {threads}")))?;
         self.w().set_threads(n).map_err(world_error)
     }
 
@@ -495,4 +496,17 @@ impl PyWorld {
             Err(e) => Err(self.error(py, e)),
         }
     }
+}
+
+/// A scene's keyword parameters as (name, number) pairs; a value that is not a real number is an error naming it.
+fn scene_params(params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
+    let mut given: Vec<(String, f64)> = Vec::new();
+    if let Some(p) = params {
+        for (k, v) in p.iter() {
+            let key: String = k.extract()?;
+            let value: f64 = v.extract().map_err(|_| invalid(&key, format!("must be a real number, got {v}")))?;
+            given.push((key, value));
+        }
+    }
+    Ok(given)
 }

@@ -33,8 +33,16 @@ def test_trimesh_with_bad_indices_is_refused_instead_of_panicking():
         (lambda: tumble.scenes.dominoes(count=math.inf), "count"),
         (lambda: tumble.scenes.pyramid(layers=math.inf), "layers"),
         (lambda: tumble.scenes.cloth_drape(n=math.inf), "n"),
-        (lambda: tumble.scenes.cloth_drape(size=1e300), "position"),
+        (lambda: tumble.scenes.cloth_drape(size=1e300), "size"),
         (lambda: tumble.scenes.dominoes(count=10**9), "count"),
+        # the scene's own parameters are named, not the body argument they would have become
+        (lambda: tumble.scenes.bouncing_ball(height=1e300), "height"),
+        (lambda: tumble.scenes.cloth(size=math.nan), "size"),
+        (lambda: tumble.scenes.cloth(size=10**400), "size"),
+        (lambda: tumble.scenes.cloth(size={}), "size"),
+        (lambda: tumble.scenes.cloth(mass=-1.0), "mass"),
+        (lambda: tumble.scenes.cloth(n="3"), "n"),
+        (lambda: tumble.scenes.cloth(n=2.5), "n"),
     ],
 )
 def test_scene_builders_refuse_infinite_or_huge_sizes_before_allocating(build, name):
@@ -114,3 +122,19 @@ def test_unclear_errors_now_name_the_argument():
     with pytest.raises(ValueError, match="`handle`"):
         a.remove(s)
     assert len(a.particles) == 1
+
+
+@pytest.mark.parametrize("value", [None, 1.5, "2", 2**64, -1, True])
+def test_threads_of_the_wrong_type_or_range_name_the_argument(value):
+    w = tumble.World()
+    with pytest.raises(ValueError, match="`threads`"):
+        w.threads = value
+    assert w.threads == 0
+
+
+def test_handles_are_named_as_the_api_names_them():
+    a, b = tumble.World(), tumble.World()
+    body = b.add_body(tumble.Sphere(0.1))
+    with pytest.raises(ValueError, match="BodyHandle") as e:
+        a.remove(body)
+    assert "RigidBody" not in str(e.value)

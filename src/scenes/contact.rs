@@ -32,8 +32,17 @@ impl Default for BouncingBall {
 }
 
 impl BouncingBall {
+    /// Checks every parameter by name: restitution 0..=1, radius 1e-6..=1e6 m, height 0..=1e9 m.
+    pub fn check(&self) -> Result<(), WorldError> {
+        super::within("restitution", self.restitution, 0.0, 1.0)?;
+        super::within("radius", self.radius, 1e-6, 1e6)?;
+        super::within("height", self.height, 0.0, 1e9)?;
+        Ok(())
+    }
+
     /// The world (Dormand-Prince at rtol 1e-10, atol 1e-12; frictionless) and the ball.
     pub fn build(&self) -> Result<(World, BodyHandle), WorldError> {
+        self.check()?;
         let mut w = World::new();
         w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-10, 1e-12))?;
         w.add_ground(0.0, Material { restitution: self.restitution, friction: 0.0 })?;
@@ -80,11 +89,18 @@ impl Default for Dominoes {
 }
 
 impl Dominoes {
+    /// Checks every parameter by name: count 1..=1000, spacing 1e-3..=1e6 m.
+    pub fn check(&self) -> Result<(), WorldError> {
+        if !(1..=1000).contains(&self.count) {
+            return Err(WorldError::invalid("count", format!("must be from 1 to 1000 dominoes, got {}", self.count)));
+        }
+        super::within("spacing", self.spacing, 1e-3, 1e6)?;
+        Ok(())
+    }
+
     /// The world and the dominoes in order.
     pub fn build(&self) -> Result<(World, Vec<BodyHandle>), WorldError> {
-        if self.count == 0 {
-            return Err(WorldError::invalid("count", "needs at least one domino"));
-        }
+        self.check()?;
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0)))?;
         w.add_ground(0.0, Material { restitution: 0.1, friction: 0.6 })?;
@@ -118,8 +134,17 @@ impl Default for Pyramid {
 }
 
 impl Pyramid {
+    /// Checks the number of layers: 1..=1000.
+    pub fn check(&self) -> Result<(), WorldError> {
+        if !(1..=1000).contains(&self.layers) {
+            return Err(WorldError::invalid("layers", format!("must be from 1 to 1000, got {}", self.layers)));
+        }
+        Ok(())
+    }
+
     /// The world and the cubes, bottom layer first.
     pub fn build(&self) -> Result<(World, Vec<BodyHandle>), WorldError> {
+        self.check()?;
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0)))?;
         w.add_ground(0.0, Material { restitution: 0.0, friction: 0.6 })?;
@@ -158,8 +183,23 @@ impl Default for Pile {
 }
 
 impl Pile {
+    /// Checks the sizes by name: side and layers from 1, at most 100,000 cubes in all.
+    pub fn check(&self) -> Result<(), WorldError> {
+        if self.side == 0 || self.side > 1000 {
+            return Err(WorldError::invalid("side", format!("must be from 1 to 1000, got {}", self.side)));
+        }
+        if self.layers == 0 || self.side.saturating_mul(self.side).saturating_mul(self.layers) > 100_000 {
+            return Err(WorldError::invalid(
+                "layers",
+                format!("{} layers of {} x {} cubes: from 1 layer to 100,000 cubes in all", self.layers, self.side, self.side),
+            ));
+        }
+        Ok(())
+    }
+
     /// The world and the cubes, layer by layer.
     pub fn build(&self) -> Result<(World, Vec<BodyHandle>), WorldError> {
+        self.check()?;
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0)))?;
         w.add_ground(0.0, Material { restitution: 0.2, friction: 0.6 })?;
@@ -204,12 +244,17 @@ impl Default for ClothDrape {
 }
 
 impl ClothDrape {
+    /// Checks every parameter by name: n 2..=1000, size 1e-3..=1e3 m.
+    pub fn check(&self) -> Result<(), WorldError> {
+        super::side_count("n", self.n)?;
+        super::within("size", self.size, 1e-3, 1e3)?;
+        Ok(())
+    }
+
     /// The world and the particles, row by row.
     pub fn build(&self) -> Result<(World, Vec<ParticleHandle>), WorldError> {
+        self.check()?;
         let n = self.n;
-        if n < 2 {
-            return Err(WorldError::invalid("n", format!("a cloth needs at least 2 particles a side, got {n}")));
-        }
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings { sleep: false, ..FastSettings::new(1.0 / 480.0) }))?;
         w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 })?;

@@ -7,7 +7,7 @@ mod contact;
 mod registry;
 #[cfg(feature = "contact")]
 pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
-pub use registry::{build, NAMES};
+pub use registry::{build, check, NAMES};
 
 use crate::body::RigidBodyBuilder;
 use crate::error::WorldError;
@@ -37,6 +37,24 @@ pub struct Cloth {
 impl Default for Cloth {
     fn default() -> Self {
         Cloth { n: 16, size: 1.0, mass: 0.5, stiffness: 1e3, damping: 0.5, pin_stiffness: 1e4 }
+    }
+}
+
+/// Checks a scene parameter: finite and within `lo ..= hi`, or an error naming it with its range.
+pub(crate) fn within(name: &'static str, v: f64, lo: f64, hi: f64) -> Result<f64, WorldError> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(WorldError::invalid(name, format!("must be from {lo:e} to {hi:e}, got {v}")))
+    }
+}
+
+/// Checks a count of particles a side: 2 ..= 1000.
+pub(crate) fn side_count(name: &'static str, n: usize) -> Result<usize, WorldError> {
+    if (2..=1000).contains(&n) {
+        Ok(n)
+    } else {
+        Err(WorldError::invalid(name, format!("a cloth needs from 2 to 1000 particles a side, got {n}")))
     }
 }
 
@@ -71,13 +89,23 @@ pub(crate) fn weave(
 }
 
 impl Cloth {
+    /// Checks every parameter by name: n 2..=1000, size 1e-6..=1e6 m, mass 1e-20..=1e20 kg, stiffnesses and
+    /// damping 0..=1e12 (so every particle's mass, position and spring stays within `tumble::limit`).
+    pub fn check(&self) -> Result<(), WorldError> {
+        side_count("n", self.n)?;
+        within("size", self.size, 1e-6, 1e6)?;
+        within("mass", self.mass, 1e-20, 1e20)?;
+        within("stiffness", self.stiffness, 0.0, 1e12)?;
+        within("damping", self.damping, 0.0, 1e12)?;
+        within("pin_stiffness", self.pin_stiffness, 0.0, 1e12)?;
+        Ok(())
+    }
+
     /// Builds the cloth horizontally at height 1 m, corners (0, 0) and (size, 0) pinned, with structural springs
     /// between neighbours and shear springs across every cell, stepped by implicit Euler at 1/240 s.
     pub fn build(&self) -> Result<(World, Vec<ParticleHandle>), WorldError> {
+        self.check()?;
         let n = self.n;
-        if n < 2 {
-            return Err(WorldError::invalid("n", format!("a cloth needs at least 2 particles a side, got {n}")));
-        }
         let mut w = World::new();
         w.set_integrator(Settings::fixed(Method::ImplicitEuler, 1.0 / 240.0))?;
         let spacing = self.size / (n - 1) as f64;

@@ -62,6 +62,17 @@ impl<'a> Params<'a> {
 
 /// The scene `name` built with `params` (each parameter's default where not given).
 pub fn build(name: &str, params: &[(String, f64)]) -> Result<World, WorldError> {
+    scene(name, params, true)?.ok_or_else(|| WorldError::invalid("name", "the scene was checked but not built"))
+}
+
+/// Checks the scene's name and parameters (by name, with their ranges) without building it: what a scene built
+/// elsewhere (the Python module's cloth) calls first.
+pub fn check(name: &str, params: &[(String, f64)]) -> Result<(), WorldError> {
+    scene(name, params, false).map(|_| ())
+}
+
+/// Parses and checks the parameters, then builds the world if `make`.
+fn scene(name: &str, params: &[(String, f64)], make: bool) -> Result<Option<World>, WorldError> {
     let mut p = Params::new(params);
     let world = match name {
         "cloth" => {
@@ -75,14 +86,15 @@ pub fn build(name: &str, params: &[(String, f64)]) -> Result<World, WorldError> 
                 pin_stiffness: p.number("pin_stiffness", d.pin_stiffness)?,
             };
             p.finish(name)?;
-            cloth.build()?.0
+            cloth.check()?;
+            if make { Some(cloth.build()?.0) } else { None }
         }
         "spinning_top" => {
             p.finish(name)?;
-            spinning_top()?.0
+            if make { Some(spinning_top()?.0) } else { None }
         }
         #[cfg(feature = "contact")]
-        _ => return contact_scene(name, p),
+        _ => return contact_scene(name, p, make),
         #[cfg(not(feature = "contact"))]
         other => return Err(unknown(other)),
     };
@@ -94,7 +106,7 @@ fn unknown(name: &str) -> WorldError {
 }
 
 #[cfg(feature = "contact")]
-fn contact_scene(name: &str, mut p: Params<'_>) -> Result<World, WorldError> {
+fn contact_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>, WorldError> {
     use super::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
     let world = match name {
         "bouncing_ball" => {
@@ -105,37 +117,39 @@ fn contact_scene(name: &str, mut p: Params<'_>) -> Result<World, WorldError> {
                 height: p.number("height", d.height)?,
             };
             p.finish(name)?;
-            ball.build()?.0
+            ball.check()?;
+            if make { Some(ball.build()?.0) } else { None }
         }
         "tumbling_box" => {
             p.finish(name)?;
-            tumbling_box()?.0
+            if make { Some(tumbling_box()?.0) } else { None }
         }
         "dominoes" => {
             let d = Dominoes::default();
             let row = Dominoes { count: p.count("count", d.count)?, spacing: p.number("spacing", d.spacing)? };
             p.finish(name)?;
-            row.build()?.0
+            row.check()?;
+            if make { Some(row.build()?.0) } else { None }
         }
         "pyramid" => {
             let pyramid = Pyramid { layers: p.count("layers", Pyramid::default().layers)? };
             p.finish(name)?;
-            pyramid.build()?.0
+            pyramid.check()?;
+            if make { Some(pyramid.build()?.0) } else { None }
         }
         "pile" => {
             let d = Pile::default();
             let pile = Pile { side: p.count("side", d.side)?, layers: p.count("layers", d.layers)? };
             p.finish(name)?;
-            if pile.side * pile.side * pile.layers > 100_000 {
-                return Err(WorldError::invalid("side", "a pile of more than 100,000 cubes is too large to build"));
-            }
-            pile.build()?.0
+            pile.check()?;
+            if make { Some(pile.build()?.0) } else { None }
         }
         "cloth_drape" => {
             let d = ClothDrape::default();
             let drape = ClothDrape { n: p.count("n", d.n)?, size: p.number("size", d.size)? };
             p.finish(name)?;
-            drape.build()?.0
+            drape.check()?;
+            if make { Some(drape.build()?.0) } else { None }
         }
         other => return Err(unknown(other)),
     };

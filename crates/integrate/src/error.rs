@@ -93,7 +93,7 @@ impl fmt::Display for OdeError {
                  {iterations} iterations"
             ),
             OdeError::TooManySteps { t, max_steps } => {
-                write!(f, "more than {max_steps} steps needed; stopped at t = {t:e}")
+                write!(f, "more than {max_steps} steps needed; stopped at t = {t:e} (split the span into shorter calls, or raise max_steps)")
             }
             OdeError::System { t, message } => {
                 write!(f, "system evaluation failed at t = {t:e}: {message}")

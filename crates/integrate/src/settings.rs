@@ -52,7 +52,8 @@ pub struct Settings {
     pub newton: NewtonMode,
     /// Implicit Euler's linear solver for sparse Jacobians.
     pub linear_solver: LinearSolver,
-    /// Most steps (accepted and rejected) one call may take.
+    /// Most steps (accepted and rejected) one call may take; 1e6 by default: enough for a million fixed steps, few
+    /// enough that the costliest method (Radau5 on a small body) meets it in seconds rather than minutes.
     pub max_steps: usize,
     /// Smallest step an adaptive control may take (0: only the round-off limit 16 eps |t|).
     pub min_step: f64,
@@ -74,7 +75,7 @@ impl Settings {
             control,
             newton: NewtonMode::Linearised,
             linear_solver: LinearSolver::Direct,
-            max_steps: 10_000_000,
+            max_steps: 1_000_000,
             min_step: 0.0,
             max_step: f64::INFINITY,
             initial_step: None,

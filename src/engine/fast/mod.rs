@@ -29,7 +29,7 @@ use tumble_integrate::OdeError;
 pub(crate) const FAST: &str = "fast (semi-implicit Euler, contact by conic program)";
 
 /// Most steps one advance may take (a step budget: a huge span or a tiny step is an error, not a hang).
-const MAX_STEPS: f64 = 1e8;
+const MAX_STEPS: f64 = 1e7;
 
 /// The state and memory of a fast-mode world.
 pub(crate) struct FastEngine {
@@ -154,7 +154,7 @@ impl FastEngine {
         if n > MAX_STEPS {
             return Err(WorldError::invalid(
                 name,
-                format!("{span} s is {n:e} steps of {dt} s, over the {MAX_STEPS:e} a call may take"),
+                format!("{span} s is {n:e} steps of {dt} s, over the {MAX_STEPS:e} a call may take (split it into shorter calls)"),
             ));
         }
         Ok(self.time_at(self.steps + n as u64))
