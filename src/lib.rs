@@ -44,7 +44,7 @@ pub mod limit {
     pub use crate::limits::{COORDINATE, FORCE, GRAVITY, INERTIA, MASS, SPEED, STIFFNESS, TIME};
 }
 pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
-pub use mode::{AccurateSettings, FastFriction, FastSettings, Mode};
+pub use mode::{AccurateSettings, FastFriction, FastSettings, Mode, Persistent};
 pub use model::ForceCounters;
 pub use options::{mode_from, BodyOptions, IntegratorOptions, WorldOptions, DEFAULT_DENSITY, DEFAULT_DT};
 pub use particle::{Particle, ParticleBuilder};

@@ -7,9 +7,9 @@ use crate::limits;
 /// How a world steps when bodies touch.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Mode {
-    /// Event-driven (the default): the integrator and its error control carry the smooth motion; collisions are
-    /// located in time by bisection and resolved by impulses; resting contacts get exact forces inside the
-    /// equations of motion.
+    /// Event-driven with error-controlled contact steps (the default): the integrator and its error control carry
+    /// free motion; collisions are located in time by bisection and resolved by impulses; while bodies touch,
+    /// convex contact steps with Coulomb friction under step-doubling error control carry them.
     Accurate(AccurateSettings),
     /// Time stepping at a fixed step: contacts found at the start of each step with a margin, one velocity-level
     /// conic program per island, positions from the new velocities; resting islands sleep.
@@ -44,6 +44,18 @@ impl Mode {
     }
 }
 
+/// How accurate mode carries contacts that persist.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Persistent {
+    /// Convex contact steps with Coulomb friction, their size set by step doubling against `contact_tolerance`
+    /// (the default).
+    ContactSteps,
+    /// The chapter's resting contact: frictionless forces from a QP inside the equations of motion, so the
+    /// integrator's own order carries resting bodies; contacts with friction are refused, and scenes whose contacts
+    /// keep re-colliding end in an error.
+    RestingForces,
+}
+
 /// Settings of the accurate mode.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AccurateSettings {
@@ -54,11 +66,22 @@ pub struct AccurateSettings {
     /// Relative normal speed below which a contact rests instead of bouncing (m/s); `None` picks
     /// 1e-3 sqrt(2 g L) for the scene's size L (a bounce slower than that would rise less than 1e-6 L).
     pub resting_speed: Option<f64>,
+    /// Error allowed in one contact step (m): positions, turns at the radius of gyration, velocity differences
+    /// times the step. `None` picks 1e-6 of the scene's size.
+    pub contact_tolerance: Option<f64>,
+    /// How contacts that persist are carried.
+    pub persistent: Persistent,
 }
 
 impl Default for AccurateSettings {
     fn default() -> Self {
-        AccurateSettings { time_tolerance: 1e-10, contact_distance: 1e-7, resting_speed: None }
+        AccurateSettings {
+            time_tolerance: 1e-10,
+            contact_distance: 1e-7,
+            resting_speed: None,
+            contact_tolerance: None,
+            persistent: Persistent::ContactSteps,
+        }
     }
 }
 
@@ -68,6 +91,9 @@ impl AccurateSettings {
         limits::positive("contact_distance", self.contact_distance, 1.0, "m")?;
         if let Some(v) = self.resting_speed {
             limits::positive("resting_speed", v, limits::SPEED, "m/s")?;
+        }
+        if let Some(v) = self.contact_tolerance {
+            limits::positive("contact_tolerance", v, limits::COORDINATE, "m")?;
         }
         Ok(())
     }

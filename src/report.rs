@@ -33,6 +33,14 @@ pub struct WorldReport {
     pub collision_seconds: f64,
     /// Wall time spent in contact solves (s).
     pub contact_seconds: f64,
+    /// Contact steps accepted (accurate mode while bodies touch).
+    pub contact_steps: usize,
+    /// Contact steps rejected by their error estimate.
+    pub contact_rejected: usize,
+    /// Largest error estimate of an accepted contact step (m).
+    pub contact_error: f64,
+    /// Smallest accepted contact step (s; infinite before any).
+    pub contact_min_step: f64,
     /// How many times each stage ran.
     pub stages: StageCounts,
 }
@@ -65,6 +73,10 @@ impl WorldReport {
             max_penetration: 0.0,
             collision_seconds: 0.0,
             contact_seconds: 0.0,
+            contact_steps: 0,
+            contact_rejected: 0,
+            contact_error: 0.0,
+            contact_min_step: f64::INFINITY,
             stages: StageCounts::default(),
         }
     }
@@ -100,6 +112,10 @@ impl WorldReport {
             ("max_penetration", Number(self.max_penetration)),
             ("collision_seconds", Number(self.collision_seconds)),
             ("contact_seconds", Number(self.contact_seconds)),
+            ("contact_steps", Count(self.contact_steps)),
+            ("contact_rejected", Count(self.contact_rejected)),
+            ("contact_error", Optional((self.contact_steps > 0).then_some(self.contact_error))),
+            ("contact_min_step", Optional((self.contact_steps > 0).then_some(self.contact_min_step))),
             ("evaluations", Count(f.evaluations)),
             ("spring_evaluations", Count(f.spring_evaluations)),
             ("load_evaluations", Count(f.load_evaluations)),
@@ -128,6 +144,10 @@ impl WorldReport {
         self.max_penetration = self.max_penetration.max(o.max_penetration);
         self.collision_seconds += o.collision_seconds;
         self.contact_seconds += o.contact_seconds;
+        self.contact_steps += o.contact_steps;
+        self.contact_rejected += o.contact_rejected;
+        self.contact_error = self.contact_error.max(o.contact_error);
+        self.contact_min_step = self.contact_min_step.min(o.contact_min_step);
     }
 }
 
@@ -150,6 +170,13 @@ impl fmt::Display for WorldReport {
             "                 max penetration {:.3e} m, {} asleep; {:.3} s finding contacts, {:.3} s solving them",
             self.max_penetration, self.sleepers, self.collision_seconds, self.contact_seconds
         )?;
+        if self.contact_steps > 0 {
+            write!(
+                f,
+                "\ncontact steps    {} accepted, {} rejected, smallest {:.3e} s, largest error estimate {:.3e} m",
+                self.contact_steps, self.contact_rejected, self.contact_min_step, self.contact_error
+            )?;
+        }
         write!(f, "\nstages ran       {}", self.stages.ran().join(" -> "))
     }
 }

@@ -9,6 +9,10 @@ pub(crate) mod accurate;
 pub(crate) mod contact_scene;
 #[cfg(feature = "contact")]
 pub(crate) mod fast;
+#[cfg(feature = "contact")]
+mod manifold;
+#[cfg(feature = "contact")]
+mod semi_implicit;
 mod smooth;
 
 pub(crate) use smooth::SmoothEngine;
@@ -83,7 +87,7 @@ impl Engine {
                     Ok(Engine::Fast(fast::FastEngine::new(compiled, scene, t, y, fast, threads, limit)))
                 }
                 (Mode::Accurate(acc), Some(scene)) => {
-                    Ok(Engine::Accurate(accurate::AccurateEngine::new(compiled, scene, settings, acc, gravity, t, y)?))
+                    Ok(Engine::Accurate(accurate::AccurateEngine::new(compiled, scene, settings, acc, gravity, threads, t, y)?))
                 }
                 (Mode::Accurate(_), None) => Ok(Engine::Smooth(SmoothEngine::new(compiled, settings, t, y)?)),
             }
@@ -103,7 +107,7 @@ impl Engine {
             #[cfg(feature = "contact")]
             Mode::Fast(f) => stages.extend(fast::FastEngine::planned(f, dim, has_scene)),
             #[cfg(feature = "contact")]
-            Mode::Accurate(_) if has_scene => stages.extend(accurate::AccurateEngine::planned(settings, dim)),
+            Mode::Accurate(a) if has_scene => stages.extend(accurate::AccurateEngine::planned(settings, a, dim)),
             _ => stages.extend(SmoothEngine::planned(settings, dim)),
         }
         let _ = has_scene;

@@ -31,6 +31,11 @@ pub struct StepSettings {
     pub bounce_threshold: f64,
     /// clarabel's tolerances.
     pub solver: SolverSettings,
+    /// The least velocity scale (m/s) an answer's residual is measured against; 0 by default (the island's own
+    /// speeds, at least g h). A caller that needs velocities only to some absolute accuracy says so here: accurate
+    /// mode gives its position tolerance over the step, where a body nearly at rest would otherwise be judged
+    /// against g h.
+    pub velocity_scale: f64,
     /// Threads the islands are solved on: 0 (the default) uses one per core; 1 stays on the calling thread. The
     /// answer is the same bit for bit whatever the count (islands are independent and come back in order).
     pub threads: usize,
@@ -39,7 +44,14 @@ pub struct StepSettings {
 impl StepSettings {
     /// Defaults for step `dt`: erp 0.2, bounce threshold 0.05 m/s, the default solver settings.
     pub fn new(dt: f64) -> StepSettings {
-        StepSettings { dt, erp: 0.2, bounce_threshold: 0.05, solver: SolverSettings::default(), threads: 0 }
+        StepSettings {
+            dt,
+            erp: 0.2,
+            bounce_threshold: 0.05,
+            solver: SolverSettings::default(),
+            velocity_scale: 0.0,
+            threads: 0,
+        }
     }
 
     fn check(&self) -> Result<(), ContactError> {
@@ -51,6 +63,9 @@ impl StepSettings {
         }
         if !(self.bounce_threshold.is_finite() && self.bounce_threshold >= 0.0) {
             return Err(ContactError::invalid("bounce_threshold", "must be finite and >= 0"));
+        }
+        if !(self.velocity_scale.is_finite() && self.velocity_scale >= 0.0) {
+            return Err(ContactError::invalid("velocity_scale", "must be finite and >= 0"));
         }
         self.solver.check()
     }

@@ -66,7 +66,15 @@ pub(crate) fn bias(c: &Contact, bodies: &[BodyState], s: &StepSettings) -> f64 {
     let by_gap = if c.distance > 0.0 { c.distance / h } else { s.erp * c.distance / h };
     let closes_this_step = c.distance + h * v_minus <= 0.0;
     if c.restitution > 0.0 && v_minus < -s.bounce_threshold && closes_this_step {
-        by_gap.min(c.restitution * v_minus)
+        // The bounce at the step's start, then what the applied forces do to the normal velocity over the rest of
+        // the step: a ball bouncing with e = 1 then keeps its energy to O(h^2) instead of gaining m g h v.
+        let moved = |k: usize| {
+            let f = crate::friction::free_velocity(&bodies[k], h);
+            BodyState { velocity: f.linear, angular_velocity: f.angular, ..bodies[k] }
+        };
+        let (a, b) = (moved(c.a), moved(c.b));
+        let v_free = c.normal.dot(&(b.point_velocity(&c.point) - a.point_velocity(&c.point)));
+        by_gap.min(c.restitution * v_minus - (v_free - v_minus))
     } else {
         by_gap
     }
@@ -297,7 +305,7 @@ fn residual(
     // The velocity scale: relative velocities and biases, and the speeds of the contact points themselves (two
     // bodies falling together touch at zero relative velocity and zero bias; their answer is judged against how fast
     // they move, at least the g h a step of gravity gives).
-    let mut v_scale = f64::MIN_POSITIVE;
+    let mut v_scale = s.velocity_scale.max(f64::MIN_POSITIVE);
     for c in &island_contacts {
         let (va, vb) = (free_state[c.a].point_velocity(&c.point), free_state[c.b].point_velocity(&c.point));
         v_scale = v_scale.max((vb - va).norm()).max(bias(c, bodies, s).abs()).max(va.norm()).max(vb.norm());

@@ -1,13 +1,16 @@
-//! The contact phase of accurate mode, run at each event: find the touching contacts, apply impulses to those
-//! that close (all at once, restitution only where the closing speed exceeds the resting speed), lift resting
-//! contacts that drifted into each other back to zero gap, and hand the contacts that now neither close nor open
-//! to the right-hand side as the resting set. Bounces slower than the resting speed are absorbed, so a bouncing
-//! ball comes to rest after finitely many bounces instead of an endless cascade.
+//! The contact phase of accurate mode, run at each event: find the touching contacts. When one of them has
+//! friction, the touching phase takes over from here (its convex steps resolve the impact with friction and
+//! restitution). Otherwise apply impulses to those that close (all at once, restitution only where the closing
+//! speed exceeds the resting speed); contacts that then neither close nor open start the touching phase, or, with
+//! `Persistent::RestingForces`, are lifted back to zero gap if they drifted and handed to the right-hand side as
+//! the resting set. Bounces slower than the resting speed are absorbed, so a bouncing ball comes to rest after
+//! finitely many bounces instead of an endless cascade.
 
 use super::drift::correct_drift;
 use super::resting::{RestingContact, RestingSet};
 use super::{failure, Contacts};
 use crate::engine::contact_scene::Found;
+use crate::mode::Persistent;
 use crate::model::layout::set3;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
@@ -21,6 +24,22 @@ impl Contacts {
         let t = integ.time();
         let mut y = integ.state().to_vec();
         let mut active = self.touching(model, &y, t)?;
+        let steps = self.settings.persistent == Persistent::ContactSteps;
+        if steps && active.iter().any(|(f, _)| f.contact.friction > 0.0) {
+            model.resting = None;
+            self.start_touching();
+            return Ok(());
+        }
+        if let Some((f, _)) = active.iter().find(|(f, _)| f.contact.friction > 0.0) {
+            return Err(failure(
+                t,
+                format!(
+                    "a contact with friction {} at resting forces, which are frictionless (use \
+                     Persistent::ContactSteps, or friction 0)",
+                    f.contact.friction
+                ),
+            ));
+        }
         let clock = Instant::now();
         if active.iter().any(|(_, v)| *v < 0.0) {
             self.apply_impulses(model, &mut y, &mut active, t)?;
@@ -28,6 +47,15 @@ impl Contacts {
         // Only contacts that now neither close nor open rest; what bounced away (or was drifting apart) leaves,
         // and if it comes back slower than the resting speed, it is stopped then.
         active.retain(|(_, v)| *v <= 1e-3 * self.resting_speed);
+        if steps {
+            model.resting = None;
+            if !active.is_empty() {
+                self.start_touching();
+            }
+            integ.set_state(t, &y)?;
+            self.report.contact_seconds += clock.elapsed().as_secs_f64();
+            return Ok(());
+        }
         let statics = self.scene.static_poses.clone();
         let delta = self.settings.contact_distance;
         if active.iter().any(|(f, _)| f.contact.distance < -delta) {

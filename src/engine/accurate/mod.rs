@@ -1,25 +1,41 @@
-//! Accurate mode, the chapter's scheme: the integrator carries the smooth motion under its error control; after
-//! every accepted step the contacts are checked (`detect.rs`); a collision inside the step is located by bisection
-//! on the step's dense output (`collision_time.rs`), a pass through a thin body by a distance-bounded search
-//! (`pass_through.rs`), and a resting contact that sank is caught (`drift.rs`); the step is cut at the event. At
-//! each event the contact phase (`contact_phase.rs`) applies impulses, lifts drifted contacts back and hands the
-//! resting ones to the right-hand side, which gives them the QP forces (`resting.rs`).
+//! Accurate mode: the chapter's scheme for free flight and impacts, error-controlled convex steps while bodies touch.
 //!
-//! The advance reads as: contact phase; then repeatedly integrate until an event, record it, contact phase.
+//! Free motion is carried by the integrator under its error control; after every accepted step the contacts are
+//! checked (`detect.rs`); a collision inside the step is located by bisection on the step's dense output
+//! (`collision_time.rs`), a pass through a thin body by a distance-bounded search (`pass_through.rs`); the step is
+//! cut at the event. At each event the contact phase (`contact_phase.rs`) looks at the contacts that close or
+//! touch. Frictionless collisions get Newton's impulses at the located time (so a bouncing ball's apexes stay
+//! exact); when a contact has friction, or contacts stay touching after the impulses, the world enters the
+//! touching phase (`touching.rs`): contact steps (`contact_step.rs`: semi-implicit Euler, every contact and its
+//! Coulomb friction one convex program per island, so a step always has an answer) whose size comes from an
+//! error estimate by step doubling, after Drake's CENIC. Impacts during that phase are contacts of the convex
+//! program with Newton's restitution as their bound, located in time by the error control. When no pair is within
+//! reach of a step, the integrator takes over again. Why the split: the integrator's order carries free flight
+//! and exact bisection-located bounces cheaply, while the touching phase cannot cascade (no event ends a step
+//! there: a rocking corner, a settling stack or a Zeno bounce is a sequence of convex steps) and brings friction.
+//!
+//! With `Persistent::RestingForces` the chapter's own resting contact is used instead: contacts that stay touching
+//! get frictionless QP forces inside the right-hand side (`resting.rs`), with drift caught as an event
+//! (`drift.rs`).
+//!
+//! The advance reads as: contact phase; then repeatedly either take contact steps while touching, or integrate
+//! until an event, record it, contact phase.
 
 mod collision_time;
 mod contact_phase;
+mod contact_step;
 mod detect;
 mod drift;
 mod pass_through;
 mod resting;
+mod touching;
 
 pub(crate) use resting::RestingSet;
 
 use crate::engine::contact_scene::{ContactKey, ContactScene};
 use crate::engine::smooth::take_integrator_report;
 use crate::error::WorldError;
-use crate::mode::AccurateSettings;
+use crate::mode::{AccurateSettings, Persistent};
 use crate::model::{Compiled, Model};
 use crate::plan::Stage;
 use crate::report::WorldReport;
@@ -53,6 +69,20 @@ pub(crate) struct Contacts {
     stall_step: f64,
     /// The current window: its start time and the accepted steps in it.
     window: (f64, usize),
+    /// Error allowed in one contact step (m).
+    tolerance: f64,
+    /// |g| (m/s^2), for the first contact step.
+    gravity: f64,
+    /// Largest contact step: 1/20 of the scene's time scale sqrt(size / g), at most 1/60 s.
+    max_step: f64,
+    /// The touching phase, while bodies touch.
+    touching: Option<touching::Touching>,
+    /// Threads of the contact solves.
+    threads: usize,
+    /// The call's step budget (for the message).
+    max_steps: usize,
+    /// A state component past this is divergence.
+    divergence_limit: f64,
 }
 
 /// Integration with event-driven contact.
@@ -71,6 +101,7 @@ pub(crate) struct AccurateSnapshot {
     resting_keys: BTreeSet<ContactKey>,
     penetration: f64,
     window: (f64, usize),
+    touching: Option<touching::Touching>,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> OdeError {
@@ -84,11 +115,13 @@ impl AccurateEngine {
         settings: Settings,
         accurate: AccurateSettings,
         gravity: f64,
+        threads: usize,
         t: f64,
         y: Vec<f64>,
     ) -> Result<Self, WorldError> {
         let integrator = Integrator::new(&mut compiled.model, settings.clone(), t, &y)?;
         let size = scene.size(&y);
+        let time_scale = (size / gravity.max(1e-300)).sqrt();
         let resting_speed = accurate.resting_speed.unwrap_or_else(|| tumble_contact::velocity_tolerance(size, gravity));
         let contacts = Contacts {
             scene,
@@ -98,21 +131,32 @@ impl AccurateEngine {
             solver: SolverSettings::default(),
             report: WorldReport::new("accurate"),
             penetration: 0.0,
-            stall_step: 1e-5 * (size / gravity.max(1e-300)).sqrt().min(1.0),
+            stall_step: 1e-5 * time_scale.min(1.0),
             window: (t, 0),
+            tolerance: accurate.contact_tolerance.unwrap_or(1e-6 * size),
+            gravity,
+            max_step: (0.05 * time_scale).min(1.0 / 60.0),
+            touching: None,
+            threads,
+            max_steps: settings.max_steps,
+            divergence_limit: settings.divergence_limit,
         };
         Ok(AccurateEngine { compiled, integrator, settings, contacts })
     }
 
     /// The engine's own stages for a state of length `dim`.
-    pub fn planned(settings: &Settings, dim: usize) -> Vec<Stage> {
-        let mut out = vec![Stage::CollisionDetection, Stage::Bisection, Stage::Impulses, Stage::RestingContact];
+    pub fn planned(settings: &Settings, accurate: &AccurateSettings, dim: usize) -> Vec<Stage> {
+        let mut out = vec![Stage::CollisionDetection, Stage::Bisection, Stage::Impulses];
+        out.push(match accurate.persistent {
+            Persistent::ContactSteps => Stage::ContactConeProgram,
+            Persistent::RestingForces => Stage::RestingContact,
+        });
         out.extend(crate::engine::SmoothEngine::planned(settings, dim));
         out
     }
 
     pub fn own_stages(&self) -> Vec<Stage> {
-        Self::planned(&self.settings, self.compiled.model.layout.dim())
+        Self::planned(&self.settings, &self.contacts.settings, self.compiled.model.layout.dim())
     }
 
     pub fn compiled(&self) -> &Compiled {
@@ -152,8 +196,29 @@ impl AccurateEngine {
         let result = (|| {
             contacts.contact_phase(model, integrator)?;
             let (mut done, mut stuck, mut last) = (0, 0, integrator.time());
+            let mut contact_budget = budget;
             loop {
-                if attempts(integrator) - spent > budget {
+                if contacts.touching.is_some() {
+                    let (t, y) = (integrator.time(), integrator.state().to_vec());
+                    let end = contacts.touching_steps(
+                        model,
+                        t,
+                        y,
+                        t_end,
+                        pause,
+                        &saves[done..],
+                        run.as_deref_mut(),
+                        &mut contact_budget,
+                    )?;
+                    done += end.delivered;
+                    integrator.set_state(end.t, &end.y)?;
+                    if end.touching {
+                        return Ok(done);
+                    }
+                    continue;
+                }
+                let taken = attempts(integrator) - spent + (budget - contact_budget);
+                if taken > budget {
                     return Err(OdeError::TooManySteps { t: integrator.time(), max_steps: budget });
                 }
                 let penetration = contacts.penetration;
@@ -198,6 +263,7 @@ impl AccurateEngine {
             resting_keys: self.contacts.resting_keys.clone(),
             penetration: self.contacts.penetration,
             window: self.contacts.window,
+            touching: self.contacts.touching.clone(),
         }
     }
 
@@ -209,6 +275,7 @@ impl AccurateEngine {
         self.contacts.resting_keys = s.resting_keys;
         self.contacts.penetration = s.penetration;
         self.contacts.window = s.window;
+        self.contacts.touching = s.touching;
         Ok(())
     }
 

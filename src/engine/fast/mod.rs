@@ -8,7 +8,6 @@ mod applied_forces;
 mod bounce_limiter;
 mod find_contacts;
 mod integrate_positions;
-mod manifold;
 mod sleep;
 mod solve_velocities;
 mod warm_start;

@@ -1,5 +1,6 @@
-//! Contact reduction for fast mode: at most four points per collider pair, chosen to keep the deepest point and
-//! the largest support area (the quadrilateral of greatest area among the manifold's points, greedily).
+//! Contact reduction for the velocity-level steps (fast mode, accurate mode's contact steps): at most four points
+//! per collider pair, chosen to keep the deepest point and the largest support area (the quadrilateral of greatest
+//! area among the manifold's points, greedily).
 
 use crate::engine::contact_scene::Found;
 use nalgebra::{Point3, Vector3};

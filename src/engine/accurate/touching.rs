@@ -1,0 +1,228 @@
+//! Accurate mode while bodies touch: contact steps (`contact_step.rs`) under error control by step doubling, after
+//! Drake's CENIC (Kurtz and Castro, 2025). Each step of h is taken once whole and once as two halves (the first
+//! half on the whole step's contacts); their difference estimates the error of the halves, in metres: positions,
+//! body turns times the radius of gyration, and velocity differences times h (what they become a step later). A
+//! step is accepted when that is at most the contact tolerance, and the next h is h (tol / err)^(1/2) (the estimate
+//! is of a first-order method), within 0.2 to 4 times h. The accepted state is the halves extrapolated,
+//! 2 y_half - y_whole (second order; exact for the constant forces of sliding, rolling and resting), unless the two
+//! disagree on which contacts pushed or the extrapolation would raise the energy, where the halves are kept. Steps land on frame times, so frames
+//! are states, not interpolations. Contacts that sank past the tolerance (linearised contacts of turning bodies
+//! sink a little) are lifted apart by a position projection before the step. The phase ends when no pair is within reach of a step: the integrator takes over.
+
+use super::contact_step::actors_with_forces;
+use super::drift::correct_drift;
+use super::{failure, Contacts};
+use crate::engine::contact_scene::ContactKey;
+use crate::model::layout::{get3, get_quat, set_quat};
+use crate::model::Model;
+use crate::run::Run;
+use nalgebra::Quaternion;
+use std::collections::BTreeMap;
+use tumble_integrate::OdeError;
+
+/// What the touching phase carries from step to step.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Touching {
+    /// Each contact's normal force of the last accepted step (the next step's first friction bound).
+    pub lagged: BTreeMap<ContactKey, f64>,
+    /// The step the error control proposes.
+    pub h: f64,
+}
+
+/// How a touching phase's advance ended.
+pub(crate) struct TouchingEnd {
+    pub t: f64,
+    pub y: Vec<f64>,
+    /// Frames recorded.
+    pub delivered: usize,
+    /// Whether the bodies still touch (the advance reached its end); false when they parted.
+    pub touching: bool,
+}
+
+impl Contacts {
+    /// Enters the touching phase with a first step from the tolerance: the time to fall the tolerance, sqrt(2 tol
+    /// / g), within the phase's step bounds.
+    pub fn start_touching(&mut self) {
+        let h = (2.0 * self.tolerance / self.gravity.max(1e-300)).sqrt().clamp(self.min_step(0.0), self.max_step);
+        self.touching = Some(Touching { lagged: BTreeMap::new(), h });
+    }
+
+    /// The smallest step: 16 ulps of the time, and no less than 1e-14 s.
+    fn min_step(&self, t: f64) -> f64 {
+        (16.0 * f64::EPSILON * t.abs()).max(1e-14)
+    }
+
+    /// Advances from (t, y) by error-controlled contact steps until `t_end` (pausing past `pause`) or until no
+    /// pair is within reach; each save time reached records a frame. `budget` counts down steps taken or rejected.
+    #[allow(clippy::too_many_arguments)]
+    pub fn touching_steps(
+        &mut self,
+        model: &mut Model,
+        mut t: f64,
+        mut y: Vec<f64>,
+        t_end: f64,
+        pause: f64,
+        saves: &[f64],
+        mut run: Option<&mut Run>,
+        budget: &mut usize,
+    ) -> Result<TouchingEnd, OdeError> {
+        let statics = self.scene.static_poses.clone();
+        let slack = 1e-12 * t_end.abs().max(1.0);
+        let mut delivered = 0;
+        let Some(mut phase) = self.touching.take() else {
+            return Err(failure(t, "contact steps without a touching phase".into()));
+        };
+        let result = loop {
+            while delivered < saves.len() && saves[delivered] <= t + slack {
+                if let Some(run) = run.as_deref_mut() {
+                    run.record(model, t, &y, self.penetration);
+                }
+                delivered += 1;
+            }
+            if t >= pause.min(t_end) - slack {
+                break Ok(true);
+            }
+            let stop = saves.get(delivered).map_or(t_end, |s| s.min(t_end));
+            let h = phase.h.min(stop - t);
+            let clipped = h < phase.h;
+            if *budget == 0 {
+                break Err(OdeError::TooManySteps { t, max_steps: self.max_steps });
+            }
+            *budget -= 1;
+            let mut states = actors_with_forces(model, &statics, t, &y)?;
+            let mut found = self.step_contacts(model, &states, &y, t, h)?;
+            if found.is_empty() {
+                break Ok(false);
+            }
+            self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
+            if self.penetration > self.tolerance {
+                // Linearised contacts of turning bodies sink a little each step; past the tolerance, the bodies are
+                // moved apart by the smallest position change (velocities untouched, so no energy but the lift's).
+                let sunk: Vec<_> = found.iter().filter(|f| f.contact.distance < 0.0).map(|f| f.contact).collect();
+                self.report.qp_solves += correct_drift(model, &mut y, &states, &sunk, &self.solver, t)?;
+                self.report.stages.mark(crate::plan::Stage::Impulses);
+                states = actors_with_forces(model, &statics, t, &y)?;
+                found = self.step_contacts(model, &states, &y, t, h)?;
+            }
+            self.report.max_penetration = self.report.max_penetration.max(self.penetration);
+            let whole = self.contact_step(model, &states, &found, &phase.lagged, t, &y, h)?;
+            let first = self.contact_step(model, &states, &found, &phase.lagged, t, &y, 0.5 * h)?;
+            let mid = t + 0.5 * h;
+            let states = actors_with_forces(model, &statics, mid, &first.y)?;
+            let found = self.step_contacts(model, &states, &first.y, mid, 0.5 * h)?;
+            let second = self.contact_step(model, &states, &found, &first.forces, mid, &first.y, 0.5 * h)?;
+            let error = difference(model, &whole.y, &second.y, h);
+            let ratio = error / self.tolerance;
+            if std::env::var("TUMBLE_TRACE").is_ok() {
+                eprintln!("t {t:.6} h {h:.3e} err {error:.3e} contacts {} pressing {:?} / {:?}", found.len(), whole.pressing.len(), second.pressing.len());
+            }
+            if !ratio.is_finite() {
+                break Err(OdeError::NonFinite { t, what: "contact step", index: 0 });
+            }
+            let grow = (0.9 / ratio.max(1e-300).sqrt()).clamp(0.2, 4.0);
+            if ratio > 1.0 {
+                self.report.contact_rejected += 1;
+                phase.h = h * grow.min(0.5);
+                if phase.h < self.min_step(t) {
+                    break Err(failure(
+                        t,
+                        format!(
+                            "contact steps fell to {:.1e} s with an error of {error:.1e} m against a tolerance of \
+                             {:.1e} m: the contacts cannot be followed (raise contact_tolerance, or try fast mode)",
+                            phase.h, self.tolerance
+                        ),
+                    ));
+                }
+                continue;
+            }
+            let mut next = second.y;
+            if whole.pressing == second.pressing {
+                let mut better = next.clone();
+                extrapolate(model, &mut better, &whole.y);
+                // never a gain of energy from the extrapolation itself
+                let energy = |y: &[f64]| model.kinetic_energy(y) + model.potential_energy(y);
+                if energy(&better) <= energy(&next) {
+                    next = better;
+                }
+            }
+            if let Some(index) = next.iter().position(|v| !v.is_finite()) {
+                break Err(OdeError::NonFinite { t: t + h, what: "state after a contact step", index });
+            }
+            let norm = next.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if norm > self.divergence_limit {
+                break Err(OdeError::Divergence { t: t + h, norm, limit: self.divergence_limit, h });
+            }
+            if std::env::var("TUMBLE_TRACE").is_ok() {
+                let e0 = model.kinetic_energy(&y) + model.potential_energy(&y);
+                let e1 = model.kinetic_energy(&next) + model.potential_energy(&next);
+                eprintln!("  accepted t {:.6} dE {:.3e} contacts {} found2 {}", t + h, e1 - e0, whole.forces.len(), second.forces.len());
+            }
+            (t, y) = (t + h, next);
+            phase.lagged = second.forces;
+            let r = &mut self.report;
+            r.contact_steps += 1;
+            r.contact_error = r.contact_error.max(error);
+            r.contact_min_step = r.contact_min_step.min(h);
+            if let Some(run) = run.as_deref_mut() {
+                run.log_step(t, h);
+            }
+            let proposed = (h * grow).min(self.max_step);
+            phase.h = if clipped { proposed.max(phase.h) } else { proposed };
+        };
+        match result {
+            Ok(touching) => {
+                if touching {
+                    self.touching = Some(phase);
+                }
+                Ok(TouchingEnd { t, y, delivered, touching })
+            }
+            Err(e) => {
+                self.touching = Some(phase);
+                Err(e)
+            }
+        }
+    }
+}
+
+/// The largest difference between two states in metres: positions, each body's turn times its radius of
+/// gyration, and velocity differences times h.
+fn difference(model: &Model, a: &[f64], b: &[f64], h: f64) -> f64 {
+    let l = model.layout;
+    let mut e = 0.0f64;
+    for i in 0..l.particles {
+        e = e.max((get3(a, l.px(i)) - get3(b, l.px(i))).amax());
+        e = e.max(h * (get3(a, l.pv(i)) - get3(b, l.pv(i))).amax());
+    }
+    for (j, body) in model.bodies.iter().enumerate() {
+        let r = (body.inertia.trace() / (2.0 * body.mass)).sqrt();
+        e = e.max((get3(a, l.bx(j)) - get3(b, l.bx(j))).amax());
+        e = e.max(h * (get3(a, l.bp(j)) - get3(b, l.bp(j))).amax() / body.mass);
+        let (qa, qb) = (get_quat(a, l.bq(j)), get_quat(b, l.bq(j)));
+        let turn = (qa - qb).norm().min((qa + qb).norm());
+        e = e.max(2.0 * turn * r);
+        if r > 0.0 {
+            e = e.max(h * (get3(a, l.bl(j)) - get3(b, l.bl(j))).amax() / (body.mass * r));
+        }
+    }
+    e
+}
+
+/// y <- 2 y - other (Richardson extrapolation of the two half steps against the whole one); quaternions aligned
+/// in sign first and normalised after.
+fn extrapolate(model: &Model, y: &mut [f64], other: &[f64]) {
+    for (v, o) in y.iter_mut().zip(other) {
+        *v = 2.0 * *v - o;
+    }
+    let l = model.layout;
+    for j in 0..model.bodies.len() {
+        // undo the plain formula on the quaternion and redo it with the signs aligned
+        let k = l.bq(j);
+        let e = get_quat(y, k);
+        let o = get_quat(other, k);
+        let half: Quaternion<f64> = (e + o) * 0.5;
+        let o = if half.dot(&o) < 0.0 { -o } else { o };
+        let q = half * 2.0 - o;
+        let n = q.norm();
+        set_quat(y, k, &nalgebra::UnitQuaternion::from_quaternion(if n > 0.0 { q } else { half }));
+    }
+}
