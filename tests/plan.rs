@@ -32,7 +32,7 @@ fn a_particle_world_carries_no_rotation_state() {
     let plan = w.plan();
     assert_eq!(plan.state_len, 6 * 5 + 13, "a static body adds no state");
     if cfg!(feature = "contact") {
-        for stage in ["collision-detection", "bisection", "impulses", "resting-contact"] {
+        for stage in ["collision-detection", "bisection", "impulses", "contact-cone-program"] {
             assert!(plan.has(stage), "{stage} missing from {plan}");
         }
         w.set_mode(tumble::Mode::fast(0.01)).unwrap();

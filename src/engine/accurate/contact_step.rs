@@ -14,7 +14,7 @@ use crate::model::{actor_poses, Model, StateOptions};
 use crate::plan::Stage;
 use std::collections::BTreeMap;
 use std::time::Instant;
-use tumble_contact::{free_velocity, velocity_step_lagged, BodyState, Contact, StepSettings};
+use tumble_contact::{free_velocity, velocity_step_lagged, BodyState, Contact, ContactError, StepSettings};
 use tumble_integrate::{OdeError, OdeSystem};
 
 /// Most solves of one step's lagged-friction fixed point.
@@ -81,7 +81,8 @@ impl Contacts {
 
     /// One step of h from (t, y) with the actors `states` (from `actors_with_forces` at y) and the contacts
     /// `found`; `lagged` holds normal forces the friction bound starts from (contacts without one get a
-    /// frictionless first pass).
+    /// frictionless first pass). `None` when clarabel could not answer to its tolerance (the caller tries a
+    /// smaller step; the reason is kept in `last_solver_error`).
     #[allow(clippy::too_many_arguments)]
     pub fn contact_step(
         &mut self,
@@ -92,12 +93,12 @@ impl Contacts {
         t: f64,
         y: &[f64],
         h: f64,
-    ) -> Result<StepOutcome, OdeError> {
+    ) -> Result<Option<StepOutcome>, OdeError> {
         let mut next = y.to_vec();
         if found.is_empty() {
             let v: Vec<_> = states.iter().map(|b| free_velocity(b, h)).collect();
             update_positions(model, &mut next, &v, h, |_| true);
-            return Ok(StepOutcome { y: next, forces: BTreeMap::new(), pressing: Vec::new() });
+            return Ok(Some(StepOutcome { y: next, forces: BTreeMap::new(), pressing: Vec::new() }));
         }
         let clock = Instant::now();
         let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
@@ -115,13 +116,19 @@ impl Contacts {
         // is a position error of 1e-4 of the tolerance.
         settings.velocity_scale = self.tolerance / h;
         settings.solver = tumble_contact::SolverSettings { complementarity_tolerance: 1e-4, ..self.solver };
-        let solve = |bounds: &[f64]| {
-            velocity_step_lagged(states, &contacts, bounds, &settings)
-                .map_err(|e| failure(t, format!("contact step: {e}")))
+        let mut solve = |bounds: &[f64]| match velocity_step_lagged(states, &contacts, bounds, &settings) {
+            Ok(out) => Ok(Some(out)),
+            Err(ContactError::InvalidArgument { name, reason }) => {
+                Err(failure(t, format!("contact step: invalid {name}: {reason}")))
+            }
+            Err(e) => {
+                self.last_solver_error = e.to_string();
+                Ok(None)
+            }
         };
         let mut bounds: Vec<f64> = found.iter().map(|f| lagged.get(&f.key).map_or(0.0, |p| p * h)).collect();
         let mut solves = 0;
-        let mut out = solve(&bounds)?;
+        let Some(mut out) = solve(&bounds)? else { return Ok(None) };
         solves += out.solver_calls;
         for _ in 1..LAGGED_ITERATIONS {
             let largest = out.normal_impulses.iter().fold(0.0f64, |m, p| m.max(*p));
@@ -131,7 +138,8 @@ impl Contacts {
                 break;
             }
             bounds.clone_from(&out.normal_impulses);
-            out = solve(&bounds)?;
+            let Some(next) = solve(&bounds)? else { return Ok(None) };
+            out = next;
             solves += out.solver_calls;
         }
         self.report.qp_solves += solves;
@@ -140,6 +148,6 @@ impl Contacts {
         let forces = found.iter().zip(&out.normal_impulses).map(|(f, p)| (f.key, p / h)).collect();
         let pressing = found.iter().zip(&out.normal_impulses).filter(|(_, p)| **p > 0.0).map(|(f, _)| f.key).collect();
         self.report.contact_seconds += clock.elapsed().as_secs_f64();
-        Ok(StepOutcome { y: next, forces, pressing })
+        Ok(Some(StepOutcome { y: next, forces, pressing }))
     }
 }

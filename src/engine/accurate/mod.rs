@@ -83,6 +83,8 @@ pub(crate) struct Contacts {
     max_steps: usize,
     /// A state component past this is divergence.
     divergence_limit: f64,
+    /// Why clarabel last failed to answer a contact step (for the message if steps shrink to nothing).
+    last_solver_error: String,
 }
 
 /// Integration with event-driven contact.
@@ -140,6 +142,7 @@ impl AccurateEngine {
             threads,
             max_steps: settings.max_steps,
             divergence_limit: settings.divergence_limit,
+            last_solver_error: String::new(),
         };
         Ok(AccurateEngine { compiled, integrator, settings, contacts })
     }
