@@ -20,7 +20,7 @@ use tumble_integrate::{OdeError, OdeSystem};
 /// Most solves of one step's lagged-friction fixed point.
 const LAGGED_ITERATIONS: usize = 6;
 /// The fixed point is reached when no normal impulse moves by more than this fraction of the largest one.
-const LAGGED_TOLERANCE: f64 = 1e-6;
+const LAGGED_TOLERANCE: f64 = 1e-3;
 
 /// What one contact step gives.
 pub(crate) struct StepOutcome {
