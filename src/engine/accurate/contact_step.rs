@@ -20,7 +20,6 @@ use tumble_integrate::{OdeError, OdeSystem};
 /// Most solves of one step's lagged-friction fixed point.
 const LAGGED_ITERATIONS: usize = 6;
 /// The fixed point is reached when no normal impulse moves by more than this fraction of the largest one.
-const LAGGED_TOLERANCE: f64 = 1e-3;
 
 /// What one contact step gives.
 pub(crate) struct StepOutcome {
@@ -134,7 +133,7 @@ impl Contacts {
             let largest = out.normal_impulses.iter().fold(0.0f64, |m, p| m.max(*p));
             let moved = bounds.iter().zip(&out.normal_impulses).fold(0.0f64, |m, (b, p)| m.max((b - p).abs()));
             let frictional = contacts.iter().any(|c| c.friction > 0.0);
-            if !frictional || moved <= LAGGED_TOLERANCE * largest {
+            if !frictional || moved <= self.lagged_tolerance * largest {
                 break;
             }
             bounds.clone_from(&out.normal_impulses);

@@ -83,6 +83,10 @@ pub(crate) struct Contacts {
     max_steps: usize,
     /// A state component past this is divergence.
     divergence_limit: f64,
+    /// The lagged-friction fixed point is reached when no normal impulse moves by more than this fraction of the
+    /// largest: ten times the tolerance relative to the scene's size, within 1e-9 to 1e-3 (a friction bound off
+    /// by this fraction is a deceleration off by as much, so a tight tolerance needs a tight fixed point).
+    lagged_tolerance: f64,
     /// Why clarabel last failed to answer a contact step (for the message if steps shrink to nothing).
     last_solver_error: String,
 }
@@ -143,6 +147,8 @@ impl AccurateEngine {
             max_steps: settings.max_steps,
             divergence_limit: settings.divergence_limit,
             last_solver_error: String::new(),
+            lagged_tolerance: (10.0 * accurate.contact_tolerance.unwrap_or(1e-6 * size) / size.max(1e-300))
+                .clamp(1e-9, 1e-3),
         };
         Ok(AccurateEngine { compiled, integrator, settings, contacts })
     }
