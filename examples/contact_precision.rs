@@ -1,11 +1,19 @@
-//! Error against run time for contact: the ball of `bouncing_ball` (dropped from 1 m, e = 0.8) in fast mode at
-//! steps from 1/60 s to 1/3840 s and in accurate mode at bisection tolerances from 1e-3 s to 1e-11 s (the flights
-//! are parabolas, which Dormand-Prince integrates exactly, so the collision time is accurate mode's only error).
-//! The error is the largest deviation of the first three apex heights from 0.64^n m (read from a mid-flight state by
-//! the ballistic formula z - r + v_z^2 / (2 g)) and, in accurate mode, of the first three impact times from the
-//! closed form. Wall times are the fastest of five runs of 2.5 s.
+//! Error against run time for contact. First the ball of `bouncing_ball` (dropped from 1 m, e = 0.8) in fast mode
+//! at steps from 1/60 s to 1/3840 s and in accurate mode at bisection tolerances from 1e-3 s to 1e-11 s (the
+//! flights are parabolas, which Dormand-Prince integrates exactly, so the collision time is accurate mode's only
+//! error). The error is the largest deviation of the first three apex heights from 0.64^n m (read from a
+//! mid-flight state by the ballistic formula z - r + v_z^2 / (2 g)) and, in accurate mode, of the first three
+//! impact times from the closed form. Wall times are the fastest of five runs of 2.5 s.
+//!
+//! Then friction (`friction.rs`): a cube sliding to a stop, a cube sliding down a 35 degree incline and a sphere
+//! rolling down a 30 degree one, each against its closed form, in accurate mode over contact tolerances and in fast
+//! mode over steps; the table is also written to `target/contact_precision.csv` for
+//! `python3 examples/plot_contact_precision.py`, which draws error against wall time.
 //!
 //! `cargo run --release --example contact_precision`
+
+#[path = "contact_precision/friction.rs"]
+mod friction;
 
 use std::time::Instant;
 use tumble::scenes::BouncingBall;
@@ -75,5 +83,6 @@ fn main() -> Result<(), WorldError> {
         })?;
         println!("accurate  tol {tol:<8.0e} {apex:>12.2e}  {time:>16.2e}  {:>9.3}  {steps:>5}", wall * 1e3);
     }
-    Ok(())
+    println!();
+    friction::sweep()
 }

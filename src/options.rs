@@ -4,7 +4,7 @@
 
 use crate::body::RigidBodyBuilder;
 use crate::error::WorldError;
-use crate::mode::{FastSettings, Mode};
+use crate::mode::{AccurateSettings, FastSettings, Mode};
 use crate::world::World;
 use nalgebra::{Matrix3, Vector3};
 use tumble_collide::Shape;
@@ -121,8 +121,14 @@ impl IntegratorOptions {
 }
 
 /// The contact mode from its name ("accurate" or "fast"), fast mode's step (default 1/240 s) and whether its
-/// resting islands sleep (default true). `dt` and `sleep` apply to fast mode only.
-pub fn mode_from(name: &str, dt: Option<f64>, sleep: Option<bool>) -> Result<Mode, WorldError> {
+/// resting islands sleep (default true), and accurate mode's contact tolerance (m; default 1e-6 of the scene's
+/// size). `dt` and `sleep` apply to fast mode only, `contact_tolerance` to accurate mode only.
+pub fn mode_from(
+    name: &str,
+    dt: Option<f64>,
+    sleep: Option<bool>,
+    contact_tolerance: Option<f64>,
+) -> Result<Mode, WorldError> {
     match name {
         "accurate" => {
             if dt.is_some() {
@@ -134,9 +140,17 @@ pub fn mode_from(name: &str, dt: Option<f64>, sleep: Option<bool>) -> Result<Mod
             if sleep.is_some() {
                 return Err(WorldError::invalid("sleep", "only fast mode puts resting islands to sleep"));
             }
-            Ok(Mode::default())
+            let mode = Mode::Accurate(AccurateSettings { contact_tolerance, ..AccurateSettings::default() });
+            mode.check()?;
+            Ok(mode)
         }
         "fast" => {
+            if contact_tolerance.is_some() {
+                return Err(WorldError::invalid(
+                    "contact_tolerance",
+                    "only accurate mode controls its contact steps' error; fast mode steps by dt",
+                ));
+            }
             let mode = Mode::Fast(FastSettings {
                 sleep: sleep.unwrap_or(true),
                 ..FastSettings::new(dt.unwrap_or(DEFAULT_DT))
@@ -159,6 +173,8 @@ pub struct WorldOptions {
     pub sleep: Option<bool>,
     /// Threads of the contact solves (0: one per core, the default).
     pub threads: Option<usize>,
+    /// Accurate mode: the error allowed in one contact step (m; default 1e-6 of the scene's size).
+    pub contact_tolerance: Option<f64>,
     /// The integrator (accurate mode); its `dt` is fast mode's step in fast mode.
     pub integrator: IntegratorOptions,
 }
@@ -181,9 +197,9 @@ impl WorldOptions {
                     "does not apply to fast mode, which steps by semi-implicit Euler at its dt",
                 ));
             }
-            world.set_mode(mode_from(name, self.integrator.dt, self.sleep)?)?;
+            world.set_mode(mode_from(name, self.integrator.dt, self.sleep, self.contact_tolerance)?)?;
         } else {
-            let mode = mode_from(name, None, self.sleep)?;
+            let mode = mode_from(name, None, self.sleep, self.contact_tolerance)?;
             world.set_integrator(self.integrator.settings()?)?;
             world.set_mode(mode)?;
         }

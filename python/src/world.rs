@@ -52,7 +52,8 @@ impl PyWorld {
     #[new]
     #[pyo3(signature = (gravity = None, integrator = None, rtol = None, atol = None, dt = None,
                         step_doubling = false, tolerance = None, mode = "accurate", linear_solver = None,
-                        newton = false, max_steps = None, sleep = None, threads = None))]
+                        newton = false, max_steps = None, sleep = None, threads = None,
+                        contact_tolerance = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         gravity: Option<&Bound<'_, PyAny>>,
@@ -68,12 +69,14 @@ impl PyWorld {
         max_steps: Option<usize>,
         sleep: Option<bool>,
         threads: Option<usize>,
+        contact_tolerance: Option<f64>,
     ) -> PyResult<Self> {
         let options = WorldOptions {
             gravity: opt_vec3("gravity", gravity)?,
             mode: Some(mode.to_string()),
             sleep,
             threads,
+            contact_tolerance,
             integrator: integrator_options(
                 integrator,
                 rtol,
@@ -143,12 +146,20 @@ impl PyWorld {
         self.w().set_integrator(s).map_err(world_error)
     }
 
-    /// Chooses how contact is handled: mode="accurate" (event-driven, the integrator's error control) or "fast"
-    /// (time stepping at dt, default 1/240 s; with sleep=False islands at rest keep being simulated). `dt` and
-    /// `sleep` apply to fast mode only.
-    #[pyo3(signature = (mode, dt = None, sleep = None))]
-    fn set_mode(&mut self, mode: &str, dt: Option<f64>, sleep: Option<bool>) -> PyResult<()> {
-        let m = mode_from(mode, dt, sleep).map_err(world_error)?;
+    /// Chooses how contact is handled: mode="accurate" (free flight under the integrator's error control,
+    /// impacts located by bisection, touching bodies carried by error-controlled convex steps with Coulomb friction;
+    /// `contact_tolerance` is their error per step in metres, default 1e-6 of the scene's size) or "fast" (time
+    /// stepping at dt, default 1/240 s; with sleep=False islands at rest keep being simulated). `dt` and `sleep`
+    /// apply to fast mode only, `contact_tolerance` to accurate mode only.
+    #[pyo3(signature = (mode, dt = None, sleep = None, contact_tolerance = None))]
+    fn set_mode(
+        &mut self,
+        mode: &str,
+        dt: Option<f64>,
+        sleep: Option<bool>,
+        contact_tolerance: Option<f64>,
+    ) -> PyResult<()> {
+        let m = mode_from(mode, dt, sleep, contact_tolerance).map_err(world_error)?;
         self.w().set_mode(m).map_err(world_error)
     }
 

@@ -37,7 +37,7 @@ def test_accurate_mode_ball_bounces_where_and_when_the_closed_form_says():
     z, vz = run.body_positions[f, 1, 2], run.body_velocities[f, 1, 2]
     assert abs(z - 0.1 + vz * vz / (2 * G) - 0.64) < 1e-6
     assert run.report.qp_solves == 0, "a lone bouncing ball needs no QP"
-    assert {"collision-detection", "bisection", "impulses", "resting-contact"} <= set(w.plan()["stages"])
+    assert {"collision-detection", "bisection", "impulses", "contact-cone-program"} <= set(w.plan()["stages"])
 
 
 def test_particles_with_a_radius_land_on_the_ground_and_without_one_fall_through():
@@ -113,3 +113,20 @@ def test_bad_contact_arguments_name_themselves():
     for call, name in cases:
         with pytest.raises(ValueError, match=name):
             call()
+
+
+def test_accurate_mode_has_coulomb_friction_under_error_control():
+    # A 0.5 m cube thrown at 2 m/s on a floor with mu = 0.5 stops after v^2 / (2 mu g); at a contact tolerance of
+    # 1e-6 m the Rust test measures 1.1e-8 relative, so 1e-6 here leaves room for nothing but a real regression.
+    w = tumble.World(contact_tolerance=1e-6)
+    w.add_ground(restitution=0.0, friction=0.5)
+    box = w.add_body(tumble.Box((0.25, 0.25, 0.25)), position=(0, 0, 0.25), velocity=(2, 0, 0),
+                     restitution=0.0, friction=0.5)
+    run = w.run(0.6, 0.1)
+    exact = 2.0**2 / (2 * 0.5 * 9.81)
+    assert abs(run.body_positions[-1, box.index, 0] - exact) < 1e-6 * exact
+    assert run.report.contact_steps > 0 and run.report.contact_error <= 1e-6
+    with pytest.raises(ValueError, match="`contact_tolerance`"):
+        tumble.World(mode="fast", contact_tolerance=1e-6)
+    with pytest.raises(ValueError, match="`contact_tolerance`"):
+        tumble.World(contact_tolerance=-1.0)

@@ -81,6 +81,7 @@ class World:
         max_steps: int | None = None,
         sleep: bool | None = None,
         threads: int | None = None,
+        contact_tolerance: float | None = None,
     ) -> None: ...
     def set_integrator(
         self,
@@ -94,7 +95,9 @@ class World:
         newton: bool = False,
         max_steps: int | None = None,
     ) -> None: ...
-    def set_mode(self, mode: str, dt: float | None = None, sleep: bool | None = None) -> None: ...
+    def set_mode(
+        self, mode: str, dt: float | None = None, sleep: bool | None = None, contact_tolerance: float | None = None
+    ) -> None: ...
     @property
     def threads(self) -> int: ...
     @threads.setter

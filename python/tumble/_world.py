@@ -77,7 +77,8 @@ class World(_World):
     """A world of particles and rigid bodies.
 
     ``World(gravity=(0, 0, -9.81), integrator=None, rtol=None, atol=None, dt=None, step_doubling=False,
-    tolerance=None, mode="accurate", linear_solver=None, newton=False, max_steps=None, sleep=None, threads=None)``
+    tolerance=None, mode="accurate", linear_solver=None, newton=False, max_steps=None, sleep=None, threads=None,
+    contact_tolerance=None)``
 
     ``integrator`` is one of "euler", "euler-variable", "midpoint", "rk4", "ab4", "am4", "implicit-euler",
     "dopri5", "dop853", "symplectic-euler", "verlet", "rodas4", "radau5". Methods with an error estimate (dopri5,
@@ -86,13 +87,16 @@ class World(_World):
     chapter's step doubling with per-step error ``tolerance``. ``linear_solver="iterative"`` solves implicit Euler's
     sparse systems by BiCGSTAB (for large cloths); ``newton=True`` iterates implicit Euler to convergence.
 
-    Contact: ``mode="accurate"`` (the default) is event-driven: the integrator carries the motion under its error
-    control, collisions are located by bisection on its dense output and resolved by impulses (restitution), and
-    resting contacts get exact QP forces; it is frictionless. ``mode="fast"`` steps at ``dt`` (default 1/240 s) with
+    Contact: ``mode="accurate"`` (the default): the integrator carries free flight under its error control;
+    frictionless collisions are located by bisection on its dense output and resolved by impulses (restitution);
+    while bodies touch (and at any impact with friction), convex contact steps with Coulomb friction carry them,
+    their size set by step doubling so that each step's error stays within ``contact_tolerance`` metres (default
+    1e-6 of the scene's size); the report gives their count and largest error estimate. ``mode="fast"`` steps at ``dt`` (default 1/240 s) with
     contacts, Coulomb friction and restitution solved as one conic program per island each step, and resting
     islands sleep (``sleep=False`` keeps them awake); it always steps by ``dt``: ``step`` and ``run`` durations must be
     whole numbers of steps, and a frame is the state of the first step that reaches its time. An option that does not
-    apply to the mode (an integrator option in fast mode, ``sleep`` in accurate mode) raises ValueError naming it.
+    apply to the mode (an integrator option or ``contact_tolerance`` in fast mode, ``sleep`` in accurate mode) raises
+    ValueError naming it.
     Arguments left as ``None`` take the library's defaults: particles of 1 kg, restitution and friction 0.5, spring
     stiffness 1 N/m, bodies of density 1000 kg/m^3 when given only a shape, frames every 1/60 s.
     ``threads`` sets how many threads the contact solves use (0, the default: one per core); results do not depend
