@@ -18,7 +18,7 @@ use tumble_contact::{free_velocity, velocity_step_lagged, BodyState, Contact, Co
 use tumble_integrate::{OdeError, OdeSystem};
 
 /// Most solves of one step's lagged-friction fixed point.
-const LAGGED_ITERATIONS: usize = 6;
+const LAGGED_ITERATIONS: usize = 3;
 /// The fixed point is reached when no normal impulse moves by more than this fraction of the largest one.
 
 /// What one contact step gives.

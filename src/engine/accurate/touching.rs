@@ -3,7 +3,7 @@
 //! half on the whole step's contacts); their difference estimates the error of the halves, in metres: positions,
 //! body turns times the radius of gyration, and velocity differences times h (what they become a step later). A
 //! step is accepted when that is at most the contact tolerance, and the next h is h (tol / err)^(1/2) (the estimate
-//! is of a first-order method), within 0.2 to 4 times h. The accepted state is the halves extrapolated,
+//! is of a first-order method), within 0.2 to 2 times h. The accepted state is the halves extrapolated,
 //! 2 y_half - y_whole (second order; exact for the constant forces of sliding, rolling and resting), unless the two
 //! disagree on which contacts pushed or the extrapolated state has more energy than the step started with, where
 //! the halves are kept. Steps land on frame times, so frames
@@ -121,7 +121,7 @@ impl Contacts {
             if !ratio.is_finite() {
                 break Err(OdeError::NonFinite { t, what: "contact step", index: 0 });
             }
-            let grow = (0.9 / ratio.max(1e-300).sqrt()).clamp(0.2, 4.0);
+            let grow = (0.9 / ratio.max(1e-300).sqrt()).clamp(0.2, 2.0);
             if ratio > 1.0 {
                 self.report.contact_rejected += 1;
                 phase.h = h * grow.min(0.5);
