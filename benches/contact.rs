@@ -1,6 +1,7 @@
-//! Contact benchmarks: fast mode's time per step for 100, 1,000 and 5,000 boxes falling into a pile, and accurate
-//! mode on the bouncing ball; the share of that time spent finding contacts and solving them (clarabel) is
-//! printed from the world's report.
+//! Contact benchmarks: fast mode's time per step for 100, 1,000 and 5,000 boxes falling into a pile, accurate
+//! mode on the bouncing ball, on a column of ten cubes and on twenty cubes dropped in a pile (the wall time of the
+//! first simulated 0.5 s, printed per simulated second); the share of that time spent finding contacts and solving
+//! them (clarabel) is printed from the world's report, with the contact steps and events.
 //!
 //! Run: `cargo bench --bench contact`. The pile: cubes of edge 0.5 m on a k x k grid (0.6 m apart) in L layers
 //! (0.6 m apart), each slightly tilted, dropped onto the floor; the measured steps lie between 0.4 s and 1.0 s
@@ -95,5 +96,61 @@ fn accurate_ball(c: &mut Criterion) {
     share("bouncing ball", &w, &before, clock.elapsed().as_secs_f64());
 }
 
-criterion_group!(benches, fast_pile, accurate_ball);
+/// Cubes of edge 0.5 m (density 500, friction 0.6) in a column of ten, 1 mm apart, or twenty dropped on a 3 x 3 grid
+/// in three layers, slightly tilted (the scenes of `tests/accurate_stacks.rs`).
+fn accurate_scene(pile: bool) -> World {
+    use nalgebra::{UnitQuaternion, Vector3};
+    use tumble::{Material, RigidBodyBuilder, Shape};
+    let mut w = World::new();
+    w.add_ground(0.0, Material { restitution: 0.2, friction: 0.6 }).unwrap();
+    let cube = Shape::cuboid(Vector3::repeat(0.25)).unwrap();
+    let count = if pile { 20 } else { 10 };
+    for k in 0..count {
+        let body = RigidBodyBuilder::from_shape(cube.clone(), 500.0).friction(0.6).restitution(0.2);
+        let body = if pile {
+            let (i, j, l) = (k % 3, (k / 3) % 3, k / 9);
+            let tilt = 0.05 * ((k * 7919 % 13) as f64 / 13.0 - 0.5);
+            body.position(Vector3::new(0.6 * i as f64, 0.6 * j as f64, 0.3 + 0.6 * l as f64))
+                .orientation(UnitQuaternion::from_euler_angles(tilt, -tilt, 2.0 * tilt))
+        } else {
+            body.position(Vector3::new(0.0, 0.0, 0.25 + 0.501 * k as f64))
+        };
+        w.add_body(body).unwrap();
+    }
+    w
+}
+
+fn accurate_contact(c: &mut Criterion) {
+    let span = if test_mode() { 0.05 } else { 0.5 };
+    let mut g = c.benchmark_group("accurate_contact");
+    g.sample_size(10);
+    for (name, pile) in [("column of 10", false), ("pile of 20", true)] {
+        g.bench_function(format!("{name}, first {span} s"), |b| {
+            b.iter(|| {
+                let mut w = accurate_scene(pile);
+                w.step(span).unwrap();
+                w
+            })
+        });
+        let mut w = accurate_scene(pile);
+        let before = w.report();
+        let clock = std::time::Instant::now();
+        w.step(span).unwrap();
+        let wall = clock.elapsed().as_secs_f64();
+        share(&format!("accurate {name}"), &w, &before, wall);
+        let r = w.report();
+        println!(
+            "  {:.2} s of wall time per simulated second; {} contact steps ({} rejected), {} collisions, {} bisection \
+             steps",
+            wall / span,
+            r.contact_steps,
+            r.contact_rejected,
+            r.collisions,
+            r.bisection_steps
+        );
+    }
+    g.finish();
+}
+
+criterion_group!(benches, fast_pile, accurate_ball, accurate_contact);
 criterion_main!(benches);

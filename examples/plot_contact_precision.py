@@ -1,6 +1,6 @@
 """Draws error against wall time from `target/contact_precision.csv` (written by
 `cargo run --release --example contact_precision`): one panel per friction problem, accurate mode over contact
-tolerances and fast mode over steps. Writes `target/contact_precision.png`.
+tolerances and fast mode over steps. Writes `examples/contact_precision/contact_precision.png` (the README shows it).
 
     python3 examples/plot_contact_precision.py
 """
@@ -31,5 +31,6 @@ for ax, problem in zip(fig.subplots(1, len(problems), squeeze=False)[0], problem
     ax.set_ylabel("relative error")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
-fig.savefig(root / "target" / "contact_precision.png", dpi=110)
-print(f"written to {root / 'target' / 'contact_precision.png'}")
+out = root / "examples" / "contact_precision" / "contact_precision.png"
+fig.savefig(out, dpi=100)
+print(f"written to {out}")

@@ -248,3 +248,35 @@ fn accurate_mode_carries_a_light_box_under_a_million_times_heavier_one() {
     println!("measured: light box at z = {:.9}, heavy at z = {:.9}", light.z, heavy.z);
     assert!((light.z - 0.5).abs() < 1e-5 && (heavy.z - 1.5).abs() < 1e-5, "{light} {heavy}");
 }
+
+#[test]
+fn a_failed_run_gives_back_its_frames_up_to_the_failure() {
+    // A particle falling freely (RK4, 0.01 s steps) whose force callback fails from t = 0.5 s: the run fails, the
+    // world is back at t = 0, and the frames up to the failure (every 0.1 s from 0 to 0.5) come back with the
+    // report of their steps.
+    let mut w = World::new();
+    w.set_integrator(tumble_integrate::Settings::fixed(tumble_integrate::Method::Rk4, 0.01)).unwrap();
+    let p = w.add_particle(ParticleBuilder::new(1.0)).unwrap();
+    w.add_force_callback(Target::Particle(p), |t, _| {
+        if t > 0.5 {
+            Err("the callback gave up".into())
+        } else {
+            Ok(Wrench { force: Vector3::zeros(), torque: Vector3::zeros() })
+        }
+    })
+    .unwrap();
+    let e = guarded(&mut w, |w| w.run(1.0, 0.1)).expect("the callback fails the run");
+    assert!(matches!(e, WorldError::Simulation(_)), "{e}");
+    assert!(w.time() == 0.0);
+    let partial = w.take_failed_run().expect("the frames before the failure");
+    let last = *partial.times.last().unwrap();
+    println!("measured: {} frames up to t = {last}", partial.times.len());
+    assert!(partial.times.len() >= 5 && last <= 0.5 + 1e-12, "{:?}", partial.times);
+    // free fall: z = -g t^2 / 2 in every frame that came back (RK4 is exact on it to rounding)
+    for (f, t) in partial.times.iter().enumerate() {
+        let z = partial.particle_position(f, 0).z;
+        assert!((z + 0.5 * 9.81 * t * t).abs() < 1e-9, "frame {f}: z = {z} at t = {t}");
+    }
+    assert!(partial.report.integrator.steps > 0);
+    assert!(w.take_failed_run().is_none(), "taken once");
+}

@@ -109,7 +109,7 @@ pub fn sweep() -> Result<(), WorldError> {
             match measure(&p, mode) {
                 Ok((e, wall, steps)) => {
                     println!("  fast      h = 1/{k:<12} {e:>14.2e}  {:>9.3}  {steps:>6}", wall * 1e3);
-                    csv += &format!("{},fast,{},{e:e},{wall:e},{steps}\n", p.name, 1.0 / k);
+                    csv += &format!("\"{}\",fast,{},{e:e},{wall:e},{steps}\n", p.name, 1.0 / k);
                 }
                 Err(e) => println!("  fast      h = 1/{k:<12} failed: {e}"),
             }
@@ -119,7 +119,7 @@ pub fn sweep() -> Result<(), WorldError> {
             match measure(&p, mode) {
                 Ok((e, wall, steps)) => {
                     println!("  accurate  tolerance {tol:<8.0e} {e:>14.2e}  {:>9.3}  {steps:>6}", wall * 1e3);
-                    csv += &format!("{},accurate,{tol},{e:e},{wall:e},{steps}\n", p.name);
+                    csv += &format!("\"{}\",accurate,{tol},{e:e},{wall:e},{steps}\n", p.name);
                 }
                 Err(e) => println!("  accurate  tolerance {tol:<8.0e} failed: {e}"),
             }

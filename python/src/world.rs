@@ -504,7 +504,19 @@ impl PyWorld {
                 .expect("not poisoned")
                 .take()
                 .unwrap_or_else(|| world_error(WorldError::Interrupted))),
-            Err(e) => Err(self.error(py, e)),
+            Err(e) => {
+                let err = self.error(py, e);
+                // the frames up to the failure ride on the exception (the package makes them `error.run`)
+                if let Some(run) = self.w().take_failed_run() {
+                    let handles = (
+                        run.particles.iter().map(|&h| h.into()).collect(),
+                        run.bodies.iter().map(|&h| h.into()).collect(),
+                    );
+                    let (arrays, report) = run.into_arrays();
+                    err.value(py).setattr("_partial", run_arrays(py, arrays, &report, handles)?)?;
+                }
+                Err(err)
+            }
         }
     }
 }

@@ -138,3 +138,23 @@ def test_handles_are_named_as_the_api_names_them():
     with pytest.raises(ValueError, match="BodyHandle") as e:
         a.remove(body)
     assert "RigidBody" not in str(e.value)
+
+
+def test_a_failed_run_gives_back_its_frames_on_the_exception():
+    # RK4 at 0.01 s; the callback raises from t = 0.5 s: the frames every 0.1 s up to 0.5 s ride on the error, and
+    # the world is back at t = 0.
+    w = tumble.World(integrator="rk4", dt=0.01)
+    p = w.add_particle()
+
+    def push(t, x, v):
+        if t > 0.5:
+            raise RuntimeError("gave up")
+        return (0.0, 0.0, 0.0)
+
+    w.add_force_callback(p, push)
+    with pytest.raises(tumble.SimulationError) as e:
+        w.run(1.0, 0.1)
+    assert w.time == 0.0
+    run = e.value.run
+    assert len(run.times) == 6 and run.times[-1] == pytest.approx(0.5, abs=1e-12)
+    np.testing.assert_allclose(run.particle_positions[:, 0, 2], -0.5 * 9.81 * run.times**2, atol=1e-9)

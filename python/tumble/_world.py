@@ -10,7 +10,7 @@ from ._errors import named_arguments, renamed
 from ._progress import Progress, progress as _progress
 from ._report import Report
 from ._run import Run
-from ._tumble import World as _World
+from ._tumble import SimulationError, World as _World
 
 
 class ParticlesView:
@@ -139,11 +139,17 @@ class World(_World):
 
         The interpreter lock is released while the world steps. ``progress=True`` shows a progress bar (tqdm if
         installed); a callable is called with the fraction done. Ctrl-C stops the run and restores the world.
-        Raises SimulationError, leaving the world unchanged, if a step cannot be completed.
+        Raises SimulationError, leaving the world unchanged, if a step cannot be completed; the frames recorded up
+        to the failure come with it as ``error.run`` (a ``Run``, its report covering the steps taken).
         """
         shown = _progress(progress)
         try:
             data = self._run(duration, frame_interval, shown)
+        except SimulationError as error:
+            partial = getattr(error, "_partial", None)
+            if partial is not None:
+                error.run = Run.from_dict(partial, self._body_shapes())
+            raise
         finally:
             if isinstance(shown, Progress):
                 shown.close()

@@ -44,6 +44,8 @@ pub struct World {
     pub(crate) loads: Arena<Load>,
     pub(crate) engine: Option<Engine>,
     pub(crate) state_changed: bool,
+    /// The frames of the last run that failed, until taken.
+    pub(crate) failed_run: Option<crate::run::Run>,
     pub(crate) totals: WorldReport,
     pub(crate) divergence_factor: f64,
     pub(crate) spring_jacobian: Option<SpringJacobian>,
@@ -78,6 +80,7 @@ impl World {
             loads: Arena::new(number),
             engine: None,
             state_changed: false,
+            failed_run: None,
             divergence_factor: 1e9,
             spring_jacobian: None,
             mode: Mode::default(),

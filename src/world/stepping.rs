@@ -150,6 +150,7 @@ impl World {
         frame_interval: Option<f64>,
         mut control: impl FnMut(f64) -> bool,
     ) -> Result<Option<Run>, WorldError> {
+        self.failed_run = None;
         let mut run = frame_interval.map(|_| self.new_run());
         let e = self.engine()?;
         let t0 = e.time();
@@ -191,6 +192,10 @@ impl World {
             if let Some(e) = &mut self.engine {
                 e.restore(snapshot)?;
             }
+            self.failed_run = run.map(|mut run| {
+                run.report = report;
+                run
+            });
             return Err(err);
         }
         self.store_state();
@@ -198,6 +203,12 @@ impl World {
             run.report = report;
             run
         }))
+    }
+
+    /// The frames a run recorded before it failed (the world itself is back where that run started), with the
+    /// report of the steps it took; `None` once taken, or if the last run did not fail after recording.
+    pub fn take_failed_run(&mut self) -> Option<Run> {
+        self.failed_run.take()
     }
 
     /// An empty run of this world's particles and bodies (all bodies, static ones at their fixed poses).
