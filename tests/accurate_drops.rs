@@ -5,20 +5,10 @@
 //! and repeat bit for bit. CI runs `TUMBLE_DROPS` (default 4) seeds; `TUMBLE_DROPS=100` is a long local run.
 
 mod common;
-use common::state_bits;
+use common::{state_bits, Lcg};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use tumble::{Material, RigidBodyBuilder, Shape, World};
 
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
 
 fn random_shape(rng: &mut Lcg) -> Shape {
     let kind = (rng.next() * 5.0) as usize;

@@ -3,7 +3,7 @@
 //! hold the steps actually taken.
 
 mod common;
-use common::state_bits;
+use common::{state_bits, Lcg};
 use nalgebra::{UnitQuaternion, Vector3};
 use tumble::scenes::{BouncingBall, Dominoes, Pile};
 use tumble::{
@@ -11,17 +11,6 @@ use tumble::{
 };
 
 /// A small reproducible random generator (64-bit LCG, top 53 bits) for scenes.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-}
 
 /// Five random bodies (boxes and spheres, random sizes, orientations, densities and materials) dropped together
 /// onto the floor from overlapping columns, so they land on each other.

@@ -17,3 +17,21 @@ pub fn state_bits(w: &World) -> Vec<u64> {
     }
     out
 }
+
+/// A seeded linear congruential generator: the same numbers on every machine, for random scenes.
+#[allow(dead_code)] // not every test file draws random scenes
+pub struct Lcg(pub u64);
+
+#[allow(dead_code)]
+impl Lcg {
+    /// The next number in [0, 1).
+    pub fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// The next number in [lo, hi).
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}

@@ -31,8 +31,9 @@ impl Contacts {
         result
     }
 
-    /// Fails when `STALL` accepted steps have taken less than `STALL` stall steps of time: the contact forces have
-    /// made the method crawl, and the call would otherwise run for hours.
+    /// Fails when `STALL` accepted steps have taken less than `STALL` stall steps of time: the forces (with
+    /// `Persistent::RestingForces`, the resting-contact forces) have made the method crawl, and the call would
+    /// otherwise run for hours.
     fn watch_for_stall(&mut self, t0: f64, t1: f64) -> Result<(), OdeError> {
         let (start, steps) = self.window;
         let start = if steps == 0 { t0 } else { start };
@@ -46,8 +47,9 @@ impl Contacts {
             return Err(super::failure(
                 t1,
                 format!(
-                    "{} steps took {:.1e} s, a mean step of {mean:.1e} s: the resting-contact forces are too stiff \
-                     for this method (try fast mode, or an implicit method)",
+                    "{} steps took {:.1e} s, a mean step of {mean:.1e} s: the motion is too stiff for this method \
+                     at its tolerances (try fast mode, looser tolerances, or an implicit method if this one is \
+                     explicit)",
                     super::STALL,
                     t1 - start
                 ),
