@@ -66,7 +66,7 @@ pub(crate) struct Contacts {
     pub penetration: f64,
     /// A mean step below this over `STALL` steps is a stall: 1e-5 of the scene's time scale sqrt(size / g), at most
     /// 1e-5 s.
-    stall_step: f64,
+    pub(crate) stall_step: f64,
     /// The current window: its start time and the accepted steps in it.
     window: (f64, usize),
     /// Error allowed in one contact step (m).

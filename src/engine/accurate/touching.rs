@@ -28,7 +28,12 @@ pub(crate) struct Touching {
     pub lagged: BTreeMap<ContactKey, f64>,
     /// The step the error control proposes.
     pub h: f64,
+    /// The stall window: its start time and the steps tried in it.
+    pub window: (f64, usize),
 }
+
+/// Steps tried (accepted or rejected) over which the touching phase's progress is watched.
+const STALL_WINDOW: usize = 200;
 
 /// How a touching phase's advance ended.
 pub(crate) struct TouchingEnd {
@@ -45,7 +50,7 @@ impl Contacts {
     /// / g), within the phase's step bounds.
     pub fn start_touching(&mut self) {
         let h = (2.0 * self.tolerance / self.gravity.max(1e-300)).sqrt().clamp(self.min_step(0.0), self.max_step);
-        self.touching = Some(Touching { lagged: BTreeMap::new(), h });
+        self.touching = Some(Touching { lagged: BTreeMap::new(), h, window: (f64::NAN, 0) });
     }
 
     /// The smallest step: 16 ulps of the time, and no less than 1e-14 s.
@@ -90,6 +95,9 @@ impl Contacts {
                 break Err(OdeError::TooManySteps { t, max_steps: self.max_steps });
             }
             *budget -= 1;
+            if let Err(e) = self.watch_touching(&mut phase, t) {
+                break Err(e);
+            }
             let mut states = actors_with_forces(model, &statics, t, &y)?;
             let mut found = self.step_contacts(model, &states, &y, t, h)?;
             if found.is_empty() {
@@ -188,6 +196,36 @@ impl Contacts {
 }
 
 impl Contacts {
+    /// Fails when `STALL_WINDOW` steps tried have advanced less than that many stall steps (1e-5 of the scene's
+    /// time scale each): contact steps that crawl (bodies started deep inside each other, which the lifts cannot
+    /// undo, took steps of 1e-7 s) end in a clear error instead of running for hours.
+    fn watch_touching(&self, phase: &mut Touching, t: f64) -> Result<(), OdeError> {
+        let (start, tried) = phase.window;
+        if tried == 0 || start.is_nan() {
+            phase.window = (t, 1);
+            return Ok(());
+        }
+        if tried < STALL_WINDOW {
+            phase.window = (start, tried + 1);
+            return Ok(());
+        }
+        phase.window = (t, 1);
+        let mean = (t - start) / STALL_WINDOW as f64;
+        if mean < self.stall_step {
+            return Err(failure(
+                t,
+                format!(
+                    "{STALL_WINDOW} contact steps advanced {:.1e} s (a mean step of {mean:.1e} s) with contacts up to \
+                     {:.1e} m deep: the steps cannot follow these contacts (bodies started inside each other?); try \
+                     fast mode, or a looser contact_tolerance",
+                    t - start,
+                    self.penetration
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// One step of h taken whole and as two halves (the first half on the whole step's contacts, the second on its
     /// own); `None` if clarabel could not answer one of them.
     #[allow(clippy::too_many_arguments)]
