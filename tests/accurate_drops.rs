@@ -9,7 +9,6 @@ use common::{state_bits, Lcg};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use tumble::{Material, RigidBodyBuilder, Shape, World};
 
-
 fn random_shape(rng: &mut Lcg) -> Shape {
     let kind = (rng.next() * 5.0) as usize;
     let mut size = || rng.range(0.05, 0.3);
@@ -20,8 +19,9 @@ fn random_shape(rng: &mut Lcg) -> Shape {
         3 => Shape::cylinder(size(), size()).unwrap(),
         _ => {
             drop(size);
-            let points: Vec<Point3<f64>> =
-                (0..8).map(|_| Point3::new(rng.range(-0.25, 0.25), rng.range(-0.25, 0.25), rng.range(-0.25, 0.25))).collect();
+            let points: Vec<Point3<f64>> = (0..8)
+                .map(|_| Point3::new(rng.range(-0.25, 0.25), rng.range(-0.25, 0.25), rng.range(-0.25, 0.25)))
+                .collect();
             Shape::convex_hull(&points).unwrap()
         }
     }

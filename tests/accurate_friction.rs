@@ -134,11 +134,13 @@ fn a_box_thrown_spinning_onto_a_floor_settles_flat_at_rest_and_never_gains_energ
     assert!(rise < 1e-6 * e0, "energy rose by {rise} J");
     let b = w.body(cube).unwrap();
     let up = b.orientation() * Vector3::z();
-    println!("measured: thrown box ends at z = {:.9}, |v| = {:.2e}, |w| = {:.2e}", b.position().z, b.velocity().norm(), b.angular_velocity().norm());
+    println!(
+        "measured: thrown box ends at z = {:.9}, |v| = {:.2e}, |w| = {:.2e}",
+        b.position().z,
+        b.velocity().norm(),
+        b.angular_velocity().norm()
+    );
     assert!(b.velocity().norm() < 1e-6 && b.angular_velocity().norm() < 1e-6, "at rest");
     // flat: on its largest face (half height 0.1 m), to the tolerance
     assert!(up.z.abs() > 1.0 - 1e-9 && (b.position().z - 0.1).abs() < 1e-5, "flat: up {up}, z {}", b.position().z);
 }
-
-
-

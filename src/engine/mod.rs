@@ -86,9 +86,9 @@ impl Engine {
                     let limit = settings.divergence_limit;
                     Ok(Engine::Fast(fast::FastEngine::new(compiled, scene, t, y, fast, threads, limit)))
                 }
-                (Mode::Accurate(acc), Some(scene)) => {
-                    Ok(Engine::Accurate(accurate::AccurateEngine::new(compiled, scene, settings, acc, gravity, threads, t, y)?))
-                }
+                (Mode::Accurate(acc), Some(scene)) => Ok(Engine::Accurate(accurate::AccurateEngine::new(
+                    compiled, scene, settings, acc, gravity, threads, t, y,
+                )?)),
                 (Mode::Accurate(_), None) => Ok(Engine::Smooth(SmoothEngine::new(compiled, settings, t, y)?)),
             }
         }

@@ -191,7 +191,10 @@ impl Pile {
         if self.layers == 0 || self.side.saturating_mul(self.side).saturating_mul(self.layers) > 100_000 {
             return Err(WorldError::invalid(
                 "layers",
-                format!("{} layers of {} x {} cubes: from 1 layer to 100,000 cubes in all", self.layers, self.side, self.side),
+                format!(
+                    "{} layers of {} x {} cubes: from 1 layer to 100,000 cubes in all",
+                    self.layers, self.side, self.side
+                ),
             ));
         }
         Ok(())

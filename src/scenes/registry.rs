@@ -87,11 +87,19 @@ fn scene(name: &str, params: &[(String, f64)], make: bool) -> Result<Option<Worl
             };
             p.finish(name)?;
             cloth.check()?;
-            if make { Some(cloth.build()?.0) } else { None }
+            if make {
+                Some(cloth.build()?.0)
+            } else {
+                None
+            }
         }
         "spinning_top" => {
             p.finish(name)?;
-            if make { Some(spinning_top()?.0) } else { None }
+            if make {
+                Some(spinning_top()?.0)
+            } else {
+                None
+            }
         }
         #[cfg(feature = "contact")]
         _ => return contact_scene(name, p, make),
@@ -118,38 +126,62 @@ fn contact_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<Wor
             };
             p.finish(name)?;
             ball.check()?;
-            if make { Some(ball.build()?.0) } else { None }
+            if make {
+                Some(ball.build()?.0)
+            } else {
+                None
+            }
         }
         "tumbling_box" => {
             p.finish(name)?;
-            if make { Some(tumbling_box()?.0) } else { None }
+            if make {
+                Some(tumbling_box()?.0)
+            } else {
+                None
+            }
         }
         "dominoes" => {
             let d = Dominoes::default();
             let row = Dominoes { count: p.count("count", d.count)?, spacing: p.number("spacing", d.spacing)? };
             p.finish(name)?;
             row.check()?;
-            if make { Some(row.build()?.0) } else { None }
+            if make {
+                Some(row.build()?.0)
+            } else {
+                None
+            }
         }
         "pyramid" => {
             let pyramid = Pyramid { layers: p.count("layers", Pyramid::default().layers)? };
             p.finish(name)?;
             pyramid.check()?;
-            if make { Some(pyramid.build()?.0) } else { None }
+            if make {
+                Some(pyramid.build()?.0)
+            } else {
+                None
+            }
         }
         "pile" => {
             let d = Pile::default();
             let pile = Pile { side: p.count("side", d.side)?, layers: p.count("layers", d.layers)? };
             p.finish(name)?;
             pile.check()?;
-            if make { Some(pile.build()?.0) } else { None }
+            if make {
+                Some(pile.build()?.0)
+            } else {
+                None
+            }
         }
         "cloth_drape" => {
             let d = ClothDrape::default();
             let drape = ClothDrape { n: p.count("n", d.n)?, size: p.number("size", d.size)? };
             p.finish(name)?;
             drape.check()?;
-            if make { Some(drape.build()?.0) } else { None }
+            if make {
+                Some(drape.build()?.0)
+            } else {
+                None
+            }
         }
         other => return Err(unknown(other)),
     };

@@ -26,7 +26,8 @@ impl Shape {
             return Err(ShapeError::new("density", format!("must be finite and > 0, got {density}")));
         }
         let unit = self.unit_mass_properties()?;
-        let out = MassProperties { mass: unit.mass * density, local_com: unit.local_com, inertia: unit.inertia * density };
+        let out =
+            MassProperties { mass: unit.mass * density, local_com: unit.local_com, inertia: unit.inertia * density };
         if !(out.mass.is_finite() && out.inertia.iter().all(|v| v.is_finite())) {
             return Err(ShapeError::new("density", format!("{density:e} gives a mass or inertia that overflows")));
         }

@@ -120,7 +120,10 @@ impl Contacts {
                 self.report.contact_rejected += 1;
                 phase.h = 0.25 * h;
                 if phase.h < self.min_step(t) {
-                    break Err(failure(t, format!("contact steps fell to {:.1e} s: {}", phase.h, self.last_solver_error)));
+                    break Err(failure(
+                        t,
+                        format!("contact steps fell to {:.1e} s: {}", phase.h, self.last_solver_error),
+                    ));
                 }
                 continue;
             };
@@ -155,8 +158,8 @@ impl Contacts {
                 let energy = |y: &[f64]| model.kinetic_energy(y) + model.potential_energy(y);
                 let (kinetic, potential) = (model.kinetic_energy(&y), model.potential_energy(&y));
                 let before = kinetic + potential;
-                let slack = 1e-12 * (kinetic.abs() + potential.abs())
-                    + 1e-4 * self.tolerance / h * momenta(model, &next);
+                let slack =
+                    1e-12 * (kinetic.abs() + potential.abs()) + 1e-4 * self.tolerance / h * momenta(model, &next);
                 if energy(&better) <= before + slack {
                     next = better;
                 }

@@ -2,9 +2,9 @@
 //! the step plus the margin, overlap (pairs of sleeping or static actors left out) get parry's manifolds, reduced
 //! to at most four points a pair; a sleeping island touched by a moving actor wakes.
 
-use crate::engine::manifold::reduce;
 use super::{failure, FastEngine};
 use crate::engine::contact_scene::Found;
+use crate::engine::manifold::reduce;
 use crate::error::WorldError;
 use crate::plan::Stage;
 use std::time::Instant;
