@@ -11,14 +11,12 @@ use tumble::{Material, RigidBodyBuilder, Shape, World};
 
 fn random_shape(rng: &mut Lcg) -> Shape {
     let kind = (rng.next() * 5.0) as usize;
-    let mut size = || rng.range(0.05, 0.3);
     match kind {
-        0 => Shape::sphere(size()).unwrap(),
-        1 => Shape::cuboid(Vector3::new(size(), size(), size())).unwrap(),
-        2 => Shape::capsule(size(), size()).unwrap(),
-        3 => Shape::cylinder(size(), size()).unwrap(),
+        0 => Shape::sphere(rng.range(0.05, 0.3)).unwrap(),
+        1 => Shape::cuboid(Vector3::new(rng.range(0.05, 0.3), rng.range(0.05, 0.3), rng.range(0.05, 0.3))).unwrap(),
+        2 => Shape::capsule(rng.range(0.05, 0.3), rng.range(0.05, 0.3)).unwrap(),
+        3 => Shape::cylinder(rng.range(0.05, 0.3), rng.range(0.05, 0.3)).unwrap(),
         _ => {
-            drop(size);
             let points: Vec<Point3<f64>> = (0..8)
                 .map(|_| Point3::new(rng.range(-0.25, 0.25), rng.range(-0.25, 0.25), rng.range(-0.25, 0.25)))
                 .collect();

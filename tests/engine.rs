@@ -10,8 +10,6 @@ use tumble::{
     FastSettings, IntegratorOptions, Material, Mode, ParticleBuilder, RigidBodyBuilder, Shape, World, WorldOptions,
 };
 
-/// A small reproducible random generator (64-bit LCG, top 53 bits) for scenes.
-
 /// Five random bodies (boxes and spheres, random sizes, orientations, densities and materials) dropped together
 /// onto the floor from overlapping columns, so they land on each other.
 fn random_drop(seed: u64) -> World {

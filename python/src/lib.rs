@@ -9,6 +9,7 @@ mod handles;
 mod report;
 mod shapes;
 mod world;
+mod world_scenes;
 mod world_state;
 
 pyo3::create_exception!(

@@ -3,7 +3,7 @@
 //! Contacts are speculative (pairs within the distance they can close in the step take part, with their gap as a
 //! bound), so nothing passes through and new contacts stop at their gap. Friction is lagged: each contact's
 //! friction impulse is bounded by mu times a normal impulse, and the step iterates that bound to its own normal
-//! impulse (a fixed point, at most `LAGGED_ITERATIONS` solves), so sliding decelerates at mu g without the convex
+//! impulse (a fixed point to `Contacts::lagged_tolerance`, at most `LAGGED_ITERATIONS` solves), so sliding decelerates at mu g without the convex
 //! cone's hop and the answer does not depend on the previous step's forces beyond the first guess.
 
 use super::{failure, Contacts};
@@ -19,7 +19,6 @@ use tumble_integrate::{OdeError, OdeSystem};
 
 /// Most solves of one step's lagged-friction fixed point.
 const LAGGED_ITERATIONS: usize = 3;
-/// The fixed point is reached when no normal impulse moves by more than this fraction of the largest one.
 
 /// What one contact step gives.
 pub(crate) struct StepOutcome {

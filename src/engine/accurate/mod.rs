@@ -115,6 +115,7 @@ pub(crate) fn failure(t: f64, message: String) -> OdeError {
 }
 
 impl AccurateEngine {
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         mut compiled: Compiled,
         scene: ContactScene,
