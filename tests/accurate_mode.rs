@@ -271,3 +271,32 @@ fn a_box_that_hops_off_another_is_caught_when_it_comes_back() {
     );
     assert!(deepest <= 1e-5, "penetrated {deepest} m");
 }
+
+#[test]
+fn the_chapters_resting_forces_stay_selectable_and_refuse_friction() {
+    // `Persistent::RestingForces`: the ball comes to rest carried by the resting-contact forces inside the equations
+    // of motion (a lone contact's force has a closed form; no contact steps), on the floor to 1e-6 m; a contact with friction there is an error, the
+    // world unchanged.
+    let resting =
+        Mode::Accurate(AccurateSettings { persistent: tumble::Persistent::RestingForces, ..Default::default() });
+    let (mut w, ball) = ball_world(0.5, 0.1, 0.2);
+    w.set_mode(resting).unwrap();
+    w.run(3.0, 0.01).unwrap();
+    let (b, r) = (w.body(ball).unwrap(), w.report());
+    println!(
+        "measured: resting forces: z = {:.9}, {} qp solves, {} contact steps",
+        b.position().z,
+        r.qp_solves,
+        r.contact_steps
+    );
+    assert!(b.velocity().norm() < 1e-9 && (b.position().z - 0.1).abs() < 1e-6, "z {}", b.position().z);
+    assert!(w.plan().has("resting-contact") && !w.plan().has("contact-cone-program") && r.contact_steps == 0);
+    let mut w = World::new();
+    w.set_mode(resting).unwrap();
+    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_body(RigidBodyBuilder::from_shape(Shape::sphere(0.1).unwrap(), 1000.0).position(Vector3::new(0.0, 0.0, 0.1)))
+        .unwrap();
+    let e = w.step(0.1).unwrap_err();
+    assert!(e.to_string().contains("frictionless"), "{e}");
+    assert_eq!(w.time(), 0.0);
+}
