@@ -191,7 +191,11 @@ impl OdeSystem for Model {
         self.update_kin(y);
         let (dq, dp) = dy.split_at_mut(self.layout.positions());
         self.position_part(y, dq);
-        self.force_part(t, y, dp)
+        self.force_part(t, y, dp)?;
+        for &k in &self.frozen {
+            dy[k] = 0.0;
+        }
+        Ok(())
     }
 
     fn jacobian_structure(&self) -> JacobianStructure {
@@ -225,12 +229,21 @@ impl OdeSystem for Model {
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         self.update_kin(y);
         self.position_part(y, dq);
+        let q = dq.len();
+        for &k in self.frozen.iter().filter(|k| **k < q) {
+            dq[k] = 0.0;
+        }
         Ok(())
     }
 
     fn velocity_rate(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
         self.update_kin(y);
-        self.force_part(t, y, dp)
+        self.force_part(t, y, dp)?;
+        let q = self.layout.positions();
+        for &k in self.frozen.iter().filter(|k| **k >= q) {
+            dp[k - q] = 0.0;
+        }
+        Ok(())
     }
 
     fn project(&mut self, _t: f64, y: &mut [f64]) -> bool {

@@ -129,6 +129,9 @@ pub(crate) struct Model {
     /// Resting contacts whose forces the right-hand side adds (accurate mode).
     #[cfg(feature = "contact")]
     pub resting: Option<crate::engine::accurate::RestingSet>,
+    /// State components whose rates the right-hand side sets to zero (actors held still while the rest fly;
+    /// empty but in accurate mode's free flights).
+    pub frozen: Vec<usize>,
 }
 
 /// A compiled model with the handles of its rows: particles and dynamic bodies in state order.
@@ -224,6 +227,7 @@ pub(crate) fn compile(
         velocity_dependent,
         #[cfg(feature = "contact")]
         resting: None,
+        frozen: Vec::new(),
     };
     model.terms = model.stages();
     Compiled { model, particles: particle_handles, bodies: body_handles }

@@ -26,6 +26,7 @@ mod contact_phase;
 mod contact_step;
 mod detect;
 mod drift;
+mod free_flight;
 mod pass_through;
 mod resting;
 mod touching;
@@ -89,6 +90,10 @@ pub(crate) struct Contacts {
     lagged_tolerance: f64,
     /// Why clarabel last failed to answer a contact step (for the message if steps shrink to nothing).
     last_solver_error: String,
+    /// The integrator's settings, for the actors that fly free while others touch (`free_flight.rs`).
+    free_settings: Settings,
+    /// The counters of those free flights since the last report.
+    free_report: tumble_integrate::Report,
 }
 
 /// Integration with event-driven contact.
@@ -148,6 +153,8 @@ impl AccurateEngine {
             max_steps: settings.max_steps,
             divergence_limit: settings.divergence_limit,
             last_solver_error: String::new(),
+            free_settings: settings.clone(),
+            free_report: tumble_integrate::Report::empty(settings.method.name()),
             lagged_tolerance: (10.0 * accurate.contact_tolerance.unwrap_or(1e-6 * size) / size.max(1e-300))
                 .clamp(1e-9, 1e-3),
         };
@@ -291,6 +298,13 @@ impl AccurateEngine {
 
     pub fn take_report(&mut self) -> WorldReport {
         let mut r = take_integrator_report(Some(&mut self.integrator), self.settings.method.name());
+        let free = std::mem::replace(
+            &mut self.contacts.free_report,
+            tumble_integrate::Report::empty(self.settings.method.name()),
+        );
+        r.stages.add(Stage::Integrate, free.steps);
+        r.stages.add(Stage::Jacobian, free.jacobians);
+        r.integrator.merge(&free);
         let c = std::mem::replace(&mut self.contacts.report, WorldReport::new("accurate"));
         r.merge_contact(&c);
         r.stages += c.stages;

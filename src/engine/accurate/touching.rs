@@ -12,6 +12,7 @@
 
 use super::contact_step::{actors_with_forces, StepOutcome};
 use super::drift::correct_drift;
+use super::free_flight::{copy_free, involved, FreeFlight};
 use super::{failure, Contacts};
 use crate::engine::contact_scene::ContactKey;
 use crate::model::layout::{get3, get_quat, set_quat};
@@ -22,7 +23,7 @@ use std::collections::BTreeMap;
 use tumble_integrate::OdeError;
 
 /// What the touching phase carries from step to step.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone)]
 pub(crate) struct Touching {
     /// Each contact's normal force of the last accepted step (the next step's first friction bound).
     pub lagged: BTreeMap<ContactKey, f64>,
@@ -30,6 +31,8 @@ pub(crate) struct Touching {
     pub h: f64,
     /// The stall window: its start time and the steps tried in it.
     pub window: (f64, usize),
+    /// The integrator of the actors that touch nothing (`free_flight.rs`).
+    pub free: Option<FreeFlight>,
 }
 
 /// Steps tried (accepted or rejected) over which the touching phase's progress is watched.
@@ -50,7 +53,7 @@ impl Contacts {
     /// / g), within the phase's step bounds.
     pub fn start_touching(&mut self) {
         let h = (2.0 * self.tolerance / self.gravity.max(1e-300)).sqrt().clamp(self.min_step(0.0), self.max_step);
-        self.touching = Some(Touching { lagged: BTreeMap::new(), h, window: (f64::NAN, 0) });
+        self.touching = Some(Touching { lagged: BTreeMap::new(), h, window: (f64::NAN, 0), free: None });
     }
 
     /// The smallest step: 16 ulps of the time, and no less than 1e-14 s.
@@ -114,7 +117,8 @@ impl Contacts {
                 found = self.step_contacts(model, &states, &y, t, h)?;
             }
             self.report.max_penetration = self.report.max_penetration.max(self.penetration);
-            let Some((whole, second)) = self.doubled_step(model, &statics, &states, &found, &phase.lagged, t, &y, h)?
+            let Some((mut whole, mut second, involved)) =
+                self.doubled_step(model, &statics, &states, &found, &phase.lagged, t, &y, h)?
             else {
                 // clarabel could not answer to its tolerance: a smaller step changes the problem
                 self.report.contact_rejected += 1;
@@ -127,7 +131,7 @@ impl Contacts {
                 }
                 continue;
             };
-            let error = difference(model, &whole.y, &second.y, h);
+            let error = difference(model, &involved, &whole.y, &second.y, h);
             let ratio = error / self.tolerance;
             if !ratio.is_finite() {
                 break Err(OdeError::NonFinite { t, what: "contact step", index: 0 });
@@ -148,6 +152,12 @@ impl Contacts {
                 }
                 continue;
             }
+            // The actors that touch nothing follow the integrator over the accepted step.
+            let free = self.free_flight(model, &mut phase.free, &involved, t, &y, h, budget)?;
+            if let Some(free) = &free {
+                copy_free(model, &involved, free, &mut whole.y);
+                copy_free(model, &involved, free, &mut second.y);
+            }
             let mut next = second.y;
             if whole.pressing == second.pressing {
                 let mut better = next.clone();
@@ -155,14 +165,20 @@ impl Contacts {
                 // Never a gain of energy over the step from the extrapolation, beyond the solves' own accuracy
                 // (velocities to 1e-4 of tol / h: an energy of that times the momenta) and rounding (1e-12 of the
                 // kinetic and potential energies' sizes, whose difference the total may be).
+                // The free actors' own change of energy (the same in both) is taken out: only the touching ones'
+                // is judged.
                 let energy = |y: &[f64]| model.kinetic_energy(y) + model.potential_energy(y);
                 let (kinetic, potential) = (model.kinetic_energy(&y), model.potential_energy(&y));
                 let before = kinetic + potential;
-                let slack =
-                    1e-12 * (kinetic.abs() + potential.abs()) + 1e-4 * self.tolerance / h * momenta(model, &next);
-                if energy(&better) <= before + slack {
+                let free_gain = free.as_deref().map_or(0.0, |f| energy(f) - before);
+                let slack = 1e-12 * (kinetic.abs() + potential.abs())
+                    + 1e-4 * self.tolerance / h * momenta(model, &involved, &next);
+                if energy(&better) - free_gain <= before + slack {
                     next = better;
                 }
+            }
+            if let Some(free) = &free {
+                copy_free(model, &involved, free, &mut next);
             }
             if let Some(index) = next.iter().position(|v| !v.is_finite()) {
                 break Err(OdeError::NonFinite { t: t + h, what: "state after a contact step", index });
@@ -230,7 +246,8 @@ impl Contacts {
     }
 
     /// One step of h taken whole and as two halves (the first half on the whole step's contacts, the second on its
-    /// own); `None` if clarabel could not answer one of them.
+    /// own), with the actors their contacts involve (`free_flight::involved`); `None` if clarabel could not answer
+    /// one of them.
     #[allow(clippy::too_many_arguments)]
     fn doubled_step(
         &mut self,
@@ -242,37 +259,45 @@ impl Contacts {
         t: f64,
         y: &[f64],
         h: f64,
-    ) -> Result<Option<(StepOutcome, StepOutcome)>, OdeError> {
+    ) -> Result<Option<(StepOutcome, StepOutcome, Vec<bool>)>, OdeError> {
         let Some(whole) = self.contact_step(model, states, found, lagged, t, y, h)? else { return Ok(None) };
         let Some(first) = self.contact_step(model, states, found, lagged, t, y, 0.5 * h)? else { return Ok(None) };
         let mid = t + 0.5 * h;
         let states = actors_with_forces(model, statics, mid, &first.y)?;
-        let found = self.step_contacts(model, &states, &first.y, mid, 0.5 * h)?;
-        let Some(second) = self.contact_step(model, &states, &found, &first.forces, mid, &first.y, 0.5 * h)? else {
+        let later = self.step_contacts(model, &states, &first.y, mid, 0.5 * h)?;
+        let Some(second) = self.contact_step(model, &states, &later, &first.forces, mid, &first.y, 0.5 * h)? else {
             return Ok(None);
         };
-        Ok(Some((whole, second)))
+        let involved = involved(model, &[found, &later]);
+        Ok(Some((whole, second, involved)))
     }
 }
 
-/// The sum of the actors' momentum magnitudes in state y (kg m/s).
-fn momenta(model: &Model, y: &[f64]) -> f64 {
+/// The sum of the `involved` actors' momentum magnitudes in state y (kg m/s).
+fn momenta(model: &Model, involved: &[bool], y: &[f64]) -> f64 {
     let l = model.layout;
-    let particles: f64 = model.particles.iter().enumerate().map(|(i, p)| p.mass * get3(y, l.pv(i)).norm()).sum();
-    let bodies: f64 = (0..model.bodies.len()).map(|j| get3(y, l.bp(j)).norm()).sum();
+    let particles: f64 = model
+        .particles
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| involved[*i])
+        .map(|(i, p)| p.mass * get3(y, l.pv(i)).norm())
+        .sum();
+    let bodies: f64 =
+        (0..model.bodies.len()).filter(|j| involved[l.particles + j]).map(|j| get3(y, l.bp(j)).norm()).sum();
     particles + bodies
 }
 
-/// The largest difference between two states in metres: positions, each body's turn times its radius of
-/// gyration, and velocity differences times h.
-fn difference(model: &Model, a: &[f64], b: &[f64], h: f64) -> f64 {
+/// The largest difference between two states over the `involved` actors in metres: positions, each body's turn
+/// times its radius of gyration, and velocity differences times h.
+fn difference(model: &Model, involved: &[bool], a: &[f64], b: &[f64], h: f64) -> f64 {
     let l = model.layout;
     let mut e = 0.0f64;
-    for i in 0..l.particles {
+    for i in (0..l.particles).filter(|i| involved[*i]) {
         e = e.max((get3(a, l.px(i)) - get3(b, l.px(i))).amax());
         e = e.max(h * (get3(a, l.pv(i)) - get3(b, l.pv(i))).amax());
     }
-    for (j, body) in model.bodies.iter().enumerate() {
+    for (j, body) in model.bodies.iter().enumerate().filter(|(j, _)| involved[l.particles + j]) {
         let r = (body.inertia.trace() / (2.0 * body.mass)).sqrt();
         e = e.max((get3(a, l.bx(j)) - get3(b, l.bx(j))).amax());
         e = e.max(h * (get3(a, l.bp(j)) - get3(b, l.bp(j))).amax() / body.mass);
