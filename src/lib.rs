@@ -44,9 +44,9 @@ pub mod limit {
     pub use crate::limits::{COORDINATE, FORCE, GRAVITY, INERTIA, MASS, SPEED, STIFFNESS, TIME};
 }
 pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
-pub use mode::{AccurateSettings, FastFriction, FastSettings, Mode, Persistent};
+pub use mode::{AccurateSettings, FastFriction, FastSettings, FastSolver, Mode, Persistent, SoftSolver};
 pub use model::ForceCounters;
-pub use options::{mode_from, BodyOptions, IntegratorOptions, WorldOptions, DEFAULT_DENSITY, DEFAULT_DT};
+pub use options::{mode_from, BodyOptions, IntegratorOptions, ModeOptions, WorldOptions, DEFAULT_DENSITY, DEFAULT_DT};
 pub use particle::{Particle, ParticleBuilder};
 pub use plan::{Plan, Stage, StageCounts};
 pub use report::{ReportValue, WorldReport};

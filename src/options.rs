@@ -4,7 +4,7 @@
 
 use crate::body::RigidBodyBuilder;
 use crate::error::WorldError;
-use crate::mode::{AccurateSettings, FastSettings, Mode};
+use crate::mode::{AccurateSettings, FastSettings, FastSolver, Mode, SoftSolver};
 use crate::world::World;
 use nalgebra::{Matrix3, Vector3};
 use tumble_collide::Shape;
@@ -120,40 +120,76 @@ impl IntegratorOptions {
     }
 }
 
-/// The contact mode from its name ("accurate" or "fast"), fast mode's step (default 1/240 s) and whether its
-/// resting islands sleep (default true), and accurate mode's contact tolerance (m; default 1e-6 of the scene's
-/// size). `dt` and `sleep` apply to fast mode only, `contact_tolerance` to accurate mode only.
-pub fn mode_from(
-    name: &str,
-    dt: Option<f64>,
-    sleep: Option<bool>,
-    contact_tolerance: Option<f64>,
-) -> Result<Mode, WorldError> {
+/// The options of a contact mode, by name; `None` takes the default. `dt`, `sleep`, `solver` and `substeps` apply
+/// to fast mode only, `contact_tolerance` to accurate mode only.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModeOptions {
+    /// Fast mode's step (s; default 1/240).
+    pub dt: Option<f64>,
+    /// Whether fast mode's resting islands sleep (default true).
+    pub sleep: Option<bool>,
+    /// Accurate mode's error allowed in one contact step (m; default 1e-6 of the scene's size).
+    pub contact_tolerance: Option<f64>,
+    /// Fast mode's contact solver: "soft" (the default) or "exact".
+    pub solver: Option<String>,
+    /// The soft solver's substeps a step (default 8).
+    pub substeps: Option<usize>,
+}
+
+/// The contact mode from its name ("accurate" or "fast") and its options; an option of the other mode is an error
+/// naming it.
+pub fn mode_from(name: &str, o: &ModeOptions) -> Result<Mode, WorldError> {
     match name {
         "accurate" => {
-            if dt.is_some() {
+            if o.dt.is_some() {
                 return Err(WorldError::invalid(
                     "dt",
                     "accurate mode takes its steps from the integrator: give dt with the integrator",
                 ));
             }
-            if sleep.is_some() {
-                return Err(WorldError::invalid("sleep", "only fast mode puts resting islands to sleep"));
+            for (name, given) in
+                [("sleep", o.sleep.is_some()), ("solver", o.solver.is_some()), ("substeps", o.substeps.is_some())]
+            {
+                if given {
+                    return Err(WorldError::invalid(name, "applies to fast mode only"));
+                }
             }
-            let mode = Mode::Accurate(AccurateSettings { contact_tolerance, ..AccurateSettings::default() });
+            let mode = Mode::Accurate(AccurateSettings {
+                contact_tolerance: o.contact_tolerance,
+                ..AccurateSettings::default()
+            });
             mode.check()?;
             Ok(mode)
         }
         "fast" => {
-            if contact_tolerance.is_some() {
+            if o.contact_tolerance.is_some() {
                 return Err(WorldError::invalid(
                     "contact_tolerance",
                     "only accurate mode controls its contact steps' error; fast mode steps by dt",
                 ));
             }
+            let solver = match o.solver.as_deref() {
+                None | Some("soft") => {
+                    let mut soft = SoftSolver::default();
+                    if let Some(n) = o.substeps {
+                        soft.substeps = n;
+                    }
+                    FastSolver::Soft(soft)
+                }
+                Some("exact") => {
+                    if o.substeps.is_some() {
+                        return Err(WorldError::invalid("substeps", "applies to the soft solver only"));
+                    }
+                    FastSolver::exact()
+                }
+                Some(other) => {
+                    return Err(WorldError::invalid("solver", format!("expected \"soft\" or \"exact\", got {other:?}")))
+                }
+            };
             let mode = Mode::Fast(FastSettings {
-                sleep: sleep.unwrap_or(true),
-                ..FastSettings::new(dt.unwrap_or(DEFAULT_DT))
+                sleep: o.sleep.unwrap_or(true),
+                solver,
+                ..FastSettings::new(o.dt.unwrap_or(DEFAULT_DT))
             });
             mode.check()?;
             Ok(mode)
@@ -175,11 +211,25 @@ pub struct WorldOptions {
     pub threads: Option<usize>,
     /// Accurate mode: the error allowed in one contact step (m; default 1e-6 of the scene's size).
     pub contact_tolerance: Option<f64>,
+    /// Fast mode: the contact solver, "soft" (the default) or "exact".
+    pub solver: Option<String>,
+    /// Fast mode's soft solver: substeps a step (default 8).
+    pub substeps: Option<usize>,
     /// The integrator (accurate mode); its `dt` is fast mode's step in fast mode.
     pub integrator: IntegratorOptions,
 }
 
 impl WorldOptions {
+    fn mode_options(&self) -> ModeOptions {
+        ModeOptions {
+            dt: None,
+            sleep: self.sleep,
+            contact_tolerance: self.contact_tolerance,
+            solver: self.solver.clone(),
+            substeps: self.substeps,
+        }
+    }
+
     /// The world these options describe. In fast mode every integrator option but `dt` is an error naming it.
     pub fn build(&self) -> Result<World, WorldError> {
         let name = self.mode.as_deref().unwrap_or("accurate");
@@ -197,9 +247,9 @@ impl WorldOptions {
                     "does not apply to fast mode, which steps by semi-implicit Euler at its dt",
                 ));
             }
-            world.set_mode(mode_from(name, self.integrator.dt, self.sleep, self.contact_tolerance)?)?;
+            world.set_mode(mode_from(name, &ModeOptions { dt: self.integrator.dt, ..self.mode_options() })?)?;
         } else {
-            let mode = mode_from(name, None, self.sleep, self.contact_tolerance)?;
+            let mode = mode_from(name, &self.mode_options())?;
             world.set_integrator(self.integrator.settings()?)?;
             world.set_mode(mode)?;
         }

@@ -31,8 +31,10 @@ pub enum Stage {
     Impulses,
     /// Resting-contact forces from the QP inside the equations of motion (accurate mode).
     RestingContact,
-    /// One velocity-level conic program per island (fast mode).
+    /// One velocity-level conic program per island (fast mode's exact solver, accurate mode's contact steps).
     ContactConeProgram,
+    /// The soft step: substeps of an iterative, warm-started solve of soft contacts (fast mode's default solver).
+    ContactSoftStep,
     /// Resting islands put to sleep (fast mode).
     Sleeping,
     /// The integrator's steps (fast mode: positions from the new velocities).
@@ -43,7 +45,7 @@ pub enum Stage {
 
 impl Stage {
     /// Every stage, in pipeline order.
-    pub const ALL: [Stage; 16] = [
+    pub const ALL: [Stage; 17] = [
         Stage::Particles,
         Stage::RigidBodies,
         Stage::Rotation,
@@ -57,6 +59,7 @@ impl Stage {
         Stage::Impulses,
         Stage::RestingContact,
         Stage::ContactConeProgram,
+        Stage::ContactSoftStep,
         Stage::Sleeping,
         Stage::Integrate,
         Stage::Jacobian,
@@ -78,6 +81,7 @@ impl Stage {
             Stage::Impulses => "impulses",
             Stage::RestingContact => "resting-contact",
             Stage::ContactConeProgram => "contact-cone-program",
+            Stage::ContactSoftStep => "contact-soft-step",
             Stage::Sleeping => "sleeping",
             Stage::Integrate => "integrate",
             Stage::Jacobian => "jacobian",
@@ -126,7 +130,7 @@ impl std::ops::AddAssign for StageCounts {
 pub struct Plan {
     /// Active stages in pipeline order: "particles", "rigid-bodies", "rotation", "gravity", "damping",
     /// "springs", "loads", "callbacks", then with colliders that can touch "collision-detection" and either
-    /// (accurate mode) "bisection", "impulses", "resting-contact" or (fast mode) "contact-cone-program" and
+    /// (accurate mode) "bisection", "impulses", "resting-contact" or (fast mode) "contact-soft-step" (or "contact-cone-program") and
     /// "sleeping"; then "integrate", "jacobian".
     pub stages: Vec<&'static str>,
     /// Length of the state vector (6 a particle, 13 a dynamic body).

@@ -132,7 +132,7 @@ fn options_that_do_not_apply_to_the_mode_are_errors_naming_them() {
     assert_eq!(w.mode(), Mode::Fast(FastSettings::new(0.01)), "dt is fast mode's step");
     let e = WorldOptions { sleep: Some(false), ..WorldOptions::default() }.build().err().unwrap();
     assert_eq!(e.argument(), Some("sleep"), "{e}");
-    let e = tumble::mode_from("accurate", Some(0.01), None, None).unwrap_err();
+    let e = tumble::mode_from("accurate", &tumble::ModeOptions { dt: Some(0.01), ..Default::default() }).unwrap_err();
     assert_eq!(e.argument(), Some("dt"), "{e}");
     // An integrator chosen in fast mode.
     let mut w = World::new();

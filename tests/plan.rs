@@ -37,7 +37,12 @@ fn a_particle_world_carries_no_rotation_state() {
         }
         w.set_mode(tumble::Mode::fast(0.01)).unwrap();
         let fast = w.plan();
-        assert!(fast.has("contact-cone-program") && fast.has("sleeping") && !fast.has("bisection"), "{fast}");
+        assert!(fast.has("contact-soft-step") && fast.has("sleeping") && !fast.has("bisection"), "{fast}");
+        assert!(!fast.has("contact-cone-program"), "the soft step's plan has no cone program: {fast}");
+        let exact = tumble::FastSettings { solver: tumble::FastSolver::exact(), ..tumble::FastSettings::new(0.01) };
+        w.set_mode(tumble::Mode::Fast(exact)).unwrap();
+        let fast = w.plan();
+        assert!(fast.has("contact-cone-program") && !fast.has("contact-soft-step"), "{fast}");
         w.set_mode(tumble::Mode::default()).unwrap();
     } else {
         // Built without the `contact` feature, shapes only give mass: no contact stage, and fast mode is an error

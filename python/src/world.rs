@@ -14,7 +14,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::{Arc, Mutex};
 use tumble::{
-    mode_from, BodyOptions, Material, ParticleBuilder, SpringBuilder, World, WorldError, WorldOptions, Wrench,
+    mode_from, BodyOptions, Material, ModeOptions, ParticleBuilder, SpringBuilder, World, WorldError, WorldOptions,
+    Wrench,
 };
 
 /// A world of particles and rigid bodies (see the package documentation for the whole contract).
@@ -53,7 +54,7 @@ impl PyWorld {
     #[pyo3(signature = (gravity = None, integrator = None, rtol = None, atol = None, dt = None,
                         step_doubling = false, tolerance = None, mode = "accurate", linear_solver = None,
                         newton = false, max_steps = None, sleep = None, threads = None,
-                        contact_tolerance = None))]
+                        contact_tolerance = None, solver = None, substeps = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         gravity: Option<&Bound<'_, PyAny>>,
@@ -70,6 +71,8 @@ impl PyWorld {
         sleep: Option<bool>,
         threads: Option<usize>,
         contact_tolerance: Option<f64>,
+        solver: Option<String>,
+        substeps: Option<usize>,
     ) -> PyResult<Self> {
         let options = WorldOptions {
             gravity: opt_vec3("gravity", gravity)?,
@@ -77,6 +80,8 @@ impl PyWorld {
             sleep,
             threads,
             contact_tolerance,
+            solver,
+            substeps,
             integrator: integrator_options(
                 integrator,
                 rtol,
@@ -118,17 +123,22 @@ impl PyWorld {
     /// Chooses how contact is handled: mode="accurate" (free flight under the integrator's error control,
     /// impacts located by bisection, touching bodies carried by error-controlled convex steps with Coulomb friction;
     /// `contact_tolerance` is their error per step in metres, default 1e-6 of the scene's size) or "fast" (time
-    /// stepping at dt, default 1/240 s; with sleep=False islands at rest keep being simulated). `dt` and `sleep`
-    /// apply to fast mode only, `contact_tolerance` to accurate mode only.
-    #[pyo3(signature = (mode, dt = None, sleep = None, contact_tolerance = None))]
+    /// stepping at dt, default 1/240 s; with sleep=False islands at rest keep being simulated; solver="soft", the
+    /// default, or "exact"; substeps of the soft solver, default 8). `dt`, `sleep`, `solver` and `substeps` apply to
+    /// fast mode only, `contact_tolerance` to accurate mode only.
+    #[pyo3(signature = (mode, dt = None, sleep = None, contact_tolerance = None, solver = None, substeps = None))]
+    #[allow(clippy::too_many_arguments)]
     fn set_mode(
         &mut self,
         mode: &str,
         dt: Option<f64>,
         sleep: Option<bool>,
         contact_tolerance: Option<f64>,
+        solver: Option<String>,
+        substeps: Option<usize>,
     ) -> PyResult<()> {
-        let m = mode_from(mode, dt, sleep, contact_tolerance).map_err(world_error)?;
+        let options = ModeOptions { dt, sleep, contact_tolerance, solver, substeps };
+        let m = mode_from(mode, &options).map_err(world_error)?;
         self.w().set_mode(m).map_err(world_error)
     }
 

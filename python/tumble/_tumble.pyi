@@ -82,6 +82,8 @@ class World:
         sleep: bool | None = None,
         threads: int | None = None,
         contact_tolerance: float | None = None,
+        solver: str | None = None,
+        substeps: int | None = None,
     ) -> None: ...
     def set_integrator(
         self,
@@ -96,7 +98,13 @@ class World:
         max_steps: int | None = None,
     ) -> None: ...
     def set_mode(
-        self, mode: str, dt: float | None = None, sleep: bool | None = None, contact_tolerance: float | None = None
+        self,
+        mode: str,
+        dt: float | None = None,
+        sleep: bool | None = None,
+        contact_tolerance: float | None = None,
+        solver: str | None = None,
+        substeps: int | None = None,
     ) -> None: ...
     @property
     def threads(self) -> int: ...

@@ -55,9 +55,9 @@ pub(crate) enum Engine {
 /// Everything an engine must put back for a failed call to leave no trace: time, state, the integrator's next
 /// step, and each engine's memory (resting set, lagged impulses, sleep).
 pub(crate) enum Snapshot {
-    Smooth(smooth::SmoothSnapshot),
+    Smooth(Box<smooth::SmoothSnapshot>),
     #[cfg(feature = "contact")]
-    Accurate(accurate::AccurateSnapshot),
+    Accurate(Box<accurate::AccurateSnapshot>),
     #[cfg(feature = "contact")]
     Fast(fast::FastSnapshot),
 }
@@ -170,9 +170,9 @@ impl Engine {
     /// What a failed call must put back.
     pub fn snapshot(&self) -> Snapshot {
         match self {
-            Engine::Smooth(e) => Snapshot::Smooth(e.snapshot()),
+            Engine::Smooth(e) => Snapshot::Smooth(Box::new(e.snapshot())),
             #[cfg(feature = "contact")]
-            Engine::Accurate(e) => Snapshot::Accurate(e.snapshot()),
+            Engine::Accurate(e) => Snapshot::Accurate(Box::new(e.snapshot())),
             #[cfg(feature = "contact")]
             Engine::Fast(e) => Snapshot::Fast(e.snapshot()),
         }
@@ -181,9 +181,9 @@ impl Engine {
     /// Puts a snapshot of this engine back.
     pub fn restore(&mut self, snapshot: Snapshot) -> Result<(), WorldError> {
         match (self, snapshot) {
-            (Engine::Smooth(e), Snapshot::Smooth(s)) => e.restore(s),
+            (Engine::Smooth(e), Snapshot::Smooth(s)) => e.restore(*s),
             #[cfg(feature = "contact")]
-            (Engine::Accurate(e), Snapshot::Accurate(s)) => e.restore(s),
+            (Engine::Accurate(e), Snapshot::Accurate(s)) => e.restore(*s),
             #[cfg(feature = "contact")]
             (Engine::Fast(e), Snapshot::Fast(s)) => e.restore(s),
             #[cfg(feature = "contact")]

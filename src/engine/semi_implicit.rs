@@ -5,7 +5,7 @@
 use crate::model::layout::{get3, get_quat, set3, set_quat};
 use crate::model::Model;
 use nalgebra::UnitQuaternion;
-use tumble_contact::BodyVelocity;
+use tumble_contact::{BodyVelocity, SoftStep};
 
 /// Semi-implicit Euler over h: every actor for which `moves(actor)` holds gets its position and orientation from
 /// its new velocity `v[actor]`, and its momenta from that velocity (actors: particles first, then bodies).
@@ -34,6 +34,40 @@ pub(crate) fn update_positions(m: &Model, y: &mut [f64], v: &[BodyVelocity], h: 
         let r0 = q0.to_rotation_matrix().into_inner();
         let mut momentum = r0 * b.inertia * r0.transpose() * w;
         let q1 = UnitQuaternion::from_scaled_axis(w * h) * q0;
+        let r1 = q1.to_rotation_matrix().into_inner();
+        let before = 0.5 * momentum.dot(&w);
+        let after = 0.5 * momentum.dot(&(r1 * b.inv_inertia * r1.transpose() * momentum));
+        if after > before && after > 0.0 {
+            momentum *= (before / after).sqrt();
+        }
+        set3(y, l.bx(j), &x);
+        set_quat(y, l.bq(j), &q1);
+        set3(y, l.bp(j), &(lin * b.mass));
+        set3(y, l.bl(j), &momentum);
+    }
+}
+
+/// The poses and velocities of a soft step (whose substeps moved the actors): every actor for which
+/// `moves(actor)` holds is displaced and turned as the step says, its momenta from its new velocities (angular
+/// momentum from the inertia at the step's start, scaled as in `update_positions` so the turn gains no energy).
+pub(crate) fn apply_moves(m: &Model, y: &mut [f64], out: &SoftStep, moves: impl Fn(usize) -> bool) {
+    let l = m.layout;
+    for i in (0..l.particles).filter(|&i| moves(i)) {
+        let x = get3(y, l.px(i)) + out.displacements[i];
+        set3(y, l.px(i), &x);
+        set3(y, l.pv(i), &out.velocities[i].linear);
+    }
+    for (j, b) in m.bodies.iter().enumerate() {
+        let a = l.particles + j;
+        if !moves(a) {
+            continue;
+        }
+        let (lin, w) = (out.velocities[a].linear, out.velocities[a].angular);
+        let x = get3(y, l.bx(j)) + out.displacements[a];
+        let q0 = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
+        let r0 = q0.to_rotation_matrix().into_inner();
+        let mut momentum = r0 * b.inertia * r0.transpose() * w;
+        let q1 = out.rotations[a] * q0;
         let r1 = q1.to_rotation_matrix().into_inner();
         let before = 0.5 * momentum.dot(&w);
         let after = 0.5 * momentum.dot(&(r1 * b.inv_inertia * r1.transpose() * momentum));

@@ -173,7 +173,7 @@ fn step(
 /// Islands are independent (no body in two), so their programs are solved on up to as many threads as the machine
 /// has cores, each taking the largest remaining island first; a step of fewer than 32 contacts or one island stays
 /// on the calling thread. Results come back in island order, so the answer does not depend on the thread count.
-fn in_parallel<T: Send>(
+pub(crate) fn in_parallel<T: Send>(
     groups: &[Vec<usize>],
     contacts: usize,
     threads: usize,

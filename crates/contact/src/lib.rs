@@ -41,6 +41,7 @@ mod polish;
 mod projection;
 mod resting;
 mod simultaneous;
+mod soft;
 
 pub use body::BodyState;
 pub use classify::{classify, velocity_tolerance, ContactClass};
@@ -53,3 +54,4 @@ pub use lcp::SolverSettings;
 pub use projection::{position_correction, Correction};
 pub use resting::{contact_wrenches, resting_forces, RestingForces};
 pub use simultaneous::{collision_impulses, Impulses};
+pub use soft::{soft_step, SoftImpulse, SoftSettings, SoftStep};

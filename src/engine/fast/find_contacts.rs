@@ -1,6 +1,7 @@
 //! Fast mode, second stage: the contacts of the step. Pairs whose boxes, grown by how far each actor can move in
 //! the step plus the margin, overlap (pairs of sleeping or static actors left out) get parry's manifolds, reduced
-//! to at most four points a pair; a sleeping island touched by a moving actor wakes.
+//! to at most four points a pair; a sleeping island touched by a moving actor wakes, and the contacts are found
+//! again with it awake.
 
 use super::{failure, FastEngine};
 use crate::engine::contact_scene::Found;
@@ -23,13 +24,21 @@ impl FastEngine {
         let poses = scene.poses(&self.y);
         let reach = scene.reach(states, h);
         let checks = scene.checks;
-        let found = reduce(scene.find(&poses, &reach, self.settings.margin).map_err(|e| failure(t, e))?);
+        let mut found = reduce(scene.find(&poses, &reach, self.settings.margin).map_err(|e| failure(t, e))?);
+        if self.sleep.wake_touched(&found, dynamic) {
+            // The woken actors' own contacts (with the floor under them, say) were left out as inert: find again.
+            for a in 0..dynamic {
+                scene.inert[a] = self.sleep.asleep(a);
+            }
+            *states = self.body_states();
+            let scene = self.scene.as_mut().expect("checked above");
+            let reach = scene.reach(states, h);
+            found = reduce(scene.find(&poses, &reach, self.settings.margin).map_err(|e| failure(t, e))?);
+        }
+        let scene = self.scene.as_mut().expect("checked above");
         self.report.collision_checks += scene.checks - checks;
         self.report.stages.mark(Stage::CollisionDetection);
         self.report.collision_seconds += clock.elapsed().as_secs_f64();
-        if self.sleep.wake_touched(&found, dynamic) {
-            *states = self.body_states();
-        }
         let found: Vec<Found> = found
             .into_iter()
             .filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic())

@@ -1,7 +1,8 @@
 //! Fast mode: time stepping at a fixed step. One step is a list of stages, one file each: the applied forces at
-//! the step's start (`applied_forces.rs`), contacts found with a margin (`find_contacts.rs`), the new velocities
-//! from one conic program per island (`solve_velocities.rs`, with `warm_start.rs` and `bounce_limiter.rs`),
-//! positions from them (`integrate_positions.rs`), sleep (`sleep.rs`), and the report. The engine always steps by
+//! the step's start (`applied_forces.rs`), contacts found with a margin (`find_contacts.rs`), the contact solve:
+//! either the soft step, which gives velocities and poses from its substeps (`soft_solve.rs`, the default), or the
+//! exact solver's velocities from one conic program per island (`solve_velocities.rs`, with `warm_start.rs` and
+//! `bounce_limiter.rs`) and positions from them (`integrate_positions.rs`); then sleep (`sleep.rs`) and the report. The engine always steps by
 //! its `dt`: an advance ends at a whole number of steps, and frames are the states at the steps that reach them.
 
 mod applied_forces;
@@ -9,12 +10,13 @@ mod bounce_limiter;
 mod find_contacts;
 mod integrate_positions;
 mod sleep;
+mod soft_solve;
 mod solve_velocities;
 mod warm_start;
 
 use crate::engine::contact_scene::{ContactKey, ContactScene};
 use crate::error::WorldError;
-use crate::mode::FastSettings;
+use crate::mode::{FastSettings, FastSolver};
 use crate::model::{Compiled, Model};
 use crate::plan::Stage;
 use crate::report::WorldReport;
@@ -26,6 +28,8 @@ use tumble_integrate::OdeError;
 
 /// The method name fast mode reports.
 pub(crate) const FAST: &str = "fast (semi-implicit Euler, contact by conic program)";
+/// ... with the soft step.
+pub(crate) const FAST_SOFT: &str = "fast (semi-implicit Euler substeps, soft contact)";
 
 /// Most steps one advance may take (a step budget: a huge span or a tiny step is an error, not a hang).
 const MAX_STEPS: f64 = 1e7;
@@ -44,6 +48,8 @@ pub(crate) struct FastEngine {
     divergence_limit: f64,
     /// Each contact's normal impulse of the last step (ordered: the warm start sums them in key order).
     previous: BTreeMap<ContactKey, f64>,
+    /// The soft solver's impulses of the last step, by contact (ordered).
+    warm: BTreeMap<ContactKey, tumble_contact::SoftImpulse>,
     sleep: Sleep,
     dy: Vec<f64>,
     /// What the steps since the last `take_report` cost.
@@ -58,6 +64,7 @@ pub(crate) struct FastSnapshot {
     steps: u64,
     y: Vec<f64>,
     previous: BTreeMap<ContactKey, f64>,
+    warm: BTreeMap<ContactKey, tumble_contact::SoftImpulse>,
     sleep: Sleep,
     penetration: f64,
 }
@@ -89,7 +96,8 @@ impl FastEngine {
             threads,
             divergence_limit,
             previous: BTreeMap::new(),
-            report: WorldReport::new(FAST),
+            warm: BTreeMap::new(),
+            report: WorldReport::new(method_name(&settings)),
             penetration: 0.0,
         }
     }
@@ -98,7 +106,11 @@ impl FastEngine {
     pub fn planned(settings: &FastSettings, dim: usize, has_scene: bool) -> Vec<Stage> {
         let mut out = Vec::new();
         if has_scene {
-            out.extend([Stage::CollisionDetection, Stage::ContactConeProgram]);
+            out.push(Stage::CollisionDetection);
+            out.push(match settings.solver {
+                FastSolver::Soft(_) => Stage::ContactSoftStep,
+                FastSolver::Exact { .. } => Stage::ContactConeProgram,
+            });
             if settings.sleep {
                 out.push(Stage::Sleeping);
             }
@@ -195,8 +207,18 @@ impl FastEngine {
         let clock = Instant::now();
         let mut states = self.applied_forces()?;
         let found = self.find_contacts(&mut states, h)?;
-        let velocities = self.solve_velocities(&states, &found, h)?;
-        self.integrate_positions(&velocities, h);
+        let velocities = match self.settings.solver {
+            FastSolver::Soft(soft) => {
+                let out = self.soft_solve(&states, &found, h, soft)?;
+                self.apply_moves(&out);
+                out.velocities
+            }
+            FastSolver::Exact { .. } => {
+                let velocities = self.solve_velocities(&states, &found, h)?;
+                self.integrate_positions(&velocities, h);
+                velocities
+            }
+        };
         self.check_state(h)?;
         self.update_sleep(&states, &velocities, &found, h);
         self.steps += 1;
@@ -238,18 +260,27 @@ impl FastEngine {
             steps: self.steps,
             y: self.y.clone(),
             previous: self.previous.clone(),
+            warm: self.warm.clone(),
             sleep: self.sleep.clone(),
             penetration: self.penetration,
         }
     }
 
     pub fn restore(&mut self, s: FastSnapshot) -> Result<(), WorldError> {
-        (self.origin, self.steps, self.y, self.previous, self.sleep, self.penetration) =
-            (s.origin, s.steps, s.y, s.previous, s.sleep, s.penetration);
+        (self.origin, self.steps, self.y, self.previous, self.warm, self.sleep, self.penetration) =
+            (s.origin, s.steps, s.y, s.previous, s.warm, s.sleep, s.penetration);
         Ok(())
     }
 
     pub fn take_report(&mut self) -> WorldReport {
-        std::mem::replace(&mut self.report, WorldReport::new(FAST))
+        std::mem::replace(&mut self.report, WorldReport::new(method_name(&self.settings)))
+    }
+}
+
+/// The method name a fast-mode report carries.
+fn method_name(settings: &FastSettings) -> &'static str {
+    match settings.solver {
+        FastSolver::Soft(_) => FAST_SOFT,
+        FastSolver::Exact { .. } => FAST,
     }
 }

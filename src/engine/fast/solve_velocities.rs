@@ -8,7 +8,7 @@ use super::warm_start::known_impulses;
 use super::{failure, FastEngine};
 use crate::engine::contact_scene::Found;
 use crate::error::WorldError;
-use crate::mode::FastFriction;
+use crate::mode::{FastFriction, FastSolver};
 use crate::plan::Stage;
 use std::time::Instant;
 use tumble_contact::{
@@ -52,14 +52,17 @@ impl FastEngine {
         }
         let clock = Instant::now();
         let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
+        let FastSolver::Exact { erp, friction } = self.settings.solver else {
+            return Err(failure(self.time(), "the exact solver's stage without the exact solver".into()));
+        };
         let mut settings = StepSettings {
-            erp: self.settings.erp,
+            erp,
             bounce_threshold: self.settings.bounce_threshold,
             threads: self.threads,
             ..StepSettings::new(h)
         };
         settings.solver.iterative_refinement = false;
-        let mut solver = Solver { states, settings, friction: self.settings.friction, t: self.time(), solves: 0 };
+        let mut solver = Solver { states, settings, friction, t: self.time(), solves: 0 };
         let known = known_impulses(&self.previous, found);
         let mut previous: Vec<f64> = known.iter().map(|p| p.unwrap_or(0.0)).collect();
         let groups = islands(states, &contacts);

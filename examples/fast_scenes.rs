@@ -1,0 +1,127 @@
+//! The peer comparison's scenes in tumble's fast mode (issue 13): a pile of N cubes, a stack of 10, a sliding box,
+//! a resting box and a bullet, each measured as the comparison asks, one markdown row each. The same scene
+//! definitions are in `benches/peers/` for Rapier, MuJoCo and PyBullet.
+//!
+//! cargo run --release --example fast_scenes -- [soft|exact] [pile sizes, e.g. 100 1000] [--substeps N]
+
+use nalgebra::Vector3;
+use std::time::Instant;
+use tumble::{BodyHandle, FastSettings, FastSolver, Material, Mode, RigidBodyBuilder, Shape, SoftSolver, World};
+
+const G: f64 = 9.81;
+
+fn world(dt: f64, solver: FastSolver, sleep: bool, mu: f64) -> World {
+    let mut w = World::new();
+    w.set_mode(Mode::Fast(FastSettings { sleep, solver, ..FastSettings::new(dt) })).unwrap();
+    w.add_ground(0.0, Material { restitution: 0.0, friction: mu }).unwrap();
+    w
+}
+
+fn cube(w: &mut World, half: f64, density: f64, at: Vector3<f64>, mu: f64) -> BodyHandle {
+    let shape = Shape::cuboid(Vector3::repeat(half)).unwrap();
+    w.add_body(RigidBodyBuilder::from_shape(shape, density).position(at).restitution(0.0).friction(mu)).unwrap()
+}
+
+/// The pile: N cubes of half extent 0.5 m on a 10 x 10 grid at 1.2 m pitch, N / 100 layers 1.2 m apart, the lowest
+/// bottoms 2 m up; 600 steps of 1/60 s. Returns (ms a step, largest penetration over the last 100 steps).
+fn pile(n: usize, solver: FastSolver, sleep: bool) -> (f64, f64) {
+    let mut w = world(1.0 / 60.0, solver, sleep, 0.5);
+    for k in 0..n {
+        let (layer, i, j) = (k / 100, (k % 100) / 10, k % 10);
+        let at = Vector3::new(1.2 * i as f64, 1.2 * j as f64, 2.5 + 1.2 * layer as f64);
+        cube(&mut w, 0.5, 1000.0, at, 0.5);
+    }
+    let clock = Instant::now();
+    w.step(500.0 / 60.0).unwrap();
+    let run = w.run(100.0 / 60.0, 1.0 / 60.0).unwrap();
+    let penetration = run.penetration.iter().fold(0.0f64, |m, p| m.max(*p));
+    let r = w.report();
+    eprintln!(
+        "pile {n}: finding contacts {:.3} ms, solving {:.3} ms a step",
+        r.collision_seconds * 1e3 / 600.0,
+        r.contact_seconds * 1e3 / 600.0
+    );
+    (clock.elapsed().as_secs_f64() * 1e3 / 600.0, penetration)
+}
+
+/// Largest displacement of any body over `seconds`.
+fn displacement(w: &mut World, bodies: &[BodyHandle], seconds: f64, dt: f64) -> f64 {
+    let start: Vec<_> = bodies.iter().map(|&b| w.body(b).unwrap().position()).collect();
+    let mut worst = 0.0f64;
+    for _ in 0..(seconds / dt).round() as usize {
+        w.step(dt).unwrap();
+        for (&b, s) in bodies.iter().zip(&start) {
+            worst = worst.max((w.body(b).unwrap().position() - s).norm());
+        }
+    }
+    worst
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut soft = SoftSolver::default();
+    if let Some(k) = args.iter().position(|a| a == "--substeps") {
+        soft.substeps = args[k + 1].parse().expect("a whole number of substeps");
+    }
+    if let Some(k) = args.iter().position(|a| a == "--iterations") {
+        soft.iterations = args[k + 1].parse().expect("a whole number of iterations");
+    }
+    if let Some(k) = args.iter().position(|a| a == "--hertz") {
+        soft.contact_hertz = args[k + 1].parse().expect("a stiffness in hertz");
+    }
+    let solver = if args.iter().any(|a| a == "exact") { FastSolver::exact() } else { FastSolver::Soft(soft) };
+    let sizes: Vec<usize> = args
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| *k == 0 || !args[k - 1].starts_with("--"))
+        .filter_map(|(_, a)| a.parse().ok())
+        .filter(|&n| n >= 100)
+        .collect();
+    println!("| tumble fast ({}) | value |\n|---|---|", solver.name());
+    for &n in if sizes.is_empty() { &[100usize, 1000][..] } else { &sizes[..] } {
+        let (ms, pen) = pile(n, solver, false);
+        println!("| pile {n}, no sleep: ms a step / penetration (last 100 steps) | {ms:.3} ms / {:.3} mm |", pen * 1e3);
+    }
+    // stack: 10 cubes of half extent 0.25 m, density 500, friction 0.6, dt 1/240, 10 s
+    let dt = 1.0 / 240.0;
+    let mut w = world(dt, solver, false, 0.6);
+    let stack: Vec<_> =
+        (0..10).map(|k| cube(&mut w, 0.25, 500.0, Vector3::new(0.0, 0.0, 0.25 + 0.5 * k as f64), 0.6)).collect();
+    println!("| stack of 10: largest displacement in 10 s | {:.3} mm |", displacement(&mut w, &stack, 10.0, dt) * 1e3);
+    // slide: half extent 0.2 m, density 500, 2 m/s, mu 0.5, dt 1/240, 2 s
+    let mut w = world(dt, solver, false, 0.5);
+    let b = w
+        .add_body(
+            RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::repeat(0.2)).unwrap(), 500.0)
+                .position(Vector3::new(0.0, 0.0, 0.2))
+                .velocity(Vector3::new(2.0, 0.0, 0.0))
+                .restitution(0.0)
+                .friction(0.5),
+        )
+        .unwrap();
+    w.step(2.0).unwrap();
+    let exact = 4.0 / (2.0 * 0.5 * G);
+    let d = w.body(b).unwrap().position().x;
+    println!("| slide: stop distance error | {:+.3}% |", (d - exact) / exact * 100.0);
+    // rest: half extent 0.5 m, 10 s
+    let mut w = world(dt, solver, false, 0.5);
+    let b = cube(&mut w, 0.5, 1000.0, Vector3::new(0.0, 0.0, 0.5), 0.5);
+    println!("| rest: largest displacement in 10 s | {:.2e} m |", displacement(&mut w, &[b], 10.0, dt));
+    // bullet: a 5 cm sphere at 1000 m/s against a 1 cm static wall, dt 1/60
+    let mut w = world(1.0 / 60.0, solver, false, 0.5);
+    w.add_body(
+        RigidBodyBuilder::fixed(Some(Shape::cuboid(Vector3::new(0.005, 2.0, 2.0)).unwrap()))
+            .position(Vector3::new(5.0, 0.0, 2.0)),
+    )
+    .unwrap();
+    let ball = w
+        .add_body(
+            RigidBodyBuilder::from_shape(Shape::sphere(0.05).unwrap(), 1000.0)
+                .position(Vector3::new(0.0, 0.0, 2.0))
+                .velocity(Vector3::new(1000.0, 0.0, 0.0)),
+        )
+        .unwrap();
+    w.step(0.5).unwrap();
+    let x = w.body(ball).unwrap().position().x;
+    println!("| bullet: ball ends at x (wall at 5 m) | {x:.3} m ({}) |", if x < 5.0 { "stopped" } else { "TUNNELLED" });
+}
