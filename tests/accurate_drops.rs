@@ -5,46 +5,7 @@
 //! and repeat bit for bit. CI runs `TUMBLE_DROPS` (default 4) seeds; `TUMBLE_DROPS=100` is a long local run.
 
 mod common;
-use common::{state_bits, Lcg};
-use nalgebra::{Point3, UnitQuaternion, Vector3};
-use tumble::{Material, RigidBodyBuilder, Shape, World};
-
-fn random_shape(rng: &mut Lcg) -> Shape {
-    let kind = (rng.next() * 5.0) as usize;
-    match kind {
-        0 => Shape::sphere(rng.range(0.05, 0.3)).unwrap(),
-        1 => Shape::cuboid(Vector3::new(rng.range(0.05, 0.3), rng.range(0.05, 0.3), rng.range(0.05, 0.3))).unwrap(),
-        2 => Shape::capsule(rng.range(0.05, 0.3), rng.range(0.05, 0.3)).unwrap(),
-        3 => Shape::cylinder(rng.range(0.05, 0.3), rng.range(0.05, 0.3)).unwrap(),
-        _ => {
-            let points: Vec<Point3<f64>> = (0..8)
-                .map(|_| Point3::new(rng.range(-0.25, 0.25), rng.range(-0.25, 0.25), rng.range(-0.25, 0.25)))
-                .collect();
-            Shape::convex_hull(&points).unwrap()
-        }
-    }
-}
-
-fn random_drop(seed: u64) -> World {
-    let mut rng = Lcg(seed.wrapping_mul(7919).wrapping_add(17));
-    let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: rng.range(0.0, 0.6), friction: rng.range(0.0, 1.0) }).unwrap();
-    let count = 1 + (rng.next() * 5.0) as usize;
-    for k in 0..count {
-        let shape = random_shape(&mut rng);
-        let q = UnitQuaternion::from_euler_angles(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
-        w.add_body(
-            RigidBodyBuilder::from_shape(shape, rng.range(100.0, 3000.0))
-                .position(Vector3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), 0.6 + 0.7 * k as f64))
-                .orientation(q)
-                .angular_velocity(Vector3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0)))
-                .restitution(rng.range(0.0, 0.6))
-                .friction(rng.range(0.0, 1.0)),
-        )
-        .unwrap();
-    }
-    w
-}
+use common::{random_drop, state_bits};
 
 #[test]
 fn random_drops_run_to_the_end_finite_without_energy_gain_or_deep_penetration_and_repeat() {

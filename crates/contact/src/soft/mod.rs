@@ -25,9 +25,9 @@ use nalgebra::{UnitQuaternion, Vector3};
 /// Settings of the soft step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SoftSettings {
-    /// Substeps per step (>= 1); 4 by default.
+    /// Substeps per step (>= 1); 8 by default.
     pub substeps: usize,
-    /// Sweeps of each pass per substep (>= 1); 1 by default.
+    /// Sweeps of each pass per substep (>= 1); 2 by default.
     pub iterations: usize,
     /// Stiffness of contacts between moving bodies (Hz), capped at a quarter of the substep rate (beyond it the
     /// soft step loses its stability margin); contacts with static bodies get twice it. Infinity (the default)
@@ -47,8 +47,8 @@ pub struct SoftSettings {
 impl Default for SoftSettings {
     fn default() -> Self {
         SoftSettings {
-            substeps: 4,
-            iterations: 1,
+            substeps: 8,
+            iterations: 2,
             contact_hertz: f64::INFINITY,
             damping_ratio: 10.0,
             max_push_out: 3.0,
