@@ -1,7 +1,8 @@
-//! Contact benchmarks: fast mode's time per step for 100, 1,000 and 5,000 boxes falling into a pile, accurate
+//! Contact benchmarks: fast mode's time per step for 100, 1,000, 5,000 and 10,000 boxes falling into a pile with
+//! the soft step (the default solver), and 100 with the exact cone program for the ratio; accurate
 //! mode on the bouncing ball, on a column of ten cubes and on twenty cubes dropped in a pile (the wall time of the
 //! first simulated 0.5 s, printed per simulated second); the share of that time spent finding contacts and solving
-//! them (clarabel) is printed from the world's report, with the contact steps and events.
+//! them is printed from the world's report, with the substeps, clarabel solves, contact steps and events.
 //!
 //! Run: `cargo bench --bench contact`. The pile: cubes of edge 0.5 m on a k x k grid (0.6 m apart) in L layers
 //! (0.6 m apart), each slightly tilted, dropped onto the floor; the measured steps lie between 0.4 s and 1.0 s
@@ -11,8 +12,14 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use tumble::World;
 
-fn pile(side: usize, layers: usize) -> World {
-    tumble::scenes::Pile { side, layers }.build().unwrap().0
+fn pile(side: usize, layers: usize, exact: bool) -> World {
+    let mut w = tumble::scenes::Pile { side, layers }.build().unwrap().0;
+    if exact {
+        let tumble::Mode::Fast(settings) = w.mode() else { unreachable!("the pile is a fast-mode scene") };
+        w.set_mode(tumble::Mode::Fast(tumble::FastSettings { solver: tumble::FastSolver::exact(), ..settings }))
+            .unwrap();
+    }
+    w
 }
 
 /// Prints where `seconds` of stepping went, from the world's report of those steps.
@@ -42,13 +49,18 @@ const WINDOW: (f64, f64) = (0.4, 1.0);
 const DT: f64 = 1.0 / 240.0;
 
 fn fast_pile(c: &mut Criterion) {
-    let mut g = c.benchmark_group("fast_pile_step");
+    let sizes: &[(usize, usize)] = if test_mode() { &[(5, 4)] } else { &[(5, 4), (10, 10), (25, 8), (50, 4)] };
+    pile_group(c, "fast_pile_step", sizes, false);
+    pile_group(c, "fast_pile_step_exact", &[(5, 4)], true);
+}
+
+fn pile_group(c: &mut Criterion, name: &str, sizes: &[(usize, usize)], exact: bool) {
+    let mut g = c.benchmark_group(name);
     g.sample_size(10);
-    let sizes: &[(usize, usize)] = if test_mode() { &[(5, 4)] } else { &[(5, 4), (10, 10), (25, 8)] };
     for &(k, layers) in sizes {
         let n = k * k * layers;
         let fresh = || {
-            let mut w = pile(k, layers);
+            let mut w = pile(k, layers, exact);
             w.step(WINDOW.0).unwrap();
             w
         };
@@ -74,7 +86,14 @@ fn fast_pile(c: &mut Criterion) {
         let before = w.report();
         let clock = std::time::Instant::now();
         w.step(0.1).unwrap();
-        share(&format!("{n} boxes, t = {:.2} s", w.time()), &w, &before, clock.elapsed().as_secs_f64());
+        let solver = match w.mode() {
+            tumble::Mode::Fast(f) => match f.solver {
+                tumble::FastSolver::Soft(s) => format!("soft step, {} substeps x {} sweeps", s.substeps, s.iterations),
+                tumble::FastSolver::Exact { .. } => "exact cone program".to_string(),
+            },
+            _ => unreachable!("fast mode"),
+        };
+        share(&format!("{n} boxes ({solver}), t = {:.2} s", w.time()), &w, &before, clock.elapsed().as_secs_f64());
     }
     g.finish();
 }

@@ -62,7 +62,8 @@ impl Contacts {
     }
 
     /// Advances from (t, y) by error-controlled contact steps until `t_end` (pausing past `pause`) or until no
-    /// pair is within reach; each save time reached records a frame. `budget` counts down steps taken or rejected.
+    /// pair is within reach; each save time reached records a frame. `budget` counts down steps taken or rejected,
+    /// a contact step counting each convex program it solved.
     #[allow(clippy::too_many_arguments)]
     pub fn touching_steps(
         &mut self,
@@ -117,9 +118,10 @@ impl Contacts {
                 found = self.step_contacts(model, &states, &y, t, h)?;
             }
             self.report.max_penetration = self.report.max_penetration.max(self.penetration);
-            let Some((mut whole, mut second, involved)) =
-                self.doubled_step(model, &statics, &states, &found, &phase.lagged, t, &y, h)?
-            else {
+            let solves = self.report.qp_solves;
+            let doubled = self.doubled_step(model, &statics, &states, &found, &phase.lagged, t, &y, h);
+            *budget = budget.saturating_sub((self.report.qp_solves - solves).saturating_sub(1));
+            let Some((mut whole, mut second, involved)) = doubled? else {
                 // clarabel could not answer to its tolerance: a smaller step changes the problem
                 self.report.contact_rejected += 1;
                 phase.h = 0.25 * h;

@@ -11,6 +11,7 @@
 //! the accuracy of a deep stack. `residual` says how far an answer is from the exact contact conditions.
 
 mod island;
+mod row;
 mod softness;
 
 use crate::body::BodyState;
@@ -19,8 +20,9 @@ use crate::error::ContactError;
 use crate::friction::in_parallel;
 use crate::impulse::BodyVelocity;
 use crate::islands::islands;
-use island::{Island, Mover};
+use island::Island;
 use nalgebra::{UnitQuaternion, Vector3};
+use row::Mover;
 
 /// Settings of the soft step.
 #[derive(Clone, Copy, Debug, PartialEq)]
