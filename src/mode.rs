@@ -11,8 +11,9 @@ pub enum Mode {
     /// free motion; collisions are located in time by bisection and resolved by impulses; while bodies touch,
     /// convex contact steps with Coulomb friction under step-doubling error control carry them.
     Accurate(AccurateSettings),
-    /// Time stepping at a fixed step: contacts found at the start of each step with a margin, one velocity-level
-    /// conic program per island, positions from the new velocities; resting islands sleep.
+    /// Time stepping at a fixed step: contacts found at the start of each step with a margin, then the soft step's
+    /// substeps (or, with `FastSolver::Exact`, one velocity-level conic program per island and positions from the
+    /// new velocities); resting islands sleep.
     Fast(FastSettings),
 }
 

@@ -102,7 +102,7 @@ impl BodyState {
         }
         if self.rotates() {
             let check = self.inertia * self.inv_inertia - Matrix3::identity();
-            let positive = self.inertia.symmetric_eigenvalues().min() > 0.0;
+            let positive = self.inertia.cholesky().is_some();
             if !positive || check.amax() > 1e-6 {
                 return Err(ContactError::invalid(
                     "bodies",

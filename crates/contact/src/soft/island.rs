@@ -63,6 +63,7 @@ impl Island {
                     tangent: [t[0].dot(&tangent), t[1].dot(&tangent)],
                     max_normal: 0.0,
                     step_normal: 0.0,
+                    current_gap: c.distance,
                 }
             })
             .collect();
@@ -87,6 +88,7 @@ impl Island {
             for m in &mut self.movers {
                 m.integrate_position(hs);
             }
+            self.update_gaps();
             self.pass(s.iterations, |island| island.solve_rows(hs, None, s.max_push_out, true));
             for r in &mut self.rows {
                 r.step_normal += r.normal;
@@ -95,12 +97,20 @@ impl Island {
         self.restitution(s.bounce_threshold);
     }
 
+    /// The rows' gaps where the bodies now are (positions move once a substep, so both passes use these).
+    fn update_gaps(&mut self) {
+        for r in &mut self.rows {
+            let (a, b) = (&self.movers[r.a], &self.movers[r.b]);
+            r.current_gap = r.gap + r.normal_axis.dir.dot(&(b.moved(&r.rb) - a.moved(&r.ra)));
+        }
+    }
+
     /// `iterations` sweeps; for an island of a large mass ratio, on until they settle (at most `MAX_SWEEPS`).
     fn pass(&mut self, iterations: usize, mut sweep: impl FnMut(&mut Island) -> f64) {
         let extra = if self.ratio > MASS_RATIO { MAX_SWEEPS } else { 0 };
         for k in 0..iterations.max(1) + extra {
             let change = sweep(self);
-            if k + 1 >= iterations.max(1) {
+            if extra > 0 && k + 1 >= iterations.max(1) {
                 let largest = self.rows.iter().fold(0.0f64, |m, r| m.max(r.normal));
                 if change <= SETTLED * largest {
                     break;
@@ -126,7 +136,7 @@ impl Island {
         for r in &mut self.rows {
             let (a, b) = pair(&mut self.movers, r.a, r.b);
             let n = &r.normal_axis;
-            let gap = r.gap + n.dir.dot(&(b.moved(&r.rb) - a.moved(&r.ra)));
+            let gap = r.current_gap;
             let (bias, mass_scale, impulse_scale) = if gap > 0.0 {
                 // speculative: close the gap in the substep and no more
                 (gap / hs, 1.0, 0.0)

@@ -132,8 +132,9 @@ pub(crate) struct Row {
     pub tangent_axes: [Axis; 2],
     pub friction: f64,
     pub restitution: f64,
-    /// Gap at the step's start (negative: penetration).
+    /// Gap at the step's start (negative: penetration), and where the substeps have moved the bodies.
     pub gap: f64,
+    pub current_gap: f64,
     /// Relative normal velocity at the step's start (for restitution).
     pub closing: f64,
     /// Against a static or kinematic body (stiffer softness).
