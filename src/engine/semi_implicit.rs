@@ -28,18 +28,8 @@ pub(crate) fn update_positions(m: &Model, y: &mut [f64], v: &[BodyVelocity], h: 
         let (lin, w) = (v[a].linear, v[a].angular);
         let x = get3(y, l.bx(j)) + lin * h;
         let q0 = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
-        // L from the inertia the velocities were solved with. Turning the body under a fixed L raises
-        // 1/2 L . I(q)^-1 L at second order in the turn (the second derivative is (w x L) . I^-1 (w x L) >= 0),
-        // a steady gain for a fast spin; scaling L back to the energy before the turn removes it.
-        let r0 = q0.to_rotation_matrix().into_inner();
-        let mut momentum = r0 * b.inertia * r0.transpose() * w;
         let q1 = UnitQuaternion::from_scaled_axis(w * h) * q0;
-        let r1 = q1.to_rotation_matrix().into_inner();
-        let before = 0.5 * momentum.dot(&w);
-        let after = 0.5 * momentum.dot(&(r1 * b.inv_inertia * r1.transpose() * momentum));
-        if after > before && after > 0.0 {
-            momentum *= (before / after).sqrt();
-        }
+        let momentum = turned_momentum(b, &q0, &q1, &w);
         set3(y, l.bx(j), &x);
         set_quat(y, l.bq(j), &q1);
         set3(y, l.bp(j), &(lin * b.mass));
@@ -65,18 +55,32 @@ pub(crate) fn apply_moves(m: &Model, y: &mut [f64], out: &SoftStep, moves: impl 
         let (lin, w) = (out.velocities[a].linear, out.velocities[a].angular);
         let x = get3(y, l.bx(j)) + out.displacements[a];
         let q0 = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
-        let r0 = q0.to_rotation_matrix().into_inner();
-        let mut momentum = r0 * b.inertia * r0.transpose() * w;
         let q1 = out.rotations[a] * q0;
-        let r1 = q1.to_rotation_matrix().into_inner();
-        let before = 0.5 * momentum.dot(&w);
-        let after = 0.5 * momentum.dot(&(r1 * b.inv_inertia * r1.transpose() * momentum));
-        if after > before && after > 0.0 {
-            momentum *= (before / after).sqrt();
-        }
+        let momentum = turned_momentum(b, &q0, &q1, &w);
         set3(y, l.bx(j), &x);
         set_quat(y, l.bq(j), &q1);
         set3(y, l.bp(j), &(lin * b.mass));
         set3(y, l.bl(j), &momentum);
     }
+}
+
+/// The angular momentum of body `b` turned from q0 to q1 at angular velocity w: L from the inertia the velocities
+/// were solved with (at q0). Turning the body under a fixed L raises 1/2 L . I(q)^-1 L at second order in the turn
+/// (the second derivative is (w x L) . I^-1 (w x L) >= 0), a steady gain for a fast spin; scaling L back to the
+/// energy before the turn removes it.
+fn turned_momentum(
+    b: &crate::model::BodyProps,
+    q0: &UnitQuaternion<f64>,
+    q1: &UnitQuaternion<f64>,
+    w: &nalgebra::Vector3<f64>,
+) -> nalgebra::Vector3<f64> {
+    let r0 = q0.to_rotation_matrix().into_inner();
+    let mut momentum = r0 * b.inertia * r0.transpose() * w;
+    let r1 = q1.to_rotation_matrix().into_inner();
+    let before = 0.5 * momentum.dot(w);
+    let after = 0.5 * momentum.dot(&(r1 * b.inv_inertia * r1.transpose() * momentum));
+    if after > before && after > 0.0 {
+        momentum *= (before / after).sqrt();
+    }
+    momentum
 }

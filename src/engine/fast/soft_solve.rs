@@ -59,14 +59,7 @@ impl FastEngine {
         if !found.is_empty() {
             self.report.islands += out.islands;
             self.report.stages.mark(Stage::ContactSoftStep);
-            for (c, p) in contacts.iter().zip(&out.normal_impulses) {
-                if *p > 0.0 {
-                    self.report.impulses += 1;
-                    if c.relative_normal_velocity(states) < -self.settings.bounce_threshold {
-                        self.report.collisions += 1;
-                    }
-                }
-            }
+            self.count_impulses(states, &contacts, &out.normal_impulses);
         }
         self.report.contact_seconds += clock.elapsed().as_secs_f64();
         Ok(out)

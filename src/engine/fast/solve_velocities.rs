@@ -84,7 +84,18 @@ impl FastEngine {
         self.report.islands += groups.len();
         self.report.qp_solves += solver.solves;
         self.report.stages.mark(Stage::ContactConeProgram);
-        for (c, p) in contacts.iter().zip(&out.normal_impulses) {
+        self.count_impulses(states, &contacts, &out.normal_impulses);
+        self.previous = found.iter().zip(&out.normal_impulses).map(|(f, &p)| (f.key, p)).collect();
+        self.report.contact_seconds += clock.elapsed().as_secs_f64();
+        Ok(out.velocities)
+    }
+}
+
+impl FastEngine {
+    /// Books the contacts that pushed (a positive normal impulse) and, of those, the ones that closed faster than the
+    /// bounce threshold (collisions).
+    pub(super) fn count_impulses(&mut self, states: &[BodyState], contacts: &[Contact], impulses: &[f64]) {
+        for (c, p) in contacts.iter().zip(impulses) {
             if *p > 0.0 {
                 self.report.impulses += 1;
                 if c.relative_normal_velocity(states) < -self.settings.bounce_threshold {
@@ -92,8 +103,5 @@ impl FastEngine {
                 }
             }
         }
-        self.previous = found.iter().zip(&out.normal_impulses).map(|(f, &p)| (f.key, p)).collect();
-        self.report.contact_seconds += clock.elapsed().as_secs_f64();
-        Ok(out.velocities)
     }
 }
