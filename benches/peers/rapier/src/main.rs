@@ -1,0 +1,115 @@
+//! The peer comparison's scenes in Rapier 0.36 (f64, its defaults, one thread), one markdown row each; the same
+//! scene definitions as tumble's `examples/fast_scenes.rs` (z up, g = 9.81):
+//! a pile of N cubes of half extent 0.5 m, density 1000, on a 10 x 10 grid at 1.2 m pitch in N / 100 layers 1.2 m
+//! apart, the lowest bottoms 2 m up, friction 0.5, dt 1/60, 600 steps, no sleeping (ms a step over all 600;
+//! penetration the largest over the last 100); a stack of 10 cubes of half extent 0.25 m, density 500, friction
+//! 0.6, dt 1/240, 10 s (largest displacement); a slide (half extent 0.2 m, density 500, 2 m/s, mu 0.5, dt 1/240,
+//! 2 s; stop distance against v^2 / (2 mu g)); a resting cube of half extent 0.5 m for 10 s; a bullet (5 cm sphere
+//! at 1000 m/s against a 1 cm static wall, dt 1/60).
+
+use rapier3d_f64::prelude::*;
+use std::time::Instant;
+
+const G: f64 = 9.81;
+
+fn world(dt: f64) -> PhysicsWorld {
+    let mut w = PhysicsWorld::default();
+    w.gravity = Vector::new(0.0, 0.0, -G);
+    w.integration_parameters.dt = dt;
+    w
+}
+
+/// The floor: a fixed slab whose top is z = 0.
+fn ground(w: &mut PhysicsWorld, mu: f64) {
+    let floor = w.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -1.0)));
+    w.insert_collider(ColliderBuilder::cuboid(1000.0, 1000.0, 1.0).friction(mu).restitution(0.0), Some(floor));
+}
+
+fn cube(w: &mut PhysicsWorld, half: f64, density: f64, at: Vector, mu: f64, sleep: bool) -> RigidBodyHandle {
+    let (b, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(at).can_sleep(sleep),
+        ColliderBuilder::cuboid(half, half, half).density(density).friction(mu).restitution(0.0),
+    );
+    b
+}
+
+fn penetration(w: &PhysicsWorld) -> f64 {
+    w.narrow_phase
+        .contact_pairs()
+        .filter_map(|p| p.find_deepest_contact().map(|(_, c)| -c.dist))
+        .fold(0.0, f64::max)
+}
+
+fn pile(n: usize) -> (f64, f64) {
+    let mut w = world(1.0 / 60.0);
+    ground(&mut w, 0.5);
+    for k in 0..n {
+        let (layer, i, j) = (k / 100, (k % 100) / 10, k % 10);
+        let at = Vector::new(1.2 * i as f64, 1.2 * j as f64, 2.5 + 1.2 * layer as f64);
+        cube(&mut w, 0.5, 1000.0, at, 0.5, false);
+    }
+    let clock = Instant::now();
+    let mut worst = 0.0f64;
+    for step in 0..600 {
+        w.step();
+        if step >= 500 {
+            worst = worst.max(penetration(&w));
+        }
+    }
+    (clock.elapsed().as_secs_f64() * 1e3 / 600.0, worst)
+}
+
+fn displacement(w: &mut PhysicsWorld, bodies: &[RigidBodyHandle], steps: usize) -> f64 {
+    let start: Vec<Vector> = bodies.iter().map(|&b| w.bodies[b].translation()).collect();
+    let mut worst = 0.0f64;
+    for _ in 0..steps {
+        w.step();
+        for (&b, s) in bodies.iter().zip(&start) {
+            worst = worst.max((w.bodies[b].translation() - *s).length());
+        }
+    }
+    worst
+}
+
+fn main() {
+    let sizes: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
+    println!("| Rapier 0.36.1 (f64, defaults) | value |\n|---|---|");
+    for &n in if sizes.is_empty() { &[100usize, 1000][..] } else { &sizes[..] } {
+        let (ms, pen) = pile(n);
+        println!("| pile {n}, no sleep: ms a step / penetration (last 100 steps) | {ms:.3} ms / {:.3} mm |", pen * 1e3);
+    }
+    let dt = 1.0 / 240.0;
+    let mut w = world(dt);
+    ground(&mut w, 0.6);
+    let stack: Vec<_> =
+        (0..10).map(|k| cube(&mut w, 0.25, 500.0, Vector::new(0.0, 0.0, 0.25 + 0.5 * k as f64), 0.6, false)).collect();
+    println!("| stack of 10: largest displacement in 10 s | {:.3} mm |", displacement(&mut w, &stack, 2400) * 1e3);
+    let mut w = world(dt);
+    ground(&mut w, 0.5);
+    let (b, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 0.2)).linvel(Vector::new(2.0, 0.0, 0.0)).can_sleep(false),
+        ColliderBuilder::cuboid(0.2, 0.2, 0.2).density(500.0).friction(0.5).restitution(0.0),
+    );
+    for _ in 0..480 {
+        w.step();
+    }
+    let exact = 4.0 / (2.0 * 0.5 * G);
+    println!("| slide: stop distance error | {:+.3}% |", (w.bodies[b].translation().x - exact) / exact * 100.0);
+    let mut w = world(dt);
+    ground(&mut w, 0.5);
+    let b = cube(&mut w, 0.5, 1000.0, Vector::new(0.0, 0.0, 0.5), 0.5, false);
+    println!("| rest: largest displacement in 10 s | {:.2e} m |", displacement(&mut w, &[b], 2400));
+    let mut w = world(1.0 / 60.0);
+    ground(&mut w, 0.5);
+    let wall = w.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(5.0, 0.0, 2.0)));
+    w.insert_collider(ColliderBuilder::cuboid(0.005, 2.0, 2.0), Some(wall));
+    let (ball, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 2.0)).linvel(Vector::new(1000.0, 0.0, 0.0)),
+        ColliderBuilder::ball(0.05).density(1000.0),
+    );
+    for _ in 0..30 {
+        w.step();
+    }
+    let x = w.bodies[ball].translation().x;
+    println!("| bullet: ball ends at x (wall at 5 m) | {x:.3} m ({}) |", if x < 5.0 { "stopped" } else { "TUNNELLED" });
+}
