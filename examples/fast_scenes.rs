@@ -37,11 +37,13 @@ fn pile(n: usize, solver: FastSolver, sleep: bool) -> (f64, f64) {
     let penetration = run.penetration.iter().fold(0.0f64, |m, p| m.max(*p));
     let r = w.report();
     eprintln!(
-        "pile {n}: finding contacts {:.3} ms, solving {:.3} ms a step; {:.0} pushing contacts and {:.1} islands a step",
+        "pile {n}: finding contacts {:.3} ms, solving {:.3} ms a step; {:.0} pushing contacts and {:.1} islands a step; \
+         solver residual {:.1e} m/s",
         r.collision_seconds * 1e3 / 600.0,
         r.contact_seconds * 1e3 / 600.0,
         r.impulses as f64 / 600.0,
-        r.islands as f64 / 600.0
+        r.islands as f64 / 600.0,
+        r.contact_residual
     );
     (clock.elapsed().as_secs_f64() * 1e3 / 600.0, penetration)
 }

@@ -29,6 +29,10 @@ pub struct WorldReport {
     pub sleepers: usize,
     /// Largest penetration seen (m).
     pub max_penetration: f64,
+    /// Largest residual of fast mode's soft step (m/s): how far a step's end was from the exact contact conditions
+    /// (a touching contact's approach speed, a pushing one's separation, a sticking one's slip); zero with the
+    /// exact solver, which meets them to its tolerance.
+    pub contact_residual: f64,
     /// Wall time spent finding contacts (s).
     pub collision_seconds: f64,
     /// Wall time spent in contact solves (s).
@@ -71,6 +75,7 @@ impl WorldReport {
             islands: 0,
             sleepers: 0,
             max_penetration: 0.0,
+            contact_residual: 0.0,
             collision_seconds: 0.0,
             contact_seconds: 0.0,
             contact_steps: 0,
@@ -110,6 +115,7 @@ impl WorldReport {
             ("islands", Count(self.islands)),
             ("sleepers", Count(self.sleepers)),
             ("max_penetration", Number(self.max_penetration)),
+            ("contact_residual", Number(self.contact_residual)),
             ("collision_seconds", Number(self.collision_seconds)),
             ("contact_seconds", Number(self.contact_seconds)),
             ("contact_steps", Count(self.contact_steps)),
@@ -142,6 +148,7 @@ impl WorldReport {
         self.bisection_steps += o.bisection_steps;
         self.collision_checks += o.collision_checks;
         self.max_penetration = self.max_penetration.max(o.max_penetration);
+        self.contact_residual = self.contact_residual.max(o.contact_residual);
         self.collision_seconds += o.collision_seconds;
         self.contact_seconds += o.contact_seconds;
         self.contact_steps += o.contact_steps;
@@ -167,8 +174,9 @@ impl fmt::Display for WorldReport {
         )?;
         write!(
             f,
-            "                 max penetration {:.3e} m, {} asleep; {:.3} s finding contacts, {:.3} s solving them",
-            self.max_penetration, self.sleepers, self.collision_seconds, self.contact_seconds
+            "                 max penetration {:.3e} m, solver residual {:.1e} m/s, {} asleep; {:.3} s finding contacts, {:.3} s \
+             solving them",
+            self.max_penetration, self.contact_residual, self.sleepers, self.collision_seconds, self.contact_seconds
         )?;
         if self.contact_steps > 0 {
             write!(

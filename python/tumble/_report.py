@@ -14,7 +14,9 @@ class Report:
     (``min_step``, ``max_step``; ``None`` before any step), ``wall_seconds``, the integrator's ``error_estimate``
     (the sum of its local error estimates, ``None`` for methods without one); contact counters (``qp_solves``,
     ``collisions``, ``impulses``, ``bisection_steps``, ``collision_checks``, ``islands``, ``sleepers``,
-    ``max_penetration``, ``collision_seconds``, ``contact_seconds``: zero wherever a stage never ran); accurate
+    ``max_penetration``, ``contact_residual`` (fast mode's soft step: the largest distance in m/s of a step's end
+    from the exact contact conditions), ``collision_seconds``, ``contact_seconds``: zero wherever a stage never ran);
+    accurate
     mode's contact steps (``contact_steps``, ``contact_rejected``, their largest error estimate ``contact_error`` in
     metres and smallest step ``contact_min_step``; ``None`` before any); how often each
     force loop ran (``evaluations``, ``spring_evaluations``, ``load_evaluations``, ``callback_calls``,

@@ -22,13 +22,14 @@ fn cube_on_ground(m: f64, v: Vector3<f64>, mu: f64) -> (Vec<BodyState>, Vec<Cont
 
 /// A run of the cube on the ground by the soft step: the cube's pose and velocities carried from step to step, its
 /// four bottom corners the contacts (point on the ground under the corner, gap the corner's height), each step
-/// warm-started from the last. Returns the last step's summed normal impulse, the cube's velocity and its height.
-fn run_cube(m: f64, v: Vector3<f64>, mu: f64, z0: f64, steps: usize) -> (f64, Vector3<f64>, f64) {
+/// warm-started from the last. Returns the last step's summed normal impulse, the cube's velocity and its height,
+/// and the last step's residual.
+fn run_cube(m: f64, v: Vector3<f64>, mu: f64, z0: f64, steps: usize) -> (f64, Vector3<f64>, f64, f64) {
     let (mut bodies, _) = cube_on_ground(m, v, mu);
     bodies[1].position.z = z0;
     let mut q = UnitQuaternion::identity();
     let mut warm = vec![SoftImpulse::default(); 4];
-    let mut sum = 0.0;
+    let (mut sum, mut residual) = (0.0, 0.0);
     for _ in 0..steps {
         let contacts: Vec<Contact> = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
             .iter()
@@ -42,12 +43,13 @@ fn run_cube(m: f64, v: Vector3<f64>, mu: f64, z0: f64, steps: usize) -> (f64, Ve
         let out = soft_step(&bodies, &contacts, &warm, H, &SoftSettings::default()).unwrap();
         warm.clone_from(&out.impulses);
         sum = out.normal_impulses.iter().sum();
+        residual = out.residual;
         bodies[1].position += out.displacements[1];
         q = out.rotations[1] * q;
         bodies[1].velocity = out.velocities[1].linear;
         bodies[1].angular_velocity = out.velocities[1].angular;
     }
-    (sum, bodies[1].velocity, bodies[1].position.z)
+    (sum, bodies[1].velocity, bodies[1].position.z, residual)
 }
 
 #[test]
@@ -63,13 +65,19 @@ fn a_resting_box_carries_its_weight_like_the_exact_program() {
     // the springs need to carry it: the four corners (effective mass m / 4 each, a quarter of the load) settle at
     // g / (2 pi f)^2 for the static stiffness f = 2 x a quarter of the substep rate (480 substeps a second: 240 Hz),
     // 4.3e-6 m; within 1% (the settling's remainder).
-    let (soft_sum, v, z) = run_cube(m, Vector3::zeros(), 0.5, 0.5, 60);
+    let (soft_sum, v, z, residual) = run_cube(m, Vector3::zeros(), 0.5, 0.5, 60);
     let sink = 0.5 - z;
     let bound = 1.01 * G / (2.0 * std::f64::consts::PI * 240.0f64).powi(2);
     println!("measured: weight impulse exact {exact_sum:.9e}, soft {soft_sum:.9e}, m g h {:.9e}; sunk {sink:.3e} m (bound {bound:.1e})", m * G * H);
     assert!((soft_sum - m * G * H).abs() < 1e-9 * m * G * H, "soft {soft_sum}");
     assert!(v.norm() < 1e-9, "the box stays at rest: {v}");
     assert!(sink > 0.98 * bound && sink < bound, "sunk {sink}");
+    // settled, the step meets the exact contact conditions: no approach, no slip, to 1e-9 m/s; the first step,
+    // from no warm start, ends with the springs still taking up the load: the box approaches the floor
+    let (_, v1, _, first) = run_cube(m, Vector3::zeros(), 0.5, 0.5, 1);
+    println!("measured: residual of the settled box {residual:.2e} m/s, of the first step {first:.2e} m/s");
+    assert!(residual < 1e-9, "residual {residual}");
+    assert!(first > 1e-6 && first >= -v1.z - 1e-12, "first residual {first}, speed {v1}");
 }
 
 #[test]
@@ -80,8 +88,8 @@ fn a_sliding_box_decelerates_at_mu_g() {
     let (bodies, contacts) = cube_on_ground(m, Vector3::new(v, 0.0, 0.0), mu);
     let exact = velocity_step_lagged(&bodies, &contacts, &[m * G * H / 4.0; 4], &StepSettings::new(H)).unwrap();
     // the soft step in a run: settled on the ground first (1 s at rest), then one step sliding at v
-    let (_, _, z) = run_cube(m, Vector3::zeros(), mu, 0.5, 60);
-    let (_, after, _) = run_cube(m, Vector3::new(v, 0.0, 0.0), mu, z, 1);
+    let (_, _, z, _) = run_cube(m, Vector3::zeros(), mu, 0.5, 60);
+    let (_, after, _, _) = run_cube(m, Vector3::new(v, 0.0, 0.0), mu, z, 1);
     let expected = v - mu * G * H;
     let (ve, vs) = (exact.velocities[1].linear.x, after.x);
     println!("measured: speed after a step: exact {ve:.12}, soft {vs:.12}, v - mu g h {expected:.12}");
@@ -118,7 +126,7 @@ fn a_particle_lands_with_restitution_e() {
 fn a_speculative_contact_stops_a_body_at_its_gap() {
     // A cube 1 cm above the ground falling at 5 m/s (it would move 8.3 cm in the step): it stops on the ground,
     // not in it, restitution 0.
-    let (_, v, z) = run_cube(10.0, Vector3::new(0.0, 0.0, -5.0), 0.5, 0.51, 1);
+    let (_, v, z, residual) = run_cube(10.0, Vector3::new(0.0, 0.0, -5.0), 0.5, 0.51, 1);
     let bottom = z - 0.5;
     println!("measured: a cube falling at 5 m/s from 1 cm ends {bottom:.3e} m above the ground at {:.3e} m/s", v.z);
     // The substep that reaches the ground closes the gap to what the corners' Gauss-Seidel sweeps leave: the first
@@ -126,8 +134,12 @@ fn a_speculative_contact_stops_a_body_at_its_gap() {
     // into the ground beyond the spring's 1e-4 m.
     assert!(bottom > -1e-4 && bottom < 2e-3, "bottom at {bottom}");
     assert!(v.z.abs() < 0.1, "stopped: {v}");
+    // the step ends with the cube apart from the floor and no corner pushing: that end meets the exact contact
+    // conditions (free flight), whatever made it stop short, so its residual is zero
+    println!("measured: residual of the landing step {residual:.2e} m/s");
+    assert!(residual == 0.0, "residual {residual}");
     // and the next steps set it down: after 1 s it rests on its springs
-    let (_, v, z) = run_cube(10.0, Vector3::new(0.0, 0.0, -5.0), 0.5, 0.51, 60);
+    let (_, v, z, _) = run_cube(10.0, Vector3::new(0.0, 0.0, -5.0), 0.5, 0.51, 60);
     println!("measured: after 1 s at z - 0.5 = {:.3e} m, {:.3e} m/s", z - 0.5, v.norm());
     assert!((z - 0.5).abs() < 1e-4 && v.norm() < 1e-6, "z {z}, v {v}");
 }

@@ -57,6 +57,7 @@ impl FastEngine {
             .map_err(|e| failure(self.time(), format!("contact solve: {e}")))?;
         self.warm = found.iter().zip(&out.impulses).map(|(f, p)| (f.key, *p)).collect();
         if !found.is_empty() {
+            self.report.contact_residual = self.report.contact_residual.max(out.residual);
             self.report.islands += out.islands;
             self.report.stages.mark(Stage::ContactSoftStep);
             self.count_impulses(states, &contacts, &out.normal_impulses);

@@ -97,6 +97,28 @@ impl Island {
         self.restitution(s.bounce_threshold);
     }
 
+    /// How far the step's end is from the exact contact conditions (m/s), the largest over the rows of: the
+    /// approach speed of a contact that touches (gap <= 0), the separating speed of one that pushes while apart,
+    /// and the slip of one whose friction is inside its Coulomb bound (sticking).
+    pub fn residual(&self) -> f64 {
+        let mut worst = 0.0f64;
+        for r in &self.rows {
+            let (a, b) = (&self.movers[r.a], &self.movers[r.b]);
+            let vn = r.normal_axis.speed(a, b);
+            if r.current_gap <= 0.0 {
+                worst = worst.max(-vn);
+            } else if r.normal > 0.0 {
+                worst = worst.max(vn);
+            }
+            let friction = (r.tangent[0] * r.tangent[0] + r.tangent[1] * r.tangent[1]).sqrt();
+            if r.friction > 0.0 && r.normal > 0.0 && friction < r.friction * r.normal * (1.0 - 1e-9) {
+                let [t0, t1] = &r.tangent_axes;
+                worst = worst.max(t0.speed(a, b).hypot(t1.speed(a, b)));
+            }
+        }
+        worst
+    }
+
     /// The rows' gaps where the bodies now are (positions move once a substep, so both passes use these).
     fn update_gaps(&mut self) {
         for r in &mut self.rows {
