@@ -1,0 +1,115 @@
+"""The peer comparison's scenes in MuJoCo (issue 13), at its defaults, one markdown row each: the same scene
+definitions as tumble's ``examples/fast_scenes.rs`` and ``benches/peers/rapier`` (z up, g = 9.81).
+
+- pile: N cubes of half extent 0.5 m, density 1000, on a 10 x 10 grid at 1.2 m pitch in N / 100 layers 1.2 m apart,
+  the lowest bottoms 2 m up, friction 0.5, dt 1/60, 600 steps (ms a step over all of them; penetration the deepest
+  contact over the last 100);
+- stack: 10 cubes of half extent 0.25 m, density 500, friction 0.6, dt 1/240, 10 s, largest displacement;
+- slide: a cube of half extent 0.2 m, density 500, at 2 m/s on a floor with mu 0.5, dt 1/240, 2 s, stop distance
+  against v^2 / (2 mu g);
+- rest: a cube of half extent 0.5 m, 10 s, largest displacement; bullet: a 5 cm sphere at 1000 m/s against a 1 cm
+  static wall, dt 1/60.
+
+Run: ``pip install -r benches/peers/requirements.txt`` then ``python3 benches/peers/python_engines.py 100 1000``.
+Not part of CI.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+
+G = 9.81
+
+
+def _model(dt: float, bodies: list[str], floor_mu: float, extra: str = ""):
+    import mujoco
+
+    xml = f"""<mujoco>
+  <option timestep="{dt!r}" gravity="0 0 {-G}"/>
+  <worldbody>
+    <geom type="plane" size="200 200 0.1" friction="{floor_mu} 0.005 0.0001"/>
+    {extra}
+    {''.join(bodies)}
+  </worldbody>
+</mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    return model, mujoco.MjData(model)
+
+
+def _cube(name: str, half: float, density: float, at: tuple[float, float, float], mu: float) -> str:
+    x, y, z = at
+    return (f'<body name="{name}" pos="{x} {y} {z}"><freejoint/>'
+            f'<geom type="box" size="{half} {half} {half}" density="{density}" friction="{mu} 0.005 0.0001"/></body>')
+
+
+def _penetration(data) -> float:
+    return max([-data.contact[i].dist for i in range(data.ncon)] + [0.0])
+
+
+def pile(n: int) -> tuple[float, float]:
+    import mujoco
+
+    bodies = []
+    for k in range(n):
+        layer, i, j = k // 100, (k % 100) // 10, k % 10
+        bodies.append(_cube(f"c{k}", 0.5, 1000.0, (1.2 * i, 1.2 * j, 2.5 + 1.2 * layer), 0.5))
+    model, data = _model(1 / 60, bodies, 0.5)
+    worst = 0.0
+    clock = time.perf_counter()
+    for step in range(600):
+        mujoco.mj_step(model, data)
+        if step >= 500:
+            worst = max(worst, _penetration(data))
+    return (time.perf_counter() - clock) * 1e3 / 600, worst
+
+
+def _displacement(model, data, names: list[str], steps: int) -> float:
+    import mujoco
+
+    ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, n) for n in names]
+    mujoco.mj_forward(model, data)
+    start = np.array([data.xpos[i].copy() for i in ids])
+    worst = 0.0
+    for _ in range(steps):
+        mujoco.mj_step(model, data)
+        worst = max(worst, float(np.max(np.linalg.norm(data.xpos[ids] - start, axis=1))))
+    return worst
+
+
+def main() -> None:
+    import mujoco
+
+    sizes = [int(a) for a in sys.argv[1:]] or [100, 1000]
+    print(f"| MuJoCo {mujoco.__version__} (defaults) | value |\n|---|---|")
+    for n in sizes:
+        ms, pen = pile(n)
+        print(f"| pile {n}, no sleep: ms a step / penetration (last 100 steps) | {ms:.3f} ms / {pen * 1e3:.3f} mm |")
+    dt = 1 / 240
+    stack = [_cube(f"s{k}", 0.25, 500.0, (0.0, 0.0, 0.25 + 0.5 * k), 0.6) for k in range(10)]
+    model, data = _model(dt, stack, 0.6)
+    moved = _displacement(model, data, [f"s{k}" for k in range(10)], 2400)
+    print(f"| stack of 10: largest displacement in 10 s | {moved * 1e3:.3f} mm |")
+    model, data = _model(dt, [_cube("slide", 0.2, 500.0, (0.0, 0.0, 0.2), 0.5)], 0.5)
+    data.qvel[0] = 2.0
+    for _ in range(480):
+        mujoco.mj_step(model, data)
+    exact = 4.0 / (2 * 0.5 * G)
+    print(f"| slide: stop distance error | {(data.qpos[0] - exact) / exact * 100:+.3f}% |")
+    model, data = _model(dt, [_cube("rest", 0.5, 1000.0, (0.0, 0.0, 0.5), 0.5)], 0.5)
+    print(f"| rest: largest displacement in 10 s | {_displacement(model, data, ['rest'], 2400):.2e} m |")
+    wall = '<geom type="box" pos="5 0 2" size="0.005 2 2"/>'
+    ball = ('<body name="ball" pos="0 0 2"><freejoint/>'
+            '<geom type="sphere" size="0.05" density="1000"/></body>')
+    model, data = _model(1 / 60, [ball], 0.5, wall)
+    data.qvel[0] = 1000.0
+    for _ in range(30):
+        mujoco.mj_step(model, data)
+    x = data.qpos[0]
+    print(f"| bullet: ball ends at x (wall at 5 m) | {x:.3f} m ({'stopped' if x < 5.0 else 'TUNNELLED'}) |")
+
+
+if __name__ == "__main__":
+    main()
