@@ -34,7 +34,8 @@ pub struct IntegratorOptions {
     pub atol: Option<f64>,
     /// A fixed method's step, or an adaptive method's first step.
     pub dt: Option<f64>,
-    /// Wrap a one-step method in the chapter's step doubling.
+    /// Wrap a one-step method in the chapter's step doubling; in fast mode, estimate each step's error by step doubling
+    /// (`FastSettings::step_doubling`).
     pub step_doubling: bool,
     /// Per-step error of step doubling and the variable-step Euler.
     pub tolerance: Option<f64>,
@@ -241,13 +242,18 @@ impl WorldOptions {
             world.set_threads(n)?;
         }
         if name == "fast" {
-            if let Some(first) = self.integrator.given().first() {
+            // step_doubling in fast mode estimates each step's error (it does not control the step)
+            if let Some(first) = self.integrator.given().into_iter().find(|n| *n != "step_doubling") {
                 return Err(WorldError::invalid(
                     first,
                     "does not apply to fast mode, which steps by semi-implicit Euler at its dt",
                 ));
             }
-            world.set_mode(mode_from(name, &ModeOptions { dt: self.integrator.dt, ..self.mode_options() })?)?;
+            let mut mode = mode_from(name, &ModeOptions { dt: self.integrator.dt, ..self.mode_options() })?;
+            if let Mode::Fast(f) = &mut mode {
+                f.step_doubling = self.integrator.step_doubling;
+            }
+            world.set_mode(mode)?;
         } else {
             let mode = mode_from(name, &self.mode_options())?;
             world.set_integrator(self.integrator.settings()?)?;

@@ -33,6 +33,8 @@ pub struct WorldReport {
     /// (a touching contact's approach speed, a pushing one's separation, a sticking one's slip); zero with the
     /// exact solver, which meets them to its tolerance.
     pub contact_residual: f64,
+    /// Fast mode with step doubling: the largest difference between a step and its two halves (m); `None` without.
+    pub step_error: Option<f64>,
     /// Wall time spent finding contacts (s).
     pub collision_seconds: f64,
     /// Wall time spent in contact solves (s).
@@ -76,6 +78,7 @@ impl WorldReport {
             sleepers: 0,
             max_penetration: 0.0,
             contact_residual: 0.0,
+            step_error: None,
             collision_seconds: 0.0,
             contact_seconds: 0.0,
             contact_steps: 0,
@@ -116,6 +119,7 @@ impl WorldReport {
             ("sleepers", Count(self.sleepers)),
             ("max_penetration", Number(self.max_penetration)),
             ("contact_residual", Number(self.contact_residual)),
+            ("step_error", Optional(self.step_error)),
             ("collision_seconds", Number(self.collision_seconds)),
             ("contact_seconds", Number(self.contact_seconds)),
             ("contact_steps", Count(self.contact_steps)),
@@ -149,6 +153,10 @@ impl WorldReport {
         self.collision_checks += o.collision_checks;
         self.max_penetration = self.max_penetration.max(o.max_penetration);
         self.contact_residual = self.contact_residual.max(o.contact_residual);
+        self.step_error = match (self.step_error, o.step_error) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
         self.collision_seconds += o.collision_seconds;
         self.contact_seconds += o.contact_seconds;
         self.contact_steps += o.contact_steps;
@@ -178,6 +186,9 @@ impl fmt::Display for WorldReport {
              solving them",
             self.max_penetration, self.contact_residual, self.sleepers, self.collision_seconds, self.contact_seconds
         )?;
+        if let Some(e) = self.step_error {
+            write!(f, "\nstep doubling    largest difference of a step from its two halves {e:.3e} m")?;
+        }
         if self.contact_steps > 0 {
             write!(
                 f,

@@ -248,3 +248,38 @@ fn a_sleeping_box_wakes_when_another_lands_on_it_and_both_sleep_after() {
     // Resting on each other: to the 1e-3 m contact margin plus the slop the landing left (Baumgarte's 0.2 a step).
     assert!((za - 0.5).abs() < 2e-3 && (zb - 1.5).abs() < 2e-3, "A {za}, B {zb}");
 }
+
+#[test]
+fn step_doubling_estimates_a_free_fall_step_error_as_its_closed_form_and_changes_nothing() {
+    // Semi-implicit Euler in n substeps of s = h / n under gravity: a step of h moves by v h + g s^2 n (n + 1) / 2
+    // (the velocity after substep k is v + k g s); two halves of n substeps of s / 2 move by v h + g (s/2)^2 2n (2n
+    // + 1) / 2. They differ by g h^2 / (4 n) in position (velocities agree), which the estimate must report, to
+    // the rounding of two 50 m positions (an ulp is 7e-15 m; 1e-13 m allows a few per step). The run itself must be
+    // the same bits as without the estimate.
+    let h = 1.0 / 240.0;
+    let cube_at = |w: &mut World| {
+        w.add_body(
+            RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::repeat(0.1)).unwrap(), 500.0)
+                .position(Vector3::new(0.0, 0.0, 50.0))
+                .velocity(Vector3::new(1.0, 0.0, 2.0)),
+        )
+        .unwrap()
+    };
+    for (solver, n) in [(FastSolver::default(), SoftSolver::default().substeps), (FastSolver::exact(), 1)] {
+        let mut w = World::new();
+        w.set_mode(Mode::Fast(FastSettings { step_doubling: true, solver, ..FastSettings::new(h) })).unwrap();
+        let b = cube_at(&mut w);
+        w.step(0.5).unwrap();
+        let expected = G * h * h / (4.0 * n as f64);
+        let got = w.report().step_error.expect("step doubling reports its estimate");
+        println!("measured: {} solver, step error {got:.6e} m, g h^2 / (4 n) = {expected:.6e} m", solver.name());
+        assert!((got - expected).abs() < 1e-13, "{got} vs {expected}");
+        let mut plain = World::new();
+        plain.set_mode(Mode::Fast(FastSettings { solver, ..FastSettings::new(h) })).unwrap();
+        let p = cube_at(&mut plain);
+        plain.step(0.5).unwrap();
+        assert_eq!(plain.report().step_error, None, "no estimate unless asked");
+        let (x, y) = (w.body(b).unwrap().position(), plain.body(p).unwrap().position());
+        assert_eq!(x.map(f64::to_bits), y.map(f64::to_bits), "the estimate changed the run");
+    }
+}

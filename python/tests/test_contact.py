@@ -32,6 +32,20 @@ def test_fast_mode_box_lands_and_sleeps(solver):
     assert (r.contact_residual > 0) == (solver == "soft") and r.contact_residual < 0.1
 
 
+def test_fast_mode_step_doubling_reports_a_free_fall_step_error_of_g_h2_over_4n():
+    # Semi-implicit Euler in n substeps: a step and its two halves differ by g h^2 / (4 n) in free fall (the Rust
+    # test derives it); the estimate changes nothing in the run itself.
+    h = 1 / 240
+    runs = []
+    for doubling in (True, False):
+        w = tumble.World(mode="fast", dt=h, step_doubling=doubling, substeps=8)
+        w.add_body(tumble.Box((0.1, 0.1, 0.1)), position=(0, 0, 50), velocity=(1, 0, 2))
+        w.step(0.5)
+        runs.append((w.report.step_error, w.bodies.positions.copy()))
+    assert abs(runs[0][0] - G * h * h / 32) < 1e-13 and runs[1][0] is None
+    assert np.array_equal(runs[0][1], runs[1][1])
+
+
 def test_fast_mode_solver_options_name_themselves():
     with pytest.raises(ValueError, match="`solver`"):
         tumble.World(mode="fast", solver="nope")

@@ -15,7 +15,9 @@ class Report:
     (the sum of its local error estimates, ``None`` for methods without one); contact counters (``qp_solves``,
     ``collisions``, ``impulses``, ``bisection_steps``, ``collision_checks``, ``islands``, ``sleepers``,
     ``max_penetration``, ``contact_residual`` (fast mode's soft step: the largest distance in m/s of a step's end
-    from the exact contact conditions), ``collision_seconds``, ``contact_seconds``: zero wherever a stage never ran);
+    from the exact contact conditions), ``step_error`` (fast mode with ``step_doubling=True``: the largest difference
+    in metres between a step and its two halves; ``None`` without), ``collision_seconds``, ``contact_seconds``: zero
+    wherever a stage never ran);
     accurate
     mode's contact steps (``contact_steps``, ``contact_rejected``, their largest error estimate ``contact_error`` in
     metres and smallest step ``contact_min_step``; ``None`` before any); how often each

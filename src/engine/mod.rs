@@ -14,6 +14,8 @@ mod manifold;
 #[cfg(feature = "contact")]
 mod semi_implicit;
 mod smooth;
+#[cfg(feature = "contact")]
+mod state_error;
 
 pub(crate) use smooth::SmoothEngine;
 

@@ -15,6 +15,7 @@ use super::drift::correct_drift;
 use super::free_flight::{copy_free, involved, FreeFlight};
 use super::{failure, Contacts};
 use crate::engine::contact_scene::ContactKey;
+use crate::engine::state_error::state_difference;
 use crate::model::layout::{get3, get_quat, set_quat};
 use crate::model::Model;
 use crate::run::Run;
@@ -133,7 +134,7 @@ impl Contacts {
                 }
                 continue;
             };
-            let error = difference(model, &involved, &whole.y, &second.y, h);
+            let error = state_difference(model, Some(&involved), &whole.y, &second.y, h);
             let ratio = error / self.tolerance;
             if !ratio.is_finite() {
                 break Err(OdeError::NonFinite { t, what: "contact step", index: 0 });
@@ -288,29 +289,6 @@ fn momenta(model: &Model, involved: &[bool], y: &[f64]) -> f64 {
     let bodies: f64 =
         (0..model.bodies.len()).filter(|j| involved[l.particles + j]).map(|j| get3(y, l.bp(j)).norm()).sum();
     particles + bodies
-}
-
-/// The largest difference between two states over the `involved` actors in metres: positions, each body's turn
-/// times its radius of gyration, and velocity differences times h.
-fn difference(model: &Model, involved: &[bool], a: &[f64], b: &[f64], h: f64) -> f64 {
-    let l = model.layout;
-    let mut e = 0.0f64;
-    for i in (0..l.particles).filter(|i| involved[*i]) {
-        e = e.max((get3(a, l.px(i)) - get3(b, l.px(i))).amax());
-        e = e.max(h * (get3(a, l.pv(i)) - get3(b, l.pv(i))).amax());
-    }
-    for (j, body) in model.bodies.iter().enumerate().filter(|(j, _)| involved[l.particles + j]) {
-        let r = (body.inertia.trace() / (2.0 * body.mass)).sqrt();
-        e = e.max((get3(a, l.bx(j)) - get3(b, l.bx(j))).amax());
-        e = e.max(h * (get3(a, l.bp(j)) - get3(b, l.bp(j))).amax() / body.mass);
-        let (qa, qb) = (get_quat(a, l.bq(j)), get_quat(b, l.bq(j)));
-        let turn = (qa - qb).norm().min((qa + qb).norm());
-        e = e.max(2.0 * turn * r);
-        if r > 0.0 {
-            e = e.max(h * (get3(a, l.bl(j)) - get3(b, l.bl(j))).amax() / (body.mass * r));
-        }
-    }
-    e
 }
 
 /// y <- 2 y - other (Richardson extrapolation of the two half steps against the whole one); quaternions aligned
