@@ -181,9 +181,10 @@ FOREIGN_COUNT = {"p": 4, "b": 4, "s": 2, "l": 2}
 
 # Parameter names of every callable, for "the error names an argument".
 SIGNATURES = {
-    "World": "gravity integrator rtol atol dt step_doubling tolerance mode linear_solver newton max_steps sleep threads",
+    "World": "gravity integrator rtol atol dt step_doubling tolerance mode linear_solver newton max_steps sleep threads "
+    "contact_tolerance solver substeps",
     "set_integrator": "integrator rtol atol dt step_doubling tolerance linear_solver newton max_steps",
-    "set_mode": "mode dt sleep",
+    "set_mode": "mode dt sleep contact_tolerance solver substeps",
     "threads": "threads",
     "add_ground": "height restitution friction",
     "add_particle": "mass position velocity damping stiffness anchor radius restitution friction",
@@ -1167,6 +1168,21 @@ def integrator_options(draw, hostile: bool):
 
 
 @st.composite
+def contact_options(draw, mode, hostile: bool):
+    """Each mode's contact options: fast mode's solver and substeps, accurate mode's contact tolerance (hostile: now
+    and then the other mode's, or bad values)."""
+    out: dict[str, Any] = {}
+    if mode == "fast" and draw(st.integers(0, 2)) == 0 or hostile and draw(st.integers(0, 5)) == 0:
+        out["solver"] = draw(st.sampled_from(["soft", "exact"] + (["nope", None, 3, "SOFT"] if hostile else [])))
+    if (mode == "fast" and out.get("solver", "soft") == "soft" and draw(st.integers(0, 3)) == 0
+            or hostile and draw(st.integers(0, 5)) == 0):
+        out["substeps"] = draw(st.sampled_from([1, 2, 4, 16] + ([0, -1, 1001, 2.5, "8", None] if hostile else [])))
+    if mode != "fast" and draw(st.integers(0, 4)) == 0 or hostile and draw(st.integers(0, 5)) == 0:
+        out["contact_tolerance"] = good_or_bad(draw, [1e-4, 1e-6, 1e-8], hostile)
+    return tuple(out.items())
+
+
+@st.composite
 def world_options(draw):
     hostile = draw(st.integers(0, 2)) == 2
     mode = draw(st.sampled_from(["accurate", "fast"]))
@@ -1181,6 +1197,9 @@ def world_options(draw):
         out["dt"] = good_or_bad(draw, FAST_DTS, hostile)
     if mode == "fast" and draw(st.integers(0, 3)) == 0 or hostile and draw(st.integers(0, 5)) == 0:
         out["sleep"] = draw(st.sampled_from([True, False] + ([None, "yes", 2] if hostile else [])))
+    out.update(draw(contact_options(mode, hostile)))
+    if mode == "fast" and draw(st.integers(0, 5)) == 0:
+        out["step_doubling"] = True if not hostile else draw(st.sampled_from([True, False, None, "yes"]))
     if draw(st.integers(0, 3)) == 0:
         out["gravity"] = draw(vector(-20.0, 20.0, hostile))
     if draw(st.integers(0, 5)) == 0:
@@ -1335,6 +1354,7 @@ def operation(draw, made: frozenset, mode: str, shapes_only: bool = False):
             chosen += (("dt", good_or_bad(draw, FAST_DTS, h)),)
         if new == "fast" and draw(st.booleans()) or h and draw(st.integers(0, 3)) == 0:
             chosen += (("sleep", draw(st.sampled_from([True, False] + ([None, "yes"] if h else [])))),)
+        chosen += draw(contact_options(new, h))
         return Op("call", name, chosen, draw(st.integers(0, 1)))
     if name == "set_integrator":
         return Op("call", name, draw(integrator_options(h)))
