@@ -9,6 +9,7 @@ mod handles;
 mod report;
 mod shapes;
 mod world;
+mod world_modes;
 mod world_scenes;
 mod world_state;
 

@@ -13,10 +13,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::{Arc, Mutex};
-use tumble::{
-    mode_from, BodyOptions, Material, ModeOptions, ParticleBuilder, SpringBuilder, World, WorldError, WorldOptions,
-    Wrench,
-};
+use tumble::{BodyOptions, Material, ParticleBuilder, SpringBuilder, World, WorldError, WorldOptions, Wrench};
 
 /// A world of particles and rigid bodies (see the package documentation for the whole contract).
 #[pyclass(module = "tumble._tumble", name = "World", subclass)]
@@ -96,50 +93,6 @@ impl PyWorld {
         };
         let inner = options.build().map_err(world_error)?;
         Ok(PyWorld { inner: Mutex::new(inner), callback_error: Arc::new(Mutex::new(None)) })
-    }
-
-    /// Chooses the integrator, with the constructor's keyword arguments (accurate mode only).
-    #[pyo3(signature = (integrator = None, rtol = None, atol = None, dt = None, step_doubling = false,
-                        tolerance = None, linear_solver = None, newton = false, max_steps = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn set_integrator(
-        &mut self,
-        integrator: Option<String>,
-        rtol: Option<f64>,
-        atol: Option<f64>,
-        dt: Option<f64>,
-        step_doubling: bool,
-        tolerance: Option<f64>,
-        linear_solver: Option<String>,
-        newton: bool,
-        max_steps: Option<usize>,
-    ) -> PyResult<()> {
-        let options =
-            integrator_options(integrator, rtol, atol, dt, step_doubling, tolerance, linear_solver, newton, max_steps);
-        let s = options.settings().map_err(world_error)?;
-        self.w().set_integrator(s).map_err(world_error)
-    }
-
-    /// Chooses how contact is handled: mode="accurate" (free flight under the integrator's error control,
-    /// impacts located by bisection, touching bodies carried by error-controlled convex steps with Coulomb friction;
-    /// `contact_tolerance` is their error per step in metres, default 1e-6 of the scene's size) or "fast" (time
-    /// stepping at dt, default 1/240 s; with sleep=False islands at rest keep being simulated; solver="soft", the
-    /// default, or "exact"; substeps of the soft solver, default 8). `dt`, `sleep`, `solver` and `substeps` apply to
-    /// fast mode only, `contact_tolerance` to accurate mode only.
-    #[pyo3(signature = (mode, dt = None, sleep = None, contact_tolerance = None, solver = None, substeps = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn set_mode(
-        &mut self,
-        mode: &str,
-        dt: Option<f64>,
-        sleep: Option<bool>,
-        contact_tolerance: Option<f64>,
-        solver: Option<String>,
-        substeps: Option<usize>,
-    ) -> PyResult<()> {
-        let options = ModeOptions { dt, sleep, contact_tolerance, solver, substeps };
-        let m = mode_from(mode, &options).map_err(world_error)?;
-        self.w().set_mode(m).map_err(world_error)
     }
 
     /// Threads of the contact solves: 0 is one per core (the default), 1 the calling thread only. Results are the

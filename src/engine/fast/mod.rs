@@ -2,8 +2,9 @@
 //! the step's start (`applied_forces.rs`), contacts found with a margin (`find_contacts.rs`), the contact solve:
 //! either the soft step, which gives velocities and poses from its substeps (`soft_solve.rs`, the default), or the
 //! exact solver's velocities from one conic program per island (`solve_velocities.rs`, with `warm_start.rs` and
-//! `bounce_limiter.rs`) and positions from them (`integrate_positions.rs`); then sleep (`sleep.rs`) and the report. The engine always steps by
-//! its `dt`: an advance ends at a whole number of steps, and frames are the states at the steps that reach them.
+//! `bounce_limiter.rs`) and positions from them (`integrate_positions.rs`); then sleep (`sleep.rs`) and the report.
+//! The engine always steps by its `dt`: an advance ends at a whole number of steps, and frames are the states at the
+//! steps that reach them.
 
 mod applied_forces;
 mod bounce_limiter;

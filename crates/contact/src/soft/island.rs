@@ -3,10 +3,11 @@
 //! relax solve without bias; after the substeps, restitution. Rows are solved in contact order (Gauss-Seidel), so
 //! the answer is fixed by the input alone.
 
-use super::row::{tangents, Axis, Mover, Row};
+use super::row::{Axis, Mover, Row};
 use super::softness::Softness;
 use super::{SoftImpulse, SoftSettings};
 use crate::body::BodyState;
+use crate::contact::tangents;
 use crate::contact::Contact;
 
 /// The island: its movers (local indices) and rows.
@@ -43,7 +44,8 @@ impl Island {
                 let n = c.normal.into_inner();
                 let ra = c.point - bodies[c.a].position;
                 let rb = c.point - bodies[c.b].position;
-                let t = tangents(&n);
+                let (t0, t1) = tangents(&n);
+                let t = [t0, t1];
                 let normal_axis = Axis::new(ma, mb, &ra, &rb, n);
                 let tangent_axes = [Axis::new(ma, mb, &ra, &rb, t[0]), Axis::new(ma, mb, &ra, &rb, t[1])];
                 let tangent = w.tangent - n * n.dot(&w.tangent);

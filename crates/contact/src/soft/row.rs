@@ -114,13 +114,6 @@ impl Axis {
     }
 }
 
-/// Two unit vectors completing n to a right-handed basis (a fixed choice, so the rows are a function of n).
-pub(crate) fn tangents(n: &Vector3<f64>) -> [Vector3<f64>; 2] {
-    let seed = if n.x.abs() < 0.57 { Vector3::x() } else { Vector3::y() };
-    let t1 = n.cross(&seed).normalize();
-    [t1, n.cross(&t1)]
-}
-
 /// One contact point as a solver row.
 #[derive(Clone, Debug)]
 pub(crate) struct Row {
