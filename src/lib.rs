@@ -62,4 +62,4 @@ pub use tumble_collide::Shape;
 pub use tumble_contact as contact;
 /// The integrators (tumble-integrate).
 pub use tumble_integrate as integrate;
-pub use tumble_integrate::{Method, Settings};
+pub use tumble_integrate::{Method, OdeError, Settings};

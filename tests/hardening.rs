@@ -10,8 +10,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use tumble::scenes::{BouncingBall, ClothDrape, Pile};
 use tumble::{
-    Attachment, FastSettings, Material, Mode, ParticleBuilder, RigidBodyBuilder, Shape, SpringBuilder, Target, World,
-    WorldError, Wrench,
+    Attachment, FastSettings, Material, Method, Mode, OdeError, ParticleBuilder, RigidBodyBuilder, Settings, Shape,
+    SpringBuilder, Target, World, WorldError, Wrench,
 };
 
 fn finite(w: &World) -> bool {
@@ -145,6 +145,55 @@ fn accurate_calls_have_a_step_budget_of_a_million_steps() {
     let e = guarded(&mut w, |w| w.step(1001.0)).expect("1.001e6 steps are over the budget");
     assert!(e.to_string().contains("max_steps"), "the message says what to raise: {e}");
     w.step(999.0).unwrap();
+}
+
+#[test]
+fn a_run_spends_one_budget_across_its_chunks() {
+    // A run advances in about a hundred chunks (progress is reported between them); the budget is the call's, not
+    // the chunk's: 1.5 s of 1e-3 s fixed steps (1,500) against max_steps = 1,000 fails, where each chunk alone
+    // (15 steps) would fit.
+    let mut w = World::new();
+    w.set_integrator(
+        tumble_integrate::Settings::fixed(tumble_integrate::Method::SymplecticEuler, 1e-3).max_steps(1000),
+    )
+    .unwrap();
+    w.add_particle(ParticleBuilder::new(1.0)).unwrap();
+    let e = guarded(&mut w, |w| w.run(1.5, 0.01)).expect("1,500 steps are over a budget of 1,000");
+    assert!(e.to_string().contains("max_steps"), "{e}");
+    let run = w.run(0.99, 0.01).unwrap();
+    assert_eq!(run.report.integrator.steps, 990, "990 steps fit the budget");
+}
+
+#[test]
+fn a_millimetre_pile_asked_for_a_long_span_stops_on_its_pace_not_after_its_whole_budget() {
+    // The long fuzz run's last slow call: bodies of 1 to 2 mm under a tilted gravity, one at 1.2 m/s, on two
+    // grounds. Accurate mode follows them with contact steps near 1e-7 s, about 30 convex solves each: 0.25 s
+    // would take some 9e6 solves (half an hour), and the whole default budget of 1e6 took 200 s to spend. Here
+    // with a budget of 2e4: once a tenth of it is spent the pace points past three budgets, and the call stops
+    // there (a fiftieth of the way through the budget's time), leaving the world as it was.
+    let mut w = World::new();
+    w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-6, 1e-9).max_steps(20_000)).unwrap();
+    w.set_gravity(Vector3::new(-18.47, 0.0, -18.23)).unwrap();
+    w.add_ground(0.0, Material { restitution: 0.45, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::default()).unwrap();
+    let body = |shape, density, x: f64, y: f64| {
+        RigidBodyBuilder::from_shape(shape, density).position(Vector3::new(x, y, 0.001))
+    };
+    w.add_body(body(Shape::sphere(0.001).unwrap(), 1e3, 0.0, 0.0)).unwrap();
+    w.add_body(body(Shape::capsule(0.0005, 0.0005).unwrap(), 1e6, 0.0022, 0.0)).unwrap();
+    w.add_body(
+        body(Shape::cylinder(0.001, 0.001).unwrap(), 1e3, 0.0, 0.0022).velocity(Vector3::new(0.344, 1.123, 0.0)),
+    )
+    .unwrap();
+    let e = guarded(&mut w, |w| w.step(0.25)).expect("the pile cannot be followed for 0.25 s on 2e4 solves");
+    match e {
+        WorldError::Simulation(OdeError::OverBudget { spent, max_steps, fraction, .. }) => {
+            assert_eq!(max_steps, 20_000);
+            assert!(spent < 3_000, "stopped soon after a tenth of the budget: {spent}");
+            assert!(fraction < 0.1 / 3.0, "the pace pointed past three budgets: {fraction}");
+        }
+        other => panic!("expected the pace to stop the call: {other}"),
+    }
 }
 
 /// A scene whose force callback fails while `fail` is set (mid-call, after some steps); the world must come back

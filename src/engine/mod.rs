@@ -5,6 +5,7 @@
 
 #[cfg(feature = "contact")]
 pub(crate) mod accurate;
+mod budget;
 #[cfg(feature = "contact")]
 pub(crate) mod contact_scene;
 #[cfg(feature = "contact")]
@@ -17,6 +18,7 @@ mod smooth;
 #[cfg(feature = "contact")]
 mod state_error;
 
+pub(crate) use budget::Budget;
 pub(crate) use smooth::SmoothEngine;
 
 use crate::error::WorldError;
@@ -158,15 +160,23 @@ impl Engine {
 
     /// Advances toward `t_end`, returning once past `pause` (never beyond `t_end`); records into `run` (if any)
     /// a frame for each of `saves` reached, the steps taken and the contact events; returns how many saves were
-    /// delivered. A failure may leave the engine anywhere: the caller restores a snapshot.
+    /// delivered. The steps are charged to the call's `budget` (fast mode's calls are bounded by their step count
+    /// instead). A failure may leave the engine anywhere: the caller restores a snapshot.
     pub fn advance(
         &mut self,
         t_end: f64,
         pause: f64,
         saves: &[f64],
         run: Option<&mut Run>,
+        budget: &mut Budget,
     ) -> Result<usize, WorldError> {
-        each!(self, e => e.advance(t_end, pause, saves, run))
+        match self {
+            Engine::Smooth(e) => e.advance(t_end, pause, saves, run, budget),
+            #[cfg(feature = "contact")]
+            Engine::Accurate(e) => e.advance(t_end, pause, saves, run, budget),
+            #[cfg(feature = "contact")]
+            Engine::Fast(e) => e.advance(t_end, pause, saves, run),
+        }
     }
 
     /// What a failed call must put back.

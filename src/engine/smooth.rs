@@ -2,12 +2,13 @@
 //! control, with no contact. Its step is the integrator's step; a world with nothing that moves only advances its
 //! clock.
 
+use super::Budget;
 use crate::error::WorldError;
 use crate::model::{Compiled, Model};
 use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
-use tumble_integrate::{Integrator, Settings};
+use tumble_integrate::{Integrator, OdeError, Settings};
 
 /// Integration without contact.
 pub(crate) struct SmoothEngine {
@@ -80,6 +81,7 @@ impl SmoothEngine {
         pause: f64,
         saves: &[f64],
         mut run: Option<&mut Run>,
+        budget: &mut Budget,
     ) -> Result<usize, WorldError> {
         let Some(integrator) = &mut self.integrator else {
             // Nothing moves: every save is the same empty state.
@@ -92,6 +94,8 @@ impl SmoothEngine {
             return Ok(saves.len());
         };
         integrator.log_steps(run.is_some());
+        integrator.set_max_steps(budget.left());
+        let before = attempts(integrator);
         let delivered = integrator.advance_until(&mut self.compiled.model, t_end, pause, saves, |m, t, y| {
             if let Some(run) = run.as_deref_mut() {
                 run.record(m, t, y, 0.0);
@@ -102,7 +106,10 @@ impl SmoothEngine {
                 run.log_step(t, h);
             }
         }
-        Ok(delivered?)
+        let charged = budget.charge(attempts(integrator) - before, integrator.time());
+        let delivered = delivered.map_err(|e| over_budget(e, budget))?;
+        charged?;
+        Ok(delivered)
     }
 
     pub fn snapshot(&self) -> SmoothSnapshot {
@@ -121,6 +128,19 @@ impl SmoothEngine {
 
     pub fn take_report(&mut self) -> WorldReport {
         take_integrator_report(self.integrator.as_mut(), self.settings.method.name())
+    }
+}
+
+/// Steps the integrator has taken or rejected since its report was last taken.
+pub(crate) fn attempts(i: &Integrator<Model>) -> usize {
+    i.report().steps + i.report().rejected
+}
+
+/// An integrator that ran out of the steps left names the call's whole budget.
+pub(crate) fn over_budget(e: OdeError, budget: &Budget) -> OdeError {
+    match e {
+        OdeError::TooManySteps { t, .. } => OdeError::TooManySteps { t, max_steps: budget.limit() },
+        e => e,
     }
 }
 

@@ -4,7 +4,7 @@
 //! exactly as it was.
 
 use super::World;
-use crate::engine::{Engine, EngineSpec};
+use crate::engine::{Budget, Engine, EngineSpec};
 use crate::error::WorldError;
 use crate::limits;
 use crate::model::Compiled;
@@ -152,6 +152,7 @@ impl World {
     ) -> Result<Option<Run>, WorldError> {
         self.failed_run = None;
         let mut run = frame_interval.map(|_| self.new_run());
+        let max_steps = self.settings.max_steps;
         let e = self.engine()?;
         let t0 = e.time();
         let t_end = e.end_time(span, name)?;
@@ -169,13 +170,15 @@ impl World {
             None => Vec::new(),
         };
         let snapshot = e.snapshot();
+        // One step budget for the whole call, across its chunks.
+        let mut budget = Budget::new(max_steps, t0, t_end);
         // Pause about a hundred times to report progress; pausing does not shorten a step, so the run takes the
         // same steps as one call would.
         let chunk = times.len().div_ceil(100).max(1);
         let mut done = 0;
         let outcome = loop {
             let pause = if times.is_empty() { t_end } else { times[(done + chunk).min(times.len()) - 1] };
-            match e.advance(t_end, pause, &times[done..], run.as_mut()) {
+            match e.advance(t_end, pause, &times[done..], run.as_mut(), &mut budget) {
                 Ok(delivered) => done += delivered,
                 Err(err) => break Err(err),
             }

@@ -122,6 +122,12 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         &self.settings
     }
 
+    /// Sets the most steps (taken or rejected) one advance may take; callers that share one budget across several
+    /// advances set what is left of it before each (0 is read as 1).
+    pub fn set_max_steps(&mut self, max_steps: usize) {
+        self.settings.max_steps = max_steps.max(1);
+    }
+
     /// Returns the report so far and starts a new one (for callers that report per call).
     pub fn take_report(&mut self) -> Report {
         std::mem::replace(&mut self.ctx.report, Report::new(self.settings.method.name()))

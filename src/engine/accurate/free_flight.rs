@@ -6,6 +6,8 @@
 
 use super::Contacts;
 use crate::engine::contact_scene::Found;
+use crate::engine::smooth::over_budget;
+use crate::engine::Budget;
 use crate::model::layout::Layout;
 use crate::model::{End, Model};
 use tumble_integrate::{Integrator, OdeError};
@@ -77,8 +79,8 @@ pub(crate) fn copy_free(model: &Model, involved: &[bool], from: &[f64], to: &mut
 
 impl Contacts {
     /// The state at t + h of the actors not `involved`, advanced from (t, y) by the integrator with the others held
-    /// still (the other components of the answer are y's); `None` when every actor is involved. Its steps count
-    /// against `budget`; its counters go to the report.
+    /// still (the other components of the answer are y's); `None` when every actor is involved. Its steps are
+    /// charged to the call's `budget`; its counters go to the report.
     #[allow(clippy::too_many_arguments)]
     pub fn free_flight(
         &mut self,
@@ -88,7 +90,7 @@ impl Contacts {
         t: f64,
         y: &[f64],
         h: f64,
-        budget: &mut usize,
+        budget: &mut Budget,
     ) -> Result<Option<Vec<f64>>, OdeError> {
         if involved.iter().all(|i| *i) {
             return Ok(None);
@@ -97,8 +99,7 @@ impl Contacts {
             (0..involved.len()).filter(|a| involved[*a]).flat_map(|a| components(model.layout, a)).collect();
         model.frozen = frozen;
         let result = (|| {
-            let mut settings = self.free_settings.clone();
-            settings.max_steps = (*budget).max(1);
+            let settings = self.free_settings.clone();
             let flight = match free.take() {
                 Some(mut f) if f.frozen == model.frozen => {
                     f.integrator.set_state(t, y)?;
@@ -107,11 +108,13 @@ impl Contacts {
                 _ => FreeFlight { frozen: model.frozen.clone(), integrator: Integrator::new(model, settings, t, y)? },
             };
             let flight = free.insert(flight);
+            flight.integrator.set_max_steps(budget.left());
             let advanced = flight.integrator.advance_to(model, t + h, &[], |_, _, _| {});
             let report = flight.integrator.take_report();
-            *budget = budget.saturating_sub(report.steps + report.rejected);
             self.free_report.merge(&report);
-            advanced?;
+            let charged = budget.charge(report.steps + report.rejected, t);
+            advanced.map_err(|e| over_budget(e, budget))?;
+            charged?;
             let mut out = y.to_vec();
             copy_free(model, involved, flight.integrator.state(), &mut out);
             Ok(Some(out))

@@ -34,7 +34,8 @@ mod touching;
 pub(crate) use resting::RestingSet;
 
 use crate::engine::contact_scene::{ContactKey, ContactScene};
-use crate::engine::smooth::take_integrator_report;
+use crate::engine::smooth::{attempts, over_budget, take_integrator_report};
+use crate::engine::Budget;
 use crate::error::WorldError;
 use crate::mode::{AccurateSettings, Persistent};
 use crate::model::{Compiled, Model};
@@ -80,8 +81,6 @@ pub(crate) struct Contacts {
     touching: Option<touching::Touching>,
     /// Threads of the contact solves.
     threads: usize,
-    /// The call's step budget (for the message).
-    max_steps: usize,
     /// A state component past this is divergence.
     divergence_limit: f64,
     /// The lagged-friction fixed point is reached when no normal impulse moves by more than this fraction of the
@@ -150,7 +149,6 @@ impl AccurateEngine {
             max_step: (0.05 * time_scale).min(1.0 / 60.0),
             touching: None,
             threads,
-            max_steps: settings.max_steps,
             divergence_limit: settings.divergence_limit,
             last_solver_error: String::new(),
             free_settings: settings.clone(),
@@ -204,16 +202,13 @@ impl AccurateEngine {
         pause: f64,
         saves: &[f64],
         mut run: Option<&mut Run>,
+        budget: &mut Budget,
     ) -> Result<usize, WorldError> {
         let (model, integrator, contacts) = (&mut self.compiled.model, &mut self.integrator, &mut self.contacts);
         integrator.log_steps(run.is_some());
-        // One step budget for the whole call (the integrator's own budget restarts at every event).
-        let attempts = |i: &Integrator<Model>| i.report().steps + i.report().rejected;
-        let (budget, spent) = (self.settings.max_steps, attempts(integrator));
         let result = (|| {
             contacts.contact_phase(model, integrator)?;
             let (mut done, mut stuck, mut last) = (0, 0, integrator.time());
-            let mut contact_budget = budget;
             loop {
                 if contacts.touching.is_some() {
                     let (t, y) = (integrator.time(), integrator.state().to_vec());
@@ -225,7 +220,7 @@ impl AccurateEngine {
                         pause,
                         &saves[done..],
                         run.as_deref_mut(),
-                        &mut contact_budget,
+                        budget,
                     )?;
                     done += end.delivered;
                     integrator.set_state(end.t, &end.y)?;
@@ -234,10 +229,9 @@ impl AccurateEngine {
                     }
                     continue;
                 }
-                let taken = attempts(integrator) - spent + (budget - contact_budget);
-                if taken > budget {
-                    return Err(OdeError::TooManySteps { t: integrator.time(), max_steps: budget });
-                }
+                // The integrator's own budget restarts at every event: it gets what is left of the call's.
+                integrator.set_max_steps(budget.left());
+                let before = attempts(integrator);
                 let penetration = contacts.penetration;
                 let adv = integrator.advance_with_events(
                     model,
@@ -256,7 +250,9 @@ impl AccurateEngine {
                         run.log_step(t, h);
                     }
                 }
-                let adv = adv?;
+                let charged = budget.charge(attempts(integrator) - before, integrator.time());
+                let adv = adv.map_err(|e| over_budget(e, budget))?;
+                charged?;
                 done += adv.delivered;
                 let Some(t) = adv.event else { return Ok(done) };
                 if let Some(run) = run.as_deref_mut() {

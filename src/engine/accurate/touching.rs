@@ -16,6 +16,7 @@ use super::free_flight::{copy_free, involved, FreeFlight};
 use super::{failure, Contacts};
 use crate::engine::contact_scene::ContactKey;
 use crate::engine::state_error::state_difference;
+use crate::engine::Budget;
 use crate::model::layout::{get3, get_quat, set_quat};
 use crate::model::Model;
 use crate::run::Run;
@@ -63,8 +64,8 @@ impl Contacts {
     }
 
     /// Advances from (t, y) by error-controlled contact steps until `t_end` (pausing past `pause`) or until no
-    /// pair is within reach; each save time reached records a frame. `budget` counts down steps taken or rejected,
-    /// a contact step counting each convex program it solved.
+    /// pair is within reach; each save time reached records a frame. Each step tried is charged to the call's
+    /// `budget`, a contact step counting each convex program it solved.
     #[allow(clippy::too_many_arguments)]
     pub fn touching_steps(
         &mut self,
@@ -75,7 +76,7 @@ impl Contacts {
         pause: f64,
         saves: &[f64],
         mut run: Option<&mut Run>,
-        budget: &mut usize,
+        budget: &mut Budget,
     ) -> Result<TouchingEnd, OdeError> {
         let statics = self.scene.static_poses.clone();
         let slack = 1e-12 * t_end.abs().max(1.0);
@@ -96,10 +97,9 @@ impl Contacts {
             let stop = saves.get(delivered).map_or(t_end, |s| s.min(t_end));
             let h = phase.h.min(stop - t);
             let clipped = h < phase.h;
-            if *budget == 0 {
-                break Err(OdeError::TooManySteps { t, max_steps: self.max_steps });
+            if let Err(e) = budget.charge(1, t) {
+                break Err(e);
             }
-            *budget -= 1;
             if let Err(e) = self.watch_touching(&mut phase, t) {
                 break Err(e);
             }
@@ -121,7 +121,9 @@ impl Contacts {
             self.report.max_penetration = self.report.max_penetration.max(self.penetration);
             let solves = self.report.qp_solves;
             let doubled = self.doubled_step(model, &statics, &states, &found, &phase.lagged, t, &y, h);
-            *budget = budget.saturating_sub((self.report.qp_solves - solves).saturating_sub(1));
+            if let Err(e) = budget.charge((self.report.qp_solves - solves).saturating_sub(1), t) {
+                break Err(e);
+            }
             let Some((mut whole, mut second, involved)) = doubled? else {
                 // clarabel could not answer to its tolerance: a smaller step changes the problem
                 self.report.contact_rejected += 1;
