@@ -35,6 +35,13 @@ pub struct WorldReport {
     pub contact_residual: f64,
     /// Fast mode with step doubling: the largest difference between a step and its two halves (m); `None` without.
     pub step_error: Option<f64>,
+    /// The change of mechanical energy (kinetic, gravity's and the springs' potential) over the calls reported (J):
+    /// restitution below one, friction and damping take energy out, so without loads that do work a rise is the
+    /// method's error.
+    pub energy_change: f64,
+    /// Fast mode: the largest rise of mechanical energy over one step (J), the energy a step added (zero when no
+    /// step added any); `None` in the other modes.
+    pub energy_gain: Option<f64>,
     /// Wall time spent finding contacts (s).
     pub collision_seconds: f64,
     /// Wall time spent in contact solves (s).
@@ -79,6 +86,8 @@ impl WorldReport {
             max_penetration: 0.0,
             contact_residual: 0.0,
             step_error: None,
+            energy_change: 0.0,
+            energy_gain: None,
             collision_seconds: 0.0,
             contact_seconds: 0.0,
             contact_steps: 0,
@@ -120,6 +129,8 @@ impl WorldReport {
             ("max_penetration", Number(self.max_penetration)),
             ("contact_residual", Number(self.contact_residual)),
             ("step_error", Optional(self.step_error)),
+            ("energy_change", Number(self.energy_change)),
+            ("energy_gain", Optional(self.energy_gain)),
             ("collision_seconds", Number(self.collision_seconds)),
             ("contact_seconds", Number(self.contact_seconds)),
             ("contact_steps", Count(self.contact_steps)),
@@ -140,6 +151,7 @@ impl WorldReport {
         self.merge_contact(o);
         self.islands += o.islands;
         self.sleepers = o.sleepers;
+        self.energy_change += o.energy_change;
         self.stages += o.stages;
     }
 
@@ -153,10 +165,12 @@ impl WorldReport {
         self.collision_checks += o.collision_checks;
         self.max_penetration = self.max_penetration.max(o.max_penetration);
         self.contact_residual = self.contact_residual.max(o.contact_residual);
-        self.step_error = match (self.step_error, o.step_error) {
+        let largest = |a: Option<f64>, b: Option<f64>| match (a, b) {
             (Some(a), Some(b)) => Some(a.max(b)),
             (a, b) => a.or(b),
         };
+        self.step_error = largest(self.step_error, o.step_error);
+        self.energy_gain = largest(self.energy_gain, o.energy_gain);
         self.collision_seconds += o.collision_seconds;
         self.contact_seconds += o.contact_seconds;
         self.contact_steps += o.contact_steps;
@@ -186,6 +200,10 @@ impl fmt::Display for WorldReport {
              solving them",
             self.max_penetration, self.contact_residual, self.sleepers, self.collision_seconds, self.contact_seconds
         )?;
+        write!(f, "\nenergy           changed by {:.3e} J", self.energy_change)?;
+        if let Some(g) = self.energy_gain {
+            write!(f, ", the largest rise over one step {g:.3e} J")?;
+        }
         if let Some(e) = self.step_error {
             write!(f, "\nstep doubling    largest difference of a step from its two halves {e:.3e} m")?;
         }

@@ -18,6 +18,8 @@ pub(crate) struct SmoothEngine {
     settings: Settings,
     /// The time of an engine without integrator.
     t: f64,
+    /// The change of mechanical energy since the report was last taken (J).
+    energy_change: f64,
 }
 
 /// What a failed call puts back: the whole integrator (state, next step, controller, the method's caches and
@@ -31,7 +33,7 @@ impl SmoothEngine {
     pub fn new(mut compiled: Compiled, settings: Settings, t: f64, y: Vec<f64>) -> Result<Self, WorldError> {
         let integrator =
             if y.is_empty() { None } else { Some(Integrator::new(&mut compiled.model, settings.clone(), t, &y)?) };
-        Ok(SmoothEngine { compiled, integrator, settings, t })
+        Ok(SmoothEngine { compiled, integrator, settings, t, energy_change: 0.0 })
     }
 
     /// The engine's own stages for a state of length `dim`: the integrator's steps, and Jacobians for an
@@ -96,6 +98,7 @@ impl SmoothEngine {
         integrator.log_steps(run.is_some());
         integrator.set_max_steps(budget.left());
         let before = attempts(integrator);
+        let energy = mechanical_energy(&self.compiled.model, integrator.state());
         let delivered = integrator.advance_until(&mut self.compiled.model, t_end, pause, saves, |m, t, y| {
             if let Some(run) = run.as_deref_mut() {
                 run.record(m, t, y, 0.0);
@@ -106,6 +109,7 @@ impl SmoothEngine {
                 run.log_step(t, h);
             }
         }
+        self.energy_change += mechanical_energy(&self.compiled.model, integrator.state()) - energy;
         let charged = budget.charge(attempts(integrator) - before, integrator.time());
         let delivered = delivered.map_err(|e| over_budget(e, budget))?;
         charged?;
@@ -127,8 +131,15 @@ impl SmoothEngine {
     }
 
     pub fn take_report(&mut self) -> WorldReport {
-        take_integrator_report(self.integrator.as_mut(), self.settings.method.name())
+        let mut r = take_integrator_report(self.integrator.as_mut(), self.settings.method.name());
+        r.energy_change = std::mem::take(&mut self.energy_change);
+        r
     }
+}
+
+/// Kinetic energy and the potential energy of gravity and the springs in state y (J).
+pub(crate) fn mechanical_energy(model: &Model, y: &[f64]) -> f64 {
+    model.kinetic_energy(y) + model.potential_energy(y)
 }
 
 /// Steps the integrator has taken or rejected since its report was last taken.

@@ -34,7 +34,7 @@ mod touching;
 pub(crate) use resting::RestingSet;
 
 use crate::engine::contact_scene::{ContactKey, ContactScene};
-use crate::engine::smooth::{attempts, over_budget, take_integrator_report};
+use crate::engine::smooth::{attempts, mechanical_energy, over_budget, take_integrator_report};
 use crate::engine::Budget;
 use crate::error::WorldError;
 use crate::mode::{AccurateSettings, Persistent};
@@ -206,6 +206,7 @@ impl AccurateEngine {
     ) -> Result<usize, WorldError> {
         let (model, integrator, contacts) = (&mut self.compiled.model, &mut self.integrator, &mut self.contacts);
         integrator.log_steps(run.is_some());
+        let energy = mechanical_energy(model, integrator.state());
         let result = (|| {
             contacts.contact_phase(model, integrator)?;
             let (mut done, mut stuck, mut last) = (0, 0, integrator.time());
@@ -266,6 +267,7 @@ impl AccurateEngine {
                 contacts.contact_phase(model, integrator)?;
             }
         })();
+        contacts.report.energy_change += mechanical_energy(model, integrator.state()) - energy;
         Ok(result?)
     }
 
@@ -303,6 +305,7 @@ impl AccurateEngine {
         r.integrator.merge(&free);
         let c = std::mem::replace(&mut self.contacts.report, WorldReport::new("accurate"));
         r.merge_contact(&c);
+        r.energy_change += c.energy_change;
         r.stages += c.stages;
         if let Some(set) = &mut self.compiled.model.resting {
             let solves = std::mem::take(&mut set.solves);

@@ -210,6 +210,7 @@ impl FastEngine {
     /// One step of size h, as its stages.
     fn step(&mut self, h: f64) -> Result<(), WorldError> {
         let clock = Instant::now();
+        let before = self.energy();
         let mut states = self.applied_forces()?;
         let found = self.find_contacts(&mut states, h)?;
         let velocities = match self.settings.solver {
@@ -227,8 +228,17 @@ impl FastEngine {
         self.check_state(h)?;
         self.update_sleep(&states, &velocities, &found, h);
         self.steps += 1;
+        let change = self.energy() - before;
+        self.report.energy_change += change;
+        self.report.energy_gain = Some(self.report.energy_gain.unwrap_or(0.0).max(change));
         self.book_step(h, clock);
         Ok(())
+    }
+
+    /// The mechanical energy of the state (kinetic, gravity's and the springs' potential; J).
+    fn energy(&self) -> f64 {
+        let model = &self.compiled.model;
+        model.kinetic_energy(&self.y) + model.potential_energy(&self.y)
     }
 
     /// A step of h, and its error estimate: the same step taken as two halves from the same start (time, state,
