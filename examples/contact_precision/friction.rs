@@ -1,10 +1,11 @@
 //! The friction half of `contact_precision`: three problems with closed forms, accurate mode over contact
-//! tolerances and fast mode over steps, error against the fastest wall time of three runs.
+//! tolerances and fast mode over steps (its soft step and its exact cone program), error against the fastest wall
+//! time of three runs.
 
 use nalgebra::Vector3;
 use std::io::Write;
 use std::time::Instant;
-use tumble::{AccurateSettings, FastSettings, Material, Mode, RigidBodyBuilder, Shape, World, WorldError};
+use tumble::{AccurateSettings, FastSettings, FastSolver, Material, Mode, RigidBodyBuilder, Shape, World, WorldError};
 
 const G: f64 = 9.81;
 
@@ -104,14 +105,16 @@ pub fn sweep() -> Result<(), WorldError> {
     for p in problems() {
         println!("{}", p.name);
         println!("  mode      setting            relative error  wall (ms)   steps");
-        for k in [60.0, 240.0, 960.0, 3840.0] {
-            let mode = Mode::Fast(FastSettings { sleep: false, ..FastSettings::new(1.0 / k) });
-            match measure(&p, mode) {
-                Ok((e, wall, steps)) => {
-                    println!("  fast      h = 1/{k:<12} {e:>14.2e}  {:>9.3}  {steps:>6}", wall * 1e3);
-                    csv += &format!("\"{}\",fast,{},{e:e},{wall:e},{steps}\n", p.name, 1.0 / k);
+        for (name, solver) in [("fast soft", FastSolver::default()), ("fast exact", FastSolver::exact())] {
+            for k in [60.0, 240.0, 960.0, 3840.0] {
+                let mode = Mode::Fast(FastSettings { sleep: false, solver, ..FastSettings::new(1.0 / k) });
+                match measure(&p, mode) {
+                    Ok((e, wall, steps)) => {
+                        println!("  {name:<10}h = 1/{k:<12} {e:>14.2e}  {:>9.3}  {steps:>6}", wall * 1e3);
+                        csv += &format!("\"{}\",{name},{},{e:e},{wall:e},{steps}\n", p.name, 1.0 / k);
+                    }
+                    Err(e) => println!("  {name:<10}h = 1/{k:<12} failed: {e}"),
                 }
-                Err(e) => println!("  fast      h = 1/{k:<12} failed: {e}"),
             }
         }
         for tol in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8] {

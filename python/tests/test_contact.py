@@ -54,7 +54,7 @@ def test_the_report_gives_a_sliding_box_energy_loss_as_its_kinetic_energy():
         options = {"contact_tolerance": 1e-6} if mode == "accurate" else {}
         w = tumble.World(mode=mode, **options)
         w.add_ground(restitution=0.0, friction=0.5)
-        w.add_body(tumble.Box((0.5, 0.5, 0.5)), density=500.0, position=(0, 0, 0.25), velocity=(3, 0, 0),
+        w.add_body(tumble.Box((0.25, 0.25, 0.25)), density=500.0, position=(0, 0, 0.25), velocity=(3, 0, 0),
                    restitution=0.0, friction=0.5)
         r = w.run(1.0, 0.1).report
         assert abs(r.energy_change + 281.25) < 62.5 * G * 1e-5, (mode, r.energy_change)
