@@ -37,7 +37,7 @@ fn pile(n: usize, solver: FastSolver, sleep: bool) -> (f64, f64) {
     let penetration = run.penetration.iter().fold(0.0f64, |m, p| m.max(*p));
     let r = w.report();
     eprintln!(
-        "pile {n}: finding contacts {:.3} ms, solving {:.3} ms a step; {:.0} pushing contacts and {:.1} islands a step; \
+        "pile {n}, sleep {sleep}: finding contacts {:.3} ms, solving {:.3} ms a step; {:.0} pushing contacts and {:.1} islands a step; \
          solver residual {:.1e} m/s",
         r.collision_seconds * 1e3 / 600.0,
         r.contact_seconds * 1e3 / 600.0,
@@ -83,8 +83,10 @@ fn main() {
         .collect();
     println!("| tumble fast ({}) | value |\n|---|---|", solver.name());
     for &n in if sizes.is_empty() { &[100usize, 1000][..] } else { &sizes[..] } {
-        let (ms, pen) = pile(n, solver, false);
-        println!("| pile {n}, no sleep: ms a step / penetration (last 100 steps) | {ms:.3} ms / {:.3} mm |", pen * 1e3);
+        for (sleep, label) in [(false, "no sleep"), (true, "sleeping")] {
+            let (ms, pen) = pile(n, solver, sleep);
+            println!("| pile {n}, {label}: ms a step / penetration (last 100 steps) | {ms:.3} ms / {:.3} mm |", pen * 1e3);
+        }
     }
     // the default job's scene: 20 dominoes, 6 s, frames at 60 Hz
     let (mut w, _) = tumble::scenes::Dominoes::default().build().unwrap();

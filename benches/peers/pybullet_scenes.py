@@ -2,8 +2,8 @@
 definitions as ``python_engines.py`` (MuJoCo), ``benches/peers/rapier`` and tumble's ``examples/fast_scenes.rs``.
 
 Bullet multiplies the two bodies' friction coefficients, so every body and the floor get sqrt(mu): each pair then
-meets at mu, as in the other engines (Rapier averages, MuJoCo takes the larger, tumble the geometric mean). Sleeping
-is switched off for the pile, as in the others; the solver, substeps and continuous collision stay at Bullet's
+meets at mu, as in the other engines (Rapier averages, MuJoCo takes the larger, tumble the geometric mean). The pile
+runs without and with sleeping, as in the others; the solver, substeps and continuous collision stay at Bullet's
 defaults.
 
 Run: ``pip install -r benches/peers/requirements.txt`` then ``python3 benches/peers/pybullet_scenes.py 100 1000``.
@@ -56,13 +56,13 @@ def _positions(client, bodies: list[int]) -> np.ndarray:
     return np.array([p.getBasePositionAndOrientation(b, physicsClientId=client)[0] for b in bodies])
 
 
-def pile(n: int) -> tuple[float, float]:
+def pile(n: int, sleep: bool) -> tuple[float, float]:
     import pybullet as p
 
     client = _world(1 / 60, 0.5)
     for k in range(n):
         layer, i, j = k // 100, (k % 100) // 10, k % 10
-        _cube(client, 0.5, 1000.0, (1.2 * i, 1.2 * j, 2.5 + 1.2 * layer), 0.5, sleep=False)
+        _cube(client, 0.5, 1000.0, (1.2 * i, 1.2 * j, 2.5 + 1.2 * layer), 0.5, sleep=sleep)
     worst, spent = 0.0, 0.0
     for step in range(600):
         clock = time.perf_counter()
@@ -91,8 +91,9 @@ def main() -> None:
     sizes = [int(a) for a in sys.argv[1:]] or [100, 1000]
     print("| PyBullet 3.2.7 (defaults) | value |\n|---|---|")
     for n in sizes:
-        ms, pen = pile(n)
-        print(f"| pile {n}, no sleep: ms a step / penetration (last 100 steps) | {ms:.3f} ms / {pen * 1e3:.3f} mm |")
+        for sleep, label in ((False, "no sleep"), (True, "sleeping")):
+            ms, pen = pile(n, sleep)
+            print(f"| pile {n}, {label}: ms a step / penetration (last 100 steps) | {ms:.3f} ms / {pen * 1e3:.3f} mm |")
     dt = 1 / 240
     client = _world(dt, 0.6)
     stack = [_cube(client, 0.25, 500.0, (0.0, 0.0, 0.25 + 0.5 * k), 0.6) for k in range(10)]

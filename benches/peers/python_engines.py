@@ -1,9 +1,10 @@
-"""The peer comparison's scenes in MuJoCo (issue 13), at its defaults, one markdown row each: the same scene
-definitions as tumble's ``examples/fast_scenes.rs`` and ``benches/peers/rapier`` (z up, g = 9.81).
+"""The peer comparison's scenes in MuJoCo (issue 13; PyBullet's are in ``pybullet_scenes.py``), at its defaults, one
+markdown row each: the same scene definitions as tumble's ``examples/fast_scenes.rs`` and ``benches/peers/rapier``
+(z up, g = 9.81).
 
 - pile: N cubes of half extent 0.5 m, density 1000, on a 10 x 10 grid at 1.2 m pitch in N / 100 layers 1.2 m apart,
-  the lowest bottoms 2 m up, friction 0.5, dt 1/60, 600 steps (ms a step over all of them; penetration the deepest
-  contact over the last 100);
+  the lowest bottoms 2 m up, friction 0.5, dt 1/60, 600 steps, without and with sleeping (MuJoCo's ``sleep`` flag;
+  ms a step over all of them, the steps alone timed; penetration the deepest contact over the last 100);
 - stack: 10 cubes of half extent 0.25 m, density 500, friction 0.6, dt 1/240, 10 s, largest displacement;
 - slide: a cube of half extent 0.2 m, density 500, at 2 m/s on a floor with mu 0.5, dt 1/240, 2 s, stop distance
   against v^2 / (2 mu g);
@@ -24,11 +25,12 @@ import numpy as np
 G = 9.81
 
 
-def _model(dt: float, bodies: list[str], floor_mu: float, extra: str = ""):
+def _model(dt: float, bodies: list[str], floor_mu: float, extra: str = "", sleep: bool = False):
     import mujoco
 
+    flag = '<flag sleep="enable"/>' if sleep else ""
     xml = f"""<mujoco>
-  <option timestep="{dt!r}" gravity="0 0 {-G}"/>
+  <option timestep="{dt!r}" gravity="0 0 {-G}">{flag}</option>
   <worldbody>
     <geom type="plane" size="200 200 0.1" friction="{floor_mu} 0.005 0.0001"/>
     {extra}
@@ -49,21 +51,22 @@ def _penetration(data) -> float:
     return max([-data.contact[i].dist for i in range(data.ncon)] + [0.0])
 
 
-def pile(n: int) -> tuple[float, float]:
+def pile(n: int, sleep: bool) -> tuple[float, float]:
     import mujoco
 
     bodies = []
     for k in range(n):
         layer, i, j = k // 100, (k % 100) // 10, k % 10
         bodies.append(_cube(f"c{k}", 0.5, 1000.0, (1.2 * i, 1.2 * j, 2.5 + 1.2 * layer), 0.5))
-    model, data = _model(1 / 60, bodies, 0.5)
-    worst = 0.0
-    clock = time.perf_counter()
+    model, data = _model(1 / 60, bodies, 0.5, sleep=sleep)
+    worst, spent = 0.0, 0.0
     for step in range(600):
+        clock = time.perf_counter()
         mujoco.mj_step(model, data)
+        spent += time.perf_counter() - clock
         if step >= 500:
             worst = max(worst, _penetration(data))
-    return (time.perf_counter() - clock) * 1e3 / 600, worst
+    return spent * 1e3 / 600, worst
 
 
 def _displacement(model, data, names: list[str], steps: int) -> float:
@@ -85,8 +88,9 @@ def main() -> None:
     sizes = [int(a) for a in sys.argv[1:]] or [100, 1000]
     print(f"| MuJoCo {mujoco.__version__} (defaults) | value |\n|---|---|")
     for n in sizes:
-        ms, pen = pile(n)
-        print(f"| pile {n}, no sleep: ms a step / penetration (last 100 steps) | {ms:.3f} ms / {pen * 1e3:.3f} mm |")
+        for sleep, label in ((False, "no sleep"), (True, "sleeping")):
+            ms, pen = pile(n, sleep)
+            print(f"| pile {n}, {label}: ms a step / penetration (last 100 steps) | {ms:.3f} ms / {pen * 1e3:.3f} mm |")
     dt = 1 / 240
     stack = [_cube(f"s{k}", 0.25, 500.0, (0.0, 0.0, 0.25 + 0.5 * k), 0.6) for k in range(10)]
     model, data = _model(dt, stack, 0.6)
