@@ -3,6 +3,7 @@
 //! definitions are in `benches/peers/` for Rapier, MuJoCo and PyBullet.
 //!
 //! cargo run --release --example fast_scenes -- [soft|exact] [pile sizes, e.g. 100 1000] [--substeps N]
+//!     [--iterations K] [--hertz F] [--threads T]
 
 use nalgebra::Vector3;
 use std::time::Instant;
@@ -24,8 +25,9 @@ fn cube(w: &mut World, half: f64, density: f64, at: Vector3<f64>, mu: f64) -> Bo
 
 /// The pile: N cubes of half extent 0.5 m on a 10 x 10 grid at 1.2 m pitch, N / 100 layers 1.2 m apart, the lowest
 /// bottoms 2 m up; 600 steps of 1/60 s. Returns (ms a step, largest penetration over the last 100 steps).
-fn pile(n: usize, solver: FastSolver, sleep: bool) -> (f64, f64) {
+fn pile(n: usize, solver: FastSolver, sleep: bool, threads: usize) -> (f64, f64) {
     let mut w = world(1.0 / 60.0, solver, sleep, 0.5);
+    w.set_threads(threads).unwrap();
     for k in 0..n {
         let (layer, i, j) = (k / 100, (k % 100) / 10, k % 10);
         let at = Vector3::new(1.2 * i as f64, 1.2 * j as f64, 2.5 + 1.2 * layer as f64);
@@ -70,6 +72,11 @@ fn main() {
     if let Some(k) = args.iter().position(|a| a == "--iterations") {
         soft.iterations = args[k + 1].parse().expect("a whole number of iterations");
     }
+    // 0: one thread per core (the default)
+    let threads = match args.iter().position(|a| a == "--threads") {
+        Some(k) => args[k + 1].parse().expect("a whole number of threads"),
+        None => 0,
+    };
     if let Some(k) = args.iter().position(|a| a == "--hertz") {
         soft.contact_hertz = args[k + 1].parse().expect("a stiffness in hertz");
     }
@@ -84,8 +91,11 @@ fn main() {
     println!("| tumble fast ({}) | value |\n|---|---|", solver.name());
     for &n in if sizes.is_empty() { &[100usize, 1000][..] } else { &sizes[..] } {
         for (sleep, label) in [(false, "no sleep"), (true, "sleeping")] {
-            let (ms, pen) = pile(n, solver, sleep);
-            println!("| pile {n}, {label}: ms a step / penetration (last 100 steps) | {ms:.3} ms / {:.3} mm |", pen * 1e3);
+            let (ms, pen) = pile(n, solver, sleep, threads);
+            println!(
+                "| pile {n}, {label}: ms a step / penetration (last 100 steps) | {ms:.3} ms / {:.3} mm |",
+                pen * 1e3
+            );
         }
     }
     // the default job's scene: 20 dominoes, 6 s, frames at 60 Hz

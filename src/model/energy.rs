@@ -2,19 +2,22 @@
 //! potential energy of gravity, springs and the particles' restoring terms; linear momentum; angular momentum
 //! about the origin.
 
-use crate::model::layout::get3;
+use crate::model::layout::{get3, get_quat};
 use crate::model::Model;
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 
 impl Model {
     pub(crate) fn kinetic_energy(&self, y: &[f64]) -> f64 {
         let l = self.layout;
         let particles: f64 =
             self.particles.iter().enumerate().map(|(i, p)| 0.5 * p.mass * get3(y, l.pv(i)).norm_squared()).sum();
+        // L . w = (R^T L) . I_body^-1 (R^T L): the angular momentum turned into the body frame by the quaternion.
         let bodies: f64 = (0..l.bodies)
             .map(|j| {
-                let k = self.body_kin(y, j);
-                0.5 * get3(y, l.bp(j)).norm_squared() * self.bodies[j].inv_mass + 0.5 * get3(y, l.bl(j)).dot(&k.omega)
+                let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
+                let local = q.inverse_transform_vector(&get3(y, l.bl(j)));
+                let b = &self.bodies[j];
+                0.5 * get3(y, l.bp(j)).norm_squared() * b.inv_mass + 0.5 * local.dot(&(b.inv_inertia * local))
             })
             .sum();
         particles + bodies
@@ -30,6 +33,9 @@ impl Model {
         }
         for (j, b) in self.bodies.iter().enumerate() {
             u -= b.mass * self.gravity.dot(&get3(y, l.bx(j)));
+        }
+        if self.springs.is_empty() {
+            return u;
         }
         let kin: Vec<_> = (0..l.bodies).map(|j| self.body_kin(y, j)).collect();
         for s in &self.springs {
