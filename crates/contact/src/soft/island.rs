@@ -1,7 +1,8 @@
 //! One island of the soft step: its bodies and contact rows laid out for the solver, and the substep loop that reads
 //! as Box2D v3's stages: per substep, integrate velocities, warm start, a biased soft solve, integrate positions, a
-//! relax solve without bias; after the substeps, restitution. Rows are solved in contact order (Gauss-Seidel), so
-//! the answer is fixed by the input alone.
+//! relax solve without bias; after the substeps, restitution. Rows are solved Gauss-Seidel in an order fixed by
+//! the input alone (`colour.rs`): grouped so that consecutive rows seldom share a moving body, which lets the
+//! processor overlap their solves instead of waiting on each body's last update.
 
 use super::row::{Axis, Mover, Row};
 use super::softness::Softness;
@@ -35,10 +36,11 @@ impl Island {
         local: impl Fn(usize) -> usize,
         warm: &[SoftImpulse],
     ) -> Island {
-        let rows = contacts
+        let rows: Vec<Row> = contacts
             .iter()
             .zip(warm)
-            .map(|(c, w)| {
+            .enumerate()
+            .map(|(index, (c, w))| {
                 let (a, b) = (local(c.a), local(c.b));
                 let (ma, mb) = (&movers[a], &movers[b]);
                 let n = c.normal.into_inner();
@@ -50,6 +52,7 @@ impl Island {
                 let tangent_axes = [Axis::new(ma, mb, &ra, &rb, t[0]), Axis::new(ma, mb, &ra, &rb, t[1])];
                 let tangent = w.tangent - n * n.dot(&w.tangent);
                 Row {
+                    index,
                     a,
                     b,
                     ra,
@@ -69,6 +72,7 @@ impl Island {
                 }
             })
             .collect();
+        let rows = super::colour::in_colour_order(rows, &movers);
         let masses = movers.iter().filter(|m| m.inv_mass > 0.0).map(|m| 1.0 / m.inv_mass);
         let (lo, hi) = masses.fold((f64::INFINITY, 0.0f64), |(lo, hi), m| (lo.min(m), hi.max(m)));
         Island { movers, rows, ratio: if lo > 0.0 { hi / lo } else { 1.0 } }

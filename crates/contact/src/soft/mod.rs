@@ -10,6 +10,7 @@
 //! carries the load (about g / (2 pi hertz)^2 per body weight), and an iteration count that bounds the work bounds
 //! the accuracy of a deep stack. `residual` says how far an answer is from the exact contact conditions.
 
+mod colour;
 mod island;
 mod row;
 mod softness;
@@ -175,7 +176,8 @@ pub fn soft_step(
                 out.rotations[b] = m.dq;
             }
         }
-        for (&i, r) in group.iter().zip(&island.rows) {
+        for r in &island.rows {
+            let i = group[r.index];
             out.impulses[i] = SoftImpulse { normal: r.normal, tangent: r.tangent_vector() };
             out.normal_impulses[i] = r.step_normal;
         }

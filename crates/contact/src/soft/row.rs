@@ -68,6 +68,11 @@ impl Mover {
         }
     }
 
+    /// Whether no impulse can turn it (a zero inverse inertia: static and kinematic bodies).
+    pub fn still_inertia(&self) -> bool {
+        self.inv_inertia == Matrix3::zeros()
+    }
+
     /// How far the material point at arm r (from the centre, at the step's start) has moved.
     #[inline]
     pub fn moved(&self, r: &Vector3<f64>) -> Vector3<f64> {
@@ -117,6 +122,8 @@ impl Axis {
 /// One contact point as a solver row.
 #[derive(Clone, Debug)]
 pub(crate) struct Row {
+    /// The row's place among its island's contacts (rows are solved in another order).
+    pub index: usize,
     pub a: usize,
     pub b: usize,
     pub ra: Vector3<f64>,
