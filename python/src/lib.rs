@@ -4,6 +4,7 @@
 use pyo3::prelude::*;
 
 mod args;
+mod control;
 mod convert;
 mod handles;
 mod report;

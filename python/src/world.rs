@@ -3,6 +3,7 @@
 //! `world_state.rs`.
 
 use crate::args::{attachment, integrator_options, to_target};
+use crate::control::Control;
 use crate::convert::{array, invalid, mat3, opt_vec3, quat, vec3, world_error};
 use crate::handles::{PyBodyHandle, PyLoadHandle, PyParticleHandle, PySpringHandle};
 use crate::report::run_arrays;
@@ -386,11 +387,16 @@ impl PyWorld {
     }
 
     /// Advances by exactly `dt` (several internal steps if the integrator is adaptive). Raises SimulationError,
-    /// leaving the world unchanged, if the step cannot be completed.
+    /// leaving the world unchanged, if the step cannot be completed; Ctrl-C stops it and leaves the world
+    /// unchanged too.
     fn step(&mut self, py: Python<'_>, dt: f64) -> PyResult<()> {
+        let mut control = Control::new(None);
         let inner = self.w();
-        let r = py.detach(|| inner.step(dt));
-        r.map_err(|e| self.error(py, e))
+        let r = py.detach(|| inner.step_with(dt, |fraction| control.go_on(fraction)));
+        match r {
+            Err(WorldError::Interrupted) => Err(control.take_error()),
+            r => r.map_err(|e| self.error(py, e)),
+        }
     }
 
     /// Runs for `duration`, recording a frame every `frame_interval`; returns a dict of arrays (the package
@@ -404,24 +410,11 @@ impl PyWorld {
         frame_interval: Option<f64>,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let stopped: Arc<Mutex<Option<PyErr>>> = Arc::new(Mutex::new(None));
-        let stop = stopped.clone();
+        let mut control = Control::new(progress);
         let inner = self.w();
         let result = py.detach(|| {
             inner.run_with(duration, frame_interval.unwrap_or(tumble::DEFAULT_FRAME_INTERVAL), |fraction| {
-                Python::attach(|py| {
-                    let r = py.check_signals().and_then(|_| match &progress {
-                        Some(cb) => cb.call1(py, (fraction,)).map(|_| ()),
-                        None => Ok(()),
-                    });
-                    match r {
-                        Ok(()) => true,
-                        Err(e) => {
-                            *stop.lock().expect("not poisoned") = Some(e);
-                            false
-                        }
-                    }
-                })
+                control.go_on(fraction)
             })
         });
         match result {
@@ -431,11 +424,7 @@ impl PyWorld {
                 let (arrays, report) = run.into_arrays();
                 run_arrays(py, arrays, &report, handles)
             }
-            Err(WorldError::Interrupted) => Err(stopped
-                .lock()
-                .expect("not poisoned")
-                .take()
-                .unwrap_or_else(|| world_error(WorldError::Interrupted))),
+            Err(WorldError::Interrupted) => Err(control.take_error()),
             Err(e) => {
                 let err = self.error(py, e);
                 // the frames up to the failure ride on the exception (the package makes them `error.run`)

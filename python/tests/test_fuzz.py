@@ -19,7 +19,10 @@ and stale handles. Each program runs in a worker subprocess (address space limit
 
 A worker that dies (an abort, a segfault, an allocation failure) or does not answer within
 ``TUMBLE_FUZZ_TIMEOUT`` seconds (default 20) per execution is a failure too, so hypothesis shrinks crashes and hangs
-like any other failure. Every failure message carries a runnable Python reproducer of the shrunk program.
+like any other failure. Every call's work is bounded by its budget (``max_steps``, by default 1e6 integrator steps,
+contact steps and convex solves): on these small scenes the costliest calls, accurate-mode piles of millimetre
+bodies, spend it in about 200 s and end in its clear error, so a long run that should report only calls past their
+budget uses ``TUMBLE_FUZZ_TIMEOUT=300``. Every failure message carries a runnable Python reproducer of the shrunk program.
 
 Failures are reported by kind (one exception class each, so that hypothesis shrinks each kind separately): Panic,
 Crash, Hang, WrongExceptionType, ArgumentNotNamed, AcceptedBadArgument (a stale, foreign or wrong-kind handle, a
@@ -29,7 +32,7 @@ FailedCallChangedHiddenState, CallbackErrorLost, SwallowedCallbackError, WrongTi
 Sizes:
 
     python3 -m pytest python/tests/test_fuzz.py                              # CI: fixed seed, under a minute
-    TUMBLE_FUZZ_EXAMPLES=5000 python3 -m pytest python/tests/test_fuzz.py    # long local run, random seed
+    TUMBLE_FUZZ_EXAMPLES=5000 TUMBLE_FUZZ_TIMEOUT=300 python3 -m pytest python/tests/test_fuzz.py  # long run
     TUMBLE_FUZZ_EXAMPLES=5000 TUMBLE_FUZZ_SEED=123 python3 -m pytest ...     # long run, given seed
 
 The CI size (150 programs, 100 shape programs) is derandomized so that CI is reproducible; it takes under a minute

@@ -1,6 +1,7 @@
 """The World's contract from Python: arrays, plans, reports, progress, interruption, the GIL, and the same
 numbers as the Rust library."""
 
+import _thread
 import threading
 import time
 
@@ -72,6 +73,41 @@ def test_progress_and_interruption():
     assert w.time == t
     np.testing.assert_array_equal(w.particles.positions, x)
     assert run.frames == 61
+
+
+def _interrupt_after(seconds):
+    # What Ctrl-C does: the SIGINT handler's KeyboardInterrupt, raised in the main thread at its next signal check.
+    timer = threading.Timer(seconds, _thread.interrupt_main)
+    timer.start()
+    return timer
+
+
+@pytest.mark.parametrize("mode", ["fast", "accurate"])
+def test_ctrl_c_stops_a_long_step_and_leaves_the_world_as_it_was(mode):
+    # A step that would take many seconds (fast: 100 boxes for 60 s of 1/240 s steps; accurate: a pile of 1 mm
+    # bodies hit at 1 m/s, which runs for minutes until its budget is spent) answers Ctrl-C within a fraction of a
+    # second: the world checks for signals every 50 ms of its work.
+    w = tumble.World(mode=mode, gravity=(-18.47, 0.0, -18.23) if mode == "accurate" else (0, 0, -9.81))
+    w.add_ground()
+    if mode == "fast":
+        for k in range(100):
+            w.add_body(tumble.Box((0.25, 0.25, 0.25)), position=(0.6 * (k % 10), 0.6 * (k // 10), 0.5))
+        span = 60.0
+    else:
+        w.add_body(tumble.Sphere(0.001), position=(0.0, 0.0, 0.001))
+        w.add_body(tumble.Capsule(0.0005, 0.0005), density=1e6, position=(0.0022, 0.0, 0.001))
+        w.add_body(tumble.Cylinder(0.001, 0.001), position=(0.0, 0.0022, 0.001), velocity=(0.344, 1.123, 0.0))
+        span = 0.25
+    x = w.bodies.positions.copy()
+    timer = _interrupt_after(0.3)
+    clock = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        w.step(span)
+    timer.join()
+    # 0.3 s to the signal, then at most one contact step or fast step and a 50 ms check interval: 2 s is loose.
+    assert time.perf_counter() - clock < 2.0
+    assert w.time == 0.0
+    np.testing.assert_array_equal(w.bodies.positions, x)
 
 
 def test_run_releases_the_interpreter_lock():

@@ -1,33 +1,63 @@
 //! One call's step budget: every step an engine takes or rejects on behalf of a user's call (`step` or `run`,
 //! across all of a run's chunks; a contact step of accurate mode counts each convex program it solves) is charged to
-//! it. The call ends in a clear error when the budget is spent, or earlier when its pace says it would need many
-//! budgets: a call that a scene makes hopeless (contact steps of 1e-7 s over a span of a second) then fails in
-//! seconds instead of minutes. Only counts decide, never the clock, so the outcome is the same on every machine.
+//! it, and the call ends in a clear error when it is spent. Only counts decide, never the clock, so the outcome is
+//! the same on every machine. (A call's cost cannot be told from its start: a pile dropped and then left to rest
+//! for a minute spends nearly all of its work in its first second, so the budget does not judge a call's pace.)
+//! The budget also carries the call's control: charges tell it how far the call has come (at most every 50 ms of
+//! wall time, so that a control that takes Python's lock costs nothing; the clock decides only when it is asked,
+//! never what is computed), and a control that answers false (Ctrl-C in Python) stops the call, which the world
+//! then puts back as it was.
 
+use std::time::{Duration, Instant};
 use tumble_integrate::OdeError;
 
-/// How far past the budget a call's pace must point before it is stopped early: far enough that a call whose work
-/// comes in a burst at its start (a pile's first impacts, before it settles) is not stopped on its burst's pace
-/// unless that burst alone is a tenth of the budget in under a thirtieth of the span.
-const PROJECTION_FACTOR: f64 = 3.0;
-/// The share of the budget spent before the pace is judged (a pace from a few steps says little). A pile of 1 mm
-/// bodies hit at 1 m/s (contact steps of 1e-7 s, 30 solves each) asked for 0.25 s is stopped here after 20 s
-/// instead of after the whole budget's 200 s.
-const JUDGED_AFTER: f64 = 0.1;
+/// Least wall time between two calls of the control from within the work.
+const TELL_EVERY: Duration = Duration::from_millis(50);
 
-/// The step budget of one call over its span [t0, t_end].
-#[derive(Clone, Debug)]
-pub(crate) struct Budget {
+/// The step budget of one call over its span [t0, t_end], with the call's control.
+pub(crate) struct Budget<'c> {
     limit: usize,
     spent: usize,
     t0: f64,
     t_end: f64,
+    /// Told the fraction of the span done; false stops the call.
+    control: Option<&'c mut dyn FnMut(f64) -> bool>,
+    /// The largest fraction told so far (what the control sees never goes back).
+    shown: f64,
+    /// Whether the control stopped the call.
+    pub stopped: bool,
+    /// When the control was last told.
+    told: Instant,
 }
 
-impl Budget {
+impl<'c> Budget<'c> {
     /// A budget of `limit` steps for a call from t0 to t_end.
-    pub fn new(limit: usize, t0: f64, t_end: f64) -> Budget {
-        Budget { limit: limit.max(1), spent: 0, t0, t_end }
+    pub fn new(limit: usize, t0: f64, t_end: f64) -> Budget<'c> {
+        Budget {
+            limit: limit.max(1),
+            spent: 0,
+            t0,
+            t_end,
+            control: None,
+            shown: 0.0,
+            stopped: false,
+            told: Instant::now(),
+        }
+    }
+
+    /// The same, telling `control` how far the call has come at every charge.
+    pub fn with_control(mut self, control: &'c mut dyn FnMut(f64) -> bool) -> Budget<'c> {
+        self.control = Some(control);
+        self
+    }
+
+    /// Tells the control that `fraction` of the call is done; false (and `stopped`) if it stops the call.
+    pub fn tell(&mut self, fraction: f64) -> bool {
+        self.shown = self.shown.max(fraction.clamp(0.0, 1.0));
+        self.told = Instant::now();
+        let go_on = self.control.as_mut().is_none_or(|c| c(self.shown));
+        self.stopped |= !go_on;
+        go_on
     }
 
     /// The budget, as `max_steps` names it in errors.
@@ -40,20 +70,15 @@ impl Budget {
         self.limit.saturating_sub(self.spent)
     }
 
-    /// Charges `steps` taken by time t: an error once the budget is spent, or once a tenth of it is spent and the
-    /// pace so far points past three budgets for the whole span.
+    /// Charges `steps` taken by time t: an error once the budget is spent, or when the control stops the call.
     pub fn charge(&mut self, steps: usize, t: f64) -> Result<(), OdeError> {
         self.spent = self.spent.saturating_add(steps);
         if self.spent > self.limit {
             return Err(OdeError::TooManySteps { t, max_steps: self.limit });
         }
-        if (self.spent as f64) < JUDGED_AFTER * self.limit as f64 {
-            return Ok(());
-        }
         let fraction = ((t - self.t0) / (self.t_end - self.t0)).clamp(0.0, 1.0);
-        let projected = if fraction > 0.0 { self.spent as f64 / fraction } else { f64::INFINITY };
-        if projected > PROJECTION_FACTOR * self.limit as f64 {
-            return Err(OdeError::OverBudget { t, max_steps: self.limit, spent: self.spent, fraction, projected });
+        if self.control.is_some() && self.told.elapsed() >= TELL_EVERY && !self.tell(fraction) {
+            return Err(OdeError::System { t, message: "stopped by the call's control".into() });
         }
         Ok(())
     }
@@ -73,15 +98,21 @@ mod tests {
     }
 
     #[test]
-    fn a_hopeless_pace_stops_early_and_a_burst_does_not() {
-        // 10% of the budget for 3% of the span: a pace of 3.3 budgets.
-        let mut hopeless = Budget::new(1000, 0.0, 1.0);
-        assert!(hopeless.charge(99, 0.03).is_ok(), "not judged before 10% of the budget");
-        let err = hopeless.charge(1, 0.03).unwrap_err();
-        assert!(matches!(err, OdeError::OverBudget { spent: 100, .. }), "{err:?}");
-        assert!(err.to_string().contains("max_steps = 1000"), "{err}");
-        // The same work for 4% of the span is a pace of 2.5 budgets: allowed to go on.
-        let mut burst = Budget::new(1000, 0.0, 1.0);
-        assert!(burst.charge(100, 0.04).is_ok());
+    fn the_control_hears_the_fraction_done_never_going_back_and_can_stop_the_call() {
+        let mut heard = Vec::new();
+        let mut control = |f: f64| {
+            heard.push(f);
+            f < 0.5
+        };
+        let mut b = Budget::new(1000, 1.0, 3.0).with_control(&mut control);
+        std::thread::sleep(TELL_EVERY);
+        assert!(b.charge(1, 1.5).is_ok());
+        assert!(b.charge(1, 2.9).is_ok(), "not told again within 50 ms");
+        assert!(b.tell(0.2), "a smaller fraction is told as the largest so far");
+        std::thread::sleep(TELL_EVERY);
+        assert!(b.charge(1, 2.5).is_err(), "the control stopped the call at 75%");
+        assert!(b.stopped);
+        drop(b);
+        assert_eq!(heard, vec![0.25, 0.25, 0.75]);
     }
 }

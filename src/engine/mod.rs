@@ -160,22 +160,23 @@ impl Engine {
 
     /// Advances toward `t_end`, returning once past `pause` (never beyond `t_end`); records into `run` (if any)
     /// a frame for each of `saves` reached, the steps taken and the contact events; returns how many saves were
-    /// delivered. The steps are charged to the call's `budget` (fast mode's calls are bounded by their step count
-    /// instead). A failure may leave the engine anywhere: the caller restores a snapshot.
+    /// delivered. The steps are charged to the call's `budget` (fast mode's calls are bounded by their step count;
+    /// its budget only carries the call's control). A failure may leave the engine anywhere: the caller restores a
+    /// snapshot.
     pub fn advance(
         &mut self,
         t_end: f64,
         pause: f64,
         saves: &[f64],
         run: Option<&mut Run>,
-        budget: &mut Budget,
+        budget: &mut Budget<'_>,
     ) -> Result<usize, WorldError> {
         match self {
             Engine::Smooth(e) => e.advance(t_end, pause, saves, run, budget),
             #[cfg(feature = "contact")]
             Engine::Accurate(e) => e.advance(t_end, pause, saves, run, budget),
             #[cfg(feature = "contact")]
-            Engine::Fast(e) => e.advance(t_end, pause, saves, run),
+            Engine::Fast(e) => e.advance(t_end, pause, saves, run, budget),
         }
     }
 

@@ -83,7 +83,7 @@ impl SmoothEngine {
         pause: f64,
         saves: &[f64],
         mut run: Option<&mut Run>,
-        budget: &mut Budget,
+        budget: &mut Budget<'_>,
     ) -> Result<usize, WorldError> {
         let Some(integrator) = &mut self.integrator else {
             // Nothing moves: every save is the same empty state.

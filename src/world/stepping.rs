@@ -105,8 +105,15 @@ impl World {
     /// Advances by `dt` (several internal steps if the method is adaptive; in fast mode a whole number of its
     /// steps, else an error naming `dt`). On error the world is unchanged.
     pub fn step(&mut self, dt: f64) -> Result<(), WorldError> {
+        self.step_with(dt, |_| true)
+    }
+
+    /// [`step`](World::step), calling `control(fraction_done)` as the work goes (after each contact step,
+    /// fast-mode step or stretch of integrator steps); when it returns false the call stops with
+    /// [`WorldError::Interrupted`] and the world is as it was.
+    pub fn step_with(&mut self, dt: f64, control: impl FnMut(f64) -> bool) -> Result<(), WorldError> {
         limits::positive("dt", dt, limits::TIME, "s")?;
-        self.drive(dt, "dt", None, |_| true).map(|_| ())
+        self.drive(dt, "dt", None, control).map(|_| ())
     }
 
     /// Runs for `duration`, recording a frame every `frame_interval` (and at the end).
@@ -114,8 +121,9 @@ impl World {
         self.run_with(duration, frame_interval, |_| true)
     }
 
-    /// [`run`](World::run), calling `control(fraction_done)` between chunks of about a hundredth of the frames;
-    /// when it returns false the run stops with [`WorldError::Interrupted`]. On any error the world is as it was
+    /// [`run`](World::run), calling `control(fraction_done)` between chunks of about a hundredth of the frames and
+    /// as the work goes within them (the fraction never goes back); when it returns false the run stops with
+    /// [`WorldError::Interrupted`]. On any error the world is as it was
     /// before the call. In fast mode `duration` must be a whole number of steps, and each frame is the state of
     /// the first step that reaches its time (frames closer than a step apart share it, and are recorded once).
     pub fn run_with(
@@ -170,8 +178,10 @@ impl World {
             None => Vec::new(),
         };
         let snapshot = e.snapshot();
-        // One step budget for the whole call, across its chunks.
-        let mut budget = Budget::new(max_steps, t0, t_end);
+        // One step budget for the whole call, across its chunks (fast mode's calls are bounded by their step
+        // count, checked above), carrying the call's control.
+        let limit = if matches!(e, Engine::Fast(_)) { usize::MAX } else { max_steps };
+        let mut budget = Budget::new(limit, t0, t_end).with_control(&mut control);
         // Pause about a hundred times to report progress; pausing does not shorten a step, so the run takes the
         // same steps as one call would.
         let chunk = times.len().div_ceil(100).max(1);
@@ -180,10 +190,13 @@ impl World {
             let pause = if times.is_empty() { t_end } else { times[(done + chunk).min(times.len()) - 1] };
             match e.advance(t_end, pause, &times[done..], run.as_mut(), &mut budget) {
                 Ok(delivered) => done += delivered,
+                Err(_) if budget.stopped => break Err(WorldError::Interrupted),
                 Err(err) => break Err(err),
             }
             let finished = done >= times.len() && (!times.is_empty() || e.time() >= t_end);
-            if !control(done as f64 / times.len().max(1) as f64) {
+            let fraction =
+                if times.is_empty() { (e.time() - t0) / (t_end - t0) } else { done as f64 / times.len() as f64 };
+            if !budget.tell(fraction) {
                 break Err(WorldError::Interrupted);
             }
             if finished {

@@ -49,9 +49,6 @@ pub enum OdeError {
     LinearSolve { t: f64, h: f64, iterations: usize, residual: f64 },
     /// More steps than `max_steps` were needed.
     TooManySteps { t: f64, max_steps: usize },
-    /// A call's work so far, extrapolated over the rest of its span, would exceed its budget many times over:
-    /// `spent` steps (or convex solves) took it `fraction` of the way, a pace of `projected` for the whole.
-    OverBudget { t: f64, max_steps: usize, spent: usize, fraction: f64, projected: f64 },
     /// The system's own evaluation failed.
     System { t: f64, message: String },
 }
@@ -98,14 +95,6 @@ impl fmt::Display for OdeError {
             OdeError::TooManySteps { t, max_steps } => {
                 write!(f, "more than {max_steps} steps needed; stopped at t = {t:e} (split the span into shorter calls, or raise max_steps)")
             }
-            OdeError::OverBudget { t, max_steps, spent, fraction, projected } => write!(
-                f,
-                "at its pace so far ({spent} steps and contact solves for {:.2}% of the call's span) the call would \
-                 need about {projected:.1e}, well over its budget of max_steps = {max_steps}; stopped at t = {t:e} \
-                 (split the span into shorter calls or raise max_steps; with contact, a looser contact_tolerance \
-                 or fast mode)",
-                100.0 * fraction
-            ),
             OdeError::System { t, message } => {
                 write!(f, "system evaluation failed at t = {t:e}: {message}")
             }

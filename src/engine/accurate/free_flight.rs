@@ -90,7 +90,7 @@ impl Contacts {
         t: f64,
         y: &[f64],
         h: f64,
-        budget: &mut Budget,
+        budget: &mut Budget<'_>,
     ) -> Result<Option<Vec<f64>>, OdeError> {
         if involved.iter().all(|i| *i) {
             return Ok(None);

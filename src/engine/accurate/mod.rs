@@ -202,7 +202,7 @@ impl AccurateEngine {
         pause: f64,
         saves: &[f64],
         mut run: Option<&mut Run>,
-        budget: &mut Budget,
+        budget: &mut Budget<'_>,
     ) -> Result<usize, WorldError> {
         let (model, integrator, contacts) = (&mut self.compiled.model, &mut self.integrator, &mut self.contacts);
         integrator.log_steps(run.is_some());

@@ -76,7 +76,7 @@ impl Contacts {
         pause: f64,
         saves: &[f64],
         mut run: Option<&mut Run>,
-        budget: &mut Budget,
+        budget: &mut Budget<'_>,
     ) -> Result<TouchingEnd, OdeError> {
         let statics = self.scene.static_poses.clone();
         let slack = 1e-12 * t_end.abs().max(1.0);

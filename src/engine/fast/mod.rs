@@ -16,6 +16,7 @@ mod solve_velocities;
 mod warm_start;
 
 use crate::engine::contact_scene::{ContactKey, ContactScene};
+use crate::engine::Budget;
 use crate::error::WorldError;
 use crate::mode::{FastSettings, FastSolver};
 use crate::model::{Compiled, Model};
@@ -180,6 +181,7 @@ impl FastEngine {
         pause: f64,
         saves: &[f64],
         mut run: Option<&mut Run>,
+        budget: &mut Budget<'_>,
     ) -> Result<usize, WorldError> {
         let h = self.settings.dt;
         let slack = 1e-9 * h;
@@ -204,6 +206,7 @@ impl FastEngine {
             if let Some(run) = run.as_deref_mut() {
                 run.log_step(self.time(), h);
             }
+            budget.charge(1, self.time())?;
         }
     }
 
