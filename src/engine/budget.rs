@@ -104,15 +104,15 @@ mod tests {
             heard.push(f);
             f < 0.5
         };
-        let mut b = Budget::new(1000, 1.0, 3.0).with_control(&mut control);
-        std::thread::sleep(TELL_EVERY);
-        assert!(b.charge(1, 1.5).is_ok());
-        assert!(b.charge(1, 2.9).is_ok(), "not told again within 50 ms");
-        assert!(b.tell(0.2), "a smaller fraction is told as the largest so far");
-        std::thread::sleep(TELL_EVERY);
-        assert!(b.charge(1, 2.5).is_err(), "the control stopped the call at 75%");
-        assert!(b.stopped);
-        drop(b);
+        {
+            let mut b = Budget::new(1000, 1.0, 3.0).with_control(&mut control);
+            std::thread::sleep(TELL_EVERY);
+            assert!(b.charge(1, 1.5).is_ok());
+            assert!(b.tell(0.2), "a smaller fraction is told as the largest so far");
+            std::thread::sleep(TELL_EVERY);
+            assert!(b.charge(1, 2.5).is_err(), "the control stopped the call at 75%");
+            assert!(b.stopped);
+        }
         assert_eq!(heard, vec![0.25, 0.25, 0.75]);
     }
 }
