@@ -24,14 +24,21 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 PEERS = os.path.join(ROOT, "benches", "peers")
 
 
-def _table(command: list[str]) -> tuple[str, list[tuple[str, str]]]:
-    """Runs `command` and reads its two-column markdown table: (its header, [(label, value)])."""
+def _table(command: list[str]) -> tuple[str, list[tuple[str, str]], str | None]:
+    """Runs `command` and reads its two-column markdown table: (its header, [(label, value)], why it failed or
+    None). Its own table goes to stderr as it comes, so that a long run's rows are seen before the end."""
     print(f"running: {' '.join(command)}", file=sys.stderr, flush=True)
-    out = subprocess.run(command, cwd=ROOT, check=True, capture_output=True, text=True).stdout  # noqa: S603
-    rows = [[cell.strip() for cell in line.strip().strip("|").split("|")] for line in out.splitlines()
+    done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True)  # noqa: S603
+    sys.stderr.write(done.stdout)
+    rows = [[cell.strip() for cell in line.strip().strip("|").split("|")] for line in done.stdout.splitlines()
             if line.startswith("|") and line.count("|") == 3]
-    header, body = rows[0][0], [(r[0], r[1]) for r in rows[1:] if not set(r[0]) <= {"-"}]
-    return header, body
+    header = rows[0][0] if rows else os.path.basename(command[-1 - len([a for a in command if a.isdigit()])])
+    body = [(r[0], r[1]) for r in rows[1:] if not set(r[0]) <= {"-"}]
+    failure = None
+    if done.returncode != 0:
+        lines = done.stderr.strip().splitlines()
+        failure = f"{header} stopped: {lines[-1] if lines else f'exit status {done.returncode}'}"
+    return header, body, failure
 
 
 def main() -> None:
@@ -48,11 +55,12 @@ def main() -> None:
             missing.append(module)
         else:
             commands.append([sys.executable, os.path.join(PEERS, script), *sizes])
-    columns, labels = [], []
+    columns, labels, failures = [], [], []
     for command in commands:
-        header, rows = _table(command)
+        header, rows, failure = _table(command)
         columns.append((header, dict(rows)))
         labels += [label for label, _ in rows if label not in labels]
+        failures += [failure] if failure else []
     print(f"Measured {time.strftime('%Y-%m-%d')} on {platform.machine()}, {os.cpu_count()} cores, one run each "
           f"(`python3 benches/peers/compare.py {' '.join(args)}`).\n")
     print("| scene | " + " | ".join(h for h, _ in columns) + " |")
@@ -61,6 +69,8 @@ def main() -> None:
         print(f"| {label} | " + " | ".join(values.get(label, "-") for _, values in columns) + " |")
     if missing:
         print(f"\nLeft out (not installed): {', '.join(missing)}.")
+    for failure in failures:
+        print(f"\n{failure}")
 
 
 if __name__ == "__main__":

@@ -122,7 +122,7 @@ def main() -> None:
     for _ in range(30):
         p.stepSimulation(physicsClientId=client)
     x = _positions(client, [ball])[0, 0]
-    print(f"| bullet: ball ends at x (wall at 5 m) | {x:.3f} m ({'stopped' if x < 5.0 else 'TUNNELLED'}) |")
+    print(f"| bullet: ball ends at x (wall at 5 m) | {x:.3f} m ({'held by the wall' if x < 5.0 else 'TUNNELLED'}) |")
     p.disconnect(client)
 
 

@@ -114,5 +114,5 @@ fn main() {
         w.step();
     }
     let x = w.bodies[ball].translation().x;
-    println!("| bullet: ball ends at x (wall at 5 m) | {x:.3} m ({}) |", if x < 5.0 { "stopped" } else { "TUNNELLED" });
+    println!("| bullet: ball ends at x (wall at 5 m) | {x:.3} m ({}) |", if x < 5.0 { "held by the wall" } else { "TUNNELLED" });
 }
