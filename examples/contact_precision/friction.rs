@@ -110,10 +110,10 @@ pub fn sweep() -> Result<(), WorldError> {
                 let mode = Mode::Fast(FastSettings { sleep: false, solver, ..FastSettings::new(1.0 / k) });
                 match measure(&p, mode) {
                     Ok((e, wall, steps)) => {
-                        println!("  {name:<10}h = 1/{k:<12} {e:>14.2e}  {:>9.3}  {steps:>6}", wall * 1e3);
+                        println!("  {name:<11}h = 1/{k:<11} {e:>14.2e}  {:>9.3}  {steps:>6}", wall * 1e3);
                         csv += &format!("\"{}\",{name},{},{e:e},{wall:e},{steps}\n", p.name, 1.0 / k);
                     }
-                    Err(e) => println!("  {name:<10}h = 1/{k:<12} failed: {e}"),
+                    Err(e) => println!("  {name:<11}h = 1/{k:<11} failed: {e}"),
                 }
             }
         }
