@@ -146,5 +146,8 @@ fn main() {
         .unwrap();
     w.step(0.5).unwrap();
     let x = w.body(ball).unwrap().position().x;
-    println!("| bullet: ball ends at x (wall at 5 m) | {x:.3} m ({}) |", if x < 5.0 { "held by the wall" } else { "TUNNELLED" });
+    println!(
+        "| bullet: ball ends at x (wall at 5 m) | {x:.3} m ({}) |",
+        if x < 5.0 { "held by the wall" } else { "TUNNELLED" }
+    );
 }

@@ -217,6 +217,50 @@ fn a_step_whose_control_says_stop_ends_interrupted_with_the_world_as_it_was() {
     assert_eq!(w.time(), 0.0);
 }
 
+#[test]
+fn a_contact_step_cut_to_the_end_of_a_call_lands_on_it_instead_of_an_ulp_short() {
+    // The long fuzz run's last hang: a stack of four small bodies on a 1 km static box, gravity pointing up and
+    // sideways, fixed-step midpoint; `step(0.25)` from t = 0.2417 s spun forever. Its last contact step, cut to
+    // reach the end, landed an ulp short of it (t + (end - t) rounds down); the touching phase counted that as
+    // arrived while the run loop did not, and asked again. Run on a thread so that a relapse fails instead of
+    // hanging the suite.
+    let (done, finished) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut w = World::new();
+        w.set_integrator(Settings::fixed(Method::Midpoint, 1.0 / 60.0)).unwrap();
+        w.set_gravity(Vector3::new(-5.654870296115131, -5.395997776718733, 4.06014538179701)).unwrap();
+        w.step(0.24166666666666667).unwrap();
+        let slab = Shape::cuboid(Vector3::repeat(500.0)).unwrap();
+        w.add_body(RigidBodyBuilder::fixed(Some(slab)).position(Vector3::new(0.0, 0.0, 500.0))).unwrap();
+        let add = |w: &mut World, shape: Shape, at: Vector3<f64>, v: Vector3<f64>| {
+            w.add_body(RigidBodyBuilder::from_shape(shape, 1000.0).position(at).velocity(v)).unwrap();
+        };
+        let z = Vector3::zeros();
+        add(
+            &mut w,
+            Shape::cylinder(0.05, 0.05).unwrap(),
+            Vector3::new(0.0146, 0.0012, 1000.05),
+            Vector3::new(0.0, -0.249, 0.106),
+        );
+        add(&mut w, Shape::cuboid(Vector3::repeat(0.05)).unwrap(), Vector3::new(0.0, -0.0046, 1000.15), z);
+        add(&mut w, Shape::capsule(0.025, 0.025).unwrap(), Vector3::new(0.0107, -0.0019, 1000.25), z);
+        add(
+            &mut w,
+            Shape::capsule(0.025, 0.025).unwrap(),
+            Vector3::new(0.002, -0.0014, 1000.35),
+            Vector3::new(-1.49, 1.0, 0.0),
+        );
+        w.set_mode(Mode::Accurate(Default::default())).unwrap();
+        let t0 = w.time();
+        let ok = w.step(0.25).is_ok();
+        done.send((ok, w.time() - t0)).unwrap();
+    });
+    let (ok, advanced) = finished.recv_timeout(std::time::Duration::from_secs(120)).expect("the call returns");
+    if ok {
+        assert_eq!(advanced, 0.25 + 0.24166666666666667 - 0.24166666666666667, "the call ends on its end");
+    }
+}
+
 /// A scene whose force callback fails while `fail` is set (mid-call, after some steps); the world must come back
 /// exactly, and continuing must give the bits of a world that never failed.
 fn no_hidden_state_after(name: &str, build: impl Fn(Arc<AtomicBool>) -> World, duration: f64) {

@@ -180,6 +180,15 @@ impl Engine {
         }
     }
 
+    /// Whether the engine bounds a call by its step count up front (fast mode), so that the call's budget only
+    /// carries its control.
+    pub fn counts_its_steps(&self) -> bool {
+        #[cfg(feature = "contact")]
+        return matches!(self, Engine::Fast(_));
+        #[cfg(not(feature = "contact"))]
+        false
+    }
+
     /// What a failed call must put back.
     pub fn snapshot(&self) -> Snapshot {
         match self {

@@ -180,7 +180,7 @@ impl World {
         let snapshot = e.snapshot();
         // One step budget for the whole call, across its chunks (fast mode's calls are bounded by their step
         // count, checked above), carrying the call's control.
-        let limit = if matches!(e, Engine::Fast(_)) { usize::MAX } else { max_steps };
+        let limit = if e.counts_its_steps() { usize::MAX } else { max_steps };
         let mut budget = Budget::new(limit, t0, t_end).with_control(&mut control);
         // Pause about a hundred times to report progress; pausing does not shorten a step, so the run takes the
         // same steps as one call would.
@@ -188,7 +188,15 @@ impl World {
         let mut done = 0;
         let outcome = loop {
             let pause = if times.is_empty() { t_end } else { times[(done + chunk).min(times.len()) - 1] };
+            let before = e.time();
             match e.advance(t_end, pause, &times[done..], run.as_mut(), &mut budget) {
+                Ok(0) if e.time() <= before && e.time() < t_end => {
+                    // An engine that neither moved nor delivered a frame would be asked again forever.
+                    break Err(WorldError::Simulation(tumble_integrate::OdeError::System {
+                        t: before,
+                        message: format!("an advance to t = {t_end:e} made no progress (an engine fault)"),
+                    }));
+                }
                 Ok(delivered) => done += delivered,
                 Err(_) if budget.stopped => break Err(WorldError::Interrupted),
                 Err(err) => break Err(err),

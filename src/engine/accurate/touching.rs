@@ -192,7 +192,9 @@ impl Contacts {
             if norm > self.divergence_limit {
                 break Err(OdeError::Divergence { t: t + h, norm, limit: self.divergence_limit, h });
             }
-            (t, y) = (t + h, next);
+            // A step cut to reach a frame or the end lands on it exactly: t + (stop - t) can fall an ulp short,
+            // and an advance that ends an ulp before its end would be asked to go on from there forever.
+            (t, y) = (if h == stop - t { stop } else { t + h }, next);
             phase.lagged = second.forces;
             let r = &mut self.report;
             r.contact_steps += 1;
