@@ -186,11 +186,14 @@ impl World {
         // same steps as one call would.
         let chunk = times.len().div_ceil(100).max(1);
         let mut done = 0;
+        // Engines count a time within this of their target as reached (an ulp or two of rounding in the steps
+        // that land on it); so does this loop, or it would ask again forever.
+        let slack = 1e-12 * t_end.abs().max(1.0);
         let outcome = loop {
             let pause = if times.is_empty() { t_end } else { times[(done + chunk).min(times.len()) - 1] };
             let before = e.time();
             match e.advance(t_end, pause, &times[done..], run.as_mut(), &mut budget) {
-                Ok(0) if e.time() <= before && e.time() < t_end => {
+                Ok(0) if e.time() <= before && e.time() < t_end - slack => {
                     // An engine that neither moved nor delivered a frame would be asked again forever.
                     break Err(WorldError::Simulation(tumble_integrate::OdeError::System {
                         t: before,
@@ -201,7 +204,7 @@ impl World {
                 Err(_) if budget.stopped => break Err(WorldError::Interrupted),
                 Err(err) => break Err(err),
             }
-            let finished = done >= times.len() && (!times.is_empty() || e.time() >= t_end);
+            let finished = done >= times.len() && (!times.is_empty() || e.time() >= t_end - slack);
             let fraction =
                 if times.is_empty() { (e.time() - t0) / (t_end - t0) } else { done as f64 / times.len() as f64 };
             if !budget.tell(fraction) {
