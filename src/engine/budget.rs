@@ -60,6 +60,11 @@ impl<'c> Budget<'c> {
         go_on
     }
 
+    /// The fraction of the call's span done at time t.
+    pub fn fraction(&self, t: f64) -> f64 {
+        ((t - self.t0) / (self.t_end - self.t0)).clamp(0.0, 1.0)
+    }
+
     /// The budget, as `max_steps` names it in errors.
     pub fn limit(&self) -> usize {
         self.limit
@@ -76,7 +81,7 @@ impl<'c> Budget<'c> {
         if self.spent > self.limit {
             return Err(OdeError::TooManySteps { t, max_steps: self.limit });
         }
-        let fraction = ((t - self.t0) / (self.t_end - self.t0)).clamp(0.0, 1.0);
+        let fraction = self.fraction(t);
         if self.control.is_some() && self.told.elapsed() >= TELL_EVERY && !self.tell(fraction) {
             return Err(OdeError::System { t, message: "stopped by the call's control".into() });
         }

@@ -205,8 +205,7 @@ impl World {
                 Err(err) => break Err(err),
             }
             let finished = done >= times.len() && (!times.is_empty() || e.time() >= t_end - slack);
-            let fraction =
-                if times.is_empty() { (e.time() - t0) / (t_end - t0) } else { done as f64 / times.len() as f64 };
+            let fraction = if times.is_empty() { budget.fraction(e.time()) } else { done as f64 / times.len() as f64 };
             if !budget.tell(fraction) {
                 break Err(WorldError::Interrupted);
             }
