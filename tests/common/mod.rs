@@ -4,6 +4,7 @@ use nalgebra::{Point3, UnitQuaternion, Vector3};
 use tumble::{Material, RigidBodyBuilder, Shape, World};
 
 /// Every number of a world's state, its time and its object counts, as bits (for bit-for-bit comparisons).
+#[allow(dead_code)] // not every test file compares states
 pub fn state_bits(w: &World) -> Vec<u64> {
     let mut out = vec![w.time().to_bits(), w.particle_count() as u64, w.body_count() as u64];
     for (_, p) in w.particles() {

@@ -82,7 +82,8 @@ pub struct VelocityStep {
     pub friction_impulses: Vec<Vector3<f64>>,
     /// clarabel iterations, summed over islands.
     pub iterations: u32,
-    /// clarabel calls (a lone particle on something static is solved in closed form).
+    /// clarabel calls (a lone particle on something static is solved in closed form, and an island no contact of
+    /// which needs an impulse without a solve).
     pub solver_calls: usize,
 }
 
@@ -145,19 +146,18 @@ fn step(
     let (mut iterations, mut solver_calls) = (0, 0);
     let groups = islands(bodies, contacts);
     let free = &velocities;
-    // (the island's solution, whether clarabel ran)
-    let solve = |island: &Vec<usize>| -> Result<(IslandSolution, bool), ContactError> {
+    let solve = |island: &Vec<usize>| -> Result<IslandSolution, ContactError> {
         let lone =
             if island.len() == 1 { lone_particle(bodies, contacts, bounds, island[0], free, settings) } else { None };
         match lone {
-            Some(sol) => Ok((sol, false)),
-            None => Ok((solve_island(bodies, contacts, bounds, island, free, settings)?, true)),
+            Some(sol) => Ok(sol),
+            None => solve_island(bodies, contacts, bounds, island, free, settings),
         }
     };
     let solved = in_parallel(&groups, contacts.len(), settings.threads, solve);
     for (island, result) in groups.iter().zip(solved) {
-        let (sol, called) = result?;
-        solver_calls += usize::from(called);
+        let sol = result?;
+        solver_calls += usize::from(sol.solved);
         for (k, v) in sol.velocities {
             velocities[k] = v;
         }
@@ -252,5 +252,6 @@ fn lone_particle(
         normal: vec![m * (vn - rn)],
         friction: vec![friction_on_particle * sign],
         iterations: 0,
+        solved: false,
     })
 }

@@ -20,6 +20,8 @@ pub(crate) struct IslandSolution {
     pub normal: Vec<f64>,
     pub friction: Vec<Vector3<f64>>,
     pub iterations: u32,
+    /// Whether clarabel was called (an island no contact of which needs an impulse is answered without it).
+    pub solved: bool,
 }
 
 /// Triplets of the constraint matrix.
@@ -57,6 +59,27 @@ impl Rows {
             Rows::Lagged { .. } => 4,
         }
     }
+}
+
+/// Each contact's rows (lagged friction's epigraph variables numbered from `first_var`), and the variables in all.
+fn row_layout(contacts: &[Contact], bounds: Option<&[f64]>, island: &[usize], first_var: usize) -> (Vec<Rows>, usize) {
+    let mut vars = first_var;
+    let layout = island
+        .iter()
+        .map(|&i| {
+            let c = &contacts[i];
+            match bounds {
+                _ if c.friction == 0.0 => Rows::Frictionless,
+                None => Rows::Cone,
+                Some(b) if b[i] * c.friction > 0.0 => {
+                    vars += 1;
+                    Rows::Lagged { s: vars - 1, bound: b[i] * c.friction }
+                }
+                Some(_) => Rows::Frictionless,
+            }
+        })
+        .collect();
+    (layout, vars)
 }
 
 /// The constraint bias of a contact: speculative gap or penetration correction, and restitution.
@@ -101,20 +124,10 @@ pub(crate) fn solve_island(
             }
         }
     }
-    let mut layout = Vec::with_capacity(island.len());
-    let mut vars = n;
-    for &i in island {
-        let c = &contacts[i];
-        layout.push(match bounds {
-            _ if c.friction == 0.0 => Rows::Frictionless,
-            None => Rows::Cone,
-            Some(b) if b[i] * c.friction > 0.0 => {
-                vars += 1;
-                Rows::Lagged { s: vars - 1, bound: b[i] * c.friction }
-            }
-            Some(_) => Rows::Frictionless,
-        });
+    if let Some(untouched) = untouched(bodies, contacts, bounds, island, &members, free, s) {
+        return Ok(untouched);
     }
+    let (layout, vars) = row_layout(contacts, bounds, island, n);
     // P = M (upper triangle), q = -M v* (and the bounds on the epigraph variables).
     let (mut pi, mut pj, mut pv): (Vec<usize>, Vec<usize>, Vec<f64>) = (Vec::new(), Vec::new(), Vec::new());
     let mut q = vec![0.0; vars];
@@ -222,6 +235,31 @@ pub(crate) fn solve_island(
     Ok(IslandSolution { iterations, ..solution })
 }
 
+/// The island's answer when no contact needs an impulse: the free velocities with every impulse zero, if they
+/// pass the test every answer of clarabel's must (`residual` within `complementarity_tolerance`). Zero impulses with
+/// velocities the contacts accept are the program's optimum (the objective's unconstrained minimum is feasible), so
+/// bodies that only touch (falling together, or resting on nothing) cost no solve.
+fn untouched(
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    bounds: Option<&[f64]>,
+    island: &[usize],
+    members: &[usize],
+    free: &[BodyVelocity],
+    s: &StepSettings,
+) -> Option<IslandSolution> {
+    let (layout, _) = row_layout(contacts, bounds, island, members.len());
+    let out = IslandSolution {
+        velocities: members.iter().map(|&k| (k, free[k])).collect(),
+        normal: vec![0.0; island.len()],
+        friction: vec![Vector3::zeros(); island.len()],
+        iterations: 0,
+        solved: false,
+    };
+    let r = residual(bodies, contacts, island, &layout, free, &out, s);
+    (r <= s.solver.complementarity_tolerance).then_some(out)
+}
+
 /// Velocities from the primal solution, impulses from the duals.
 #[allow(clippy::too_many_arguments)]
 fn read_back(
@@ -257,7 +295,7 @@ fn read_back(
         });
         row += layout[slot].width();
     }
-    IslandSolution { velocities, normal, friction, iterations: 0 }
+    IslandSolution { velocities, normal, friction, iterations: 0, solved: true }
 }
 
 /// How far an island's answer is from the conditions of the step, relative to its velocity scale V and impulse
