@@ -13,19 +13,35 @@ pub(crate) const MAX_POINTS: usize = 4;
 /// with those two, and the one adding the most area outside that triangle (in the order found otherwise). A box
 /// on a face keeps its four corners; the rows of the conic program drop from up to eight per pair to four.
 pub(crate) fn reduce(found: Vec<Found>) -> Vec<Found> {
-    let mut groups: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
-    for (i, f) in found.iter().enumerate() {
-        groups.entry(f.key.colliders).or_default().push(i);
-    }
-    if groups.values().all(|g| g.len() <= MAX_POINTS) {
+    // The scene gives each pair's contacts together, pairs in order: then the groups are runs, found without a map.
+    let runs = found.windows(2).all(|w| w[0].key.colliders <= w[1].key.colliders);
+    let groups: Vec<Vec<usize>> = if runs {
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut start = 0;
+        for end in 1..=found.len() {
+            if end == found.len() || found[end].key.colliders != found[start].key.colliders {
+                if end - start > MAX_POINTS {
+                    groups.push((start..end).collect());
+                }
+                start = end;
+            }
+        }
+        groups
+    } else {
+        let mut groups: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
+        for (i, f) in found.iter().enumerate() {
+            groups.entry(f.key.colliders).or_default().push(i);
+        }
+        groups.into_values().filter(|g| g.len() > MAX_POINTS).collect()
+    };
+    if groups.is_empty() {
         return found;
     }
-    let mut keep = vec![false; found.len()];
-    for members in groups.values() {
-        if members.len() <= MAX_POINTS {
-            members.iter().for_each(|&i| keep[i] = true);
-            continue;
-        }
+    let mut keep = vec![true; found.len()];
+    for members in &groups {
+        members.iter().for_each(|&i| keep[i] = false);
+    }
+    for members in &groups {
         let points: Vec<Point3<f64>> = members.iter().map(|&i| found[i].contact.point).collect();
         let deepest = (0..members.len())
             .min_by(|&a, &b| found[members[a]].contact.distance.total_cmp(&found[members[b]].contact.distance))

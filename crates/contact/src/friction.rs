@@ -170,6 +170,13 @@ fn step(
     Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations, solver_calls })
 }
 
+/// The machine's cores, asked once (the standard library reads the cgroup files on every call: a few per cent of a
+/// fast step's time when asked every step).
+fn cores() -> usize {
+    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+}
+
 /// Islands are independent (no body in two), so their programs are solved on up to as many threads as the machine
 /// has cores, each taking the largest remaining island first; a step of fewer than 32 contacts or one island stays
 /// on the calling thread. Results come back in island order, so the answer does not depend on the thread count.
@@ -179,8 +186,7 @@ pub(crate) fn in_parallel<T: Send>(
     threads: usize,
     solve: impl Fn(&Vec<usize>) -> Result<T, ContactError> + Sync,
 ) -> Vec<Result<T, ContactError>> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let threads = if threads == 0 { cores } else { threads }.min(groups.len());
+    let threads = if threads == 0 { cores() } else { threads }.min(groups.len());
     if threads < 2 || contacts < 32 {
         return groups.iter().map(&solve).collect();
     }

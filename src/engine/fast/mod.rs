@@ -50,8 +50,8 @@ pub(crate) struct FastEngine {
     divergence_limit: f64,
     /// Each contact's normal impulse of the last step (ordered: the warm start sums them in key order).
     previous: BTreeMap<ContactKey, f64>,
-    /// The soft solver's impulses of the last step, by contact (ordered).
-    warm: BTreeMap<ContactKey, tumble_contact::SoftImpulse>,
+    /// The soft solver's impulses of the last step, by contact (sorted by key).
+    warm: Vec<(ContactKey, tumble_contact::SoftImpulse)>,
     sleep: Sleep,
     dy: Vec<f64>,
     /// What the steps since the last `take_report` cost.
@@ -66,7 +66,7 @@ pub(crate) struct FastSnapshot {
     steps: u64,
     y: Vec<f64>,
     previous: BTreeMap<ContactKey, f64>,
-    warm: BTreeMap<ContactKey, tumble_contact::SoftImpulse>,
+    warm: Vec<(ContactKey, tumble_contact::SoftImpulse)>,
     sleep: Sleep,
     penetration: f64,
 }
@@ -98,7 +98,7 @@ impl FastEngine {
             threads,
             divergence_limit,
             previous: BTreeMap::new(),
-            warm: BTreeMap::new(),
+            warm: Vec::new(),
             report: WorldReport::new(method_name(&settings)),
             penetration: 0.0,
         }

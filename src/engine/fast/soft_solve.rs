@@ -8,28 +8,59 @@ use crate::engine::contact_scene::{ContactKey, Found};
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
 use crate::plan::Stage;
-use std::collections::BTreeMap;
 use std::time::Instant;
 use tumble_contact::{soft_step, BodyState, Contact, SoftImpulse, SoftSettings, SoftStep};
 
 /// Each contact's impulses from the last step: its own if it was there, else its pair's mean, else none.
-fn warm_impulses(previous: &BTreeMap<ContactKey, SoftImpulse>, found: &[Found]) -> Vec<SoftImpulse> {
-    let mut pairs: BTreeMap<(u32, u32), (SoftImpulse, usize)> = BTreeMap::new();
-    for (key, p) in previous {
-        let e = pairs.entry(key.colliders).or_default();
-        e.0.normal += p.normal;
-        e.0.tangent += p.tangent;
-        e.1 += 1;
-    }
+/// `previous` is sorted by key (so a pair's contacts are neighbours, summed in key order).
+fn warm_impulses(previous: &[(ContactKey, SoftImpulse)], found: &[Found]) -> Vec<SoftImpulse> {
     found
         .iter()
-        .map(|f| {
-            previous.get(&f.key).copied().unwrap_or_else(|| match pairs.get(&f.key.colliders) {
-                Some((sum, n)) => SoftImpulse { normal: sum.normal / *n as f64, tangent: sum.tangent / *n as f64 },
-                None => SoftImpulse::default(),
-            })
+        .map(|f| match previous.binary_search_by(|(k, _)| k.cmp(&f.key)) {
+            Ok(k) => previous[k].1,
+            Err(_) => {
+                let start = previous.partition_point(|(k, _)| k.colliders < f.key.colliders);
+                let pair = previous[start..].iter().take_while(|(k, _)| k.colliders == f.key.colliders);
+                let (mut sum, mut n) = (SoftImpulse::default(), 0usize);
+                for (_, p) in pair {
+                    sum.normal += p.normal;
+                    sum.tangent += p.tangent;
+                    n += 1;
+                }
+                if n == 0 {
+                    SoftImpulse::default()
+                } else {
+                    SoftImpulse { normal: sum.normal / n as f64, tangent: sum.tangent / n as f64 }
+                }
+            }
         })
         .collect()
+}
+
+/// The step's impulses by contact key, sorted (a key found twice keeps its last impulse).
+fn by_key(found: &[Found], impulses: &[SoftImpulse]) -> Vec<(ContactKey, SoftImpulse)> {
+    let mut out: Vec<(ContactKey, SoftImpulse)> = found.iter().map(|f| f.key).zip(impulses.iter().copied()).collect();
+    if out.windows(2).all(|w| w[0].0.colliders <= w[1].0.colliders) {
+        // pairs already in order (the scene gives them so): sort each pair's few contacts in place (stably)
+        let mut start = 0;
+        for end in 1..=out.len() {
+            if end == out.len() || out[end].0.colliders != out[start].0.colliders {
+                out[start..end].sort_by_key(|e| e.0);
+                start = end;
+            }
+        }
+    } else {
+        out.sort_by_key(|e| e.0);
+    }
+    // keep the last of equal keys, as a map built in contact order would
+    let mut kept: Vec<(ContactKey, SoftImpulse)> = Vec::with_capacity(out.len());
+    for entry in out {
+        match kept.last_mut() {
+            Some(last) if last.0 == entry.0 => *last = entry,
+            _ => kept.push(entry),
+        }
+    }
+    kept
 }
 
 impl FastEngine {
@@ -55,7 +86,7 @@ impl FastEngine {
         };
         let out = soft_step(states, &contacts, &warm, h, &settings)
             .map_err(|e| failure(self.time(), format!("contact solve: {e}")))?;
-        self.warm = found.iter().zip(&out.impulses).map(|(f, p)| (f.key, *p)).collect();
+        self.warm = by_key(found, &out.impulses);
         if !found.is_empty() {
             self.report.contact_residual = self.report.contact_residual.max(out.residual);
             self.report.islands += out.islands;

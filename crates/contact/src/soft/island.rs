@@ -4,17 +4,20 @@
 //! the input alone (`colour.rs`): grouped so that consecutive rows seldom share a moving body, which lets the
 //! processor overlap their solves instead of waiting on each body's last update.
 
-use super::row::{Axis, Mover, Row};
+use super::row::{Axis, FrictionRow, Mover, Row, RowInfo};
 use super::softness::Softness;
 use super::{SoftImpulse, SoftSettings};
 use crate::body::BodyState;
 use crate::contact::tangents;
 use crate::contact::Contact;
 
-/// The island: its movers (local indices) and rows.
+/// The island: its movers (local indices) and rows, each row in three parts (normal, friction, the rest) at the
+/// same place of three lists.
 pub(crate) struct Island {
     pub movers: Vec<Mover>,
     pub rows: Vec<Row>,
+    pub frictions: Vec<FrictionRow>,
+    pub infos: Vec<RowInfo>,
     /// Largest over smallest mass of its moving bodies: above `MASS_RATIO`, sweeps go on until they converge.
     ratio: f64,
 }
@@ -36,46 +39,47 @@ impl Island {
         local: impl Fn(usize) -> usize,
         warm: &[SoftImpulse],
     ) -> Island {
-        let rows: Vec<Row> = contacts
-            .iter()
-            .zip(warm)
-            .enumerate()
-            .map(|(index, (c, w))| {
-                let (a, b) = (local(c.a), local(c.b));
-                let (ma, mb) = (&movers[a], &movers[b]);
-                let n = c.normal.into_inner();
-                let ra = c.point - bodies[c.a].position;
-                let rb = c.point - bodies[c.b].position;
-                let (t0, t1) = tangents(&n);
-                let t = [t0, t1];
-                let normal_axis = Axis::new(ma, mb, &ra, &rb, n);
-                let tangent_axes = [Axis::new(ma, mb, &ra, &rb, t[0]), Axis::new(ma, mb, &ra, &rb, t[1])];
-                let tangent = w.tangent - n * n.dot(&w.tangent);
-                Row {
-                    index,
-                    a,
-                    b,
-                    ra,
-                    rb,
-                    closing: normal_axis.speed(ma, mb),
-                    normal_axis,
-                    tangent_axes,
-                    friction: c.friction,
-                    restitution: c.restitution,
-                    gap: c.distance,
-                    fixed: ma.inv_mass == 0.0 || mb.inv_mass == 0.0,
-                    normal: w.normal.max(0.0),
-                    tangent: [t[0].dot(&tangent), t[1].dot(&tangent)],
-                    max_normal: 0.0,
-                    step_normal: 0.0,
-                    current_gap: c.distance,
-                }
-            })
-            .collect();
-        let rows = super::colour::in_colour_order(rows, &movers);
+        let pairs: Vec<(usize, usize)> = contacts.iter().map(|c| (local(c.a), local(c.b))).collect();
+        let order = super::colour::colour_order(&pairs, &movers);
+        let (mut rows, mut frictions, mut infos) =
+            (Vec::with_capacity(order.len()), Vec::with_capacity(order.len()), Vec::with_capacity(order.len()));
+        for index in order {
+            let (c, w) = (contacts[index], &warm[index]);
+            let (a, b) = pairs[index];
+            let (ma, mb) = (&movers[a], &movers[b]);
+            let n = c.normal.into_inner();
+            let ra = c.point - bodies[c.a].position;
+            let rb = c.point - bodies[c.b].position;
+            let (t0, t1) = tangents(&n);
+            let normal_axis = Axis::new(ma, mb, &ra, &rb, n);
+            let tangent = w.tangent - n * n.dot(&w.tangent);
+            infos.push(RowInfo {
+                index,
+                ra,
+                rb,
+                restitution: c.restitution,
+                gap: c.distance,
+                closing: normal_axis.speed(ma, mb),
+                step_normal: 0.0,
+            });
+            frictions.push(FrictionRow {
+                axes: [Axis::new(ma, mb, &ra, &rb, t0), Axis::new(ma, mb, &ra, &rb, t1)],
+                tangent: [t0.dot(&tangent), t1.dot(&tangent)],
+                friction: c.friction,
+            });
+            rows.push(Row {
+                a,
+                b,
+                normal_axis,
+                current_gap: c.distance,
+                fixed: ma.inv_mass == 0.0 || mb.inv_mass == 0.0,
+                normal: w.normal.max(0.0),
+                max_normal: 0.0,
+            });
+        }
         let masses = movers.iter().filter(|m| m.inv_mass > 0.0).map(|m| 1.0 / m.inv_mass);
         let (lo, hi) = masses.fold((f64::INFINITY, 0.0f64), |(lo, hi), m| (lo.min(m), hi.max(m)));
-        Island { movers, rows, ratio: if lo > 0.0 { hi / lo } else { 1.0 } }
+        Island { movers, rows, frictions, infos, ratio: if lo > 0.0 { hi / lo } else { 1.0 } }
     }
 
     /// The substeps of a step of h.
@@ -96,8 +100,8 @@ impl Island {
             }
             self.update_gaps();
             self.pass(s.iterations, |island| island.solve_rows(hs, None, s.max_push_out, true));
-            for r in &mut self.rows {
-                r.step_normal += r.normal;
+            for (info, r) in self.infos.iter_mut().zip(&self.rows) {
+                info.step_normal += r.normal;
             }
         }
         self.restitution(s.bounce_threshold);
@@ -108,7 +112,7 @@ impl Island {
     /// and the slip of one whose friction is inside its Coulomb bound (sticking).
     pub fn residual(&self) -> f64 {
         let mut worst = 0.0f64;
-        for r in &self.rows {
+        for (r, f) in self.rows.iter().zip(&self.frictions) {
             let (a, b) = (&self.movers[r.a], &self.movers[r.b]);
             let vn = r.normal_axis.speed(a, b);
             if r.current_gap <= 0.0 {
@@ -116,9 +120,9 @@ impl Island {
             } else if r.normal > 0.0 {
                 worst = worst.max(vn);
             }
-            let friction = (r.tangent[0] * r.tangent[0] + r.tangent[1] * r.tangent[1]).sqrt();
-            if r.friction > 0.0 && r.normal > 0.0 && friction < r.friction * r.normal * (1.0 - 1e-9) {
-                let [t0, t1] = &r.tangent_axes;
+            let friction = (f.tangent[0] * f.tangent[0] + f.tangent[1] * f.tangent[1]).sqrt();
+            if f.friction > 0.0 && r.normal > 0.0 && friction < f.friction * r.normal * (1.0 - 1e-9) {
+                let [t0, t1] = &f.axes;
                 worst = worst.max(t0.speed(a, b).hypot(t1.speed(a, b)));
             }
         }
@@ -127,9 +131,9 @@ impl Island {
 
     /// The rows' gaps where the bodies now are (positions move once a substep, so both passes use these).
     fn update_gaps(&mut self) {
-        for r in &mut self.rows {
+        for (r, info) in self.rows.iter_mut().zip(&self.infos) {
             let (a, b) = (&self.movers[r.a], &self.movers[r.b]);
-            r.current_gap = r.gap + r.normal_axis.dir.dot(&(b.moved(&r.rb) - a.moved(&r.ra)));
+            r.current_gap = info.gap + r.normal_axis.dir.dot(&(b.moved(&info.rb) - a.moved(&info.ra)));
         }
     }
 
@@ -148,11 +152,11 @@ impl Island {
     }
 
     fn warm_start(&mut self) {
-        for r in &self.rows {
+        for (r, f) in self.rows.iter().zip(&self.frictions) {
             let (a, b) = pair(&mut self.movers, r.a, r.b);
             r.normal_axis.apply(a, b, r.normal);
-            r.tangent_axes[0].apply(a, b, r.tangent[0]);
-            r.tangent_axes[1].apply(a, b, r.tangent[1]);
+            f.axes[0].apply(a, b, f.tangent[0]);
+            f.axes[1].apply(a, b, f.tangent[1]);
         }
     }
 
@@ -161,7 +165,7 @@ impl Island {
     /// normal impulse.
     fn solve_rows(&mut self, hs: f64, soft: Option<(&Softness, &Softness)>, max_push: f64, friction: bool) -> f64 {
         let mut change = 0.0f64;
-        for r in &mut self.rows {
+        for (k, r) in self.rows.iter_mut().enumerate() {
             let (a, b) = pair(&mut self.movers, r.a, r.b);
             let n = &r.normal_axis;
             let gap = r.current_gap;
@@ -184,17 +188,21 @@ impl Island {
             if delta != 0.0 {
                 n.apply(a, b, delta);
             }
-            if friction && r.friction > 0.0 {
-                let [t0, t1] = &r.tangent_axes;
-                let old = r.tangent;
+            if !friction {
+                continue;
+            }
+            let f = &mut self.frictions[k];
+            if f.friction > 0.0 {
+                let [t0, t1] = &f.axes;
+                let old = f.tangent;
                 let mut new = [old[0] - t0.mass * t0.speed(a, b), old[1] - t1.mass * t1.speed(a, b)];
-                let limit = r.friction * r.normal;
+                let limit = f.friction * r.normal;
                 let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
                 if size > limit {
                     let scale = if size > 0.0 { limit / size } else { 0.0 };
                     new = [new[0] * scale, new[1] * scale];
                 }
-                r.tangent = new;
+                f.tangent = new;
                 t0.apply(a, b, new[0] - old[0]);
                 t1.apply(a, b, new[1] - old[1]);
             }
@@ -205,17 +213,17 @@ impl Island {
     /// Newton's restitution for contacts that closed faster than the threshold and pushed: the normal velocity is
     /// raised to -e times the closing one (the impulse only grows).
     fn restitution(&mut self, threshold: f64) {
-        for r in &mut self.rows {
-            if r.restitution == 0.0 || r.closing > -threshold || r.max_normal == 0.0 {
+        for (r, info) in self.rows.iter_mut().zip(&mut self.infos) {
+            if info.restitution == 0.0 || info.closing > -threshold || r.max_normal == 0.0 {
                 continue;
             }
             let (a, b) = pair(&mut self.movers, r.a, r.b);
             let n = &r.normal_axis;
-            let impulse = -n.mass * (n.speed(a, b) + r.restitution * r.closing);
+            let impulse = -n.mass * (n.speed(a, b) + info.restitution * info.closing);
             let total = (r.normal + impulse).max(0.0);
             let delta = total - r.normal;
             r.normal = total;
-            r.step_normal += delta;
+            info.step_normal += delta;
             if delta != 0.0 {
                 n.apply(a, b, delta);
             }

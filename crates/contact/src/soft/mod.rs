@@ -176,10 +176,10 @@ pub fn soft_step(
                 out.rotations[b] = m.dq;
             }
         }
-        for r in &island.rows {
-            let i = group[r.index];
-            out.impulses[i] = SoftImpulse { normal: r.normal, tangent: r.tangent_vector() };
-            out.normal_impulses[i] = r.step_normal;
+        for ((r, f), info) in island.rows.iter().zip(&island.frictions).zip(&island.infos) {
+            let i = group[info.index];
+            out.impulses[i] = SoftImpulse { normal: r.normal, tangent: f.vector() };
+            out.normal_impulses[i] = info.step_normal;
         }
     }
     // Bodies in no island (and static ones) move on their own, by the same substeps.

@@ -119,37 +119,49 @@ impl Axis {
     }
 }
 
-/// One contact point as a solver row.
+/// One contact point's normal row: what every sweep reads and writes (the friction rows and the rest of the
+/// contact are kept apart, so that a sweep without friction streams only these).
 #[derive(Clone, Debug)]
 pub(crate) struct Row {
-    /// The row's place among its island's contacts (rows are solved in another order).
-    pub index: usize,
     pub a: usize,
     pub b: usize,
-    pub ra: Vector3<f64>,
-    pub rb: Vector3<f64>,
     pub normal_axis: Axis,
-    pub tangent_axes: [Axis; 2],
-    pub friction: f64,
-    pub restitution: f64,
-    /// Gap at the step's start (negative: penetration), and where the substeps have moved the bodies.
-    pub gap: f64,
+    /// The gap where the substeps have moved the bodies (negative: penetration).
     pub current_gap: f64,
-    /// Relative normal velocity at the step's start (for restitution).
-    pub closing: f64,
     /// Against a static or kinematic body (stiffer softness).
     pub fixed: bool,
-    /// Accumulated impulses of the current substep: normal and along the two tangents.
+    /// Accumulated normal impulse of the current substep, and the largest it has been.
     pub normal: f64,
-    pub tangent: [f64; 2],
     pub max_normal: f64,
-    /// Normal impulse applied over the step so far (each substep's accumulated impulse, plus restitution's).
-    pub step_normal: f64,
 }
 
-impl Row {
+/// A contact point's friction: its two tangent axes and accumulated impulses along them.
+#[derive(Clone, Debug)]
+pub(crate) struct FrictionRow {
+    pub axes: [Axis; 2],
+    pub tangent: [f64; 2],
+    pub friction: f64,
+}
+
+impl FrictionRow {
     /// The friction impulse as a world vector.
-    pub fn tangent_vector(&self) -> Vector3<f64> {
-        self.tangent_axes[0].dir * self.tangent[0] + self.tangent_axes[1].dir * self.tangent[1]
+    pub fn vector(&self) -> Vector3<f64> {
+        self.axes[0].dir * self.tangent[0] + self.axes[1].dir * self.tangent[1]
     }
+}
+
+/// What else a row needs, once a substep or once a step.
+#[derive(Clone, Debug)]
+pub(crate) struct RowInfo {
+    /// The row's place among its island's contacts (rows are solved in another order).
+    pub index: usize,
+    pub ra: Vector3<f64>,
+    pub rb: Vector3<f64>,
+    pub restitution: f64,
+    /// Gap at the step's start.
+    pub gap: f64,
+    /// Relative normal velocity at the step's start (for restitution).
+    pub closing: f64,
+    /// Normal impulse applied over the step so far (each substep's accumulated impulse, plus restitution's).
+    pub step_normal: f64,
 }
