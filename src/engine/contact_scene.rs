@@ -5,6 +5,7 @@
 
 use crate::body::RigidBody;
 use crate::collider::{Collider, Material};
+use crate::engine::manifold_cache::ManifoldCache;
 use crate::handle::Arena;
 use crate::model::layout::Layout;
 use crate::particle::Particle;
@@ -31,6 +32,8 @@ pub(crate) struct SceneCollider {
     pub material: Material,
     /// Radius of a ball about the actor's origin that holds the shape (infinite for a half-space).
     pub reach: f64,
+    /// Radius of a ball about the shape's own origin that holds it (infinite for a half-space).
+    pub radius: f64,
 }
 
 /// Identifies a contact from one step to the next (for friction lagged on the previous normal impulse).
@@ -70,11 +73,14 @@ pub(crate) struct ContactScene {
     pub checks: usize,
     /// Actors that cannot move this step (static, or asleep): pairs of two are not tested.
     pub inert: Vec<bool>,
+    /// Manifolds kept across steps (fast mode's soft step), or none: every pair computed every time.
+    pub cache: Option<ManifoldCache>,
 }
 
 fn collider_entry(actor: Actor, c: &Collider, material: Material) -> SceneCollider {
-    let reach = c.offset.translation.vector.norm() + c.shape.bounding_radius();
-    SceneCollider { actor, shape: c.shape.clone(), offset: c.offset, material, reach }
+    let radius = c.shape.bounding_radius();
+    let reach = c.offset.translation.vector.norm() + radius;
+    SceneCollider { actor, shape: c.shape.clone(), offset: c.offset, material, reach, radius }
 }
 
 impl ContactScene {
@@ -96,6 +102,7 @@ impl ContactScene {
                     offset: Isometry3::identity(),
                     material: p.material,
                     reach: p.radius,
+                    radius: p.radius,
                 });
             }
         }
@@ -115,7 +122,15 @@ impl ContactScene {
         }
         let actors = layout.particles + layout.bodies + static_poses.len();
         let inert = (0..actors).map(|a| a >= layout.particles + layout.bodies).collect();
-        Some(ContactScene { colliders, static_poses, layout, broad: SortAndSweep::new(), checks: 0, inert })
+        Some(ContactScene {
+            colliders,
+            static_poses,
+            layout,
+            broad: SortAndSweep::new(),
+            checks: 0,
+            inert,
+            cache: None,
+        })
     }
 
     /// The index of an actor in the body arrays given to tumble-contact.
@@ -225,12 +240,28 @@ impl ContactScene {
         prediction: impl Fn(usize, usize) -> f64,
     ) -> Vec<Found> {
         let mut out = Vec::new();
+        let mut cache = self.cache.take();
         for &(i, j) in pairs {
-            self.checks += 1;
             let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
             let (ia, ib) = (self.index(ca.actor), self.index(cb.actor));
             let (pa, pb) = (poses[ia] * ca.offset, poses[ib] * cb.offset);
-            let Ok(found) = contacts(&ca.shape, &pa, &cb.shape, &pb, prediction(ia, ib)) else { continue };
+            let mut checks = 0;
+            let mut compute = |p: f64| {
+                checks += 1;
+                contacts(&ca.shape, &pa, &cb.shape, &pb, p)
+            };
+            let found = match cache.as_mut() {
+                Some(cache) => cache.contacts(
+                    (i, j),
+                    (&ca.shape, &pa, ca.radius),
+                    (&cb.shape, &pb, cb.radius),
+                    prediction(ia, ib),
+                    compute,
+                ),
+                None => compute(prediction(ia, ib)),
+            };
+            self.checks += checks;
+            let Ok(found) = found else { continue };
             let material = ca.material.combine(&cb.material);
             for c in found {
                 let motion = match c.kind {
@@ -269,6 +300,10 @@ impl ContactScene {
                 out.push(Found { contact, key, point_a: c.point_a, point_b: c.point_b });
             }
         }
+        if let Some(cache) = cache.as_mut() {
+            cache.finish();
+        }
+        self.cache = cache;
         out
     }
 

@@ -60,7 +60,7 @@ pub(crate) struct FastEngine {
     penetration: f64,
 }
 
-/// What a failed call puts back: time, state, lagged impulses, sleep.
+/// What a failed call puts back: time, state, lagged impulses, warm starts, sleep, kept manifolds.
 pub(crate) struct FastSnapshot {
     origin: f64,
     steps: u64,
@@ -69,6 +69,7 @@ pub(crate) struct FastSnapshot {
     warm: Vec<(ContactKey, tumble_contact::SoftImpulse)>,
     sleep: Sleep,
     penetration: f64,
+    manifolds: Option<crate::engine::manifold_cache::ManifoldCache>,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> WorldError {
@@ -86,6 +87,11 @@ impl FastEngine {
         divergence_limit: f64,
     ) -> Self {
         let actors = compiled.model.layout.particles + compiled.model.layout.bodies;
+        let mut scene = scene;
+        if let (Some(scene), FastSolver::Soft(_)) = (scene.as_mut(), settings.solver) {
+            // the soft step reuses the manifolds of pairs that barely moved; the exact solver computes every one
+            scene.cache = Some(Default::default());
+        }
         FastEngine {
             dy: vec![0.0; y.len()],
             sleep: Sleep::new(actors),
@@ -305,12 +311,16 @@ impl FastEngine {
             warm: self.warm.clone(),
             sleep: self.sleep.clone(),
             penetration: self.penetration,
+            manifolds: self.scene.as_ref().and_then(|s| s.cache.clone()),
         }
     }
 
     pub fn restore(&mut self, s: FastSnapshot) -> Result<(), WorldError> {
         (self.origin, self.steps, self.y, self.previous, self.warm, self.sleep, self.penetration) =
             (s.origin, s.steps, s.y, s.previous, s.warm, s.sleep, s.penetration);
+        if let Some(scene) = self.scene.as_mut() {
+            scene.cache = s.manifolds;
+        }
         Ok(())
     }
 
