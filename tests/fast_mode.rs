@@ -21,7 +21,7 @@ fn cube(w: &mut World, half: f64, density: f64, at: Vector3<f64>) -> BodyHandle 
 }
 
 #[test]
-fn a_box_resting_on_the_floor_stays_within_1e_4_m_for_10_s() {
+fn a_box_resting_on_the_floor_stays_within_5e_6_m_for_10_s() {
     for sleep in [false, true] {
         let mut w = fast_world(sleep);
         let b = cube(&mut w, 0.5, 1000.0, Vector3::new(0.0, 0.0, 0.5));
@@ -30,7 +30,9 @@ fn a_box_resting_on_the_floor_stays_within_1e_4_m_for_10_s() {
             .map(|f| (run.body_position(f, 1) - Vector3::new(0.0, 0.0, 0.5)).norm())
             .fold(0.0, f64::max);
         println!("measured: resting box, sleep {sleep}: drift {drift:.3e} m");
-        assert!(drift < 1e-4, "sleep {sleep}: drift {drift}");
+        // The goal, 5e-6 m: the floor's soft contact carries the box's weight after sinking about
+        // g / (2 pi f)^2 at f = 960 Hz (half of the 1,920 substeps a second), 2.7e-7 m measured.
+        assert!(drift < 5e-6, "sleep {sleep}: drift {drift}");
         assert!(w.body(b).unwrap().orientation().angle() < 1e-6);
     }
 }
@@ -38,7 +40,7 @@ fn a_box_resting_on_the_floor_stays_within_1e_4_m_for_10_s() {
 #[test]
 fn a_sliding_box_stops_after_v_squared_over_2_mu_g() {
     // mu = 0.5 for box and floor (combined: their geometric mean, 0.5). Semi-implicit Euler at a constant
-    // deceleration a covers v^2 / (2 a) - v h / 2: 0.68% short at v = 3 m/s and h = 1/240 s, within the 1%.
+    // deceleration a covers v^2 / (2 a) - v h / 2, h the substep (1/240 s in 8 substeps): 0.085% short at v = 3 m/s.
     let v = 3.0;
     let mut w = fast_world(false);
     let b = cube(&mut w, 0.25, 500.0, Vector3::new(0.0, 0.0, 0.25));
@@ -50,7 +52,10 @@ fn a_sliding_box_stops_after_v_squared_over_2_mu_g() {
     let travelled = body.position().x;
     println!("measured: sliding box stopped after {travelled:.5} m, v^2/(2 mu g) = {expected:.5} m");
     assert!(body.velocity().norm() < 1e-9, "still moving at {}", body.velocity().norm());
-    assert!((travelled - expected).abs() < 0.01 * expected, "stopped after {travelled} m, expected {expected}");
+    let substep = DT / SoftSolver::default().substeps as f64;
+    let discrete = expected - 0.5 * v * substep;
+    // The last substep stops the box partway (friction holds it at rest): at most a h^2 = 1.3e-6 m of difference.
+    assert!((travelled - discrete).abs() < 5e-6, "stopped after {travelled} m, expected {discrete} m");
     assert!(body.position().z - 0.25 < 1e-4, "it hopped: z = {}", body.position().z);
 }
 
@@ -63,14 +68,15 @@ fn displacement(w: &mut World, bodies: &[BodyHandle], seconds: f64) -> f64 {
 
 #[test]
 fn a_stack_of_10_boxes_and_a_10_layer_pyramid_still_stand_after_10_s() {
-    // Stack: ten 1 m cubes, each placed touching the one below. Standing = no box moved more than 1 cm (a fall
-    // moves one by at least its half width, 0.5 m).
+    // Stack: ten 1 m cubes, each placed touching the one below. The top sinks as the soft contacts take the
+    // weight of the boxes above them (about g / (2 pi f)^2 a box's weight, f = 480 Hz between boxes, summed down
+    // the stack), 1.0e-4 m measured; a box that slid or tipped would move centimetres.
     let mut w = fast_world(true);
     let stack: Vec<BodyHandle> =
         (0..10).map(|k| cube(&mut w, 0.5, 500.0, Vector3::new(0.0, 0.0, 0.5 + k as f64))).collect();
     let moved = displacement(&mut w, &stack, 10.0);
     println!("measured: stack of 10 moved {moved:.3e} m in 10 s");
-    assert!(moved < 0.01, "the stack moved {moved} m");
+    assert!(moved < 2e-4, "the stack moved {moved} m");
     // Pyramid: 10 layers of 0.5 m cubes in a plane, each resting on two below (10 + 9 + ... + 1 = 55 boxes).
     let mut w = fast_world(true);
     let mut pyramid = Vec::new();
@@ -83,7 +89,8 @@ fn a_stack_of_10_boxes_and_a_10_layer_pyramid_still_stand_after_10_s() {
     assert_eq!(pyramid.len(), 55);
     let moved = displacement(&mut w, &pyramid, 10.0);
     println!("measured: pyramid of 55 moved {moved:.3e} m in 10 s");
-    assert!(moved < 0.01, "the pyramid moved {moved} m");
+    // half-size boxes, at most five layers of weight on a contact: 2.8e-5 m measured
+    assert!(moved < 1e-4, "the pyramid moved {moved} m");
 }
 
 #[test]
