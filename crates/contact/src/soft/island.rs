@@ -18,8 +18,8 @@ pub(crate) struct Island {
     pub rows: Vec<Row>,
     pub frictions: Vec<FrictionRow>,
     pub infos: Vec<RowInfo>,
-    /// Largest over smallest mass of its moving bodies: above `MASS_RATIO`, sweeps go on until they converge.
-    ratio: f64,
+    /// Whether its passes sweep on until the impulses settle (an island of a large mass ratio, `converges`).
+    converge: bool,
 }
 
 /// Mass ratio above which an island's passes sweep until the impulses settle (a heavy body on a light one needs many
@@ -30,6 +30,14 @@ const MAX_SWEEPS: usize = 64;
 /// A pass has converged when no impulse changed by more than this fraction of the largest.
 const SETTLED: f64 = 1e-4;
 
+/// Whether the bodies of an island (their inverse masses) need sweeps until its impulses settle: a largest over
+/// smallest mass of its moving bodies above `MASS_RATIO`.
+pub(crate) fn converges(inverse_masses: impl Iterator<Item = f64>) -> bool {
+    let masses = inverse_masses.filter(|&m| m > 0.0).map(|m| 1.0 / m);
+    let (lo, hi) = masses.fold((f64::INFINITY, 0.0f64), |(lo, hi), m| (lo.min(m), hi.max(m)));
+    lo > 0.0 && hi / lo > MASS_RATIO
+}
+
 impl Island {
     /// Rows for `contacts` between `movers` (contact body indices mapped by `local`), warm-started from `warm`.
     pub fn new(
@@ -38,6 +46,7 @@ impl Island {
         contacts: &[&Contact],
         local: impl Fn(usize) -> usize,
         warm: &[SoftImpulse],
+        converge: bool,
     ) -> Island {
         let pairs: Vec<(usize, usize)> = contacts.iter().map(|c| (local(c.a), local(c.b))).collect();
         let order = super::colour::colour_order(&pairs, &movers);
@@ -77,9 +86,7 @@ impl Island {
                 max_normal: 0.0,
             });
         }
-        let masses = movers.iter().filter(|m| m.inv_mass > 0.0).map(|m| 1.0 / m.inv_mass);
-        let (lo, hi) = masses.fold((f64::INFINITY, 0.0f64), |(lo, hi), m| (lo.min(m), hi.max(m)));
-        Island { movers, rows, frictions, infos, ratio: if lo > 0.0 { hi / lo } else { 1.0 } }
+        Island { movers, rows, frictions, infos, converge }
     }
 
     /// The substeps of a step of h.
@@ -139,7 +146,7 @@ impl Island {
 
     /// `iterations` sweeps; for an island of a large mass ratio, on until they settle (at most `MAX_SWEEPS`).
     fn pass(&mut self, iterations: usize, mut sweep: impl FnMut(&mut Island) -> f64) {
-        let extra = if self.ratio > MASS_RATIO { MAX_SWEEPS } else { 0 };
+        let extra = if self.converge { MAX_SWEEPS } else { 0 };
         for k in 0..iterations.max(1) + extra {
             let change = sweep(self);
             if extra > 0 && k + 1 >= iterations.max(1) {

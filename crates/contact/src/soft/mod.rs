@@ -3,8 +3,9 @@
 //! every contact once as a soft constraint (a spring and damper given in hertz and a damping ratio, so an overlap is
 //! pushed out smoothly and stiff stacks stay stable), moves the bodies, and solves again without the push (relax),
 //! friction included; restitution comes once after the substeps. Impulses are kept per contact across steps (the
-//! caller matches contacts by feature) and start the next step. Islands are independent and solved on as many
-//! threads as asked; each is solved in contact order, so the answer is the same bit for bit on any thread count.
+//! caller matches contacts by feature) and start the next step. Islands are independent; small ones are gathered
+//! into batches swept side by side (`batches`), and batches are solved on as many threads as asked, each in an order
+//! fixed by the contacts, so the answer is the same bit for bit on any thread count and as island by island.
 //!
 //! What it gives up against the exact cone program (`velocity_step`): a resting contact sinks until its spring
 //! carries the load (about g / (2 pi hertz)^2 per body weight), and an iteration count that bounds the work bounds
@@ -120,6 +121,36 @@ pub struct SoftStep {
     pub residual: f64,
 }
 
+/// Rows a batch of islands gathers before it is closed.
+const BATCH_ROWS: usize = 256;
+
+/// The islands gathered into batches solved as one (in island order, up to `BATCH_ROWS` contacts each), and for
+/// each contact whether its island needs sweeps until it settles (`island::converges`; such an island is a batch of
+/// its own). Islands share no moving body, so a batch's colour order puts the rows of different islands side by
+/// side (a lone box on the floor no longer chains four solves on one body) while each island's rows keep the colours
+/// and order they have alone: the answer is the same bit for bit as island by island.
+fn batches(islands: Vec<Vec<usize>>, bodies: &[BodyState], contacts: &[Contact]) -> (Vec<Vec<usize>>, Vec<bool>) {
+    let mut converge = vec![false; contacts.len()];
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    let mut open: Vec<usize> = Vec::new();
+    for island in islands {
+        let masses = island.iter().flat_map(|&i| [bodies[contacts[i].a].inv_mass, bodies[contacts[i].b].inv_mass]);
+        if island::converges(masses) {
+            island.iter().for_each(|&i| converge[i] = true);
+            out.push(island);
+            continue;
+        }
+        open.extend(island);
+        if open.len() >= BATCH_ROWS {
+            out.push(std::mem::take(&mut open));
+        }
+    }
+    if !open.is_empty() {
+        out.push(open);
+    }
+    (out, converge)
+}
+
 /// A step of h for `bodies` with `contacts`, each started from `warm[i]` (the same contact's impulses of the last
 /// step, or zero); bodies in no contact move freely by the same substeps.
 pub fn soft_step(
@@ -150,8 +181,9 @@ pub fn soft_step(
         islands: 0,
         residual: 0.0,
     };
-    let groups = islands(bodies, contacts);
-    out.islands = groups.len();
+    let islands = islands(bodies, contacts);
+    out.islands = islands.len();
+    let (groups, converge) = batches(islands, bodies, contacts);
     let solve = |group: &Vec<usize>| -> Result<(Vec<usize>, Island), ContactError> {
         let mut members: Vec<usize> = group.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]).collect();
         members.sort_unstable();
@@ -160,7 +192,9 @@ pub fn soft_step(
         let local = |b: usize| members.binary_search(&b).expect("a member of its island");
         let cs: Vec<&Contact> = group.iter().map(|&i| &contacts[i]).collect();
         let ws: Vec<SoftImpulse> = group.iter().map(|&i| warm[i]).collect();
-        let mut island = Island::new(movers, bodies, &cs, local, &ws);
+        // a batch of several islands converges only if it is one island that needs to (`batches`)
+        let converge = group.first().is_some_and(|i| converge[*i]);
+        let mut island = Island::new(movers, bodies, &cs, local, &ws, converge);
         island.solve(h, settings);
         Ok((members, island))
     };
