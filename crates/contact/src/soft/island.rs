@@ -4,7 +4,7 @@
 //! the input alone (`colour.rs`): grouped so that consecutive rows seldom share a moving body, which lets the
 //! processor overlap their solves instead of waiting on each body's last update.
 
-use super::row::{Axis, FrictionRow, Mover, Row, RowInfo};
+use super::row::{Axis, FrictionRow, Mover, Row, RowInfo, Still};
 use super::softness::Softness;
 use super::{SoftImpulse, SoftSettings};
 use crate::body::BodyState;
@@ -82,6 +82,7 @@ impl Island {
                 normal_axis,
                 current_gap: c.distance,
                 fixed: ma.inv_mass == 0.0 || mb.inv_mass == 0.0,
+                still: Still::of(ma, mb),
                 normal: w.normal.max(0.0),
                 max_normal: 0.0,
             });
@@ -161,9 +162,9 @@ impl Island {
     fn warm_start(&mut self) {
         for (r, f) in self.rows.iter().zip(&self.frictions) {
             let (a, b) = pair(&mut self.movers, r.a, r.b);
-            r.normal_axis.apply(a, b, r.normal);
-            f.axes[0].apply(a, b, f.tangent[0]);
-            f.axes[1].apply(a, b, f.tangent[1]);
+            r.normal_axis.apply_on(a, b, r.normal, r.still);
+            f.axes[0].apply_on(a, b, f.tangent[0], r.still);
+            f.axes[1].apply_on(a, b, f.tangent[1], r.still);
         }
     }
 
@@ -185,7 +186,8 @@ impl Island {
             } else {
                 (0.0, 1.0, 0.0)
             };
-            let vn = n.speed(a, b);
+            let still = r.still;
+            let vn = n.speed_on(a, b, still);
             let impulse = -n.mass * mass_scale * (vn + bias) - impulse_scale * r.normal;
             let total = (r.normal + impulse).max(0.0);
             let delta = total - r.normal;
@@ -193,7 +195,7 @@ impl Island {
             r.normal = total;
             r.max_normal = r.max_normal.max(total);
             if delta != 0.0 {
-                n.apply(a, b, delta);
+                n.apply_on(a, b, delta, still);
             }
             if !friction {
                 continue;
@@ -202,7 +204,8 @@ impl Island {
             if f.friction > 0.0 {
                 let [t0, t1] = &f.axes;
                 let old = f.tangent;
-                let mut new = [old[0] - t0.mass * t0.speed(a, b), old[1] - t1.mass * t1.speed(a, b)];
+                let mut new =
+                    [old[0] - t0.mass * t0.speed_on(a, b, still), old[1] - t1.mass * t1.speed_on(a, b, still)];
                 let limit = f.friction * r.normal;
                 let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
                 if size > limit {
@@ -210,8 +213,8 @@ impl Island {
                     new = [new[0] * scale, new[1] * scale];
                 }
                 f.tangent = new;
-                t0.apply(a, b, new[0] - old[0]);
-                t1.apply(a, b, new[1] - old[1]);
+                t0.apply_on(a, b, new[0] - old[0], still);
+                t1.apply_on(a, b, new[1] - old[1], still);
             }
         }
         change

@@ -68,6 +68,11 @@ impl Mover {
         }
     }
 
+    /// A static body at rest: its velocities are zero and stay so.
+    pub fn is_still(&self) -> bool {
+        self.still
+    }
+
     /// Whether no impulse can turn it (a zero inverse inertia: static and kinematic bodies).
     pub fn still_inertia(&self) -> bool {
         self.inv_inertia == Matrix3::zeros()
@@ -117,6 +122,51 @@ impl Axis {
         b.v += self.dir * (p * b.inv_mass);
         b.w += self.ib * p;
     }
+
+    /// `speed`, skipping a side that is `still` (its terms are zeros).
+    #[inline]
+    pub fn speed_on(&self, a: &Mover, b: &Mover, still: Still) -> f64 {
+        match still {
+            Still::Neither => self.speed(a, b),
+            Still::A => self.dir.dot(&b.v) + self.cb.dot(&b.w),
+            Still::B => self.dir.dot(&(-a.v)) - self.ca.dot(&a.w),
+        }
+    }
+
+    /// `apply`, skipping a side that is `still` (an impulse changes nothing there).
+    #[inline]
+    pub fn apply_on(&self, a: &mut Mover, b: &mut Mover, p: f64, still: Still) {
+        match still {
+            Still::Neither => self.apply(a, b, p),
+            Still::A => {
+                b.v += self.dir * (p * b.inv_mass);
+                b.w += self.ib * p;
+            }
+            Still::B => {
+                a.v -= self.dir * (p * a.inv_mass);
+                a.w -= self.ia * p;
+            }
+        }
+    }
+}
+
+/// Which side of a row, if any, is a static body at rest (whose velocities are zeros a sweep need not read or
+/// write: most rows against the floor).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Still {
+    Neither,
+    A,
+    B,
+}
+
+impl Still {
+    pub fn of(a: &Mover, b: &Mover) -> Still {
+        match (a.is_still(), b.is_still()) {
+            (true, false) => Still::A,
+            (false, true) => Still::B,
+            _ => Still::Neither,
+        }
+    }
 }
 
 /// One contact point's normal row: what every sweep reads and writes (the friction rows and the rest of the
@@ -130,6 +180,8 @@ pub(crate) struct Row {
     pub current_gap: f64,
     /// Against a static or kinematic body (stiffer softness).
     pub fixed: bool,
+    /// A side that is a static body at rest.
+    pub still: Still,
     /// Accumulated normal impulse of the current substep, and the largest it has been.
     pub normal: f64,
     pub max_normal: f64,
