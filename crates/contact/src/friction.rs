@@ -85,7 +85,13 @@ pub struct VelocityStep {
     /// clarabel calls (a lone particle on something static is solved in closed form, and an island no contact of
     /// which needs an impulse without a solve).
     pub solver_calls: usize,
+    /// The calls weighted by size, for callers that budget their work: each call counts one for every
+    /// `CONTACTS_A_UNIT` contacts of its island (at least one), its cost growing with the island.
+    pub solver_work: usize,
 }
+
+/// Contacts of an island that one unit of `VelocityStep::solver_work` stands for.
+pub const CONTACTS_A_UNIT: usize = 8;
 
 /// The velocity a body would have after a step of `h` under its applied force and torque alone (explicit gyroscopic
 /// term); a static body keeps its velocity.
@@ -143,7 +149,7 @@ fn step(
     let mut velocities: Vec<BodyVelocity> = bodies.iter().map(|b| free_velocity(b, settings.dt)).collect();
     let mut normal_impulses = vec![0.0; contacts.len()];
     let mut friction_impulses = vec![Vector3::zeros(); contacts.len()];
-    let (mut iterations, mut solver_calls) = (0, 0);
+    let (mut iterations, mut solver_calls, mut solver_work) = (0, 0, 0);
     let groups = islands(bodies, contacts);
     let free = &velocities;
     let solve = |island: &Vec<usize>| -> Result<IslandSolution, ContactError> {
@@ -158,6 +164,9 @@ fn step(
     for (island, result) in groups.iter().zip(solved) {
         let sol = result?;
         solver_calls += usize::from(sol.solved);
+        if sol.solved {
+            solver_work += island.len().div_ceil(CONTACTS_A_UNIT);
+        }
         for (k, v) in sol.velocities {
             velocities[k] = v;
         }
@@ -167,7 +176,7 @@ fn step(
         }
         iterations += sol.iterations;
     }
-    Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations, solver_calls })
+    Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations, solver_calls, solver_work })
 }
 
 /// The machine's cores, asked once (the standard library reads the cgroup files on every call: a few per cent of a

@@ -125,9 +125,10 @@ impl Contacts {
             }
         };
         let mut bounds: Vec<f64> = found.iter().map(|f| lagged.get(&f.key).map_or(0.0, |p| p * h)).collect();
-        let mut solves = 0;
+        let (mut solves, mut work) = (0, 0);
         let Some(mut out) = solve(&bounds)? else { return Ok(None) };
         solves += out.solver_calls;
+        work += out.solver_work;
         for _ in 1..LAGGED_ITERATIONS {
             let largest = out.normal_impulses.iter().fold(0.0f64, |m, p| m.max(*p));
             let moved = bounds.iter().zip(&out.normal_impulses).fold(0.0f64, |m, (b, p)| m.max((b - p).abs()));
@@ -139,8 +140,10 @@ impl Contacts {
             let Some(next) = solve(&bounds)? else { return Ok(None) };
             out = next;
             solves += out.solver_calls;
+            work += out.solver_work;
         }
         self.report.qp_solves += solves;
+        self.solve_work += work;
         self.report.stages.add(Stage::ContactConeProgram, solves.max(1));
         update_positions(model, &mut next, &out.velocities, h, |_| true);
         let forces = found.iter().zip(&out.normal_impulses).map(|(f, p)| (f.key, p / h)).collect();

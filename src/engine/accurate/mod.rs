@@ -89,6 +89,8 @@ pub(crate) struct Contacts {
     lagged_tolerance: f64,
     /// Why clarabel last failed to answer a contact step (for the message if steps shrink to nothing).
     last_solver_error: String,
+    /// The contact steps' convex solves weighted by island size (`VelocityStep::solver_work`), charged to budgets.
+    solve_work: usize,
     /// The integrator's settings, for the actors that fly free while others touch (`free_flight.rs`).
     free_settings: Settings,
     /// The counters of those free flights since the last report.
@@ -151,6 +153,7 @@ impl AccurateEngine {
             threads,
             divergence_limit: settings.divergence_limit,
             last_solver_error: String::new(),
+            solve_work: 0,
             free_settings: settings.clone(),
             free_report: tumble_integrate::Report::empty(settings.method.name()),
             lagged_tolerance: (10.0 * accurate.contact_tolerance.unwrap_or(1e-6 * size) / size.max(1e-300))

@@ -65,7 +65,8 @@ impl Contacts {
 
     /// Advances from (t, y) by error-controlled contact steps until `t_end` (pausing past `pause`) or until no
     /// pair is within reach; each save time reached records a frame. Each step tried is charged to the call's
-    /// `budget`, a contact step counting each convex program it solved.
+    /// `budget`, a contact step counting each convex program it solved by its size (one unit for every eight
+    /// contacts of the island, `VelocityStep::solver_work`).
     #[allow(clippy::too_many_arguments)]
     pub fn touching_steps(
         &mut self,
@@ -119,9 +120,9 @@ impl Contacts {
                 found = self.step_contacts(model, &states, &y, t, h)?;
             }
             self.report.max_penetration = self.report.max_penetration.max(self.penetration);
-            let solves = self.report.qp_solves;
+            let work = self.solve_work;
             let doubled = self.doubled_step(model, &statics, &states, &found, &phase.lagged, t, &y, h);
-            if let Err(e) = budget.charge((self.report.qp_solves - solves).saturating_sub(1), t) {
+            if let Err(e) = budget.charge((self.solve_work - work).saturating_sub(1), t) {
                 break Err(e);
             }
             let Some((mut whole, mut second, involved)) = doubled? else {
