@@ -66,6 +66,18 @@ fn displacement(w: &mut World, bodies: &[BodyHandle], seconds: f64) -> f64 {
     bodies.iter().zip(&start).map(|(&b, s)| (w.body(b).unwrap().position() - s).norm()).fold(0.0, f64::max)
 }
 
+/// A pyramid of 10 layers of 0.5 m cubes in a plane, each resting on two below (10 + 9 + ... + 1 = 55 boxes).
+fn pyramid(w: &mut World) -> Vec<BodyHandle> {
+    let mut pyramid = Vec::new();
+    for layer in 0..10 {
+        for k in 0..10 - layer {
+            let x = (k as f64 + 0.5 * layer as f64) * 0.5;
+            pyramid.push(cube(w, 0.25, 500.0, Vector3::new(x, 0.0, 0.25 + 0.5 * layer as f64)));
+        }
+    }
+    pyramid
+}
+
 #[test]
 fn a_stack_of_10_boxes_and_a_10_layer_pyramid_still_stand_after_10_s() {
     // Stack: ten 1 m cubes, each placed touching the one below. The top sinks as the soft contacts take the
@@ -79,13 +91,7 @@ fn a_stack_of_10_boxes_and_a_10_layer_pyramid_still_stand_after_10_s() {
     assert!(moved < 2e-4, "the stack moved {moved} m");
     // Pyramid: 10 layers of 0.5 m cubes in a plane, each resting on two below (10 + 9 + ... + 1 = 55 boxes).
     let mut w = fast_world(true);
-    let mut pyramid = Vec::new();
-    for layer in 0..10 {
-        for k in 0..10 - layer {
-            let x = (k as f64 + 0.5 * layer as f64) * 0.5;
-            pyramid.push(cube(&mut w, 0.25, 500.0, Vector3::new(x, 0.0, 0.25 + 0.5 * layer as f64)));
-        }
-    }
+    let pyramid = pyramid(&mut w);
     assert_eq!(pyramid.len(), 55);
     let moved = displacement(&mut w, &pyramid, 10.0);
     println!("measured: pyramid of 55 moved {moved:.3e} m in 10 s");
@@ -99,13 +105,7 @@ fn a_resting_pyramid_keeps_its_manifolds_and_stays_put() {
     // so the narrow phase is skipped (each pair's manifold carried by its bodies) and the pairs are tested only
     // when they have moved. The pyramid must not creep meanwhile: every box within 1e-4 m over the last 5 s.
     let mut w = fast_world(false);
-    let mut pyramid = Vec::new();
-    for layer in 0..10 {
-        for k in 0..10 - layer {
-            let x = (k as f64 + 0.5 * layer as f64) * 0.5;
-            pyramid.push(cube(&mut w, 0.25, 500.0, Vector3::new(x, 0.0, 0.25 + 0.5 * layer as f64)));
-        }
-    }
+    let pyramid = pyramid(&mut w);
     w.step(2.0).unwrap();
     let before = w.report();
     let moved = displacement(&mut w, &pyramid, 5.0);
