@@ -314,24 +314,15 @@ fn residual(
 ) -> f64 {
     // Work on the island's own bodies (a local copy, indices remapped): a world of thousands of bodies and
     // hundreds of islands would otherwise copy every body for every island.
-    let mut local: Vec<usize> = Vec::new();
-    let mut index = std::collections::HashMap::new();
-    let island_contacts: Vec<Contact> = island
-        .iter()
-        .map(|&i| {
-            let mut c = contacts[i];
-            for k in [&mut c.a, &mut c.b] {
-                *k = *index.entry(*k).or_insert_with(|| {
-                    local.push(*k);
-                    local.len() - 1
-                });
-            }
-            c
-        })
-        .collect();
+    let mut local: Vec<usize> = island.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]).collect();
+    local.sort_unstable();
+    local.dedup();
+    let index = |k: &usize| local.binary_search(k).expect("a body of the island");
+    let island_contacts: Vec<Contact> =
+        island.iter().map(|&i| Contact { a: index(&contacts[i].a), b: index(&contacts[i].b), ..contacts[i] }).collect();
     let mut after: Vec<BodyVelocity> = local.iter().map(|&k| free[k]).collect();
     for (k, v) in &out.velocities {
-        after[index[k]] = *v;
+        after[index(k)] = *v;
     }
     let bodies: Vec<BodyState> = local.iter().map(|&k| bodies[k]).collect();
     let state = |v: &[BodyVelocity]| -> Vec<BodyState> {
@@ -351,7 +342,7 @@ fn residual(
     let p_scale = out
         .velocities
         .iter()
-        .map(|(k, _)| v_scale / bodies[index[k]].inv_mass)
+        .map(|(k, _)| v_scale / bodies[index(k)].inv_mass)
         .chain(out.normal.iter().copied())
         .fold(f64::MIN_POSITIVE, f64::max);
     let mut worst = 0.0f64;
@@ -362,7 +353,7 @@ fn residual(
         .collect();
     let predicted = velocities_after(&free_state, &island_contacts, &impulses);
     for (k, v) in &out.velocities {
-        let k = index[k];
+        let k = index(k);
         let b = &bodies[k];
         let dl = (v.linear - predicted[k].linear).norm() / b.inv_mass;
         let da = if b.rotates() { (b.inertia * (v.angular - predicted[k].angular)).norm() } else { 0.0 };
