@@ -160,7 +160,8 @@ fn step(
             None => solve_island(bodies, contacts, bounds, island, free, settings),
         }
     };
-    let solved = in_parallel(&groups, contacts.len(), settings.threads, solve);
+    // a clarabel call takes tens of microseconds or more: worth a thread from a few dozen contacts
+    let solved = in_parallel(&groups, (contacts.len(), 32), settings.threads, solve);
     for (island, result) in groups.iter().zip(solved) {
         let sol = result?;
         solver_calls += usize::from(sol.solved);
@@ -187,16 +188,17 @@ fn cores() -> usize {
 }
 
 /// Islands are independent (no body in two), so their programs are solved on up to as many threads as the machine
-/// has cores, each taking the largest remaining island first; a step of fewer than 32 contacts or one island stays
-/// on the calling thread. Results come back in island order, so the answer does not depend on the thread count.
+/// has cores, each taking the largest remaining island first; a step of fewer than `least` contacts or one island
+/// stays on the calling thread (threads are started for each step: below that, starting them costs more than they
+/// save). Results come back in island order, so the answer does not depend on the thread count.
 pub(crate) fn in_parallel<T: Send>(
     groups: &[Vec<usize>],
-    contacts: usize,
+    (contacts, least): (usize, usize),
     threads: usize,
     solve: impl Fn(&Vec<usize>) -> Result<T, ContactError> + Sync,
 ) -> Vec<Result<T, ContactError>> {
     let threads = if threads == 0 { cores() } else { threads }.min(groups.len());
-    if threads < 2 || contacts < 32 {
+    if threads < 2 || contacts < least {
         return groups.iter().map(&solve).collect();
     }
     let mut order: Vec<usize> = (0..groups.len()).collect();
