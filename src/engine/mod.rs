@@ -12,6 +12,7 @@ pub(crate) mod contact_scene;
 pub(crate) mod fast;
 #[cfg(feature = "contact")]
 mod manifold;
+#[cfg(feature = "contact")]
 mod manifold_cache;
 #[cfg(feature = "contact")]
 mod semi_implicit;
