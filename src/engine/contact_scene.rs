@@ -36,6 +36,23 @@ pub(crate) struct SceneCollider {
     pub radius: f64,
 }
 
+/// The runs of `items` that share a collider pair (`pair` of each), if the pairs come in order, as the scene gives
+/// them (each pair's contacts together, pairs sorted); `None` otherwise.
+pub(crate) fn pair_runs<T>(items: &[T], pair: impl Fn(&T) -> (u32, u32)) -> Option<Vec<std::ops::Range<usize>>> {
+    if !items.windows(2).all(|w| pair(&w[0]) <= pair(&w[1])) {
+        return None;
+    }
+    let mut runs = Vec::new();
+    let mut start = 0;
+    for end in 1..=items.len() {
+        if end == items.len() || pair(&items[end]) != pair(&items[start]) {
+            runs.push(start..end);
+            start = end;
+        }
+    }
+    Some(runs)
+}
+
 /// Identifies a contact from one step to the next (for friction lagged on the previous normal impulse).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub(crate) struct ContactKey {

@@ -2,7 +2,7 @@
 //! per collider pair, chosen to keep the deepest point and the largest support area (the quadrilateral of greatest
 //! area among the manifold's points, greedily).
 
-use crate::engine::contact_scene::Found;
+use crate::engine::contact_scene::{pair_runs, Found};
 use nalgebra::{Point3, Vector3};
 use std::collections::BTreeMap;
 
@@ -14,25 +14,15 @@ pub(crate) const MAX_POINTS: usize = 4;
 /// on a face keeps its four corners; the rows of the conic program drop from up to eight per pair to four.
 pub(crate) fn reduce(found: Vec<Found>) -> Vec<Found> {
     // The scene gives each pair's contacts together, pairs in order: then the groups are runs, found without a map.
-    let runs = found.windows(2).all(|w| w[0].key.colliders <= w[1].key.colliders);
-    let groups: Vec<Vec<usize>> = if runs {
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        let mut start = 0;
-        for end in 1..=found.len() {
-            if end == found.len() || found[end].key.colliders != found[start].key.colliders {
-                if end - start > MAX_POINTS {
-                    groups.push((start..end).collect());
-                }
-                start = end;
+    let groups: Vec<Vec<usize>> = match pair_runs(&found, |f| f.key.colliders) {
+        Some(runs) => runs.into_iter().filter(|r| r.len() > MAX_POINTS).map(|r| r.collect()).collect(),
+        None => {
+            let mut groups: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
+            for (i, f) in found.iter().enumerate() {
+                groups.entry(f.key.colliders).or_default().push(i);
             }
+            groups.into_values().filter(|g| g.len() > MAX_POINTS).collect()
         }
-        groups
-    } else {
-        let mut groups: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
-        for (i, f) in found.iter().enumerate() {
-            groups.entry(f.key.colliders).or_default().push(i);
-        }
-        groups.into_values().filter(|g| g.len() > MAX_POINTS).collect()
     };
     if groups.is_empty() {
         return found;

@@ -4,7 +4,7 @@
 //! impulses kept for the next step. The substeps move the bodies themselves, so this stage also gives the poses.
 
 use super::{failure, FastEngine};
-use crate::engine::contact_scene::{ContactKey, Found};
+use crate::engine::contact_scene::{pair_runs, ContactKey, Found};
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
 use crate::plan::Stage;
@@ -40,17 +40,10 @@ fn warm_impulses(previous: &[(ContactKey, SoftImpulse)], found: &[Found]) -> Vec
 /// The step's impulses by contact key, sorted (a key found twice keeps its last impulse).
 fn by_key(found: &[Found], impulses: &[SoftImpulse]) -> Vec<(ContactKey, SoftImpulse)> {
     let mut out: Vec<(ContactKey, SoftImpulse)> = found.iter().map(|f| f.key).zip(impulses.iter().copied()).collect();
-    if out.windows(2).all(|w| w[0].0.colliders <= w[1].0.colliders) {
+    match pair_runs(&out, |e| e.0.colliders) {
         // pairs already in order (the scene gives them so): sort each pair's few contacts in place (stably)
-        let mut start = 0;
-        for end in 1..=out.len() {
-            if end == out.len() || out[end].0.colliders != out[start].0.colliders {
-                out[start..end].sort_by_key(|e| e.0);
-                start = end;
-            }
-        }
-    } else {
-        out.sort_by_key(|e| e.0);
+        Some(runs) => runs.into_iter().for_each(|r| out[r].sort_by_key(|e| e.0)),
+        None => out.sort_by_key(|e| e.0),
     }
     // keep the last of equal keys, as a map built in contact order would
     let mut kept: Vec<(ContactKey, SoftImpulse)> = Vec::with_capacity(out.len());
