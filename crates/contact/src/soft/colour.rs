@@ -6,12 +6,13 @@
 
 use super::row::Mover;
 
-/// Colours tracked per body; rows that find all of them taken go last, in contact order.
-const COLOURS: u32 = 64;
+/// Colours tracked per body; rows that find all of them taken go last, in contact order, with this colour (which,
+/// unlike the others, may join rows that share a body).
+pub(crate) const COLOURS: u32 = 64;
 
 /// The order to sweep rows joining the movers `pairs` (in contact order) in: colour by colour, contact order within
-/// a colour.
-pub(crate) fn colour_order(pairs: &[(usize, usize)], movers: &[Mover]) -> Vec<usize> {
+/// a colour; each row as (its colour, its place in `pairs`).
+pub(crate) fn colour_order(pairs: &[(usize, usize)], movers: &[Mover]) -> Vec<(u32, usize)> {
     let mut taken = vec![0u64; movers.len()];
     let moving = |m: usize| movers[m].inv_mass > 0.0 || !movers[m].still_inertia();
     let colours: Vec<u32> = pairs
@@ -29,7 +30,7 @@ pub(crate) fn colour_order(pairs: &[(usize, usize)], movers: &[Mover]) -> Vec<us
             colour.min(COLOURS)
         })
         .collect();
-    let mut order: Vec<usize> = (0..pairs.len()).collect();
-    order.sort_unstable_by_key(|&k| (colours[k], k));
+    let mut order: Vec<(u32, usize)> = colours.into_iter().zip(0..).collect();
+    order.sort_unstable();
     order
 }

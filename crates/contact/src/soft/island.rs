@@ -1,22 +1,25 @@
 //! One island of the soft step: its bodies and contact rows laid out for the solver, and the substep loop that reads
 //! as Box2D v3's stages: per substep, integrate velocities, warm start, a biased soft solve, integrate positions, a
 //! relax solve without bias; after the substeps, restitution. Rows are solved Gauss-Seidel in an order fixed by
-//! the input alone (`colour.rs`): grouped so that consecutive rows seldom share a moving body, which lets the
-//! processor overlap their solves instead of waiting on each body's last update.
+//! the input alone (`colour.rs`): colour by colour, rows of a colour sharing no moving body, so that a colour's
+//! rows are swept eight at a time (`bundle.rs`) with the bits of one at a time.
 
-use super::row::{Axis, FrictionRow, Mover, Row, RowInfo, Still};
+use super::bundle::{self, Bundle, FrictionBundle, Sweep, W};
+use super::colour::{colour_order, COLOURS};
+use super::row::{Axis, Mover, RowInfo};
 use super::softness::Softness;
 use super::{SoftImpulse, SoftSettings};
 use crate::body::BodyState;
 use crate::contact::tangents;
 use crate::contact::Contact;
 
-/// The island: its movers (local indices) and rows, each row in three parts (normal, friction, the rest) at the
-/// same place of three lists.
+/// The island: its movers (local indices) and rows, in bundles of rows of one colour (`bundle.rs`), each in three
+/// parts: normal (`bundles`), friction (`frictions`, at the same place) and the rest (`infos`, a row each in sweep
+/// order).
 pub(crate) struct Island {
     pub movers: Vec<Mover>,
-    pub rows: Vec<Row>,
-    pub frictions: Vec<FrictionRow>,
+    pub bundles: Vec<Bundle>,
+    pub frictions: Vec<FrictionBundle>,
     pub infos: Vec<RowInfo>,
     /// Whether its passes sweep on until the impulses settle (an island of a large mass ratio, `converges`).
     converge: bool,
@@ -49,10 +52,21 @@ impl Island {
         converge: bool,
     ) -> Island {
         let pairs: Vec<(usize, usize)> = contacts.iter().map(|c| (local(c.a), local(c.b))).collect();
-        let order = super::colour::colour_order(&pairs, &movers);
-        let (mut rows, mut frictions, mut infos) =
-            (Vec::with_capacity(order.len()), Vec::with_capacity(order.len()), Vec::with_capacity(order.len()));
-        for index in order {
+        let order = colour_order(&pairs, &movers);
+        let mut infos = Vec::with_capacity(order.len());
+        let (mut bundles, mut frictions): (Vec<Bundle>, Vec<FrictionBundle>) = (Vec::new(), Vec::new());
+        let mut colour = u32::MAX;
+        for (row, &(c_colour, index)) in order.iter().enumerate() {
+            // a new bundle at each colour, when full, and for every row of the last colour (which may share bodies)
+            let full = bundles.last().is_none_or(|bu| bu.lanes == W);
+            if c_colour != colour || full || c_colour == COLOURS {
+                bundles.push(Bundle { first: row, ..Bundle::default() });
+                frictions.push(FrictionBundle::default());
+                colour = c_colour;
+            }
+            let (bu, fr) = (bundles.last_mut().expect("just pushed"), frictions.last_mut().expect("just pushed"));
+            let l = bu.lanes;
+            bu.lanes += 1;
             let (c, w) = (contacts[index], &warm[index]);
             let (a, b) = pairs[index];
             let (ma, mb) = (&movers[a], &movers[b]);
@@ -71,23 +85,21 @@ impl Island {
                 closing: normal_axis.speed(ma, mb),
                 step_normal: 0.0,
             });
-            frictions.push(FrictionRow {
-                axes: [Axis::new(ma, mb, &ra, &rb, t0), Axis::new(ma, mb, &ra, &rb, t1)],
-                tangent: [t0.dot(&tangent), t1.dot(&tangent)],
-                friction: c.friction,
-            });
-            rows.push(Row {
-                a,
-                b,
-                normal_axis,
-                current_gap: c.distance,
-                fixed: ma.inv_mass == 0.0 || mb.inv_mass == 0.0,
-                still: Still::of(ma, mb),
-                normal: w.normal.max(0.0),
-                max_normal: 0.0,
-            });
+            fr.axes[0].set(l, &Axis::new(ma, mb, &ra, &rb, t0));
+            fr.axes[1].set(l, &Axis::new(ma, mb, &ra, &rb, t1));
+            fr.tangent[0][l] = t0.dot(&tangent);
+            fr.tangent[1][l] = t1.dot(&tangent);
+            fr.friction[l] = c.friction;
+            bu.a[l] = a;
+            bu.b[l] = b;
+            bu.normal_axis.set(l, &normal_axis);
+            bu.ima[l] = ma.inv_mass;
+            bu.imb[l] = mb.inv_mass;
+            bu.gap[l] = c.distance;
+            bu.fixed[l] = ma.inv_mass == 0.0 || mb.inv_mass == 0.0;
+            bu.normal[l] = w.normal.max(0.0);
         }
-        Island { movers, rows, frictions, infos, converge }
+        Island { movers, bundles, frictions, infos, converge }
     }
 
     /// The substeps of a step of h.
@@ -101,15 +113,18 @@ impl Island {
             for m in &mut self.movers {
                 m.integrate_velocity(hs);
             }
-            self.warm_start();
-            self.pass(s.iterations, |island| island.solve_rows(hs, Some((&soft, &stiff)), s.max_push_out, false));
+            bundle::warm_start(&self.bundles, &self.frictions, &mut self.movers);
+            let biased = Sweep { hs, soft: Some((&soft, &stiff)), max_push: s.max_push_out, friction: false };
+            self.pass(s.iterations, biased);
             for m in &mut self.movers {
                 m.integrate_position(hs);
             }
             self.update_gaps();
-            self.pass(s.iterations, |island| island.solve_rows(hs, None, s.max_push_out, true));
-            for (info, r) in self.infos.iter_mut().zip(&self.rows) {
-                info.step_normal += r.normal;
+            self.pass(s.iterations, Sweep { soft: None, friction: true, ..biased });
+            for bu in &self.bundles {
+                for l in 0..bu.lanes {
+                    self.infos[bu.first + l].step_normal += bu.normal[l];
+                }
             }
         }
         self.restitution(s.bounce_threshold);
@@ -120,18 +135,21 @@ impl Island {
     /// and the slip of one whose friction is inside its Coulomb bound (sticking).
     pub fn residual(&self) -> f64 {
         let mut worst = 0.0f64;
-        for (r, f) in self.rows.iter().zip(&self.frictions) {
-            let (a, b) = (&self.movers[r.a], &self.movers[r.b]);
-            let vn = r.normal_axis.speed(a, b);
-            if r.current_gap <= 0.0 {
-                worst = worst.max(-vn);
-            } else if r.normal > 0.0 {
-                worst = worst.max(vn);
-            }
-            let friction = (f.tangent[0] * f.tangent[0] + f.tangent[1] * f.tangent[1]).sqrt();
-            if f.friction > 0.0 && r.normal > 0.0 && friction < f.friction * r.normal * (1.0 - 1e-9) {
-                let [t0, t1] = &f.axes;
-                worst = worst.max(t0.speed(a, b).hypot(t1.speed(a, b)));
+        for (bu, fr) in self.bundles.iter().zip(&self.frictions) {
+            for l in 0..bu.lanes {
+                let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
+                let vn = bu.normal_axis.speed_of(l, a, b);
+                let normal = bu.normal[l];
+                if bu.gap[l] <= 0.0 {
+                    worst = worst.max(-vn);
+                } else if normal > 0.0 {
+                    worst = worst.max(vn);
+                }
+                let (f0, f1) = (fr.tangent[0][l], fr.tangent[1][l]);
+                let friction = (f0 * f0 + f1 * f1).sqrt();
+                if fr.friction[l] > 0.0 && normal > 0.0 && friction < fr.friction[l] * normal * (1.0 - 1e-9) {
+                    worst = worst.max(fr.axes[0].speed_of(l, a, b).hypot(fr.axes[1].speed_of(l, a, b)));
+                }
             }
         }
         worst
@@ -139,19 +157,22 @@ impl Island {
 
     /// The rows' gaps where the bodies now are (positions move once a substep, so both passes use these).
     fn update_gaps(&mut self) {
-        for (r, info) in self.rows.iter_mut().zip(&self.infos) {
-            let (a, b) = (&self.movers[r.a], &self.movers[r.b]);
-            r.current_gap = info.gap + r.normal_axis.dir.dot(&(b.moved(&info.rb) - a.moved(&info.ra)));
+        for bu in &mut self.bundles {
+            for l in 0..bu.lanes {
+                let info = &self.infos[bu.first + l];
+                let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
+                bu.gap[l] = info.gap + bu.normal_axis.dir_of(l).dot(&(b.moved(&info.rb) - a.moved(&info.ra)));
+            }
         }
     }
 
     /// `iterations` sweeps; for an island of a large mass ratio, on until they settle (at most `MAX_SWEEPS`).
-    fn pass(&mut self, iterations: usize, mut sweep: impl FnMut(&mut Island) -> f64) {
+    fn pass(&mut self, iterations: usize, how: Sweep) {
         let extra = if self.converge { MAX_SWEEPS } else { 0 };
         for k in 0..iterations.max(1) + extra {
-            let change = sweep(self);
+            let change = bundle::sweep(&mut self.bundles, &mut self.frictions, &mut self.movers, how);
             if extra > 0 && k + 1 >= iterations.max(1) {
-                let largest = self.rows.iter().fold(0.0f64, |m, r| m.max(r.normal));
+                let largest = self.bundles.iter().flat_map(|bu| bu.normal).fold(0.0f64, f64::max);
                 if change <= SETTLED * largest {
                     break;
                 }
@@ -159,83 +180,25 @@ impl Island {
         }
     }
 
-    fn warm_start(&mut self) {
-        for (r, f) in self.rows.iter().zip(&self.frictions) {
-            let (a, b) = pair(&mut self.movers, r.a, r.b);
-            r.normal_axis.apply_on(a, b, r.normal, r.still);
-            f.axes[0].apply_on(a, b, f.tangent[0], r.still);
-            f.axes[1].apply_on(a, b, f.tangent[1], r.still);
-        }
-    }
-
-    /// One sweep over the rows: normal rows with the soft bias (`soft`: contact and static-contact softness) or
-    /// rigid without it; friction (Coulomb's circle) in the pass without bias. Returns the largest change of a
-    /// normal impulse.
-    fn solve_rows(&mut self, hs: f64, soft: Option<(&Softness, &Softness)>, max_push: f64, friction: bool) -> f64 {
-        let mut change = 0.0f64;
-        for (k, r) in self.rows.iter_mut().enumerate() {
-            let (a, b) = pair(&mut self.movers, r.a, r.b);
-            let n = &r.normal_axis;
-            let gap = r.current_gap;
-            let (bias, mass_scale, impulse_scale) = if gap > 0.0 {
-                // speculative: close the gap in the substep and no more
-                (gap / hs, 1.0, 0.0)
-            } else if let Some((contact, fixed)) = soft {
-                let sf = if r.fixed { fixed } else { contact };
-                ((sf.bias_rate * gap).max(-max_push), sf.mass_scale, sf.impulse_scale)
-            } else {
-                (0.0, 1.0, 0.0)
-            };
-            let still = r.still;
-            let vn = n.speed_on(a, b, still);
-            let impulse = -n.mass * mass_scale * (vn + bias) - impulse_scale * r.normal;
-            let total = (r.normal + impulse).max(0.0);
-            let delta = total - r.normal;
-            change = change.max(delta.abs());
-            r.normal = total;
-            r.max_normal = r.max_normal.max(total);
-            if delta != 0.0 {
-                n.apply_on(a, b, delta, still);
-            }
-            if !friction {
-                continue;
-            }
-            let f = &mut self.frictions[k];
-            if f.friction > 0.0 {
-                let [t0, t1] = &f.axes;
-                let old = f.tangent;
-                let mut new =
-                    [old[0] - t0.mass * t0.speed_on(a, b, still), old[1] - t1.mass * t1.speed_on(a, b, still)];
-                let limit = f.friction * r.normal;
-                let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
-                if size > limit {
-                    let scale = if size > 0.0 { limit / size } else { 0.0 };
-                    new = [new[0] * scale, new[1] * scale];
-                }
-                f.tangent = new;
-                t0.apply_on(a, b, new[0] - old[0], still);
-                t1.apply_on(a, b, new[1] - old[1], still);
-            }
-        }
-        change
-    }
-
     /// Newton's restitution for contacts that closed faster than the threshold and pushed: the normal velocity is
     /// raised to -e times the closing one (the impulse only grows).
     fn restitution(&mut self, threshold: f64) {
-        for (r, info) in self.rows.iter_mut().zip(&mut self.infos) {
-            if info.restitution == 0.0 || info.closing > -threshold || r.max_normal == 0.0 {
-                continue;
-            }
-            let (a, b) = pair(&mut self.movers, r.a, r.b);
-            let n = &r.normal_axis;
-            let impulse = -n.mass * (n.speed(a, b) + info.restitution * info.closing);
-            let total = (r.normal + impulse).max(0.0);
-            let delta = total - r.normal;
-            r.normal = total;
-            info.step_normal += delta;
-            if delta != 0.0 {
-                n.apply(a, b, delta);
+        for bu in &mut self.bundles {
+            for l in 0..bu.lanes {
+                let info = &mut self.infos[bu.first + l];
+                if info.restitution == 0.0 || info.closing > -threshold || bu.max_normal[l] == 0.0 {
+                    continue;
+                }
+                let (a, b) = pair(&mut self.movers, bu.a[l], bu.b[l]);
+                let n = &bu.normal_axis;
+                let impulse = -n.mass[l] * (n.speed_of(l, a, b) + info.restitution * info.closing);
+                let total = (bu.normal[l] + impulse).max(0.0);
+                let delta = total - bu.normal[l];
+                bu.normal[l] = total;
+                info.step_normal += delta;
+                if delta != 0.0 {
+                    n.apply_of(l, a, b, delta);
+                }
             }
         }
     }

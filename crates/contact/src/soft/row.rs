@@ -1,6 +1,7 @@
-//! The soft step's data laid out for its sweeps: a body as the substeps move it (`Mover`) and a contact point as
-//! three constraint axes (normal and two tangents) with their Jacobians and the inverse mass times them computed
-//! once a step, so a sweep over a row is a few dot products and axpys.
+//! The soft step's bodies and rows: a body as the substeps move it (`Mover`), a constraint axis of a contact point
+//! (normal or tangent) with its Jacobians and the inverse mass times them computed once a step (`Axis`, laid into
+//! the lanes of a bundle by `bundle.rs`, so a sweep over a row is a few dot products and axpys), and what else a row
+//! keeps (`RowInfo`).
 
 use crate::body::BodyState;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
@@ -68,11 +69,6 @@ impl Mover {
         }
     }
 
-    /// A static body at rest: its velocities are zero and stay so.
-    pub fn is_still(&self) -> bool {
-        self.still
-    }
-
     /// Whether no impulse can turn it (a zero inverse inertia: static and kinematic bodies).
     pub fn still_inertia(&self) -> bool {
         self.inv_inertia == Matrix3::zeros()
@@ -114,91 +110,9 @@ impl Axis {
         self.dir.dot(&(b.v - a.v)) + self.cb.dot(&b.w) - self.ca.dot(&a.w)
     }
 
-    /// Applies an impulse of `p` along the axis: +p on B, -p on A.
-    #[inline]
-    pub fn apply(&self, a: &mut Mover, b: &mut Mover, p: f64) {
-        a.v -= self.dir * (p * a.inv_mass);
-        a.w -= self.ia * p;
-        b.v += self.dir * (p * b.inv_mass);
-        b.w += self.ib * p;
-    }
-
-    /// `speed`, skipping a side that is `still` (its terms are zeros).
-    #[inline]
-    pub fn speed_on(&self, a: &Mover, b: &Mover, still: Still) -> f64 {
-        match still {
-            Still::Neither => self.speed(a, b),
-            Still::A => self.dir.dot(&b.v) + self.cb.dot(&b.w),
-            Still::B => self.dir.dot(&(-a.v)) - self.ca.dot(&a.w),
-        }
-    }
-
-    /// `apply`, skipping a side that is `still` (an impulse changes nothing there).
-    #[inline]
-    pub fn apply_on(&self, a: &mut Mover, b: &mut Mover, p: f64, still: Still) {
-        match still {
-            Still::Neither => self.apply(a, b, p),
-            Still::A => {
-                b.v += self.dir * (p * b.inv_mass);
-                b.w += self.ib * p;
-            }
-            Still::B => {
-                a.v -= self.dir * (p * a.inv_mass);
-                a.w -= self.ia * p;
-            }
-        }
-    }
-}
-
-/// Which side of a row, if any, is a static body at rest (whose velocities are zeros a sweep need not read or
-/// write: most rows against the floor).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Still {
-    Neither,
-    A,
-    B,
-}
-
-impl Still {
-    pub fn of(a: &Mover, b: &Mover) -> Still {
-        match (a.is_still(), b.is_still()) {
-            (true, false) => Still::A,
-            (false, true) => Still::B,
-            _ => Still::Neither,
-        }
-    }
-}
-
-/// One contact point's normal row: what every sweep reads and writes (the friction rows and the rest of the
-/// contact are kept apart, so that a sweep without friction streams only these).
-#[derive(Clone, Debug)]
-pub(crate) struct Row {
-    pub a: usize,
-    pub b: usize,
-    pub normal_axis: Axis,
-    /// The gap where the substeps have moved the bodies (negative: penetration).
-    pub current_gap: f64,
-    /// Against a static or kinematic body (stiffer softness).
-    pub fixed: bool,
-    /// A side that is a static body at rest.
-    pub still: Still,
-    /// Accumulated normal impulse of the current substep, and the largest it has been.
-    pub normal: f64,
-    pub max_normal: f64,
-}
-
-/// A contact point's friction: its two tangent axes and accumulated impulses along them.
-#[derive(Clone, Debug)]
-pub(crate) struct FrictionRow {
-    pub axes: [Axis; 2],
-    pub tangent: [f64; 2],
-    pub friction: f64,
-}
-
-impl FrictionRow {
-    /// The friction impulse as a world vector.
-    pub fn vector(&self) -> Vector3<f64> {
-        self.axes[0].dir * self.tangent[0] + self.axes[1].dir * self.tangent[1]
+    /// The angular Jacobians r_a x d and r_b x d and the inverse inertia times them.
+    pub fn jacobians(&self) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        (self.ca, self.cb, self.ia, self.ib)
     }
 }
 
