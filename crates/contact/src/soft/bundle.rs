@@ -1,13 +1,16 @@
-//! Rows of one colour swept eight at a time. Rows of a colour share no moving body (`colour.rs`), so solving eight
-//! of them side by side gives what solving them one after another gives, bit for bit: the same arithmetic on each,
-//! lane by lane, which the compiler turns into vector instructions. A bundle holds the lanes of its rows (structure
-//! of arrays); a sweep gathers its bodies' velocities into lanes, solves, and writes them back.
+//! Manifolds of one colour swept eight at a time. A lane holds a manifold (a body pair and its contact points, up
+//! to four), solved point by point (normal, then its friction) as engines do, so that the pair's velocities are
+//! gathered once for its points. Manifolds of a colour share no moving body (`colour.rs`), so solving eight of them
+//! side by side gives what solving them one after another gives, bit for bit: the same arithmetic on each, lane by
+//! lane, which the compiler turns into vector instructions. A bundle holds its lanes' rows as structure of arrays;
+//! a sweep gathers its bodies' velocities into lanes, solves, and writes them back.
 //!
-//! Why eight: a row's solve is a chain of dependent operations (speed, impulse, clamp, apply, friction speed, circle,
-//! apply) that the processor cannot overlap with the next row's when one bundle's instructions fill its window;
-//! eight lanes give each step of the chain twice the work of four. Measured on the 1,000-cube pile (one thread,
-//! solving time a step, five alternating runs): rows one by one 5.8-6.4 ms, four lanes 5.9-6.4, eight 4.9-5.6,
-//! sixteen 5.7-6.3.
+//! Why eight lanes: a point's solve is a chain of dependent operations (speed, impulse, clamp, apply, friction
+//! speed, circle, apply) that the processor cannot overlap with the next lane's when one bundle's instructions
+//! fill its window; eight lanes give each step of the chain twice the work of four. Measured on the 1,000-cube pile
+//! with a row (point) a lane (one thread, solving time a step, alternating runs): rows one by one 5.8-6.4 ms, four
+//! lanes 5.9-6.4, eight 4.9-5.6, sixteen 5.7-6.3; then a manifold a lane, eight lanes: 4.2-4.7 ms against 5.1-5.5
+//! (the 100-cube pile 0.34-0.42 against 0.43-0.47 ms).
 
 use super::row::{Axis, Mover};
 use super::softness::Softness;
@@ -164,41 +167,60 @@ impl AxisLanes {
     }
 }
 
-/// The normal rows of a bundle: what every sweep reads and writes.
+/// Contact points of a manifold solved in one lane (parry's manifolds are reduced to four).
+pub(crate) const P: usize = 4;
+
+/// One contact point of each lane's manifold: its normal row.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct Bundle {
-    /// Rows used (the rest of the lanes are empty and never written back).
-    pub lanes: usize,
-    /// The place of lane 0's row among the island's rows in sweep order.
-    pub first: usize,
-    pub a: [usize; W],
-    pub b: [usize; W],
+pub(crate) struct PointLanes {
     pub normal_axis: AxisLanes,
-    /// Inverse masses of the two bodies.
-    pub ima: Lanes,
-    pub imb: Lanes,
     /// The gap where the substeps have moved the bodies (negative: penetration).
     pub gap: Lanes,
-    /// Against a static or kinematic body (stiffer softness).
-    pub fixed: [bool; W],
     /// Accumulated normal impulse of the current substep, and the largest it has been.
     pub normal: Lanes,
     pub max_normal: Lanes,
 }
 
-/// A bundle's friction: two tangent axes a lane and their accumulated impulses.
+/// A bundle: up to W manifolds of one colour (a lane each: a body pair and up to P contact points), their normal
+/// rows; what every sweep reads and writes. A lane's points past its count are empty (zero axes, never pushing).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct FrictionBundle {
+pub(crate) struct Bundle {
+    /// Lanes used (the rest are empty and never written back).
+    pub lanes: usize,
+    /// Points of its fullest lane.
+    pub points: usize,
+    /// Points of each lane, and where each point's `RowInfo` is.
+    pub count: [usize; W],
+    pub info: [[usize; P]; W],
+    pub a: [usize; W],
+    pub b: [usize; W],
+    /// Inverse masses of the two bodies.
+    pub ima: Lanes,
+    pub imb: Lanes,
+    /// Against a static or kinematic body (stiffer softness).
+    pub fixed: [bool; W],
+    pub rows: [PointLanes; P],
+}
+
+/// One contact point's friction in each lane: two tangent axes and their accumulated impulses.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FrictionLanes {
     pub axes: [AxisLanes; 2],
     pub tangent: [Lanes; 2],
     pub friction: Lanes,
 }
 
-impl FrictionBundle {
+impl FrictionLanes {
     /// Lane `l`'s friction impulse as a world vector.
     pub fn vector(&self, l: usize) -> nalgebra::Vector3<f64> {
         self.axes[0].dir_of(l) * self.tangent[0][l] + self.axes[1].dir_of(l) * self.tangent[1][l]
     }
+}
+
+/// A bundle's friction, point by point (kept apart so that sweeps without friction stream less).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FrictionBundle {
+    pub points: [FrictionLanes; P],
 }
 
 /// A bundle's bodies' velocities gathered into lanes.
@@ -300,51 +322,57 @@ fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], movers:
     let (zero, one) = (Wide::splat(0.0), Wide::splat(1.0));
     for (bu, fr) in bundles.iter_mut().zip(frictions.iter_mut()) {
         let mut v = Gathered::new(bu, movers);
-        let vn = bu.normal_axis.speed(&v);
-        let (gap, normal) = (Wide(bu.gap), Wide(bu.normal));
-        // speculative (a gap): close it in the substep and no more; touching: the soft bias, or rigid
-        let open = gap.gt(zero);
-        let (bias, mass_scale, impulse_scale) = match s.soft {
+        // the softness of each lane: stiffer against static and kinematic bodies
+        let (soft_rate, soft_mass, soft_impulse) = match s.soft {
             Some((contact, fixed)) => {
                 let pick =
                     |f: fn(&Softness) -> f64| Wide::select(bu.fixed, Wide::splat(f(fixed)), Wide::splat(f(contact)));
-                let soft_bias = (pick(|x| x.bias_rate) * gap).max(Wide::splat(-s.max_push));
-                (soft_bias, pick(|x| x.mass_scale), pick(|x| x.impulse_scale))
+                (Some(pick(|x| x.bias_rate)), pick(|x| x.mass_scale), pick(|x| x.impulse_scale))
             }
-            None => (zero, one, zero),
+            None => (None, one, zero),
         };
-        let bias = Wide::select(open, gap / Wide::splat(s.hs), bias);
-        let mass_scale = Wide::select(open, one, mass_scale);
-        let impulse_scale = Wide::select(open, zero, impulse_scale);
-        let impulse = Wide(bu.normal_axis.mass).neg() * mass_scale * (vn + bias) - impulse_scale * normal;
-        let total = (normal + impulse).max(zero);
-        let delta = total - normal;
-        change = change.max(delta.abs());
-        bu.normal = total.0;
-        bu.max_normal = Wide(bu.max_normal).max(total).0;
-        bu.normal_axis.apply(delta, &mut v);
-        if s.friction {
-            let [t0, t1] = &fr.axes;
-            let (s0, s1) = (t0.speed(&v), t1.speed(&v));
-            let old = [Wide(fr.tangent[0]), Wide(fr.tangent[1])];
-            let new = [old[0] - Wide(t0.mass) * s0, old[1] - Wide(t1.mass) * s1];
-            let friction = Wide(fr.friction);
-            let limit = friction * total;
-            let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
-            // inside the circle: as is (times one); outside: back onto it
-            let scale = Wide::select(size.gt(limit), Wide::select(size.gt(zero), limit / size, zero), one);
-            let slips = friction.gt(zero);
-            let new = [Wide::select(slips, new[0] * scale, old[0]), Wide::select(slips, new[1] * scale, old[1])];
-            fr.tangent = [new[0].0, new[1].0];
-            t0.apply(new[0] - old[0], &mut v);
-            t1.apply(new[1] - old[1], &mut v);
+        for (row, f) in bu.rows[..bu.points].iter_mut().zip(&mut fr.points) {
+            let vn = row.normal_axis.speed(&v);
+            let (gap, normal) = (Wide(row.gap), Wide(row.normal));
+            // speculative (a gap): close it in the substep and no more; touching: the soft bias, or rigid
+            let open = gap.gt(zero);
+            let bias = match soft_rate {
+                Some(rate) => (rate * gap).max(Wide::splat(-s.max_push)),
+                None => zero,
+            };
+            let bias = Wide::select(open, gap / Wide::splat(s.hs), bias);
+            let mass_scale = Wide::select(open, one, soft_mass);
+            let impulse_scale = Wide::select(open, zero, soft_impulse);
+            let impulse = Wide(row.normal_axis.mass).neg() * mass_scale * (vn + bias) - impulse_scale * normal;
+            let total = (normal + impulse).max(zero);
+            let delta = total - normal;
+            change = change.max(delta.abs());
+            row.normal = total.0;
+            row.max_normal = Wide(row.max_normal).max(total).0;
+            row.normal_axis.apply(delta, &mut v);
+            if s.friction {
+                let [t0, t1] = &f.axes;
+                let (s0, s1) = (t0.speed(&v), t1.speed(&v));
+                let old = [Wide(f.tangent[0]), Wide(f.tangent[1])];
+                let new = [old[0] - Wide(t0.mass) * s0, old[1] - Wide(t1.mass) * s1];
+                let friction = Wide(f.friction);
+                let limit = friction * total;
+                let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
+                // inside the circle: as is (times one); outside: back onto it
+                let scale = Wide::select(size.gt(limit), Wide::select(size.gt(zero), limit / size, zero), one);
+                let slips = friction.gt(zero);
+                let new = [Wide::select(slips, new[0] * scale, old[0]), Wide::select(slips, new[1] * scale, old[1])];
+                f.tangent = [new[0].0, new[1].0];
+                t0.apply(new[0] - old[0], &mut v);
+                t1.apply(new[1] - old[1], &mut v);
+            }
         }
         v.scatter(bu, movers);
     }
     change.0.iter().fold(0.0f64, |m, c| m.max(*c))
 }
 
-/// Applies every row's carried impulses (normal, then the two tangents), bundle by bundle.
+/// Applies every point's carried impulses (normal, then the two tangents), bundle by bundle.
 pub(crate) fn warm_start(bundles: &[Bundle], frictions: &[FrictionBundle], movers: &mut [Mover]) {
     #[cfg(target_arch = "x86_64")]
     if avx2() {
@@ -364,9 +392,11 @@ unsafe fn warm_start_avx2(bundles: &[Bundle], frictions: &[FrictionBundle], move
 fn warm_start_lanes(bundles: &[Bundle], frictions: &[FrictionBundle], movers: &mut [Mover]) {
     for (bu, fr) in bundles.iter().zip(frictions) {
         let mut v = Gathered::new(bu, movers);
-        bu.normal_axis.apply(Wide(bu.normal), &mut v);
-        fr.axes[0].apply(Wide(fr.tangent[0]), &mut v);
-        fr.axes[1].apply(Wide(fr.tangent[1]), &mut v);
+        for (row, f) in bu.rows[..bu.points].iter().zip(&fr.points) {
+            row.normal_axis.apply(Wide(row.normal), &mut v);
+            f.axes[0].apply(Wide(f.tangent[0]), &mut v);
+            f.axes[1].apply(Wide(f.tangent[1]), &mut v);
+        }
         v.scatter(bu, movers);
     }
 }

@@ -1,10 +1,11 @@
 //! One island of the soft step: its bodies and contact rows laid out for the solver, and the substep loop that reads
 //! as Box2D v3's stages: per substep, integrate velocities, warm start, a biased soft solve, integrate positions, a
 //! relax solve without bias; after the substeps, restitution. Rows are solved Gauss-Seidel in an order fixed by
-//! the input alone (`colour.rs`): colour by colour, rows of a colour sharing no moving body, so that a colour's
-//! rows are swept eight at a time (`bundle.rs`) with the bits of one at a time.
+//! the input alone: a body pair's points together as a manifold, manifolds colour by colour (`colour.rs`), those of
+//! a colour sharing no moving body, so that they are swept eight at a time (`bundle.rs`) with the bits of one at a
+//! time.
 
-use super::bundle::{self, Bundle, FrictionBundle, Sweep, W};
+use super::bundle::{self, Bundle, FrictionBundle, Sweep, P, W};
 use super::colour::{colour_order, COLOURS};
 use super::row::{Axis, Mover, RowInfo};
 use super::softness::Softness;
@@ -52,54 +53,80 @@ impl Island {
         converge: bool,
     ) -> Island {
         let pairs: Vec<(usize, usize)> = contacts.iter().map(|c| (local(c.a), local(c.b))).collect();
-        let order = colour_order(&pairs, &movers);
-        let mut infos = Vec::with_capacity(order.len());
+        // manifolds: a body pair's contacts, P at most, in the order of their first contacts
+        let mut by_pair: Vec<(usize, usize, usize)> = pairs.iter().zip(0..).map(|(&(a, b), k)| (a, b, k)).collect();
+        by_pair.sort_unstable();
+        let mut manifolds: Vec<&[(usize, usize, usize)]> =
+            by_pair.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)).flat_map(|run| run.chunks(P)).collect();
+        manifolds.sort_unstable_by_key(|m| m[0].2);
+        let manifold_pairs: Vec<(usize, usize)> = manifolds.iter().map(|m| (m[0].0, m[0].1)).collect();
+        // colour by colour; within a colour, the fullest manifolds first (so that a bundle's lanes have as many
+        // points as each other), then in order
+        let mut order = colour_order(&manifold_pairs, &movers);
+        order.sort_unstable_by_key(|&(colour, m)| (colour, P - manifolds[m].len(), m));
+        let mut infos = Vec::with_capacity(contacts.len());
         let (mut bundles, mut frictions): (Vec<Bundle>, Vec<FrictionBundle>) = (Vec::new(), Vec::new());
         let mut colour = u32::MAX;
-        for (row, &(c_colour, index)) in order.iter().enumerate() {
-            // a new bundle at each colour, when full, and for every row of the last colour (which may share bodies)
+        for &(m_colour, m) in &order {
+            // a new bundle at each colour, when full, and for every manifold of the last colour (which may share
+            // bodies)
             let full = bundles.last().is_none_or(|bu| bu.lanes == W);
-            if c_colour != colour || full || c_colour == COLOURS {
-                bundles.push(Bundle { first: row, ..Bundle::default() });
+            if m_colour != colour || full || m_colour == COLOURS {
+                bundles.push(Bundle::default());
                 frictions.push(FrictionBundle::default());
-                colour = c_colour;
+                colour = m_colour;
             }
             let (bu, fr) = (bundles.last_mut().expect("just pushed"), frictions.last_mut().expect("just pushed"));
             let l = bu.lanes;
             bu.lanes += 1;
-            let (c, w) = (contacts[index], &warm[index]);
-            let (a, b) = pairs[index];
+            let (a, b) = manifold_pairs[m];
             let (ma, mb) = (&movers[a], &movers[b]);
-            let n = c.normal.into_inner();
-            let ra = c.point - bodies[c.a].position;
-            let rb = c.point - bodies[c.b].position;
-            let (t0, t1) = tangents(&n);
-            let normal_axis = Axis::new(ma, mb, &ra, &rb, n);
-            let tangent = w.tangent - n * n.dot(&w.tangent);
-            infos.push(RowInfo {
-                index,
-                ra,
-                rb,
-                restitution: c.restitution,
-                gap: c.distance,
-                closing: normal_axis.speed(ma, mb),
-                step_normal: 0.0,
-            });
-            fr.axes[0].set(l, &Axis::new(ma, mb, &ra, &rb, t0));
-            fr.axes[1].set(l, &Axis::new(ma, mb, &ra, &rb, t1));
-            fr.tangent[0][l] = t0.dot(&tangent);
-            fr.tangent[1][l] = t1.dot(&tangent);
-            fr.friction[l] = c.friction;
             bu.a[l] = a;
             bu.b[l] = b;
-            bu.normal_axis.set(l, &normal_axis);
             bu.ima[l] = ma.inv_mass;
             bu.imb[l] = mb.inv_mass;
-            bu.gap[l] = c.distance;
             bu.fixed[l] = ma.inv_mass == 0.0 || mb.inv_mass == 0.0;
-            bu.normal[l] = w.normal.max(0.0);
+            bu.count[l] = manifolds[m].len();
+            bu.points = bu.points.max(manifolds[m].len());
+            for (p, &(_, _, index)) in manifolds[m].iter().enumerate() {
+                let (c, w) = (contacts[index], &warm[index]);
+                let n = c.normal.into_inner();
+                let ra = c.point - bodies[c.a].position;
+                let rb = c.point - bodies[c.b].position;
+                let (t0, t1) = tangents(&n);
+                let normal_axis = Axis::new(ma, mb, &ra, &rb, n);
+                let tangent = w.tangent - n * n.dot(&w.tangent);
+                bu.info[l][p] = infos.len();
+                infos.push(RowInfo {
+                    index,
+                    ra,
+                    rb,
+                    restitution: c.restitution,
+                    gap: c.distance,
+                    closing: normal_axis.speed(ma, mb),
+                    step_normal: 0.0,
+                });
+                let f = &mut fr.points[p];
+                f.axes[0].set(l, &Axis::new(ma, mb, &ra, &rb, t0));
+                f.axes[1].set(l, &Axis::new(ma, mb, &ra, &rb, t1));
+                f.tangent[0][l] = t0.dot(&tangent);
+                f.tangent[1][l] = t1.dot(&tangent);
+                f.friction[l] = c.friction;
+                let row = &mut bu.rows[p];
+                row.normal_axis.set(l, &normal_axis);
+                row.gap[l] = c.distance;
+                row.normal[l] = w.normal.max(0.0);
+            }
         }
         Island { movers, bundles, frictions, infos, converge }
+    }
+
+    /// Each used point of the bundles: (bundle, lane, point).
+    fn points(&self) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
+        self.bundles
+            .iter()
+            .enumerate()
+            .flat_map(|(k, bu)| (0..bu.lanes).flat_map(move |l| (0..bu.count[l]).map(move |p| (k, l, p))))
     }
 
     /// The substeps of a step of h.
@@ -123,7 +150,9 @@ impl Island {
             self.pass(s.iterations, Sweep { soft: None, friction: true, ..biased });
             for bu in &self.bundles {
                 for l in 0..bu.lanes {
-                    self.infos[bu.first + l].step_normal += bu.normal[l];
+                    for p in 0..bu.count[l] {
+                        self.infos[bu.info[l][p]].step_normal += bu.rows[p].normal[l];
+                    }
                 }
             }
         }
@@ -135,21 +164,21 @@ impl Island {
     /// and the slip of one whose friction is inside its Coulomb bound (sticking).
     pub fn residual(&self) -> f64 {
         let mut worst = 0.0f64;
-        for (bu, fr) in self.bundles.iter().zip(&self.frictions) {
-            for l in 0..bu.lanes {
-                let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
-                let vn = bu.normal_axis.speed_of(l, a, b);
-                let normal = bu.normal[l];
-                if bu.gap[l] <= 0.0 {
-                    worst = worst.max(-vn);
-                } else if normal > 0.0 {
-                    worst = worst.max(vn);
-                }
-                let (f0, f1) = (fr.tangent[0][l], fr.tangent[1][l]);
-                let friction = (f0 * f0 + f1 * f1).sqrt();
-                if fr.friction[l] > 0.0 && normal > 0.0 && friction < fr.friction[l] * normal * (1.0 - 1e-9) {
-                    worst = worst.max(fr.axes[0].speed_of(l, a, b).hypot(fr.axes[1].speed_of(l, a, b)));
-                }
+        for (k, l, p) in self.points() {
+            let (bu, f) = (&self.bundles[k], &self.frictions[k].points[p]);
+            let row = &bu.rows[p];
+            let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
+            let vn = row.normal_axis.speed_of(l, a, b);
+            let normal = row.normal[l];
+            if row.gap[l] <= 0.0 {
+                worst = worst.max(-vn);
+            } else if normal > 0.0 {
+                worst = worst.max(vn);
+            }
+            let (f0, f1) = (f.tangent[0][l], f.tangent[1][l]);
+            let friction = (f0 * f0 + f1 * f1).sqrt();
+            if f.friction[l] > 0.0 && normal > 0.0 && friction < f.friction[l] * normal * (1.0 - 1e-9) {
+                worst = worst.max(f.axes[0].speed_of(l, a, b).hypot(f.axes[1].speed_of(l, a, b)));
             }
         }
         worst
@@ -159,9 +188,12 @@ impl Island {
     fn update_gaps(&mut self) {
         for bu in &mut self.bundles {
             for l in 0..bu.lanes {
-                let info = &self.infos[bu.first + l];
                 let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
-                bu.gap[l] = info.gap + bu.normal_axis.dir_of(l).dot(&(b.moved(&info.rb) - a.moved(&info.ra)));
+                for p in 0..bu.count[l] {
+                    let info = &self.infos[bu.info[l][p]];
+                    let row = &mut bu.rows[p];
+                    row.gap[l] = info.gap + row.normal_axis.dir_of(l).dot(&(b.moved(&info.rb) - a.moved(&info.ra)));
+                }
             }
         }
     }
@@ -172,7 +204,8 @@ impl Island {
         for k in 0..iterations.max(1) + extra {
             let change = bundle::sweep(&mut self.bundles, &mut self.frictions, &mut self.movers, how);
             if extra > 0 && k + 1 >= iterations.max(1) {
-                let largest = self.bundles.iter().flat_map(|bu| bu.normal).fold(0.0f64, f64::max);
+                let largest =
+                    self.bundles.iter().flat_map(|bu| bu.rows.iter().flat_map(|r| r.normal)).fold(0.0f64, f64::max);
                 if change <= SETTLED * largest {
                     break;
                 }
@@ -185,19 +218,22 @@ impl Island {
     fn restitution(&mut self, threshold: f64) {
         for bu in &mut self.bundles {
             for l in 0..bu.lanes {
-                let info = &mut self.infos[bu.first + l];
-                if info.restitution == 0.0 || info.closing > -threshold || bu.max_normal[l] == 0.0 {
-                    continue;
-                }
-                let (a, b) = pair(&mut self.movers, bu.a[l], bu.b[l]);
-                let n = &bu.normal_axis;
-                let impulse = -n.mass[l] * (n.speed_of(l, a, b) + info.restitution * info.closing);
-                let total = (bu.normal[l] + impulse).max(0.0);
-                let delta = total - bu.normal[l];
-                bu.normal[l] = total;
-                info.step_normal += delta;
-                if delta != 0.0 {
-                    n.apply_of(l, a, b, delta);
+                for p in 0..bu.count[l] {
+                    let info = &mut self.infos[bu.info[l][p]];
+                    let row = &mut bu.rows[p];
+                    if info.restitution == 0.0 || info.closing > -threshold || row.max_normal[l] == 0.0 {
+                        continue;
+                    }
+                    let (a, b) = pair(&mut self.movers, bu.a[l], bu.b[l]);
+                    let n = &row.normal_axis;
+                    let impulse = -n.mass[l] * (n.speed_of(l, a, b) + info.restitution * info.closing);
+                    let total = (row.normal[l] + impulse).max(0.0);
+                    let delta = total - row.normal[l];
+                    row.normal[l] = total;
+                    info.step_normal += delta;
+                    if delta != 0.0 {
+                        n.apply_of(l, a, b, delta);
+                    }
                 }
             }
         }

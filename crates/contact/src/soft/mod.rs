@@ -218,10 +218,12 @@ pub fn soft_step(
         }
         for (bu, fr) in island.bundles.iter().zip(&island.frictions) {
             for l in 0..bu.lanes {
-                let info = &island.infos[bu.first + l];
-                let i = group[info.index];
-                out.impulses[i] = SoftImpulse { normal: bu.normal[l], tangent: fr.vector(l) };
-                out.normal_impulses[i] = info.step_normal;
+                for p in 0..bu.count[l] {
+                    let info = &island.infos[bu.info[l][p]];
+                    let i = group[info.index];
+                    out.impulses[i] = SoftImpulse { normal: bu.rows[p].normal[l], tangent: fr.points[p].vector(l) };
+                    out.normal_impulses[i] = info.step_normal;
+                }
             }
         }
     }
