@@ -12,7 +12,7 @@
 //! lanes 5.9-6.4, eight 4.9-5.6, sixteen 5.7-6.3; then a manifold a lane, eight lanes: 4.2-4.7 ms against 5.1-5.5
 //! (the 100-cube pile 0.34-0.42 against 0.43-0.47 ms).
 
-use super::row::{Axis, Mover};
+use super::row::Mover;
 use super::softness::Softness;
 
 /// Rows in a bundle.
@@ -109,17 +109,11 @@ pub(crate) struct AxisLanes {
 }
 
 impl AxisLanes {
-    /// Puts `axis` in lane `l`.
-    pub fn set(&mut self, l: usize, axis: &Axis) {
-        let (ca, cb, ia, ib) = axis.jacobians();
+    /// Sets lane `l`'s direction (the rest comes from `build`).
+    pub fn set_dir(&mut self, l: usize, dir: &nalgebra::Vector3<f64>) {
         for i in 0..3 {
-            self.dir[i][l] = axis.dir[i];
-            self.ca[i][l] = ca[i];
-            self.cb[i][l] = cb[i];
-            self.ia[i][l] = ia[i];
-            self.ib[i][l] = ib[i];
+            self.dir[i][l] = dir[i];
         }
-        self.mass[l] = axis.mass;
     }
 
     /// The direction of lane `l`.
@@ -215,6 +209,15 @@ impl FrictionLanes {
     pub fn vector(&self, l: usize) -> nalgebra::Vector3<f64> {
         self.axes[0].dir_of(l) * self.tangent[0][l] + self.axes[1].dir_of(l) * self.tangent[1][l]
     }
+}
+
+/// Where a bundle's points sit on their bodies, for the gaps as the bodies move: the arms from the centres and the
+/// gaps at the step's start.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Arms {
+    pub ra: [Vec3Lanes; P],
+    pub rb: [Vec3Lanes; P],
+    pub gap: [Lanes; P],
 }
 
 /// A bundle's friction, point by point (kept apart so that sweeps without friction stream less).
@@ -398,5 +401,117 @@ fn warm_start_lanes(bundles: &[Bundle], frictions: &[FrictionBundle], movers: &m
             f.axes[1].apply(Wide(f.tangent[1]), &mut v);
         }
         v.scatter(bu, movers);
+    }
+}
+
+/// Every point's gap where the substeps have moved the bodies: the gap at the step's start plus the normal part of
+/// how far B's material point moved against A's.
+pub(crate) fn update_gaps(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2() {
+        // SAFETY: as in `sweep`.
+        return unsafe { update_gaps_avx2(bundles, arms, movers) };
+    }
+    update_gaps_lanes(bundles, arms, movers)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn update_gaps_avx2(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
+    update_gaps_lanes(bundles, arms, movers)
+}
+
+#[inline(always)]
+fn update_gaps_lanes(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
+    for (bu, arm) in bundles.iter_mut().zip(arms) {
+        // each side's displacement and turn since the step's start, in lanes
+        let gather = |side: &[usize; W]| {
+            let (mut dp, mut turn) = ([Wide::default(); 3], [[Wide::default(); 3]; 3]);
+            for (l, &m) in side.iter().enumerate().take(bu.lanes) {
+                let m = &movers[m];
+                for i in 0..3 {
+                    dp[i].0[l] = m.dp[i];
+                    for j in 0..3 {
+                        turn[i][j].0[l] = m.turn[(i, j)];
+                    }
+                }
+            }
+            (dp, turn)
+        };
+        let (dpa, ta) = gather(&bu.a);
+        let (dpb, tb) = gather(&bu.b);
+        // how far the material point at arm r moved: dp + turn r - r
+        let moved = |dp: &[Wide; 3], t: &[[Wide; 3]; 3], r: &Vec3Lanes| {
+            let r = wide3(r);
+            let turned = |i: usize| t[i][0] * r[0] + t[i][1] * r[1] + t[i][2] * r[2];
+            [dp[0] + (turned(0) - r[0]), dp[1] + (turned(1) - r[1]), dp[2] + (turned(2) - r[2])]
+        };
+        for p in 0..bu.points {
+            let (ma, mb) = (moved(&dpa, &ta, &arm.ra[p]), moved(&dpb, &tb, &arm.rb[p]));
+            let d = [mb[0] - ma[0], mb[1] - ma[1], mb[2] - ma[2]];
+            bu.rows[p].gap = (Wide(arm.gap[p]) + dot(&wide3(&bu.rows[p].normal_axis.dir), &d)).0;
+        }
+    }
+}
+
+/// Completes every axis whose direction is set: the angular Jacobians r_a x d and r_b x d, the inverse inertia
+/// times them, and the effective mass 1 / (J M^-1 J^T) (zero on a lane's points past its count).
+pub(crate) fn build(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2() {
+        // SAFETY: as in `sweep`.
+        return unsafe { build_avx2(bundles, frictions, arms, movers) };
+    }
+    build_lanes(bundles, frictions, arms, movers)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn build_avx2(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
+    build_lanes(bundles, frictions, arms, movers)
+}
+
+#[inline(always)]
+fn cross(a: &[Wide; 3], b: &[Wide; 3]) -> [Wide; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+#[inline(always)]
+fn build_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
+    for ((bu, fr), arm) in bundles.iter_mut().zip(frictions.iter_mut()).zip(arms) {
+        let inertia = |side: &[usize; W]| {
+            let mut m = [[Wide::default(); 3]; 3];
+            for (l, &k) in side.iter().enumerate().take(bu.lanes) {
+                for (i, row) in m.iter_mut().enumerate() {
+                    for (j, x) in row.iter_mut().enumerate() {
+                        x.0[l] = movers[k].inv_inertia[(i, j)];
+                    }
+                }
+            }
+            m
+        };
+        let (ia, ib) = (inertia(&bu.a), inertia(&bu.b));
+        let times = |m: &[[Wide; 3]; 3], c: &[Wide; 3]| {
+            let row = |i: usize| m[i][0] * c[0] + m[i][1] * c[1] + m[i][2] * c[2];
+            [row(0), row(1), row(2)]
+        };
+        let (ima, imb, zero) = (Wide(bu.ima), Wide(bu.imb), Wide::splat(0.0));
+        for p in 0..bu.points {
+            let used: [bool; W] = std::array::from_fn(|l| p < bu.count[l]);
+            let (ra, rb) = (wide3(&arm.ra[p]), wide3(&arm.rb[p]));
+            let [t0, t1] = &mut fr.points[p].axes;
+            for axis in [&mut bu.rows[p].normal_axis, t0, t1] {
+                let d = wide3(&axis.dir);
+                let (ca, cb) = (cross(&ra, &d), cross(&rb, &d));
+                let (ja, jb) = (times(&ia, &ca), times(&ib, &cb));
+                let k = ima + imb + dot(&ca, &ja) + dot(&cb, &jb);
+                let mass = Wide::select(k.gt(zero), Wide::splat(1.0) / k, zero);
+                axis.mass = Wide::select(used, mass, zero).0;
+                axis.ca = ca.map(|x| x.0);
+                axis.cb = cb.map(|x| x.0);
+                axis.ia = ja.map(|x| x.0);
+                axis.ib = jb.map(|x| x.0);
+            }
+        }
     }
 }

@@ -5,9 +5,9 @@
 //! a colour sharing no moving body, so that they are swept eight at a time (`bundle.rs`) with the bits of one at a
 //! time.
 
-use super::bundle::{self, Bundle, FrictionBundle, Sweep, P, W};
+use super::bundle::{self, Arms, Bundle, FrictionBundle, Sweep, P, W};
 use super::colour::{colour_order, COLOURS};
-use super::row::{Axis, Mover, RowInfo};
+use super::row::{Mover, RowInfo};
 use super::softness::Softness;
 use super::{SoftImpulse, SoftSettings};
 use crate::body::BodyState;
@@ -21,6 +21,7 @@ pub(crate) struct Island {
     pub movers: Vec<Mover>,
     pub bundles: Vec<Bundle>,
     pub frictions: Vec<FrictionBundle>,
+    arms: Vec<Arms>,
     pub infos: Vec<RowInfo>,
     /// Whether its passes sweep on until the impulses settle (an island of a large mass ratio, `converges`).
     converge: bool,
@@ -65,20 +66,27 @@ impl Island {
         let mut order = colour_order(&manifold_pairs, &movers);
         order.sort_unstable_by_key(|&(colour, m)| (colour, P - manifolds[m].len(), m));
         let mut infos = Vec::with_capacity(contacts.len());
-        let (mut bundles, mut frictions): (Vec<Bundle>, Vec<FrictionBundle>) = (Vec::new(), Vec::new());
-        let mut colour = u32::MAX;
-        for &(m_colour, m) in &order {
-            // a new bundle at each colour, when full, and for every manifold of the last colour (which may share
-            // bodies)
-            let full = bundles.last().is_none_or(|bu| bu.lanes == W);
-            if m_colour != colour || full || m_colour == COLOURS {
-                bundles.push(Bundle::default());
-                frictions.push(FrictionBundle::default());
-                colour = m_colour;
+        // each manifold's bundle and lane: a new bundle at each colour, when full, and for every manifold of the
+        // last colour (which may share bodies)
+        let (mut slots, mut colour, mut lanes) = (Vec::with_capacity(order.len()), u32::MAX, W);
+        for &(m_colour, _) in &order {
+            if m_colour != colour || lanes == W || m_colour == COLOURS {
+                (colour, lanes) = (m_colour, 0);
+                slots.push((slots.last().map_or(0, |&(k, _): &(usize, usize)| k + 1), 0));
+            } else {
+                slots.push((slots.last().expect("a bundle is open").0, lanes));
             }
-            let (bu, fr) = (bundles.last_mut().expect("just pushed"), frictions.last_mut().expect("just pushed"));
-            let l = bu.lanes;
-            bu.lanes += 1;
+            lanes += 1;
+        }
+        // sized once: bundles are kilobytes, and a growing vector would copy them
+        let count = slots.last().map_or(0, |&(k, _)| k + 1);
+        let (mut bundles, mut frictions, mut arms) = (Vec::new(), Vec::new(), Vec::new());
+        bundles.resize_with(count, Bundle::default);
+        frictions.resize_with(count, FrictionBundle::default);
+        arms.resize_with(count, Arms::default);
+        for (&(_, m), &(k, l)) in order.iter().zip(&slots) {
+            let (bu, fr, arm) = (&mut bundles[k], &mut frictions[k], &mut arms[k]);
+            bu.lanes = l + 1;
             let (a, b) = manifold_pairs[m];
             let (ma, mb) = (&movers[a], &movers[b]);
             bu.a[l] = a;
@@ -94,31 +102,37 @@ impl Island {
                 let ra = c.point - bodies[c.a].position;
                 let rb = c.point - bodies[c.b].position;
                 let (t0, t1) = tangents(&n);
-                let normal_axis = Axis::new(ma, mb, &ra, &rb, n);
                 let tangent = w.tangent - n * n.dot(&w.tangent);
                 bu.info[l][p] = infos.len();
-                infos.push(RowInfo {
-                    index,
-                    ra,
-                    rb,
-                    restitution: c.restitution,
-                    gap: c.distance,
-                    closing: normal_axis.speed(ma, mb),
-                    step_normal: 0.0,
-                });
+                for i in 0..3 {
+                    arm.ra[p][i][l] = ra[i];
+                    arm.rb[p][i][l] = rb[i];
+                }
+                arm.gap[p][l] = c.distance;
+                infos.push(RowInfo { index, restitution: c.restitution, closing: 0.0, step_normal: 0.0 });
                 let f = &mut fr.points[p];
-                f.axes[0].set(l, &Axis::new(ma, mb, &ra, &rb, t0));
-                f.axes[1].set(l, &Axis::new(ma, mb, &ra, &rb, t1));
+                f.axes[0].set_dir(l, &t0);
+                f.axes[1].set_dir(l, &t1);
                 f.tangent[0][l] = t0.dot(&tangent);
                 f.tangent[1][l] = t1.dot(&tangent);
                 f.friction[l] = c.friction;
                 let row = &mut bu.rows[p];
-                row.normal_axis.set(l, &normal_axis);
+                row.normal_axis.set_dir(l, &n);
                 row.gap[l] = c.distance;
                 row.normal[l] = w.normal.max(0.0);
             }
         }
-        Island { movers, bundles, frictions, infos, converge }
+        bundle::build(&mut bundles, &mut frictions, &arms, &movers);
+        // each point's normal speed at the step's start (for restitution)
+        for bu in &bundles {
+            for l in 0..bu.lanes {
+                let (a, b) = (&movers[bu.a[l]], &movers[bu.b[l]]);
+                for p in 0..bu.count[l] {
+                    infos[bu.info[l][p]].closing = bu.rows[p].normal_axis.speed_of(l, a, b);
+                }
+            }
+        }
+        Island { movers, bundles, frictions, arms, infos, converge }
     }
 
     /// Each used point of the bundles: (bundle, lane, point).
@@ -146,7 +160,7 @@ impl Island {
             for m in &mut self.movers {
                 m.integrate_position(hs);
             }
-            self.update_gaps();
+            bundle::update_gaps(&mut self.bundles, &self.arms, &self.movers);
             self.pass(s.iterations, Sweep { soft: None, friction: true, ..biased });
             for bu in &self.bundles {
                 for l in 0..bu.lanes {
@@ -182,20 +196,6 @@ impl Island {
             }
         }
         worst
-    }
-
-    /// The rows' gaps where the bodies now are (positions move once a substep, so both passes use these).
-    fn update_gaps(&mut self) {
-        for bu in &mut self.bundles {
-            for l in 0..bu.lanes {
-                let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
-                for p in 0..bu.count[l] {
-                    let info = &self.infos[bu.info[l][p]];
-                    let row = &mut bu.rows[p];
-                    row.gap[l] = info.gap + row.normal_axis.dir_of(l).dot(&(b.moved(&info.rb) - a.moved(&info.ra)));
-                }
-            }
-        }
     }
 
     /// `iterations` sweeps; for an island of a large mass ratio, on until they settle (at most `MAX_SWEEPS`).
