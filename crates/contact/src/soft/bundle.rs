@@ -429,10 +429,10 @@ fn update_gaps_lanes(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
             let (mut dp, mut turn) = ([Wide::default(); 3], [[Wide::default(); 3]; 3]);
             for (l, &m) in side.iter().enumerate().take(bu.lanes) {
                 let m = &movers[m];
-                for i in 0..3 {
+                for (i, row) in turn.iter_mut().enumerate() {
                     dp[i].0[l] = m.dp[i];
-                    for j in 0..3 {
-                        turn[i][j].0[l] = m.turn[(i, j)];
+                    for (j, x) in row.iter_mut().enumerate() {
+                        x.0[l] = m.turn[(i, j)];
                     }
                 }
             }
