@@ -421,31 +421,42 @@ unsafe fn update_gaps_avx2(bundles: &mut [Bundle], arms: &[Arms], movers: &[Move
     update_gaps_lanes(bundles, arms, movers)
 }
 
+/// Each lane's body's displacement and turn since the step's start.
+#[inline(always)]
+fn motion(side: &[usize; W], lanes: usize, movers: &[Mover]) -> ([Wide; 3], [[Wide; 3]; 3]) {
+    let (mut dp, mut turn) = ([Wide::default(); 3], [[Wide::default(); 3]; 3]);
+    for (l, &m) in side.iter().enumerate().take(lanes) {
+        let m = &movers[m];
+        for (i, row) in turn.iter_mut().enumerate() {
+            dp[i].0[l] = m.dp[i];
+            for (j, x) in row.iter_mut().enumerate() {
+                x.0[l] = m.turn[(i, j)];
+            }
+        }
+    }
+    (dp, turn)
+}
+
+/// How far the material point at arm r moved: dp + turn r - r.
+#[inline(always)]
+fn moved(dp: &[Wide; 3], turn: &[[Wide; 3]; 3], r: &Vec3Lanes) -> [Wide; 3] {
+    let r = wide3(r);
+    let turned = times(turn, &r);
+    [dp[0] + (turned[0] - r[0]), dp[1] + (turned[1] - r[1]), dp[2] + (turned[2] - r[2])]
+}
+
+/// A matrix (by rows of lanes) times a vector.
+#[inline(always)]
+fn times(m: &[[Wide; 3]; 3], c: &[Wide; 3]) -> [Wide; 3] {
+    let row = |i: usize| m[i][0] * c[0] + m[i][1] * c[1] + m[i][2] * c[2];
+    [row(0), row(1), row(2)]
+}
+
 #[inline(always)]
 fn update_gaps_lanes(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
     for (bu, arm) in bundles.iter_mut().zip(arms) {
-        // each side's displacement and turn since the step's start, in lanes
-        let gather = |side: &[usize; W]| {
-            let (mut dp, mut turn) = ([Wide::default(); 3], [[Wide::default(); 3]; 3]);
-            for (l, &m) in side.iter().enumerate().take(bu.lanes) {
-                let m = &movers[m];
-                for (i, row) in turn.iter_mut().enumerate() {
-                    dp[i].0[l] = m.dp[i];
-                    for (j, x) in row.iter_mut().enumerate() {
-                        x.0[l] = m.turn[(i, j)];
-                    }
-                }
-            }
-            (dp, turn)
-        };
-        let (dpa, ta) = gather(&bu.a);
-        let (dpb, tb) = gather(&bu.b);
-        // how far the material point at arm r moved: dp + turn r - r
-        let moved = |dp: &[Wide; 3], t: &[[Wide; 3]; 3], r: &Vec3Lanes| {
-            let r = wide3(r);
-            let turned = |i: usize| t[i][0] * r[0] + t[i][1] * r[1] + t[i][2] * r[2];
-            [dp[0] + (turned(0) - r[0]), dp[1] + (turned(1) - r[1]), dp[2] + (turned(2) - r[2])]
-        };
+        let (dpa, ta) = motion(&bu.a, bu.lanes, movers);
+        let (dpb, tb) = motion(&bu.b, bu.lanes, movers);
         for p in 0..bu.points {
             let (ma, mb) = (moved(&dpa, &ta, &arm.ra[p]), moved(&dpb, &tb, &arm.rb[p]));
             let d = [mb[0] - ma[0], mb[1] - ma[1], mb[2] - ma[2]];
@@ -476,25 +487,24 @@ fn cross(a: &[Wide; 3], b: &[Wide; 3]) -> [Wide; 3] {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
+/// Each lane's body's inverse inertia.
+#[inline(always)]
+fn inertia(side: &[usize; W], lanes: usize, movers: &[Mover]) -> [[Wide; 3]; 3] {
+    let mut m = [[Wide::default(); 3]; 3];
+    for (l, &k) in side.iter().enumerate().take(lanes) {
+        for (i, row) in m.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                x.0[l] = movers[k].inv_inertia[(i, j)];
+            }
+        }
+    }
+    m
+}
+
 #[inline(always)]
 fn build_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
     for ((bu, fr), arm) in bundles.iter_mut().zip(frictions.iter_mut()).zip(arms) {
-        let inertia = |side: &[usize; W]| {
-            let mut m = [[Wide::default(); 3]; 3];
-            for (l, &k) in side.iter().enumerate().take(bu.lanes) {
-                for (i, row) in m.iter_mut().enumerate() {
-                    for (j, x) in row.iter_mut().enumerate() {
-                        x.0[l] = movers[k].inv_inertia[(i, j)];
-                    }
-                }
-            }
-            m
-        };
-        let (ia, ib) = (inertia(&bu.a), inertia(&bu.b));
-        let times = |m: &[[Wide; 3]; 3], c: &[Wide; 3]| {
-            let row = |i: usize| m[i][0] * c[0] + m[i][1] * c[1] + m[i][2] * c[2];
-            [row(0), row(1), row(2)]
-        };
+        let (ia, ib) = (inertia(&bu.a, bu.lanes, movers), inertia(&bu.b, bu.lanes, movers));
         let (ima, imb, zero) = (Wide(bu.ima), Wide(bu.imb), Wide::splat(0.0));
         for p in 0..bu.points {
             let used: [bool; W] = std::array::from_fn(|l| p < bu.count[l]);
