@@ -122,6 +122,12 @@ pub struct SoftStep {
     pub residual: f64,
 }
 
+thread_local! {
+    /// Each body's place among the members of the group being set up on this thread (usize::MAX: none), reset
+    /// after each group: a lookup a contact end without a search.
+    static LOCAL: std::cell::RefCell<Vec<usize>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// Contacts from which a step's batches are spread over threads.
 const PARALLEL_CONTACTS: usize = 1000;
 
@@ -189,18 +195,33 @@ pub fn soft_step(
     out.islands = islands.len();
     let (groups, converge) = batches(islands, bodies, contacts);
     let solve = |group: &Vec<usize>| -> Result<(Vec<usize>, Island), ContactError> {
-        let mut members: Vec<usize> = group.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]).collect();
-        members.sort_unstable();
-        members.dedup();
-        let movers = members.iter().map(|&b| Mover::new(&bodies[b])).collect();
-        let local = |b: usize| members.binary_search(&b).expect("a member of its island");
-        let cs: Vec<&Contact> = group.iter().map(|&i| &contacts[i]).collect();
-        let ws: Vec<SoftImpulse> = group.iter().map(|&i| warm[i]).collect();
-        // a batch of several islands converges only if it is one island that needs to (`batches`)
-        let converge = group.first().is_some_and(|i| converge[*i]);
-        let mut island = Island::new(movers, bodies, &cs, local, &ws, converge);
-        island.solve(h, settings);
-        Ok((members, island))
+        LOCAL.with(|slots| {
+            let slots = &mut *slots.borrow_mut();
+            if slots.len() < bodies.len() {
+                slots.resize(bodies.len(), usize::MAX);
+            }
+            // the group's bodies in order of first appearance, each given its place
+            let mut members: Vec<usize> = Vec::new();
+            for &i in group {
+                for b in [contacts[i].a, contacts[i].b] {
+                    if slots[b] == usize::MAX {
+                        slots[b] = members.len();
+                        members.push(b);
+                    }
+                }
+            }
+            let movers = members.iter().map(|&b| Mover::new(&bodies[b])).collect();
+            let cs: Vec<&Contact> = group.iter().map(|&i| &contacts[i]).collect();
+            let ws: Vec<SoftImpulse> = group.iter().map(|&i| warm[i]).collect();
+            // a batch of several islands converges only if it is one island that needs to (`batches`)
+            let converge = group.first().is_some_and(|i| converge[*i]);
+            let mut island = Island::new(movers, bodies, &cs, |b| slots[b], &ws, converge);
+            for &b in &members {
+                slots[b] = usize::MAX;
+            }
+            island.solve(h, settings);
+            Ok((members, island))
+        })
     };
     // a soft row costs tens of nanoseconds a sweep: threads pay from about a thousand contacts (measured: the pile of
     // 100 cubes, 400 contacts, 0.50 ms a step on one thread and 0.54-0.60 on two; 1,000 cubes 7.0-8.3 and 5.3-6.3)
