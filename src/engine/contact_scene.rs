@@ -92,6 +92,8 @@ pub(crate) struct ContactScene {
     pub inert: Vec<bool>,
     /// Manifolds kept across steps (fast mode's soft step), or none: every pair computed every time.
     pub cache: Option<ManifoldCache>,
+    /// Contacts the last call found: room made for as many (a growing list of contacts would copy them).
+    found_last: usize,
 }
 
 fn collider_entry(actor: Actor, c: &Collider, material: Material) -> SceneCollider {
@@ -147,6 +149,7 @@ impl ContactScene {
             checks: 0,
             inert,
             cache: None,
+            found_last: 0,
         })
     }
 
@@ -256,7 +259,7 @@ impl ContactScene {
         poses: &[Isometry3<f64>],
         prediction: impl Fn(usize, usize) -> f64,
     ) -> Vec<Found> {
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(self.found_last + self.found_last / 8);
         let mut cache = self.cache.take();
         for &(i, j) in pairs {
             let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
@@ -321,6 +324,7 @@ impl ContactScene {
             cache.finish();
         }
         self.cache = cache;
+        self.found_last = out.len();
         out
     }
 

@@ -39,10 +39,7 @@ impl FastEngine {
         self.report.collision_checks += scene.checks - checks;
         self.report.stages.mark(Stage::CollisionDetection);
         self.report.collision_seconds += clock.elapsed().as_secs_f64();
-        let found: Vec<Found> = found
-            .into_iter()
-            .filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic())
-            .collect();
+        found.retain(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic());
         self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
         Ok(found)
     }
