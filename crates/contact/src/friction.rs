@@ -182,7 +182,7 @@ fn step(
 
 /// The machine's cores, asked once (the standard library reads the cgroup files on every call: a few per cent of a
 /// fast step's time when asked every step).
-fn cores() -> usize {
+pub(crate) fn cores() -> usize {
     static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }

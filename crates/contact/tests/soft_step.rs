@@ -176,6 +176,67 @@ fn islands_give_the_same_bits_on_any_thread_count() {
 }
 
 #[test]
+fn one_large_island_gives_the_same_bits_on_any_thread_count() {
+    // A 16 x 16 grid of boxes on the ground, each touching its right and back neighbours: one island of 1,504
+    // contacts, past the 1,000 from which an island's colours are spread over threads. Seeded random masses (1 to
+    // 8 kg: a mass ratio under 10, whose passes have a fixed number of sweeps, the ones spread), velocities, spins, gaps, frictions, restitutions and warm starts, and a kinematic box moving through
+    // one corner (read by several rows, written by none).
+    let mut seed = 99u64;
+    let mut next = move |lo: f64, hi: f64| {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    let mut bodies = vec![BodyState::fixed(Point3::origin())];
+    let mut kinematic = BodyState::fixed(Point3::new(-1.0, -1.0, 0.5));
+    kinematic.velocity = Vector3::new(0.3, 0.2, 0.0);
+    bodies.push(kinematic);
+    let index = |i: usize, j: usize| 2 + 16 * i + j;
+    let (mut contacts, mut warm) = (Vec::new(), Vec::new());
+    for i in 0..16 {
+        for j in 0..16 {
+            let m = 10f64.powf(next(0.0, 0.9));
+            let (x, y) = (1.0 * i as f64, 1.0 * j as f64);
+            let mut b = BodyState::rigid(m, Matrix3::identity() * (m / 6.0), Point3::new(x, y, 0.5));
+            b.force = Vector3::new(0.0, 0.0, -m * G);
+            b.velocity = Vector3::new(next(-0.5, 0.5), next(-0.5, 0.5), next(-0.5, 0.0));
+            b.angular_velocity = Vector3::new(next(-1.0, 1.0), next(-1.0, 1.0), next(-1.0, 1.0));
+            bodies.push(b);
+            let me = index(i, j);
+            let mut touch = |a: usize, p: Point3<f64>, n: Vector3<f64>, scale: f64| {
+                let c = Contact::new(a, me, p, nalgebra::Unit::new_normalize(n));
+                contacts.push(
+                    c.with_friction(next(0.0, 1.0)).with_restitution(next(0.0, 0.5)).with_distance(next(-1e-3, 1e-3)),
+                );
+                warm.push(SoftImpulse {
+                    normal: next(0.0, scale),
+                    tangent: Vector3::new(next(-1.0, 1.0), next(-1.0, 1.0), 0.0),
+                });
+            };
+            for (cx, cy) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {
+                touch(0, Point3::new(x + cx, y + cy, 0.0), Vector3::z(), m * G * H);
+            }
+            if i > 0 {
+                touch(index(i - 1, j), Point3::new(x - 0.5, y, 0.5), Vector3::x(), 1.0);
+            }
+            if j > 0 {
+                touch(index(i, j - 1), Point3::new(x, y - 0.5, 0.5), Vector3::y(), 1.0);
+            }
+            if i == 0 && j == 0 {
+                touch(1, Point3::new(x - 0.5, y - 0.5, 0.5), Vector3::new(1.0, 1.0, 0.0), 1.0);
+            }
+        }
+    }
+    assert_eq!(contacts.len(), 1024 + 2 * 16 * 15 + 1);
+    let run =
+        |threads| soft_step(&bodies, &contacts, &warm, H, &SoftSettings { threads, ..Default::default() }).unwrap();
+    let one = run(1);
+    assert_eq!(one.islands, 1);
+    for threads in [2, 3, 4, 0] {
+        assert_eq!(run(threads), one, "{threads} threads");
+    }
+}
+
+#[test]
 fn islands_solved_together_give_the_bits_each_gives_alone() {
     // The soft step gathers small islands into batches whose rows it sweeps side by side. Seeded random stacks of
     // one to three boxes (masses 1 to 1000 kg, so some stacks have the large mass ratio that sweeps until settled),

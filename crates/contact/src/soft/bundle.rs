@@ -193,6 +193,8 @@ pub(crate) struct Bundle {
     pub imb: Lanes,
     /// Against a static or kinematic body (stiffer softness).
     pub fixed: [bool; W],
+    /// Whether each lane's bodies A and B move (can take an impulse).
+    pub moves: [(bool, bool); W],
     pub rows: [PointLanes; P],
 }
 
@@ -237,8 +239,9 @@ struct Gathered {
 }
 
 impl Gathered {
+    /// SAFETY: as `MoverPtr::get` for the bundle's bodies.
     #[inline(always)]
-    fn new(bundle: &Bundle, movers: &[Mover]) -> Gathered {
+    unsafe fn new(bundle: &Bundle, movers: MoverPtr) -> Gathered {
         let mut g = Gathered {
             va: [Wide::default(); 3],
             wa: [Wide::default(); 3],
@@ -248,7 +251,7 @@ impl Gathered {
             imb: Wide(bundle.imb),
         };
         for l in 0..bundle.lanes {
-            let (a, b) = (&movers[bundle.a[l]], &movers[bundle.b[l]]);
+            let (a, b) = (movers.get(bundle.a[l]), movers.get(bundle.b[l]));
             for i in 0..3 {
                 g.va[i].0[l] = a.v[i];
                 g.wa[i].0[l] = a.w[i];
@@ -259,22 +262,51 @@ impl Gathered {
         g
     }
 
-    /// Writes the used lanes back (B after A: a row's two bodies differ, and rows of a bundle share no moving
-    /// body; a static body shared by lanes keeps its zero velocities).
+    /// Writes the used lanes' moving bodies back (an impulse changes nothing on a static or kinematic body, which
+    /// several lanes, and threads, may share). SAFETY: as `MoverPtr::set` for the bundle's moving bodies.
     #[inline(always)]
-    fn scatter(&self, bundle: &Bundle, movers: &mut [Mover]) {
+    unsafe fn scatter(&self, bundle: &Bundle, movers: MoverPtr) {
+        let lane = |x: &[Wide; 3], l: usize| [x[0].0[l], x[1].0[l], x[2].0[l]];
         for l in 0..bundle.lanes {
-            let a = &mut movers[bundle.a[l]];
-            for i in 0..3 {
-                a.v[i] = self.va[i].0[l];
-                a.w[i] = self.wa[i].0[l];
+            if bundle.moves[l].0 {
+                movers.set(bundle.a[l], lane(&self.va, l), lane(&self.wa, l));
             }
-            let b = &mut movers[bundle.b[l]];
-            for i in 0..3 {
-                b.v[i] = self.vb[i].0[l];
-                b.w[i] = self.wb[i].0[l];
+            if bundle.moves[l].1 {
+                movers.set(bundle.b[l], lane(&self.vb, l), lane(&self.wb, l));
             }
         }
+    }
+}
+
+/// The island's bodies as sweeps reach them: by index through a pointer, so that threads sweeping different
+/// bundles of one colour can share them (`parallel.rs`): such bundles touch different moving bodies, and bodies that
+/// do not move are read, never written.
+#[derive(Clone, Copy)]
+pub(crate) struct MoverPtr(*mut Mover, usize);
+
+// SAFETY: see the type: the threads that share it reach disjoint moving bodies between barriers.
+unsafe impl Send for MoverPtr {}
+unsafe impl Sync for MoverPtr {}
+
+impl MoverPtr {
+    pub fn from_raw(movers: *mut Mover, len: usize) -> MoverPtr {
+        MoverPtr(movers, len)
+    }
+
+    /// Body `i`. SAFETY: no thread writes it meanwhile.
+    #[inline(always)]
+    unsafe fn get(&self, i: usize) -> &Mover {
+        assert!(i < self.1, "a body of the island");
+        &*self.0.add(i)
+    }
+
+    /// Body `i`'s velocities set. SAFETY: no other thread reaches it meanwhile.
+    #[inline(always)]
+    unsafe fn set(&self, i: usize, v: [f64; 3], w: [f64; 3]) {
+        assert!(i < self.1, "a body of the island");
+        let m = self.0.add(i);
+        (*m).v = v.into();
+        (*m).w = w.into();
     }
 }
 
@@ -304,10 +336,22 @@ fn avx2() -> bool {
 /// One sweep over the bundles in order: normal rows with the soft bias or rigid, then friction (Coulomb's circle)
 /// if asked. Returns the largest change of a normal impulse.
 pub(crate) fn sweep(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], movers: &mut [Mover], s: Sweep) -> f64 {
+    // SAFETY: the bodies are this thread's alone.
+    unsafe { sweep_shared(bundles, frictions, MoverPtr::from_raw(movers.as_mut_ptr(), movers.len()), s) }
+}
+
+/// `sweep` through shared bodies. SAFETY: no other thread reaches the bundles' moving bodies meanwhile, nor writes
+/// their other bodies.
+pub(crate) unsafe fn sweep_shared(
+    bundles: &mut [Bundle],
+    frictions: &mut [FrictionBundle],
+    movers: MoverPtr,
+    s: Sweep,
+) -> f64 {
     #[cfg(target_arch = "x86_64")]
     if avx2() {
-        // SAFETY: the processor has AVX2 (checked just above); the function is otherwise ordinary safe code.
-        return unsafe { sweep_avx2(bundles, frictions, movers, s) };
+        // the processor has AVX2 (checked just above)
+        return sweep_avx2(bundles, frictions, movers, s);
     }
     sweep_lanes(bundles, frictions, movers, s)
 }
@@ -315,12 +359,12 @@ pub(crate) fn sweep(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], mo
 /// `sweep_lanes` compiled for AVX2. No fused multiply-add: the bits are those of the portable build.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn sweep_avx2(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], movers: &mut [Mover], s: Sweep) -> f64 {
+unsafe fn sweep_avx2(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], movers: MoverPtr, s: Sweep) -> f64 {
     sweep_lanes(bundles, frictions, movers, s)
 }
 
 #[inline(always)]
-fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], movers: &mut [Mover], s: Sweep) -> f64 {
+unsafe fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], movers: MoverPtr, s: Sweep) -> f64 {
     let mut change = Wide::default();
     let (zero, one) = (Wide::splat(0.0), Wide::splat(1.0));
     for (bu, fr) in bundles.iter_mut().zip(frictions.iter_mut()) {
@@ -377,22 +421,27 @@ fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], movers:
 
 /// Applies every point's carried impulses (normal, then the two tangents), bundle by bundle.
 pub(crate) fn warm_start(bundles: &[Bundle], frictions: &[FrictionBundle], movers: &mut [Mover]) {
+    // SAFETY: the bodies are this thread's alone.
+    unsafe { warm_start_shared(bundles, frictions, MoverPtr::from_raw(movers.as_mut_ptr(), movers.len())) }
+}
+
+/// `warm_start` through shared bodies. SAFETY: as `sweep_shared`.
+pub(crate) unsafe fn warm_start_shared(bundles: &[Bundle], frictions: &[FrictionBundle], movers: MoverPtr) {
     #[cfg(target_arch = "x86_64")]
     if avx2() {
-        // SAFETY: as in `sweep`.
-        return unsafe { warm_start_avx2(bundles, frictions, movers) };
+        return warm_start_avx2(bundles, frictions, movers);
     }
     warm_start_lanes(bundles, frictions, movers)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn warm_start_avx2(bundles: &[Bundle], frictions: &[FrictionBundle], movers: &mut [Mover]) {
+unsafe fn warm_start_avx2(bundles: &[Bundle], frictions: &[FrictionBundle], movers: MoverPtr) {
     warm_start_lanes(bundles, frictions, movers)
 }
 
 #[inline(always)]
-fn warm_start_lanes(bundles: &[Bundle], frictions: &[FrictionBundle], movers: &mut [Mover]) {
+unsafe fn warm_start_lanes(bundles: &[Bundle], frictions: &[FrictionBundle], movers: MoverPtr) {
     for (bu, fr) in bundles.iter().zip(frictions) {
         let mut v = Gathered::new(bu, movers);
         for (row, f) in bu.rows[..bu.points].iter().zip(&fr.points) {

@@ -14,7 +14,7 @@ pub(crate) const COLOURS: u32 = 64;
 /// a colour; each row as (its colour, its place in `pairs`).
 pub(crate) fn colour_order(pairs: &[(usize, usize)], movers: &[Mover]) -> Vec<(u32, usize)> {
     let mut taken = vec![0u64; movers.len()];
-    let moving = |m: usize| movers[m].inv_mass > 0.0 || !movers[m].still_inertia();
+    let moving = |m: usize| movers[m].moves();
     let colours: Vec<u32> = pairs
         .iter()
         .map(|&(a, b)| {

@@ -7,6 +7,7 @@
 
 use super::bundle::{self, Arms, Bundle, FrictionBundle, Sweep, P, W};
 use super::colour::{colour_order, COLOURS};
+use super::parallel::{self, Substeps};
 use super::row::{Mover, RowInfo};
 use super::softness::Softness;
 use super::{SoftImpulse, SoftSettings};
@@ -23,6 +24,9 @@ pub(crate) struct Island {
     pub frictions: Vec<FrictionBundle>,
     arms: Vec<Arms>,
     pub infos: Vec<RowInfo>,
+    /// The bundles of each colour in sweep order, and whether it is the last colour (`COLOURS`, whose manifolds may
+    /// share bodies).
+    colours: Vec<(std::ops::Range<usize>, bool)>,
     /// Whether its passes sweep on until the impulses settle (an island of a large mass ratio, `converges`).
     converge: bool,
 }
@@ -94,6 +98,7 @@ impl Island {
             bu.ima[l] = ma.inv_mass;
             bu.imb[l] = mb.inv_mass;
             bu.fixed[l] = ma.inv_mass == 0.0 || mb.inv_mass == 0.0;
+            bu.moves[l] = (ma.moves(), mb.moves());
             bu.count[l] = manifolds[m].len();
             bu.points = bu.points.max(manifolds[m].len());
             for (p, &(_, _, index)) in manifolds[m].iter().enumerate() {
@@ -123,6 +128,19 @@ impl Island {
             }
         }
         bundle::build(&mut bundles, &mut frictions, &arms, &movers);
+        // each bundle's colour is its first manifold's
+        let mut of_bundle: Vec<u32> = Vec::with_capacity(count);
+        for (&(c, _), &(k, _)) in order.iter().zip(&slots) {
+            if k == of_bundle.len() {
+                of_bundle.push(c);
+            }
+        }
+        let mut colours = Vec::new();
+        let mut start = 0;
+        for run in of_bundle.chunk_by(|x, y| x == y) {
+            colours.push((start..start + run.len(), run[0] == COLOURS));
+            start += run.len();
+        }
         // each point's normal speed at the step's start (for restitution)
         for bu in &bundles {
             for l in 0..bu.lanes {
@@ -132,7 +150,7 @@ impl Island {
                 }
             }
         }
-        Island { movers, bundles, frictions, arms, infos, converge }
+        Island { movers, bundles, frictions, arms, infos, colours, converge }
     }
 
     /// Each used point of the bundles: (bundle, lane, point).
@@ -144,12 +162,29 @@ impl Island {
     }
 
     /// The substeps of a step of h.
-    pub fn solve(&mut self, h: f64, s: &SoftSettings) {
+    /// The substeps of a step of h, on `threads` threads (graph colour by graph colour, `parallel.rs`) if more than
+    /// one and the island's passes are of a fixed number of sweeps; the same bits on any number.
+    pub fn solve(&mut self, h: f64, s: &SoftSettings, threads: usize) {
         let n = s.substeps.max(1);
         let hs = h / n as f64;
         let hertz = s.contact_hertz.min(0.25 / hs);
         let soft = Softness::new(hertz, s.damping_ratio, hs);
         let stiff = Softness::new(2.0 * hertz, s.damping_ratio, hs);
+        if threads > 1 && !self.converge {
+            let biased = Sweep { hs, soft: Some((&soft, &stiff)), max_push: s.max_push_out, friction: false };
+            let relax = Sweep { soft: None, friction: true, ..biased };
+            let island = Substeps {
+                movers: &mut self.movers,
+                bundles: &mut self.bundles,
+                frictions: &mut self.frictions,
+                arms: &self.arms,
+                infos: &mut self.infos,
+                colours: &self.colours,
+            };
+            parallel::substeps(island, n, hs, (s.iterations.max(1), biased, relax), threads);
+            self.restitution(s.bounce_threshold);
+            return;
+        }
         for _ in 0..n {
             for m in &mut self.movers {
                 m.integrate_velocity(hs);

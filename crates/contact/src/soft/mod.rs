@@ -14,13 +14,14 @@
 mod bundle;
 mod colour;
 mod island;
+mod parallel;
 mod row;
 mod softness;
 
 use crate::body::BodyState;
 use crate::contact::{check_all, Contact};
 use crate::error::ContactError;
-use crate::friction::in_parallel;
+use crate::friction::{cores, in_parallel};
 use crate::impulse::BodyVelocity;
 use crate::islands::islands;
 use island::Island;
@@ -131,6 +132,9 @@ thread_local! {
 /// Contacts from which a step's batches are spread over threads.
 const PARALLEL_CONTACTS: usize = 1000;
 
+/// Contacts from which one island is solved on all the threads, colour by colour.
+const COLOUR_THREADS: usize = 1000;
+
 /// Rows a batch of islands gathers before it is closed.
 const BATCH_ROWS: usize = 256;
 
@@ -194,7 +198,7 @@ pub fn soft_step(
     let islands = islands(bodies, contacts);
     out.islands = islands.len();
     let (groups, converge) = batches(islands, bodies, contacts);
-    let solve = |group: &Vec<usize>| -> Result<(Vec<usize>, Island), ContactError> {
+    let solve = |group: &Vec<usize>, threads: usize| -> Result<(Vec<usize>, Island), ContactError> {
         LOCAL.with(|slots| {
             let slots = &mut *slots.borrow_mut();
             if slots.len() < bodies.len() {
@@ -219,13 +223,27 @@ pub fn soft_step(
             for &b in &members {
                 slots[b] = usize::MAX;
             }
-            island.solve(h, settings);
+            island.solve(h, settings, threads);
             Ok((members, island))
         })
     };
     // a soft row costs tens of nanoseconds a sweep: threads pay from about a thousand contacts (measured: the pile of
     // 100 cubes, 400 contacts, 0.50 ms a step on one thread and 0.54-0.60 on two; 1,000 cubes 7.0-8.3 and 5.3-6.3)
-    let solved = in_parallel(&groups, (contacts.len(), PARALLEL_CONTACTS), settings.threads, solve);
+    // a group of many contacts is solved on all the threads, graph colour by graph colour; the others island by
+    // island on them
+    let threads = if settings.threads == 0 { cores() } else { settings.threads };
+    let whole = |g: &Vec<usize>| threads > 1 && g.len() >= COLOUR_THREADS && !converge[g[0]];
+    let solved: Vec<Result<(Vec<usize>, Island), ContactError>> = if groups.iter().any(whole) {
+        let rest: Vec<Vec<usize>> = groups.iter().filter(|g| !whole(g)).cloned().collect();
+        let mut rest =
+            in_parallel(&rest, (contacts.len(), PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1)).into_iter();
+        groups
+            .iter()
+            .map(|g| if whole(g) { solve(g, threads) } else { rest.next().expect("one result a group") })
+            .collect()
+    } else {
+        in_parallel(&groups, (contacts.len(), PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1))
+    };
     let mut velocities: Vec<Option<BodyVelocity>> = vec![None; bodies.len()];
     for (group, result) in groups.iter().zip(solved) {
         let (members, island) = result?;

@@ -65,6 +65,11 @@ impl Mover {
         }
     }
 
+    /// Whether an impulse can change its velocities (a positive inverse mass or inertia: a dynamic body).
+    pub fn moves(&self) -> bool {
+        self.inv_mass > 0.0 || !self.still_inertia()
+    }
+
     /// Whether no impulse can turn it (a zero inverse inertia: static and kinematic bodies).
     pub fn still_inertia(&self) -> bool {
         self.inv_inertia == Matrix3::zeros()
