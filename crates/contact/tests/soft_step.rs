@@ -3,6 +3,8 @@
 //! ground decelerates at mu g, a particle landing with restitution e leaves at e times its closing speed, a box
 //! approaching from a gap stops at it (speculative contact), and islands give the same bits on any thread count.
 
+mod common;
+
 use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};
 use tumble_contact::{soft_step, velocity_step_lagged, BodyState, Contact, SoftImpulse, SoftSettings, StepSettings};
 
@@ -177,15 +179,13 @@ fn islands_give_the_same_bits_on_any_thread_count() {
 
 #[test]
 fn one_large_island_gives_the_same_bits_on_any_thread_count() {
-    // A 16 x 16 grid of boxes on the ground, each touching its right and back neighbours: one island of 1,504
+    // A 16 x 16 grid of boxes on the ground, each touching its right and back neighbours: one island of 1,505
     // contacts, past the 1,000 from which an island's colours are spread over threads. Seeded random masses (1 to
-    // 8 kg: a mass ratio under 10, whose passes have a fixed number of sweeps, the ones spread), velocities, spins, gaps, frictions, restitutions and warm starts, and a kinematic box moving through
-    // one corner (read by several rows, written by none).
-    let mut seed = 99u64;
-    let mut next = move |lo: f64, hi: f64| {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
-    };
+    // 8 kg: a mass ratio under 10, whose passes have a fixed number of sweeps, the ones spread), velocities, spins,
+    // gaps, frictions, restitutions and warm starts, and a kinematic box moving through one corner (read by several
+    // rows, written by none).
+    let mut uniform = common::uniform(99);
+    let mut next = move |lo: f64, hi: f64| lo + (hi - lo) * uniform();
     let mut bodies = vec![BodyState::fixed(Point3::origin())];
     let mut kinematic = BodyState::fixed(Point3::new(-1.0, -1.0, 0.5));
     kinematic.velocity = Vector3::new(0.3, 0.2, 0.0);
@@ -242,11 +242,8 @@ fn islands_solved_together_give_the_bits_each_gives_alone() {
     // one to three boxes (masses 1 to 1000 kg, so some stacks have the large mass ratio that sweeps until settled),
     // random velocities, spins, gaps, materials and warm starts: every body's velocities, displacement and turn,
     // and every contact's impulses, must be the bits the same stack gives solved on its own.
-    let mut seed = 2026u64;
-    let mut next = move |lo: f64, hi: f64| {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
-    };
+    let mut uniform = common::uniform(2026);
+    let mut next = move |lo: f64, hi: f64| lo + (hi - lo) * uniform();
     let mut bodies = vec![BodyState::fixed(Point3::origin())];
     let (mut contacts, mut warm, mut stacks) = (Vec::new(), Vec::new(), Vec::new());
     for s in 0..150 {

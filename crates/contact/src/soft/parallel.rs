@@ -53,6 +53,15 @@ fn share(range: &Range<usize>, t: usize, threads: usize) -> Range<usize> {
     range.start + n * t / threads..range.start + n * (t + 1) / threads
 }
 
+/// Thread t's share of a colour's bundles: all of the last colour's (whose manifolds may share bodies) to thread 0.
+fn colour_share(range: &Range<usize>, last: bool, t: usize, threads: usize) -> Range<usize> {
+    match (last, t) {
+        (true, 0) => range.clone(),
+        (true, _) => 0..0,
+        (false, _) => share(range, t, threads),
+    }
+}
+
 /// A slice's elements as several threads reach them: disjoint ranges each, never the same element at once.
 #[derive(Clone, Copy)]
 struct Shared<T>(*mut T, usize);
@@ -109,15 +118,7 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: (usize, Swee
         // barrier; static and kinematic bodies are never written), and ends at the barrier.
         let sweep_colours = |how: Sweep| {
             for (range, last) in colours {
-                let mine = if *last {
-                    if t == 0 {
-                        range.clone()
-                    } else {
-                        0..0
-                    }
-                } else {
-                    share(range, t, threads)
-                };
+                let mine = colour_share(range, *last, t, threads);
                 unsafe {
                     bundle::sweep_shared(bundles.range(mine.clone()), frictions.range(mine), pointer, how);
                 }
@@ -130,15 +131,7 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: (usize, Swee
             }
             barrier.wait();
             for (range, last) in colours {
-                let mine = if *last {
-                    if t == 0 {
-                        range.clone()
-                    } else {
-                        0..0
-                    }
-                } else {
-                    share(range, t, threads)
-                };
+                let mine = colour_share(range, *last, t, threads);
                 unsafe {
                     bundle::warm_start_shared(bundles.range(mine.clone()), frictions.range(mine), pointer);
                 }
