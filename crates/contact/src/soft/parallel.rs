@@ -12,19 +12,37 @@
 use super::bundle::{self, Arms, Bundle, FrictionBundle, MoverPtr, Sweep};
 use super::row::{Mover, RowInfo};
 use std::ops::Range;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// A barrier that spins (the waits are microseconds), yielding the core after a while so that more threads than
-/// cores still progress.
+/// cores still progress. A thread that panics poisons it (`Poison`), and the others then panic instead of waiting
+/// for it forever.
 pub(crate) struct SpinBarrier {
     threads: usize,
     arrived: AtomicUsize,
     generation: AtomicUsize,
+    poisoned: AtomicBool,
+}
+
+/// Poisons the barrier if its thread unwinds while it is held.
+pub(crate) struct Poison<'a>(pub &'a SpinBarrier);
+
+impl Drop for Poison<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.poisoned.store(true, Ordering::Release);
+        }
+    }
 }
 
 impl SpinBarrier {
     pub fn new(threads: usize) -> SpinBarrier {
-        SpinBarrier { threads, arrived: AtomicUsize::new(0), generation: AtomicUsize::new(0) }
+        SpinBarrier {
+            threads,
+            arrived: AtomicUsize::new(0),
+            generation: AtomicUsize::new(0),
+            poisoned: AtomicBool::new(false),
+        }
     }
 
     /// Returns once every thread has called it (the writes of each before its call are seen by all after).
@@ -37,6 +55,9 @@ impl SpinBarrier {
         }
         let mut spins = 0u32;
         while self.generation.load(Ordering::Acquire) == generation {
+            if self.poisoned.load(Ordering::Acquire) {
+                panic!("another thread of the island's solve panicked");
+            }
             if spins < 4096 {
                 std::hint::spin_loop();
                 spins += 1;
@@ -113,6 +134,7 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: (usize, Swee
     let all_movers = 0..movers.1;
     let all_bundles = 0..bundles.1;
     let run = |t: usize| {
+        let _poison = Poison(&barrier);
         // SAFETY (every block below): each stage reaches disjoint shares (`share`) of the bodies or of a colour's
         // bundles, reads bodies through `pointer` only where no thread writes them (other colours' are behind a
         // barrier; static and kinematic bodies are never written), and ends at the barrier.
@@ -175,4 +197,41 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: (usize, Swee
         }
         run(0);
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_thread_that_panics_does_not_leave_the_others_waiting() {
+        // Two threads share a barrier; one panics before reaching it. The other must not wait forever: it panics
+        // too, and the scope hands the panic to the caller.
+        let barrier = SpinBarrier::new(2);
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            std::thread::scope(|scope| {
+                scope.spawn(|| {
+                    let _poison = Poison(&barrier);
+                    panic!("a failing share");
+                });
+                let _poison = Poison(&barrier);
+                barrier.wait();
+            })
+        }));
+        assert!(outcome.is_err());
+        // and a barrier that no thread poisons lets its threads through, stage after stage
+        let barrier = SpinBarrier::new(3);
+        let passed = AtomicUsize::new(0);
+        std::thread::scope(|scope| {
+            for _ in 0..3 {
+                scope.spawn(|| {
+                    for _ in 0..100 {
+                        barrier.wait();
+                    }
+                    passed.fetch_add(1, Ordering::Relaxed);
+                });
+            }
+        });
+        assert_eq!(passed.load(Ordering::Relaxed), 3);
+    }
 }
