@@ -6,7 +6,7 @@
 //! time.
 
 use super::bundle::{self, Arms, Bundle, FrictionBundle, Sweep, P, W};
-use super::colour::{colour_order, COLOURS};
+use super::colour::{colours, COLOURS};
 use super::parallel::{self, Substeps};
 use super::row::{Mover, RowInfo};
 use super::softness::Softness;
@@ -67,7 +67,7 @@ impl Island {
         let manifold_pairs: Vec<(usize, usize)> = manifolds.iter().map(|m| (m[0].0, m[0].1)).collect();
         // colour by colour; within a colour, the fullest manifolds first (so that a bundle's lanes have as many
         // points as each other), then in order
-        let mut order = colour_order(&manifold_pairs, &movers);
+        let mut order: Vec<(u32, usize)> = colours(&manifold_pairs, &movers).into_iter().zip(0..).collect();
         order.sort_unstable_by_key(|&(colour, m)| (colour, P - manifolds[m].len(), m));
         let mut infos = Vec::with_capacity(contacts.len());
         // each manifold's bundle and lane: a new bundle at each colour, when full, and for every manifold of the
@@ -135,10 +135,10 @@ impl Island {
                 of_bundle.push(c);
             }
         }
-        let mut colours = Vec::new();
+        let mut by_colour = Vec::new();
         let mut start = 0;
         for run in of_bundle.chunk_by(|x, y| x == y) {
-            colours.push((start..start + run.len(), run[0] == COLOURS));
+            by_colour.push((start..start + run.len(), run[0] == COLOURS));
             start += run.len();
         }
         // each point's normal speed at the step's start (for restitution)
@@ -150,7 +150,7 @@ impl Island {
                 }
             }
         }
-        Island { movers, bundles, frictions, arms, infos, colours, converge }
+        Island { movers, bundles, frictions, arms, infos, colours: by_colour, converge }
     }
 
     /// Each used point of the bundles: (bundle, lane, point).

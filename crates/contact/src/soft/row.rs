@@ -20,6 +20,8 @@ pub(crate) struct Mover {
     /// Rotation since the step's start, and as a matrix.
     pub dq: UnitQuaternion<f64>,
     pub turn: Matrix3<f64>,
+    /// Whether an impulse can change its velocities (a positive inverse mass or inertia: a dynamic body).
+    moving: bool,
 }
 
 impl Mover {
@@ -40,6 +42,7 @@ impl Mover {
             dp: Vector3::zeros(),
             dq: UnitQuaternion::identity(),
             turn: Matrix3::identity(),
+            moving: b.inv_mass > 0.0 || b.inv_inertia != Matrix3::zeros(),
         }
     }
 
@@ -66,13 +69,9 @@ impl Mover {
     }
 
     /// Whether an impulse can change its velocities (a positive inverse mass or inertia: a dynamic body).
+    #[inline]
     pub fn moves(&self) -> bool {
-        self.inv_mass > 0.0 || !self.still_inertia()
-    }
-
-    /// Whether no impulse can turn it (a zero inverse inertia: static and kinematic bodies).
-    pub fn still_inertia(&self) -> bool {
-        self.inv_inertia == Matrix3::zeros()
+        self.moving
     }
 }
 
