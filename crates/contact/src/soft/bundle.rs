@@ -15,96 +15,16 @@
 use super::row::Mover;
 use super::softness::Softness;
 
-/// Rows in a bundle.
-pub(crate) const W: usize = 8;
-
-/// One value per lane.
-pub(crate) type Lanes = [f64; W];
-
-/// A vector per lane, by component.
-pub(crate) type Vec3Lanes = [Lanes; 3];
-
-/// W f64 lanes with lane-wise arithmetic, which the compiler turns into vector instructions (each lane's result is
-/// exactly the scalar operation's: no fused multiply-add).
-#[derive(Clone, Copy, Debug, Default)]
-struct Wide([f64; W]);
-
-macro_rules! lanewise {
-    ($trait:ident, $fn:ident, $op:tt) => {
-        impl std::ops::$trait for Wide {
-            type Output = Wide;
-            #[inline(always)]
-            fn $fn(self, o: Wide) -> Wide {
-                let (a, b) = (self.0, o.0);
-                Wide(std::array::from_fn(|l| a[l] $op b[l]))
-            }
-        }
-    };
-}
-lanewise!(Add, add, +);
-lanewise!(Sub, sub, -);
-lanewise!(Mul, mul, *);
-lanewise!(Div, div, /);
-
-impl Wide {
-    #[inline(always)]
-    fn splat(x: f64) -> Wide {
-        Wide([x; W])
-    }
-    #[inline(always)]
-    fn neg(self) -> Wide {
-        let a = self.0;
-        Wide(std::array::from_fn(|l| -a[l]))
-    }
-    #[inline(always)]
-    fn max(self, o: Wide) -> Wide {
-        let (a, b) = (self.0, o.0);
-        Wide(std::array::from_fn(|l| a[l].max(b[l])))
-    }
-    #[inline(always)]
-    fn abs(self) -> Wide {
-        let a = self.0;
-        Wide(std::array::from_fn(|l| a[l].abs()))
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Wide {
-        let a = self.0;
-        Wide(std::array::from_fn(|l| a[l].sqrt()))
-    }
-    /// Lanes where self > o.
-    #[inline(always)]
-    fn gt(self, o: Wide) -> [bool; W] {
-        let (a, b) = (self.0, o.0);
-        std::array::from_fn(|l| a[l] > b[l])
-    }
-    /// `yes` where `m`, else `no`.
-    #[inline(always)]
-    fn select(m: [bool; W], yes: Wide, no: Wide) -> Wide {
-        let (a, b) = (yes.0, no.0);
-        Wide(std::array::from_fn(|l| if m[l] { a[l] } else { b[l] }))
-    }
-}
-
-/// Lanes of a vector's components.
-#[inline(always)]
-fn wide3(v: &Vec3Lanes) -> [Wide; 3] {
-    [Wide(v[0]), Wide(v[1]), Wide(v[2])]
-}
-
-/// The dot product lane by lane ((x0 y0 + x1 y1) + x2 y2, as nalgebra sums).
-#[inline(always)]
-fn dot(x: &[Wide; 3], y: &[Wide; 3]) -> Wide {
-    x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
-}
-
+use super::wide::{dot, wide3, Wide};
+pub(crate) use super::wide::{Lanes, Vec3Lanes, W};
 /// One constraint axis of each lane's row (see `Axis`).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AxisLanes {
     pub dir: Vec3Lanes,
-    ca: Vec3Lanes,
-    cb: Vec3Lanes,
-    ia: Vec3Lanes,
-    ib: Vec3Lanes,
+    pub ca: Vec3Lanes,
+    pub cb: Vec3Lanes,
+    pub ia: Vec3Lanes,
+    pub ib: Vec3Lanes,
     pub mass: Lanes,
 }
 
@@ -325,7 +245,7 @@ pub(crate) static PORTABLE: std::sync::atomic::AtomicBool = std::sync::atomic::A
 
 /// Whether to take the AVX2 build of the sweeps (four f64 lanes a register; the portable build has two).
 #[cfg(target_arch = "x86_64")]
-fn avx2() -> bool {
+pub(crate) fn avx2() -> bool {
     #[cfg(test)]
     if PORTABLE.load(std::sync::atomic::Ordering::Relaxed) {
         return false;
@@ -450,127 +370,5 @@ unsafe fn warm_start_lanes(bundles: &[Bundle], frictions: &[FrictionBundle], mov
             f.axes[1].apply(Wide(f.tangent[1]), &mut v);
         }
         v.scatter(bu, movers);
-    }
-}
-
-/// Every point's gap where the substeps have moved the bodies: the gap at the step's start plus the normal part of
-/// how far B's material point moved against A's.
-pub(crate) fn update_gaps(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
-    #[cfg(target_arch = "x86_64")]
-    if avx2() {
-        // SAFETY: as in `sweep`.
-        return unsafe { update_gaps_avx2(bundles, arms, movers) };
-    }
-    update_gaps_lanes(bundles, arms, movers)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn update_gaps_avx2(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
-    update_gaps_lanes(bundles, arms, movers)
-}
-
-/// Each lane's body's displacement and turn since the step's start.
-#[inline(always)]
-fn motion(side: &[usize; W], lanes: usize, movers: &[Mover]) -> ([Wide; 3], [[Wide; 3]; 3]) {
-    let (mut dp, mut turn) = ([Wide::default(); 3], [[Wide::default(); 3]; 3]);
-    for (l, &m) in side.iter().enumerate().take(lanes) {
-        let m = &movers[m];
-        for (i, row) in turn.iter_mut().enumerate() {
-            dp[i].0[l] = m.dp[i];
-            for (j, x) in row.iter_mut().enumerate() {
-                x.0[l] = m.turn[(i, j)];
-            }
-        }
-    }
-    (dp, turn)
-}
-
-/// How far the material point at arm r moved: dp + turn r - r.
-#[inline(always)]
-fn moved(dp: &[Wide; 3], turn: &[[Wide; 3]; 3], r: &Vec3Lanes) -> [Wide; 3] {
-    let r = wide3(r);
-    let turned = times(turn, &r);
-    [dp[0] + (turned[0] - r[0]), dp[1] + (turned[1] - r[1]), dp[2] + (turned[2] - r[2])]
-}
-
-/// A matrix (by rows of lanes) times a vector.
-#[inline(always)]
-fn times(m: &[[Wide; 3]; 3], c: &[Wide; 3]) -> [Wide; 3] {
-    let row = |i: usize| m[i][0] * c[0] + m[i][1] * c[1] + m[i][2] * c[2];
-    [row(0), row(1), row(2)]
-}
-
-#[inline(always)]
-fn update_gaps_lanes(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
-    for (bu, arm) in bundles.iter_mut().zip(arms) {
-        let (dpa, ta) = motion(&bu.a, bu.lanes, movers);
-        let (dpb, tb) = motion(&bu.b, bu.lanes, movers);
-        for p in 0..bu.points {
-            let (ma, mb) = (moved(&dpa, &ta, &arm.ra[p]), moved(&dpb, &tb, &arm.rb[p]));
-            let d = [mb[0] - ma[0], mb[1] - ma[1], mb[2] - ma[2]];
-            bu.rows[p].gap = (Wide(arm.gap[p]) + dot(&wide3(&bu.rows[p].normal_axis.dir), &d)).0;
-        }
-    }
-}
-
-/// Completes every axis whose direction is set: the angular Jacobians r_a x d and r_b x d, the inverse inertia
-/// times them, and the effective mass 1 / (J M^-1 J^T) (zero on a lane's points past its count).
-pub(crate) fn build(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
-    #[cfg(target_arch = "x86_64")]
-    if avx2() {
-        // SAFETY: as in `sweep`.
-        return unsafe { build_avx2(bundles, frictions, arms, movers) };
-    }
-    build_lanes(bundles, frictions, arms, movers)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn build_avx2(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
-    build_lanes(bundles, frictions, arms, movers)
-}
-
-#[inline(always)]
-fn cross(a: &[Wide; 3], b: &[Wide; 3]) -> [Wide; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-/// Each lane's body's inverse inertia.
-#[inline(always)]
-fn inertia(side: &[usize; W], lanes: usize, movers: &[Mover]) -> [[Wide; 3]; 3] {
-    let mut m = [[Wide::default(); 3]; 3];
-    for (l, &k) in side.iter().enumerate().take(lanes) {
-        for (i, row) in m.iter_mut().enumerate() {
-            for (j, x) in row.iter_mut().enumerate() {
-                x.0[l] = movers[k].inv_inertia[(i, j)];
-            }
-        }
-    }
-    m
-}
-
-#[inline(always)]
-fn build_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
-    for ((bu, fr), arm) in bundles.iter_mut().zip(frictions.iter_mut()).zip(arms) {
-        let (ia, ib) = (inertia(&bu.a, bu.lanes, movers), inertia(&bu.b, bu.lanes, movers));
-        let (ima, imb, zero) = (Wide(bu.ima), Wide(bu.imb), Wide::splat(0.0));
-        for p in 0..bu.points {
-            let used: [bool; W] = std::array::from_fn(|l| p < bu.count[l]);
-            let (ra, rb) = (wide3(&arm.ra[p]), wide3(&arm.rb[p]));
-            let [t0, t1] = &mut fr.points[p].axes;
-            for axis in [&mut bu.rows[p].normal_axis, t0, t1] {
-                let d = wide3(&axis.dir);
-                let (ca, cb) = (cross(&ra, &d), cross(&rb, &d));
-                let (ja, jb) = (times(&ia, &ca), times(&ib, &cb));
-                let k = ima + imb + dot(&ca, &ja) + dot(&cb, &jb);
-                let mass = Wide::select(k.gt(zero), Wide::splat(1.0) / k, zero);
-                axis.mass = Wide::select(used, mass, zero).0;
-                axis.ca = ca.map(|x| x.0);
-                axis.cb = cb.map(|x| x.0);
-                axis.ia = ja.map(|x| x.0);
-                axis.ib = jb.map(|x| x.0);
-            }
-        }
     }
 }

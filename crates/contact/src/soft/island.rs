@@ -7,6 +7,7 @@
 
 use super::bundle::{self, Arms, Bundle, FrictionBundle, Sweep, P, W};
 use super::colour::{colours, COLOURS};
+use super::geometry;
 use super::parallel::{self, Substeps};
 use super::row::{Mover, RowInfo};
 use super::softness::Softness;
@@ -127,7 +128,7 @@ impl Island {
                 row.normal[l] = w.normal.max(0.0);
             }
         }
-        bundle::build(&mut bundles, &mut frictions, &arms, &movers);
+        geometry::build(&mut bundles, &mut frictions, &arms, &movers);
         // each bundle's colour is its first manifold's
         let mut of_bundle: Vec<u32> = Vec::with_capacity(count);
         for (&(c, _), &(k, _)) in order.iter().zip(&slots) {
@@ -195,7 +196,7 @@ impl Island {
             for m in &mut self.movers {
                 m.integrate_position(hs);
             }
-            bundle::update_gaps(&mut self.bundles, &self.arms, &self.movers);
+            geometry::update_gaps(&mut self.bundles, &self.arms, &self.movers);
             self.pass(s.iterations, Sweep { soft: None, friction: true, ..biased });
             for bu in &self.bundles {
                 for l in 0..bu.lanes {

@@ -13,10 +13,12 @@
 
 mod bundle;
 mod colour;
+mod geometry;
 mod island;
 mod parallel;
 mod row;
 mod softness;
+mod wide;
 
 use crate::body::BodyState;
 use crate::contact::{check_all, Contact};

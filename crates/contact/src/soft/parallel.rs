@@ -10,6 +10,7 @@
 //! take much of the rest.
 
 use super::bundle::{self, Arms, Bundle, FrictionBundle, MoverPtr, Sweep};
+use super::geometry;
 use super::row::{Mover, RowInfo};
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -169,7 +170,7 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: (usize, Swee
             let mine = share(&all_bundles, t, threads);
             unsafe {
                 let (mine_bundles, mine_arms) = (bundles.range(mine.clone()), &arms[mine]);
-                bundle::update_gaps(mine_bundles, mine_arms, movers.all());
+                geometry::update_gaps(mine_bundles, mine_arms, movers.all());
             }
             barrier.wait();
             for _ in 0..iterations {

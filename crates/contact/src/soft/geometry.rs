@@ -1,0 +1,128 @@
+//! A bundle's geometry in lanes: its constraint axes completed once a step (`build`: Jacobians, inverse inertia
+//! times them, effective masses) and its points' gaps once a substep as the bodies move (`update_gaps`).
+
+use super::bundle::{Arms, Bundle, FrictionBundle};
+use super::row::Mover;
+use super::wide::{dot, wide3, Vec3Lanes, Wide, W};
+
+/// Every point's gap where the substeps have moved the bodies: the gap at the step's start plus the normal part of
+/// how far B's material point moved against A's.
+pub(crate) fn update_gaps(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
+    #[cfg(target_arch = "x86_64")]
+    if super::bundle::avx2() {
+        // SAFETY: as in `sweep`.
+        return unsafe { update_gaps_avx2(bundles, arms, movers) };
+    }
+    update_gaps_lanes(bundles, arms, movers)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn update_gaps_avx2(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
+    update_gaps_lanes(bundles, arms, movers)
+}
+
+/// Each lane's body's displacement and turn since the step's start.
+#[inline(always)]
+fn motion(side: &[usize; W], lanes: usize, movers: &[Mover]) -> ([Wide; 3], [[Wide; 3]; 3]) {
+    let (mut dp, mut turn) = ([Wide::default(); 3], [[Wide::default(); 3]; 3]);
+    for (l, &m) in side.iter().enumerate().take(lanes) {
+        let m = &movers[m];
+        for (i, row) in turn.iter_mut().enumerate() {
+            dp[i].0[l] = m.dp[i];
+            for (j, x) in row.iter_mut().enumerate() {
+                x.0[l] = m.turn[(i, j)];
+            }
+        }
+    }
+    (dp, turn)
+}
+
+/// How far the material point at arm r moved: dp + turn r - r.
+#[inline(always)]
+fn moved(dp: &[Wide; 3], turn: &[[Wide; 3]; 3], r: &Vec3Lanes) -> [Wide; 3] {
+    let r = wide3(r);
+    let turned = times(turn, &r);
+    [dp[0] + (turned[0] - r[0]), dp[1] + (turned[1] - r[1]), dp[2] + (turned[2] - r[2])]
+}
+
+/// A matrix (by rows of lanes) times a vector.
+#[inline(always)]
+fn times(m: &[[Wide; 3]; 3], c: &[Wide; 3]) -> [Wide; 3] {
+    let row = |i: usize| m[i][0] * c[0] + m[i][1] * c[1] + m[i][2] * c[2];
+    [row(0), row(1), row(2)]
+}
+
+#[inline(always)]
+fn update_gaps_lanes(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
+    for (bu, arm) in bundles.iter_mut().zip(arms) {
+        let (dpa, ta) = motion(&bu.a, bu.lanes, movers);
+        let (dpb, tb) = motion(&bu.b, bu.lanes, movers);
+        for p in 0..bu.points {
+            let (ma, mb) = (moved(&dpa, &ta, &arm.ra[p]), moved(&dpb, &tb, &arm.rb[p]));
+            let d = [mb[0] - ma[0], mb[1] - ma[1], mb[2] - ma[2]];
+            bu.rows[p].gap = (Wide(arm.gap[p]) + dot(&wide3(&bu.rows[p].normal_axis.dir), &d)).0;
+        }
+    }
+}
+
+/// Completes every axis whose direction is set: the angular Jacobians r_a x d and r_b x d, the inverse inertia
+/// times them, and the effective mass 1 / (J M^-1 J^T) (zero on a lane's points past its count).
+pub(crate) fn build(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
+    #[cfg(target_arch = "x86_64")]
+    if super::bundle::avx2() {
+        // SAFETY: as in `sweep`.
+        return unsafe { build_avx2(bundles, frictions, arms, movers) };
+    }
+    build_lanes(bundles, frictions, arms, movers)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn build_avx2(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
+    build_lanes(bundles, frictions, arms, movers)
+}
+
+#[inline(always)]
+fn cross(a: &[Wide; 3], b: &[Wide; 3]) -> [Wide; 3] {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+/// Each lane's body's inverse inertia.
+#[inline(always)]
+fn inertia(side: &[usize; W], lanes: usize, movers: &[Mover]) -> [[Wide; 3]; 3] {
+    let mut m = [[Wide::default(); 3]; 3];
+    for (l, &k) in side.iter().enumerate().take(lanes) {
+        for (i, row) in m.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                x.0[l] = movers[k].inv_inertia[(i, j)];
+            }
+        }
+    }
+    m
+}
+
+#[inline(always)]
+fn build_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
+    for ((bu, fr), arm) in bundles.iter_mut().zip(frictions.iter_mut()).zip(arms) {
+        let (ia, ib) = (inertia(&bu.a, bu.lanes, movers), inertia(&bu.b, bu.lanes, movers));
+        let (ima, imb, zero) = (Wide(bu.ima), Wide(bu.imb), Wide::splat(0.0));
+        for p in 0..bu.points {
+            let used: [bool; W] = std::array::from_fn(|l| p < bu.count[l]);
+            let (ra, rb) = (wide3(&arm.ra[p]), wide3(&arm.rb[p]));
+            let [t0, t1] = &mut fr.points[p].axes;
+            for axis in [&mut bu.rows[p].normal_axis, t0, t1] {
+                let d = wide3(&axis.dir);
+                let (ca, cb) = (cross(&ra, &d), cross(&rb, &d));
+                let (ja, jb) = (times(&ia, &ca), times(&ib, &cb));
+                let k = ima + imb + dot(&ca, &ja) + dot(&cb, &jb);
+                let mass = Wide::select(k.gt(zero), Wide::splat(1.0) / k, zero);
+                axis.mass = Wide::select(used, mass, zero).0;
+                axis.ca = ca.map(|x| x.0);
+                axis.cb = cb.map(|x| x.0);
+                axis.ia = ja.map(|x| x.0);
+                axis.ib = jb.map(|x| x.0);
+            }
+        }
+    }
+}
