@@ -140,6 +140,21 @@ impl<T> Arena<T> {
         })
     }
 
+    /// Live objects in slot order, mutable.
+    pub fn iter_mut(&mut self) -> impl Iterator<Item = (Handle<T>, &mut T)> {
+        let world = self.world;
+        self.slots.iter_mut().enumerate().filter_map(move |(i, s)| {
+            let generation = s.generation;
+            s.value.as_mut().map(|v| (Handle::from_world_parts(world, i as u32, generation), v))
+        })
+    }
+
+    /// A live object's row: its place among the live objects in slot order.
+    pub fn row(&self, h: Handle<T>) -> Option<usize> {
+        self.get(h)?;
+        Some(self.slots[..h.index as usize].iter().filter(|s| s.value.is_some()).count())
+    }
+
     pub fn retain(&mut self, mut keep: impl FnMut(&T) -> bool) {
         let doomed: Vec<Handle<T>> = self.iter().filter(|(_, v)| !keep(v)).map(|(h, _)| h).collect();
         for h in doomed {

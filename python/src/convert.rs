@@ -80,8 +80,27 @@ pub fn points(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Point3<f64>>> 
     Ok(v.into_iter().map(Point3::from).collect())
 }
 
+/// An (N, W) array of rows, or a sequence of W-tuples.
+pub fn rows<const W: usize>(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<[f64; W]>> {
+    if let Ok(a) = obj.extract::<PyReadonlyArray2<'_, f64>>() {
+        let view = a.as_array();
+        if view.ncols() != W {
+            return Err(invalid(name, format!("expected an (N, {W}) array, got shape {:?}", view.shape())));
+        }
+        return Ok(view.rows().into_iter().map(|r| std::array::from_fn(|i| r[i])).collect());
+    }
+    obj.extract::<Vec<[f64; W]>>().map_err(|_| invalid(name, format!("expected an (N, {W}) array, got {}", repr(obj))))
+}
+
 fn repr(obj: &Bound<'_, PyAny>) -> String {
     obj.repr().map(|r| r.to_string()).unwrap_or_else(|_| "an object".into())
+}
+
+/// A flat vector as a read-only numpy array of the given shape: writing to it raises instead of changing nothing.
+pub fn frozen<'py>(py: Python<'py>, data: Vec<f64>, shape: &[usize]) -> PyResult<Bound<'py, PyAny>> {
+    let a = array(py, data, shape)?;
+    a.getattr("flags")?.setattr("writeable", false)?;
+    Ok(a)
 }
 
 /// A flat vector as a numpy array of the given shape, without copying.

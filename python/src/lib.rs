@@ -9,6 +9,7 @@ mod convert;
 mod handles;
 mod report;
 mod shapes;
+mod state;
 mod world;
 mod world_modes;
 mod world_scenes;
@@ -24,6 +25,7 @@ pyo3::create_exception!(
 #[pymodule]
 fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world::PyWorld>()?;
+    m.add_class::<state::PyState>()?;
     m.add_class::<shapes::PyShape>()?;
     m.add_class::<shapes::Sphere>()?;
     m.add_class::<shapes::PyBox>()?;

@@ -1,10 +1,11 @@
 //! `World` for Python, reading state: time, gravity, handles, state arrays, colliders, energies, the plan and
 //! the report.
 
-use crate::convert::array;
+use crate::convert::{array, frozen, world_error};
 use crate::handles::{PyBodyHandle, PyParticleHandle};
 use crate::report::{plan_dict, report_dict};
 use crate::shapes::PyShape;
+use crate::state::PyState;
 use crate::world::PyWorld;
 use nalgebra::UnitQuaternion;
 use pyo3::prelude::*;
@@ -19,7 +20,7 @@ fn rows<'py, const W: usize>(
     count: usize,
     items: impl Iterator<Item = [f64; W]>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    array(py, items.flatten().collect(), &[count, W])
+    frozen(py, items.flatten().collect(), &[count, W])
 }
 
 #[pymethods]
@@ -34,6 +35,36 @@ impl PyWorld {
     #[getter]
     fn gravity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         array(py, self.r().gravity().as_slice().to_vec(), &[3])
+    }
+
+    /// The whole state now (time, every particle's and body's state, the engine's memory) as a ``tumble.State``.
+    fn get_state(&self) -> PyState {
+        PyState { inner: std::sync::Mutex::new(self.r().state()) }
+    }
+
+    /// Puts a whole state back. A state read from this world, unedited, with its structure and settings unchanged
+    /// since, brings the engine's memory back too: the world continues bit for bit as it did from there. Any other
+    /// (edited with ``State.replace``, from before a change of structure) starts the world from it afresh, as a new
+    /// world built with it would. Static bodies must be where they are (move them with ``set_body_state``).
+    /// Raises ValueError naming the array that is wrong; the world is then unchanged.
+    fn set_state(&mut self, state: &PyState) -> PyResult<()> {
+        self.w().set_state(&state.get()).map_err(world_error)
+    }
+
+    /// Returns to time zero with every particle and body as it was added (or set before the first step), the
+    /// engine's memory and the report cleared: the world then runs bit for bit as a new one built the same way.
+    fn reset(&mut self) {
+        self.w().reset()
+    }
+
+    /// A particle's row in the particle arrays.
+    fn _particle_row(&self, handle: PyParticleHandle) -> PyResult<usize> {
+        self.r().particle_row(handle.into()).map_err(world_error)
+    }
+
+    /// A body's row in the body arrays.
+    fn _body_row(&self, handle: PyBodyHandle) -> PyResult<usize> {
+        self.r().body_row(handle.into()).map_err(world_error)
     }
 
     /// The particles' handles, in array order.

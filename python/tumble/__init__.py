@@ -8,7 +8,9 @@
 >>> run.particle_positions.shape, run.body_positions.shape
 ((61, 1, 3), (61, 1, 3))
 
-State comes back as numpy arrays (``w.particles.positions`` is (P, 3)); runs return a :class:`Run` with frames,
+State comes back as read-only numpy arrays (``w.particles.positions`` is (P, 3); ``w.bodies.row(handle)`` is a
+body's row); ``w.get_state()`` / ``w.set_state(state)`` take and put back the whole state (the world then continues
+bit for bit) and ``w.reset()`` returns to the start; runs return a :class:`Run` with frames,
 energy, momenta, every accepted step size and a :class:`Report` of what the run cost. Bad arguments raise
 ``ValueError`` naming the argument; a step that cannot be completed raises :class:`SimulationError` (a
 ``RuntimeError``) and leaves the world as it was before the call.
@@ -28,6 +30,7 @@ from ._tumble import (
     SimulationError,
     Sphere,
     SpringHandle,
+    State,
     TriMesh,
     __version__,
 )
@@ -53,6 +56,7 @@ __all__ = [
     "BodyHandle",
     "SpringHandle",
     "LoadHandle",
+    "State",
     "SimulationError",
     "scenes",
     "__version__",

@@ -10,11 +10,12 @@ from ._errors import named_arguments, renamed
 from ._progress import Progress, progress as _progress
 from ._report import Report
 from ._run import Run
-from ._tumble import SimulationError, World as _World
+from ._tumble import BodyHandle, ParticleHandle, SimulationError, World as _World
 
 
 class ParticlesView:
-    """The particles' state as (P, 3) arrays, in the order of ``handles``."""
+    """The particles' state as (P, 3) arrays, in the order of ``handles``. The arrays are read-only copies
+    (writing to one raises ValueError): change state with ``World.set_particle_state`` or ``World.set_state``."""
 
     def __init__(self, world: "World") -> None:
         self._world = world
@@ -34,12 +35,18 @@ class ParticlesView:
         """The particles' handles, in row order."""
         return self._world.particle_handles()
 
+    def row(self, handle: ParticleHandle) -> int:
+        """The row of a particle in these arrays (it changes when a particle before it is removed). Raises
+        ValueError for a removed particle or a handle of another world."""
+        return self._world._particle_row(handle)
+
     def __len__(self) -> int:
         return len(self._world.particle_handles())
 
 
 class BodiesView:
-    """The bodies' state as arrays, in the order of ``handles`` (static bodies included)."""
+    """The bodies' state as arrays, in the order of ``handles`` (static bodies included). The arrays are read-only
+    copies (writing to one raises ValueError): change state with ``World.set_body_state`` or ``World.set_state``."""
 
     def __init__(self, world: "World") -> None:
         self._world = world
@@ -68,6 +75,11 @@ class BodiesView:
     def handles(self) -> list:
         """The bodies' handles, in row order."""
         return self._world.body_handles()
+
+    def row(self, handle: BodyHandle) -> int:
+        """The row of a body in these arrays (it changes when a body before it is removed). Raises ValueError for
+        a removed body or a handle of another world."""
+        return self._world._body_row(handle)
 
     def __len__(self) -> int:
         return len(self._world.body_handles())

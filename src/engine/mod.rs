@@ -60,6 +60,7 @@ pub(crate) enum Engine {
 
 /// Everything an engine must put back for a failed call to leave no trace: time, state, the integrator's next
 /// step, and each engine's memory (resting set, lagged impulses, sleep).
+#[derive(Clone)]
 pub(crate) enum Snapshot {
     Smooth(Box<smooth::SmoothSnapshot>),
     #[cfg(feature = "contact")]

@@ -24,6 +24,7 @@ pub(crate) struct SmoothEngine {
 
 /// What a failed call puts back: the whole integrator (state, next step, controller, the method's caches and
 /// histories), so that continuing after a failure is continuing from before it.
+#[derive(Clone)]
 pub(crate) struct SmoothSnapshot {
     t: f64,
     integrator: Option<Integrator<Model>>,

@@ -15,14 +15,18 @@ impl World {
     pub fn add_particle(&mut self, particle: ParticleBuilder) -> Result<ParticleHandle, WorldError> {
         let p = particle.build()?;
         self.retire_engine();
-        Ok(self.particles.insert(p))
+        let h = self.particles.insert(p);
+        self.record_particle_start(h);
+        Ok(h)
     }
 
     /// Adds a rigid body.
     pub fn add_body(&mut self, body: RigidBodyBuilder) -> Result<BodyHandle, WorldError> {
         let b = body.build()?;
         self.retire_engine();
-        Ok(self.bodies.insert(b))
+        let h = self.bodies.insert(b);
+        self.record_body_start(h);
+        Ok(h)
     }
 
     fn attachment_point(&self, name: &'static str, a: &Attachment) -> Result<Vector3<f64>, WorldError> {

@@ -8,6 +8,9 @@ mod build;
 mod plan;
 mod state;
 mod stepping;
+mod whole_state;
+
+pub use whole_state::WorldState;
 
 use crate::body::{RigidBody, RigidBodyBuilder};
 use crate::engine::Engine;
@@ -52,6 +55,13 @@ pub struct World {
     pub(crate) mode: Mode,
     /// Threads for the contact solves (0: one per core).
     pub(crate) threads: usize,
+    /// The state each object was added with, for `reset`.
+    pub(crate) starts: whole_state::Starts,
+    /// Whether the world has stepped since it was made or reset (until then, setting an object's state also sets
+    /// the state `reset` returns to).
+    pub(crate) stepped: bool,
+    /// How many engines the world has built: a state's memory applies only to the engine it was read from.
+    pub(crate) engine_serial: u64,
 }
 
 impl Default for World {
@@ -85,6 +95,9 @@ impl World {
             spring_jacobian: None,
             mode: Mode::default(),
             threads: 0,
+            starts: Default::default(),
+            stepped: false,
+            engine_serial: 0,
         }
     }
 

@@ -27,6 +27,9 @@ impl World {
         p.position = position;
         p.velocity = velocity;
         self.state_changed = true;
+        if !self.stepped {
+            self.record_particle_start(h);
+        }
         Ok(())
     }
 
@@ -48,13 +51,16 @@ impl World {
             b.position = position;
             b.orientation = orientation;
             self.retire_engine();
-            return Ok(());
+        } else {
+            b.position = position;
+            b.orientation = orientation;
+            b.momentum = velocity * b.mass;
+            b.angular_momentum = b.world_inertia() * angular_velocity;
+            self.state_changed = true;
         }
-        b.position = position;
-        b.orientation = orientation;
-        b.momentum = velocity * b.mass;
-        b.angular_momentum = b.world_inertia() * angular_velocity;
-        self.state_changed = true;
+        if !self.stepped {
+            self.record_body_start(h);
+        }
         Ok(())
     }
     /// A particle.

@@ -68,7 +68,11 @@ impl World {
     /// The engine, built if the structure changed and given any state the user set.
     pub(crate) fn engine(&mut self) -> Result<&mut Engine, WorldError> {
         let engine = match self.engine.take() {
-            None => self.build_engine()?,
+            None => {
+                let e = self.build_engine()?;
+                self.engine_serial += 1;
+                e
+            }
             Some(mut e) => {
                 if self.state_changed {
                     let y = e.compiled().pack(&self.particles, &self.bodies);
@@ -95,7 +99,7 @@ impl World {
     }
 
     /// Writes the engine's state into the particles and bodies.
-    fn store_state(&mut self) {
+    pub(crate) fn store_state(&mut self) {
         if let Some(e) = &self.engine {
             e.compiled().unpack(e.state(), &mut self.particles, &mut self.bodies);
             self.time = e.time();
@@ -225,6 +229,7 @@ impl World {
             return Err(err);
         }
         self.store_state();
+        self.stepped = true;
         Ok(run.map(|mut run| {
             run.report = report;
             run

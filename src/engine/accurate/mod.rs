@@ -107,6 +107,7 @@ pub(crate) struct AccurateEngine {
 
 /// What a failed call puts back: the whole integrator (state, next step, controller, caches, histories), the
 /// resting set and what the contact phase knew.
+#[derive(Clone)]
 pub(crate) struct AccurateSnapshot {
     integrator: Integrator<Model>,
     resting: Option<RestingSet>,

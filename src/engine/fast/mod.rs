@@ -61,6 +61,7 @@ pub(crate) struct FastEngine {
 }
 
 /// What a failed call puts back: time, state, lagged impulses, warm starts, sleep, kept manifolds.
+#[derive(Clone)]
 pub(crate) struct FastSnapshot {
     origin: f64,
     steps: u64,
