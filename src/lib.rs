@@ -52,7 +52,7 @@ pub use plan::{Plan, Stage, StageCounts};
 pub use report::{ReportValue, WorldReport};
 pub use run::{Run, RunArrays, DEFAULT_FRAME_INTERVAL};
 pub use spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
-pub use world::{SpringJacobian, World, WorldState};
+pub use world::{ContactInfo, SpringJacobian, World, WorldState};
 
 /// Shapes and mass properties (tumble-collide).
 pub use tumble_collide as collide;

@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 /// Handle of a load.
 pub type LoadHandle = Handle<Load>;
 
-/// What a load acts on.
+/// What a load acts on; also a side of a contact (`World::contacts`, where it may be a static body).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Target {
     /// A particle.

@@ -57,6 +57,32 @@ impl PyWorld {
         self.w().reset()
     }
 
+    /// The contacts of the last step as a dict: ``points`` and ``normals`` (C, 3) (normals from ``a`` toward
+    /// ``b``), ``gaps`` (C,) (negative: overlapping), ``impulses`` (C,) normal impulses over the step (N s),
+    /// ``forces`` (C,) their mean forces (N), and ``a``, ``b``: the particles' or bodies' handles (static bodies
+    /// included). Fast mode: every contact of the last step's solve; accurate mode: those of the last contact step
+    /// while bodies touch. Empty before the first step and after any change of structure or state.
+    fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let found = self.r().contacts();
+        let n = found.len();
+        let out = PyDict::new(py);
+        let vectors = |f: &dyn Fn(&tumble::ContactInfo) -> [f64; 3]| found.iter().flat_map(f).collect::<Vec<f64>>();
+        out.set_item("points", frozen(py, vectors(&|c| c.point.coords.into()), &[n, 3])?)?;
+        out.set_item("normals", frozen(py, vectors(&|c| c.normal.into()), &[n, 3])?)?;
+        out.set_item("gaps", frozen(py, found.iter().map(|c| c.gap).collect(), &[n])?)?;
+        out.set_item("impulses", frozen(py, found.iter().map(|c| c.impulse).collect(), &[n])?)?;
+        out.set_item("forces", frozen(py, found.iter().map(|c| c.force).collect(), &[n])?)?;
+        let handle = |t: tumble::Target| -> PyResult<Py<PyAny>> {
+            Ok(match t {
+                tumble::Target::Particle(h) => Py::new(py, PyParticleHandle::from(h))?.into_any(),
+                tumble::Target::Body(h) => Py::new(py, PyBodyHandle::from(h))?.into_any(),
+            })
+        };
+        out.set_item("a", found.iter().map(|c| handle(c.a)).collect::<PyResult<Vec<_>>>()?)?;
+        out.set_item("b", found.iter().map(|c| handle(c.b)).collect::<PyResult<Vec<_>>>()?)?;
+        Ok(out)
+    }
+
     /// A particle's row in the particle arrays.
     fn _particle_row(&self, handle: PyParticleHandle) -> PyResult<usize> {
         self.r().particle_row(handle.into()).map_err(world_error)

@@ -145,3 +145,22 @@ def test_a_bad_state_is_refused_by_name_and_the_world_is_unchanged():
     w.step(LEG)
     clean.step(LEG)
     assert same(snapshot(w), snapshot(clean))
+
+
+@pytest.mark.parametrize("mode", ["accurate", "fast"])
+def test_contacts_of_a_resting_box_carry_its_weight(mode):
+    w = tumble.World(mode=mode, dt=1 / 240) if mode == "fast" else tumble.World()
+    ground = w.add_ground(restitution=0.0)
+    box = w.add_body(tumble.Box(half_extents=(0.1, 0.2, 0.05)), mass=3.0, position=(0, 0, 0.05), restitution=0.0)
+    assert len(w.contacts()["gaps"]) == 0
+    w.step(0.5)
+    c = w.contacts()
+    assert c["points"].shape == (4, 3) and c["normals"].shape == (4, 3)
+    assert all(a == box and b == ground for a, b in zip(c["a"], c["b"]))
+    # the normals point from the box into the ground; at rest the forces on the box cancel its weight (to the
+    # solvers' residual and rounding: measured 1e-13 relative, bound 1e-9)
+    assert np.allclose(c["normals"], [0, 0, -1], atol=1e-12)
+    assert abs(c["forces"].sum() - 3.0 * 9.81) < 1e-9 * 3.0 * 9.81
+    assert np.all(np.abs(c["gaps"]) < 1e-3)
+    with pytest.raises(ValueError, match="read-only"):
+        c["forces"][0] = 0.0

@@ -19,6 +19,8 @@ mod semi_implicit;
 mod smooth;
 #[cfg(feature = "contact")]
 mod state_error;
+#[cfg(feature = "contact")]
+pub(crate) mod step_contacts;
 
 pub(crate) use budget::Budget;
 pub(crate) use smooth::SmoothEngine;
@@ -190,6 +192,16 @@ impl Engine {
         return matches!(self, Engine::Fast(_));
         #[cfg(not(feature = "contact"))]
         false
+    }
+
+    /// The contacts of the last step (fast mode) or contact step (accurate mode, while bodies touch).
+    #[cfg(feature = "contact")]
+    pub fn last_contacts(&self) -> &[step_contacts::StepContact] {
+        match self {
+            Engine::Smooth(_) => &[],
+            Engine::Accurate(e) => e.last_contacts(),
+            Engine::Fast(e) => e.last_contacts(),
+        }
     }
 
     /// What a failed call must put back.

@@ -5,11 +5,13 @@
 //! plan, `stepping.rs` the one run loop.
 
 mod build;
+mod contacts;
 mod plan;
 mod state;
 mod stepping;
 mod whole_state;
 
+pub use contacts::ContactInfo;
 pub use whole_state::WorldState;
 
 use crate::body::{RigidBody, RigidBodyBuilder};

@@ -275,6 +275,11 @@ impl AccurateEngine {
         Ok(result?)
     }
 
+    /// The contacts of the last contact step while bodies touch (none once they fly free).
+    pub fn last_contacts(&self) -> &[crate::engine::step_contacts::StepContact] {
+        self.contacts.touching.as_ref().map_or(&[], |t| &t.last)
+    }
+
     pub fn snapshot(&self) -> AccurateSnapshot {
         AccurateSnapshot {
             integrator: self.integrator.clone(),

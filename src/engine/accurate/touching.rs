@@ -35,6 +35,8 @@ pub(crate) struct Touching {
     pub window: (f64, usize),
     /// The integrator of the actors that touch nothing (`free_flight.rs`).
     pub free: Option<FreeFlight>,
+    /// The contacts of the last accepted step, with the whole step's impulses.
+    pub last: Vec<crate::engine::step_contacts::StepContact>,
 }
 
 /// Steps tried (accepted or rejected) over which the touching phase's progress is watched.
@@ -55,7 +57,8 @@ impl Contacts {
     /// / g), within the phase's step bounds.
     pub fn start_touching(&mut self) {
         let h = (2.0 * self.tolerance / self.gravity.max(1e-300)).sqrt().clamp(self.min_step(0.0), self.max_step);
-        self.touching = Some(Touching { lagged: BTreeMap::new(), h, window: (f64::NAN, 0), free: None });
+        self.touching =
+            Some(Touching { lagged: BTreeMap::new(), h, window: (f64::NAN, 0), free: None, last: Vec::new() });
     }
 
     /// The smallest step: 16 ulps of the time, and no less than 1e-14 s.
@@ -197,6 +200,8 @@ impl Contacts {
             // and an advance that ends an ulp before its end would be asked to go on from there forever.
             (t, y) = (if h == stop - t { stop } else { t + h }, next);
             phase.lagged = second.forces;
+            let impulses = found.iter().map(|f| whole.forces.get(&f.key).map_or(0.0, |force| force * h));
+            phase.last = crate::engine::step_contacts::from_found(&found, impulses, h);
             let r = &mut self.report;
             r.contact_steps += 1;
             r.contact_error = r.contact_error.max(error);

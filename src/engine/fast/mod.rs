@@ -16,6 +16,7 @@ mod solve_velocities;
 mod warm_start;
 
 use crate::engine::contact_scene::{ContactKey, ContactScene};
+use crate::engine::step_contacts::StepContact;
 use crate::engine::Budget;
 use crate::error::WorldError;
 use crate::mode::{FastSettings, FastSolver};
@@ -58,6 +59,8 @@ pub(crate) struct FastEngine {
     report: WorldReport,
     /// Largest penetration among the contacts of the last step.
     penetration: f64,
+    /// The contacts of the last step, with their impulses.
+    last_contacts: Vec<StepContact>,
 }
 
 /// What a failed call puts back: time, state, lagged impulses, warm starts, sleep, kept manifolds.
@@ -71,6 +74,7 @@ pub(crate) struct FastSnapshot {
     sleep: Sleep,
     penetration: f64,
     manifolds: Option<crate::engine::manifold_cache::ManifoldCache>,
+    last_contacts: Vec<StepContact>,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> WorldError {
@@ -108,6 +112,7 @@ impl FastEngine {
             warm: Vec::new(),
             report: WorldReport::new(method_name(&settings)),
             penetration: 0.0,
+            last_contacts: Vec::new(),
         }
     }
 
@@ -313,12 +318,14 @@ impl FastEngine {
             sleep: self.sleep.clone(),
             penetration: self.penetration,
             manifolds: self.scene.as_ref().and_then(|s| s.cache.clone()),
+            last_contacts: self.last_contacts.clone(),
         }
     }
 
     pub fn restore(&mut self, s: FastSnapshot) -> Result<(), WorldError> {
         (self.origin, self.steps, self.y, self.previous, self.warm, self.sleep, self.penetration) =
             (s.origin, s.steps, s.y, s.previous, s.warm, s.sleep, s.penetration);
+        self.last_contacts = s.last_contacts;
         if let Some(scene) = self.scene.as_mut() {
             scene.cache = s.manifolds;
         }
@@ -327,6 +334,11 @@ impl FastEngine {
 
     pub fn take_report(&mut self) -> WorldReport {
         std::mem::replace(&mut self.report, WorldReport::new(method_name(&self.settings)))
+    }
+
+    /// The contacts of the last step, with their impulses.
+    pub fn last_contacts(&self) -> &[StepContact] {
+        &self.last_contacts
     }
 }
 

@@ -80,6 +80,7 @@ impl FastEngine {
         let out = soft_step(states, &contacts, &warm, h, &settings)
             .map_err(|e| failure(self.time(), format!("contact solve: {e}")))?;
         self.warm = by_key(found, &out.impulses);
+        self.last_contacts = crate::engine::step_contacts::from_found(found, out.normal_impulses.iter().copied(), h);
         if !found.is_empty() {
             self.report.contact_residual = self.report.contact_residual.max(out.residual);
             self.report.islands += out.islands;

@@ -86,6 +86,7 @@ impl FastEngine {
         self.report.stages.mark(Stage::ContactConeProgram);
         self.count_impulses(states, &contacts, &out.normal_impulses);
         self.previous = found.iter().zip(&out.normal_impulses).map(|(f, &p)| (f.key, p)).collect();
+        self.last_contacts = crate::engine::step_contacts::from_found(found, out.normal_impulses.iter().copied(), h);
         self.report.contact_seconds += clock.elapsed().as_secs_f64();
         Ok(out.velocities)
     }
