@@ -68,7 +68,7 @@ pub(crate) enum Snapshot {
     #[cfg(feature = "contact")]
     Accurate(Box<accurate::AccurateSnapshot>),
     #[cfg(feature = "contact")]
-    Fast(fast::FastSnapshot),
+    Fast(Box<fast::FastSnapshot>),
 }
 
 macro_rules! each {
@@ -211,7 +211,7 @@ impl Engine {
             #[cfg(feature = "contact")]
             Engine::Accurate(e) => Snapshot::Accurate(Box::new(e.snapshot())),
             #[cfg(feature = "contact")]
-            Engine::Fast(e) => Snapshot::Fast(e.snapshot()),
+            Engine::Fast(e) => Snapshot::Fast(Box::new(e.snapshot())),
         }
     }
 
@@ -222,7 +222,7 @@ impl Engine {
             #[cfg(feature = "contact")]
             (Engine::Accurate(e), Snapshot::Accurate(s)) => e.restore(*s),
             #[cfg(feature = "contact")]
-            (Engine::Fast(e), Snapshot::Fast(s)) => e.restore(s),
+            (Engine::Fast(e), Snapshot::Fast(s)) => e.restore(*s),
             #[cfg(feature = "contact")]
             _ => unreachable!("a snapshot is restored into the engine it came from"),
         }
