@@ -67,12 +67,14 @@ impl<T> fmt::Debug for Handle<T> {
     }
 }
 
+#[derive(Clone)]
 struct Slot<T> {
     generation: u32,
     value: Option<T>,
 }
 
 /// Objects in slots, iterated in slot order (which is the order of the state vector).
+#[derive(Clone)]
 pub(crate) struct Arena<T> {
     world: u64,
     slots: Vec<Slot<T>>,

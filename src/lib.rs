@@ -30,6 +30,7 @@ mod options;
 mod particle;
 mod plan;
 mod report;
+mod rollout;
 mod run;
 pub mod scenes;
 mod spring;
@@ -50,6 +51,7 @@ pub use options::{mode_from, BodyOptions, IntegratorOptions, ModeOptions, WorldO
 pub use particle::{Particle, ParticleBuilder};
 pub use plan::{Plan, Stage, StageCounts};
 pub use report::{ReportValue, WorldReport};
+pub use rollout::{rollout, RolloutSettings};
 pub use run::{Run, RunArrays, DEFAULT_FRAME_INTERVAL};
 pub use spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
 pub use world::{ContactInfo, SpringJacobian, World, WorldState};

@@ -58,6 +58,15 @@ fn a_state_read_and_put_back_continues_bit_for_bit_in_every_mode() {
             assert_eq!(w.time(), s.time);
             w.step(LEG).unwrap();
             assert_eq!(state_bits(&w), first, "kind {kind} seed {seed}: the second leg again");
+            // into an engine built anew (reset drops the world's own), and into a copy of the world
+            w.reset();
+            w.set_state(&s).unwrap();
+            w.step(LEG).unwrap();
+            assert_eq!(state_bits(&w), first, "kind {kind} seed {seed}: after a reset");
+            let mut copy = w.clone();
+            copy.set_state(&s).unwrap();
+            copy.step(LEG).unwrap();
+            assert_eq!(state_bits(&copy), first, "kind {kind} seed {seed}: in a copy");
         }
     }
 }

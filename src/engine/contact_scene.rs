@@ -81,6 +81,7 @@ pub(crate) struct Found {
 }
 
 /// The colliders of a world and a broad phase that persists from call to call.
+#[derive(Clone)]
 pub(crate) struct ContactScene {
     pub colliders: Vec<SceneCollider>,
     pub static_poses: Vec<Isometry3<f64>>,

@@ -52,6 +52,7 @@ pub(crate) struct EngineSpec {
 
 /// One engine of a world (one lives per world, so the variants' sizes do not matter).
 #[allow(clippy::large_enum_variant)]
+#[derive(Clone)]
 pub(crate) enum Engine {
     Smooth(SmoothEngine),
     #[cfg(feature = "contact")]
@@ -201,6 +202,17 @@ impl Engine {
             Engine::Smooth(_) => &[],
             Engine::Accurate(e) => e.last_contacts(),
             Engine::Fast(e) => e.last_contacts(),
+        }
+    }
+
+    /// Sets the contact solves' thread count (their answers do not depend on it, so the engine keeps its memory).
+    pub fn set_threads(&mut self, threads: usize) {
+        match self {
+            Engine::Smooth(_) => {}
+            #[cfg(feature = "contact")]
+            Engine::Accurate(e) => e.contacts.threads = threads,
+            #[cfg(feature = "contact")]
+            Engine::Fast(e) => e.threads = threads,
         }
     }
 

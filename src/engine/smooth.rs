@@ -11,6 +11,7 @@ use crate::run::Run;
 use tumble_integrate::{Integrator, OdeError, Settings};
 
 /// Integration without contact.
+#[derive(Clone)]
 pub(crate) struct SmoothEngine {
     compiled: Compiled,
     /// None when the state is empty (nothing moves): the clock alone advances.

@@ -21,6 +21,7 @@ use crate::spring::{Attachment, BodyHandle, ParticleHandle, Spring};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
 
+#[derive(Clone)]
 pub(crate) struct ParticleProps {
     pub mass: f64,
     pub inv_mass: f64,
@@ -29,6 +30,7 @@ pub(crate) struct ParticleProps {
     pub anchor: Vector3<f64>,
 }
 
+#[derive(Clone)]
 pub(crate) struct BodyProps {
     pub mass: f64,
     pub inv_mass: f64,
@@ -47,6 +49,7 @@ pub(crate) enum End {
     Point(Vector3<f64>),
 }
 
+#[derive(Clone)]
 pub(crate) struct CompiledSpring {
     pub a: End,
     pub b: End,
@@ -61,6 +64,7 @@ pub(crate) enum On {
     Body(usize),
 }
 
+#[derive(Clone)]
 pub(crate) enum CompiledLoad {
     Force { on: On, force: Vector3<f64>, at: Option<Vector3<f64>> },
     Torque { body: usize, torque: Vector3<f64> },
@@ -109,6 +113,7 @@ pub(crate) enum JacobianKind {
     Colored,
 }
 
+#[derive(Clone)]
 pub(crate) struct Model {
     pub layout: Layout,
     pub gravity: Vector3<f64>,
@@ -135,6 +140,7 @@ pub(crate) struct Model {
 }
 
 /// A compiled model with the handles of its rows: particles and dynamic bodies in state order.
+#[derive(Clone)]
 pub(crate) struct Compiled {
     pub model: Model,
     pub particles: Vec<ParticleHandle>,

@@ -39,6 +39,7 @@ pub enum SpringJacobian {
 }
 
 /// A world of particles and rigid bodies.
+#[derive(Clone)]
 pub struct World {
     pub(crate) gravity: Vector3<f64>,
     pub(crate) settings: Settings,
@@ -62,8 +63,9 @@ pub struct World {
     /// Whether the world has stepped since it was made or reset (until then, setting an object's state also sets
     /// the state `reset` returns to).
     pub(crate) stepped: bool,
-    /// How many engines the world has built: a state's memory applies only to the engine it was read from.
-    pub(crate) engine_serial: u64,
+    /// How many times the structure or settings changed (each retires the engine): a state's memory applies only
+    /// to an engine of the structure it was read from.
+    pub(crate) structure: u64,
 }
 
 impl Default for World {
@@ -99,7 +101,7 @@ impl World {
             threads: 0,
             starts: Default::default(),
             stepped: false,
-            engine_serial: 0,
+            structure: 0,
         }
     }
 
@@ -205,7 +207,10 @@ impl World {
             return Err(WorldError::invalid("threads", format!("must be at most 1024, got {threads}")));
         }
         self.threads = threads;
-        self.retire_engine();
+        // results do not depend on it: the engine keeps its memory
+        if let Some(e) = &mut self.engine {
+            e.set_threads(threads);
+        }
         Ok(())
     }
 

@@ -18,8 +18,14 @@ const MAX_FRAMES: f64 = 1e7;
 const MAX_RECORDED: f64 = 2.5e8;
 
 impl World {
-    /// Drops the engine (the structure changed); its report is already in the totals.
+    /// Drops the engine (the structure or a setting changed); its report is already in the totals.
     pub(crate) fn retire_engine(&mut self) {
+        self.drop_engine();
+        self.structure += 1;
+    }
+
+    /// Drops the engine and its memory, the structure unchanged: the next step starts afresh from the objects.
+    pub(crate) fn drop_engine(&mut self) {
         self.engine = None;
         self.state_changed = false;
     }
@@ -68,11 +74,7 @@ impl World {
     /// The engine, built if the structure changed and given any state the user set.
     pub(crate) fn engine(&mut self) -> Result<&mut Engine, WorldError> {
         let engine = match self.engine.take() {
-            None => {
-                let e = self.build_engine()?;
-                self.engine_serial += 1;
-                e
-            }
+            None => self.build_engine()?,
             Some(mut e) => {
                 if self.state_changed {
                     let y = e.compiled().pack(&self.particles, &self.bodies);

@@ -29,11 +29,11 @@ pub struct WorldState {
     memory: Option<Memory>,
 }
 
-/// The engine's memory when the state was read: which engine it was (its serial in the world), a copy of it, and
-/// the arrays as read (the memory applies only if they are put back unedited).
+/// The engine's memory when the state was read: the world's structure then (the memory fits only an engine of the
+/// same structure and settings), a copy of it, and the arrays as read (it applies only if they come back unedited).
 #[derive(Clone)]
 struct Memory {
-    serial: u64,
+    structure: u64,
     /// Behind a mutex so that a state can cross threads (the snapshot holds `Send` integrator parts).
     snapshot: Arc<Mutex<Snapshot>>,
     read: Box<WorldState>,
@@ -41,7 +41,7 @@ struct Memory {
 
 impl std::fmt::Debug for Memory {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Memory(engine {})", self.serial)
+        write!(f, "Memory(structure {})", self.structure)
     }
 }
 
@@ -134,7 +134,7 @@ impl World {
         };
         if let (Some(e), false) = (&self.engine, self.state_changed) {
             s.memory = Some(Memory {
-                serial: self.engine_serial,
+                structure: self.structure,
                 snapshot: Arc::new(Mutex::new(e.snapshot())),
                 read: Box::new(s.clone()),
             });
@@ -142,16 +142,17 @@ impl World {
         s
     }
 
-    /// Puts a whole state back. Read from this world and unedited, with its structure and settings unchanged since,
-    /// the engine's memory comes back too and the world continues bit for bit as it did from there; otherwise the
-    /// world starts from the state afresh, as a new world built with it would. Static bodies keep their poses
+    /// Puts a whole state back. Read from this world (or a copy) and unedited, with its structure and settings
+    /// unchanged since, the engine's memory comes back too and the world continues bit for bit as it did from there;
+    /// otherwise the world starts from the state afresh, as a new world built with it would. Static bodies keep their poses
     /// (move them with `set_body_state`). Checked whole before anything changes: an error names the array.
     pub fn set_state(&mut self, state: &WorldState) -> Result<(), WorldError> {
         self.check_state(state)?;
-        if let (Some(m), Some(engine)) = (&state.memory, &mut self.engine) {
-            if m.serial == self.engine_serial && state.same_arrays(&m.read) {
+        if let Some(m) = &state.memory {
+            if m.structure == self.structure && state.same_arrays(&m.read) {
+                // an engine of this structure (built anew if the world dropped its own) given the memory back
                 let snapshot = m.snapshot.lock().unwrap_or_else(|e| e.into_inner()).clone();
-                engine.restore(snapshot)?;
+                self.engine()?.restore(snapshot)?;
                 self.state_changed = false;
                 self.store_state();
                 return Ok(());
@@ -170,7 +171,7 @@ impl World {
                 b.angular_momentum = state.body_angular_momenta[k];
             }
         }
-        self.retire_engine();
+        self.drop_engine();
         Ok(())
     }
 
@@ -243,7 +244,7 @@ impl World {
         self.stepped = false;
         self.failed_run = None;
         self.totals = WorldReport::new(self.settings.method.name());
-        self.retire_engine();
+        self.drop_engine();
     }
 }
 

@@ -54,6 +54,7 @@ const STUCK: usize = 200;
 const STALL: usize = 2_000;
 
 /// The contact side of an accurate-mode engine: what it knows between steps.
+#[derive(Clone)]
 pub(crate) struct Contacts {
     pub scene: ContactScene,
     settings: AccurateSettings,
@@ -80,7 +81,7 @@ pub(crate) struct Contacts {
     /// The touching phase, while bodies touch.
     touching: Option<touching::Touching>,
     /// Threads of the contact solves.
-    threads: usize,
+    pub(crate) threads: usize,
     /// A state component past this is divergence.
     divergence_limit: f64,
     /// The lagged-friction fixed point is reached when no normal impulse moves by more than this fraction of the
@@ -98,11 +99,12 @@ pub(crate) struct Contacts {
 }
 
 /// Integration with event-driven contact.
+#[derive(Clone)]
 pub(crate) struct AccurateEngine {
     compiled: Compiled,
     integrator: Integrator<Model>,
     settings: Settings,
-    contacts: Contacts,
+    pub(crate) contacts: Contacts,
 }
 
 /// What a failed call puts back: the whole integrator (state, next step, controller, caches, histories), the

@@ -38,6 +38,7 @@ pub(crate) const FAST_SOFT: &str = "fast (semi-implicit Euler substeps, soft con
 const MAX_STEPS: f64 = 1e7;
 
 /// The state and memory of a fast-mode world.
+#[derive(Clone)]
 pub(crate) struct FastEngine {
     compiled: Compiled,
     scene: Option<ContactScene>,
@@ -46,7 +47,7 @@ pub(crate) struct FastEngine {
     steps: u64,
     y: Vec<f64>,
     settings: FastSettings,
-    threads: usize,
+    pub(crate) threads: usize,
     /// A state component larger than this is divergence: the step fails instead of running on to overflow.
     divergence_limit: f64,
     /// Each contact's normal impulse of the last step (ordered: the warm start sums them in key order).
