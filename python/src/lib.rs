@@ -4,6 +4,7 @@
 use pyo3::prelude::*;
 
 mod args;
+mod batch;
 mod control;
 mod convert;
 mod handles;
@@ -25,6 +26,7 @@ pyo3::create_exception!(
 #[pymodule]
 fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world::PyWorld>()?;
+    m.add_function(wrap_pyfunction!(batch::_rollout, m)?)?;
     m.add_class::<state::PyState>()?;
     m.add_class::<shapes::PyShape>()?;
     m.add_class::<shapes::Sphere>()?;

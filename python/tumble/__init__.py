@@ -36,12 +36,15 @@ from ._tumble import (
 )
 from ._report import Report
 from ._run import Run
+from ._batch import Batch, rollout
 from ._world import BodiesView, ParticlesView, World
 from . import scenes
 
 __all__ = [
     "World",
     "Run",
+    "Batch",
+    "rollout",
     "Report",
     "ParticlesView",
     "BodiesView",

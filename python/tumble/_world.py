@@ -141,6 +141,17 @@ class World(_World):
         """The bodies' state as arrays."""
         return BodiesView(self)
 
+    def __copy__(self) -> "World":
+        """A copy: objects, settings, state, the engine's memory and report; it answers to this world's handles
+        and continues bit for bit as this world would (force callbacks are shared)."""
+        copy = type(self)()
+        copy._assign_from(self)
+        return copy
+
+    def __deepcopy__(self, memo: dict) -> "World":
+        """The same as ``copy.copy``: a world shares nothing with its copy but its force callbacks."""
+        return self.__copy__()
+
     @property
     def report(self) -> Report:
         """Everything the world's steps have cost so far."""
