@@ -11,6 +11,9 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
+/// How often the calling thread calls the control while a batch runs.
+const TICK: std::time::Duration = std::time::Duration::from_millis(20);
+
 /// How a batch runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RolloutSettings {
@@ -66,10 +69,15 @@ pub fn rollout(
         Ok(run)
     };
     let runs: Vec<Result<Run, WorldError>> = std::thread::scope(|scope| {
-        let batch = scope.spawn(|| pool.install(|| states.par_iter().enumerate().map(|(k, s)| one(k, s)).collect()));
+        let (finished, wait) = std::sync::mpsc::channel::<()>();
+        let batch = scope.spawn(move || {
+            let runs = pool.install(|| states.par_iter().enumerate().map(|(k, s)| one(k, s)).collect());
+            let _ = finished.send(());
+            runs
+        });
         let fraction = || done.load(Ordering::Relaxed) as f64 / states.len().max(1) as f64;
-        while !batch.is_finished() {
-            std::thread::sleep(std::time::Duration::from_millis(20));
+        // the calling thread answers to the control every 20 ms until the batch is done (or its thread ended)
+        while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(TICK) {
             if !stop.load(Ordering::Relaxed) && !control(fraction()) {
                 stop.store(true, Ordering::Relaxed);
             }
