@@ -15,7 +15,8 @@ pub struct Collider {
 }
 
 /// Restitution and friction of a surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Material {
     /// Coefficient of restitution in [0, 1].
     pub restitution: f64,

@@ -28,6 +28,7 @@ mod mode;
 mod model;
 mod options;
 mod particle;
+mod persist;
 mod plan;
 mod report;
 mod rollout;

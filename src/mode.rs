@@ -5,7 +5,8 @@ use crate::error::WorldError;
 use crate::limits;
 
 /// How a world steps when bodies touch.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Mode {
     /// Event-driven with error-controlled contact steps (the default): the integrator and its error control carry
     /// free motion; collisions are located in time by bisection and resolved by impulses; while bodies touch,
@@ -46,7 +47,8 @@ impl Mode {
 }
 
 /// How accurate mode carries contacts that persist.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Persistent {
     /// Convex contact steps with Coulomb friction, their size set by step doubling against `contact_tolerance`
     /// (the default).
@@ -58,7 +60,8 @@ pub enum Persistent {
 }
 
 /// Settings of the accurate mode.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub struct AccurateSettings {
     /// Time tolerance of the collision-time bisection (s); 1e-10 by default.
     pub time_tolerance: f64,
@@ -101,7 +104,8 @@ impl AccurateSettings {
 }
 
 /// Friction in fast mode.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum FastFriction {
     /// Each contact's friction bounded by mu times its previous step's normal impulse: Coulomb's deceleration and
     /// no hop while sliding (the default).
@@ -112,7 +116,8 @@ pub enum FastFriction {
 }
 
 /// Fast mode's contact solver.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum FastSolver {
     /// Catto's soft step (the default): substeps, warm-started impulses, soft contacts in hertz, iterative; as fast
     /// as the game engines, with a small penetration under load (about g / (2 pi hertz)^2 per body weight carried).
@@ -149,7 +154,8 @@ impl Default for FastSolver {
 }
 
 /// Settings of the soft step.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub struct SoftSolver {
     /// Substeps per step; 8 by default. More substeps make contacts stiffer (the stiffness is capped at a quarter of
     /// the substep rate) and stacks sink less.
@@ -158,6 +164,7 @@ pub struct SoftSolver {
     pub iterations: usize,
     /// Contact stiffness (Hz) between moving bodies, twice it against static ones; infinity (the default) is the
     /// cap, a quarter of the substep rate.
+    #[serde(with = "tumble_integrate::float_serde")]
     pub contact_hertz: f64,
     /// Damping ratio of the contacts; 10 by default.
     pub damping_ratio: f64,
@@ -172,7 +179,8 @@ impl Default for SoftSolver {
 }
 
 /// Settings of the fast mode.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub struct FastSettings {
     /// The step (s).
     pub dt: f64,

@@ -28,7 +28,8 @@ use nalgebra::Vector3;
 use tumble_integrate::{Method, Settings};
 
 /// Which Jacobian the springs contribute to implicit methods.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum SpringJacobian {
     /// The exact derivative: Newton-type methods (full Newton, Rodas4, Radau5) need it for their convergence
     /// and order.

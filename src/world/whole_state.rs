@@ -77,7 +77,7 @@ impl WorldState {
 }
 
 /// A body's start: position, orientation, momentum, angular momentum.
-type BodyStart = (Vector3<f64>, UnitQuaternion<f64>, Vector3<f64>, Vector3<f64>);
+pub(crate) type BodyStart = (Vector3<f64>, UnitQuaternion<f64>, Vector3<f64>, Vector3<f64>);
 
 /// The state each object was added with (or set to before the world first stepped), by arena slot: what `reset`
 /// returns to.
@@ -85,6 +85,28 @@ type BodyStart = (Vector3<f64>, UnitQuaternion<f64>, Vector3<f64>, Vector3<f64>)
 pub(crate) struct Starts {
     particles: Vec<(Vector3<f64>, Vector3<f64>)>,
     bodies: Vec<BodyStart>,
+}
+
+impl Starts {
+    /// The start of the particle in slot `index`.
+    pub(crate) fn particle(&self, index: u32) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        self.particles.get(index as usize).copied()
+    }
+
+    /// The start of the body in slot `index`.
+    pub(crate) fn body(&self, index: u32) -> Option<BodyStart> {
+        self.bodies.get(index as usize).copied()
+    }
+
+    /// Sets the start of the particle in slot `index`.
+    pub(crate) fn set_particle(&mut self, index: u32, start: (Vector3<f64>, Vector3<f64>)) {
+        put(&mut self.particles, index, start);
+    }
+
+    /// Sets the start of the body in slot `index`.
+    pub(crate) fn set_body(&mut self, index: u32, start: BodyStart) {
+        put(&mut self.bodies, index, start);
+    }
 }
 
 fn put<T: Copy>(list: &mut Vec<T>, index: u32, value: T) {

@@ -31,6 +31,16 @@ impl TriMesh {
     pub fn triangle_count(&self) -> usize {
         self.mesh.indices().len()
     }
+
+    /// The mesh's vertices.
+    pub fn vertices(&self) -> Vec<Point3<f64>> {
+        self.mesh.vertices().iter().map(|&p| point_from_parry(p)).collect()
+    }
+
+    /// The triangles, as indices into `vertices`.
+    pub fn triangles(&self) -> Vec<[u32; 3]> {
+        self.mesh.indices().to_vec()
+    }
 }
 
 /// A collision and mass shape in its body's frame.

@@ -23,6 +23,8 @@ mod controller;
 mod error;
 mod events;
 mod factorization;
+#[cfg(feature = "serde")]
+pub mod float_serde;
 mod integrator;
 mod jacobian;
 mod method;

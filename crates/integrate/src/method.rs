@@ -6,6 +6,8 @@ use std::str::FromStr;
 
 /// An integration method. Names (`Method::name`, `FromStr`) are those of tumble's public contract.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Method {
     /// Explicit Euler, order 1: X' = X + h f(X, t).
     Euler,

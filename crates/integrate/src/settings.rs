@@ -7,6 +7,8 @@ use crate::system::OdeSystem;
 
 /// How the step size is chosen.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case", deny_unknown_fields))]
 pub enum Control {
     /// Fixed step: each interval between stops (output times, the end) is divided into equal steps no longer
     /// than `dt`, so uniform outputs keep h constant and multistep histories alive.
@@ -23,6 +25,8 @@ pub enum Control {
 
 /// How implicit Euler treats its nonlinear equation X' = X + h f(X').
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case", deny_unknown_fields))]
 pub enum NewtonMode {
     /// The chapter's single linearised step: dX = (I/h - J)^-1 f(X).
     Linearised,
@@ -33,6 +37,8 @@ pub enum NewtonMode {
 
 /// How implicit Euler solves its linear systems with a sparse Jacobian.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case", deny_unknown_fields))]
 pub enum LinearSolver {
     /// Sparse LU (faer), symbolic analysis once. Exact; on 2-D meshes its fill-in makes the cost superlinear.
     Direct,
@@ -43,6 +49,8 @@ pub enum LinearSolver {
 
 /// The configuration of one integration.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case", deny_unknown_fields))]
 pub struct Settings {
     /// The method.
     pub method: Method,
@@ -58,10 +66,12 @@ pub struct Settings {
     /// Smallest step an adaptive control may take (0: only the round-off limit 16 eps |t|).
     pub min_step: f64,
     /// Largest step an adaptive control may take.
+    #[cfg_attr(feature = "serde", serde(with = "crate::float_serde"))]
     pub max_step: f64,
     /// First step of an adaptive control (None: chosen automatically).
     pub initial_step: Option<f64>,
     /// A state whose max norm exceeds this is reported as [`OdeError::Divergence`].
+    #[cfg_attr(feature = "serde", serde(with = "crate::float_serde"))]
     pub divergence_limit: f64,
     /// Interpolate output times with the method's dense output where it has one (dopri5, rodas4); otherwise
     /// every output time is a step stop.

@@ -1,0 +1,206 @@
+//! The scene file: what a saved world holds, as serde types. The same structure is written as readable JSON (a
+//! person can write one by hand: most fields have defaults) and, after a versioned header, as compact binary.
+//! Rows: springs and loads name particles and bodies by their place in the file's lists (the world's rows).
+
+use crate::collider::Material;
+use crate::mode::Mode;
+use crate::world::SpringJacobian;
+use serde::{Deserialize, Serialize};
+use tumble_integrate::Settings;
+
+/// The format's name, written first in a JSON file.
+pub const FORMAT: &str = "tumble-scene";
+/// The format's version: files of another version are refused with a clear error.
+pub const VERSION: u32 = 1;
+
+fn default_gravity() -> [f64; 3] {
+    [0.0, 0.0, -9.81]
+}
+fn one() -> f64 {
+    1.0
+}
+fn half() -> f64 {
+    0.5
+}
+fn identity() -> [f64; 4] {
+    [1.0, 0.0, 0.0, 0.0]
+}
+
+/// A whole world.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Always "tumble-scene".
+    pub format: String,
+    /// The format's version (1).
+    pub version: u32,
+    #[serde(default)]
+    pub time: f64,
+    #[serde(default = "default_gravity")]
+    pub gravity: [f64; 3],
+    /// Accurate (the default) or fast mode with its settings.
+    #[serde(default)]
+    pub mode: Mode,
+    /// The integrator (accurate mode); Dormand-Prince at rtol 1e-6, atol 1e-9 if absent.
+    #[serde(default)]
+    pub integrator: Option<Settings>,
+    /// Threads of the contact solves (0: one per core).
+    #[serde(default)]
+    pub threads: usize,
+    #[serde(default)]
+    pub divergence_factor: Option<f64>,
+    #[serde(default)]
+    pub spring_jacobian: Option<SpringJacobian>,
+    #[serde(default)]
+    pub particles: Vec<ParticleFile>,
+    #[serde(default)]
+    pub bodies: Vec<BodyFile>,
+    #[serde(default)]
+    pub springs: Vec<SpringFile>,
+    #[serde(default)]
+    pub loads: Vec<LoadFile>,
+}
+
+/// A particle.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleFile {
+    #[serde(default = "one")]
+    pub mass: f64,
+    #[serde(default)]
+    pub position: [f64; 3],
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    #[serde(default)]
+    pub damping: f64,
+    #[serde(default)]
+    pub stiffness: f64,
+    #[serde(default)]
+    pub anchor: [f64; 3],
+    #[serde(default)]
+    pub radius: f64,
+    #[serde(default = "half")]
+    pub restitution: f64,
+    #[serde(default = "half")]
+    pub friction: f64,
+    /// The state `reset` returns to (position, velocity); the loaded state if absent.
+    #[serde(default)]
+    pub start: Option<[[f64; 3]; 2]>,
+}
+
+/// A shape, in its collider's frame.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeFile {
+    Sphere { radius: f64 },
+    Box { half_extents: [f64; 3] },
+    Capsule { half_height: f64, radius: f64 },
+    Cylinder { half_height: f64, radius: f64 },
+    ConvexHull { points: Vec<[f64; 3]> },
+    TriMesh { vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]> },
+    HalfSpace { normal: [f64; 3] },
+}
+
+/// A shape placed in its body's frame (relative to the centre of mass when the body's mass and inertia are given,
+/// else to the body's origin).
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct ColliderFile {
+    pub shape: ShapeFile,
+    #[serde(default)]
+    pub position: [f64; 3],
+    #[serde(default = "identity")]
+    pub orientation: [f64; 4],
+}
+
+/// A rigid body: either `mass` and `inertia` with colliders placed about the centre of mass (as saved, exact), or
+/// colliders with a `density` or a `mass` that give its mass properties (as a person writes it).
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct BodyFile {
+    #[serde(default, rename = "static")]
+    pub is_static: bool,
+    #[serde(default)]
+    pub colliders: Vec<ColliderFile>,
+    #[serde(default)]
+    pub mass: Option<f64>,
+    #[serde(default)]
+    pub inertia: Option<[[f64; 3]; 3]>,
+    #[serde(default)]
+    pub density: Option<f64>,
+    #[serde(default)]
+    pub position: [f64; 3],
+    /// (w, x, y, z).
+    #[serde(default = "identity")]
+    pub orientation: [f64; 4],
+    /// Velocity (m/s), or `momentum` (kg m/s, exact) instead.
+    #[serde(default)]
+    pub velocity: Option<[f64; 3]>,
+    #[serde(default)]
+    pub momentum: Option<[f64; 3]>,
+    /// Angular velocity (rad/s, world axes), or `angular_momentum` (kg m^2/s, exact) instead.
+    #[serde(default)]
+    pub angular_velocity: Option<[f64; 3]>,
+    #[serde(default)]
+    pub angular_momentum: Option<[f64; 3]>,
+    #[serde(default)]
+    pub linear_damping: f64,
+    #[serde(default)]
+    pub angular_damping: f64,
+    #[serde(default = "half")]
+    pub restitution: f64,
+    #[serde(default = "half")]
+    pub friction: f64,
+    /// The state `reset` returns to: position, orientation (w, x, y, z), momentum, angular momentum.
+    #[serde(default)]
+    pub start: Option<([f64; 3], [f64; 4], [f64; 3], [f64; 3])>,
+}
+
+/// A spring's end.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum EndFile {
+    /// The particle of this row.
+    Particle(usize),
+    /// A point of the body of this row, in its frame (relative to its centre of mass).
+    Body { body: usize, anchor: [f64; 3] },
+    /// A fixed point of space.
+    Point([f64; 3]),
+}
+
+/// A damped spring.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SpringFile {
+    pub a: EndFile,
+    pub b: EndFile,
+    #[serde(default = "one")]
+    pub stiffness: f64,
+    #[serde(default)]
+    pub damping: f64,
+    /// The distance between the ends when loaded if absent.
+    #[serde(default)]
+    pub rest_length: Option<f64>,
+}
+
+/// What a load acts on.
+#[derive(Serialize, Deserialize, Debug, Clone, Copy)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum TargetFile {
+    Particle(usize),
+    Body(usize),
+}
+
+/// A constant load (callbacks are code, which a file cannot hold).
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum LoadFile {
+    Force { target: TargetFile, force: [f64; 3], at: Option<[f64; 3]> },
+    Torque { body: usize, torque: [f64; 3] },
+}
+
+impl ParticleFile {
+    pub fn material(&self) -> Material {
+        Material { restitution: self.restitution, friction: self.friction }
+    }
+}

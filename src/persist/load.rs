@@ -1,0 +1,246 @@
+//! A world built from a scene file, through the same builders and checks as one built by hand, each error said
+//! with the field's path (`bodies[3].mass: ...`); states, masses and inertias as written are kept to the bit.
+
+use super::file::*;
+use crate::body::RigidBodyBuilder;
+use crate::error::{check_finite, WorldError};
+use crate::limits;
+use crate::load::{Load, Target};
+use crate::mode::Mode;
+use crate::particle::ParticleBuilder;
+use crate::spring::{Attachment, BodyHandle, ParticleHandle, SpringBuilder};
+use crate::world::World;
+use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, Translation3, Unit, UnitQuaternion, Vector3};
+use tumble_collide::Shape;
+
+/// An error of the list `list` (a field name the error carries), said with the item's path.
+fn at(list: &'static str, path: String) -> impl Fn(WorldError) -> WorldError {
+    move |e| match e {
+        WorldError::InvalidArgument { name, reason } => WorldError::invalid(list, format!("{path}.{name}: {reason}")),
+        WorldError::UnknownHandle { name, .. } => WorldError::invalid(list, format!("{path}.{name}: no such row")),
+        other => other,
+    }
+}
+
+fn v3(a: [f64; 3]) -> Vector3<f64> {
+    Vector3::from(a)
+}
+
+/// A quaternion (w, x, y, z) as written: kept to the bit when its norm is 1 within 1e-12 (as saved), else
+/// normalised (as a person writes it); not finite or zero is an error.
+fn quaternion(name: &'static str, q: [f64; 4]) -> Result<UnitQuaternion<f64>, WorldError> {
+    let q = Quaternion::new(q[0], q[1], q[2], q[3]);
+    let n = q.norm();
+    if !(n.is_finite() && n > 0.0) {
+        return Err(WorldError::invalid(name, format!("must be a finite nonzero quaternion, got {q:?}")));
+    }
+    Ok(if (n - 1.0).abs() <= 1e-12 { UnitQuaternion::new_unchecked(q) } else { UnitQuaternion::new_normalize(q) })
+}
+
+fn shape(s: &ShapeFile) -> Result<Shape, WorldError> {
+    let points = |ps: &[[f64; 3]]| ps.iter().map(|&p| Point3::from(p)).collect::<Vec<_>>();
+    Ok(match s {
+        ShapeFile::Sphere { radius } => Shape::sphere(*radius)?,
+        ShapeFile::Box { half_extents } => Shape::cuboid(v3(*half_extents))?,
+        ShapeFile::Capsule { half_height, radius } => Shape::capsule(*half_height, *radius)?,
+        ShapeFile::Cylinder { half_height, radius } => Shape::cylinder(*half_height, *radius)?,
+        ShapeFile::ConvexHull { points: p } => Shape::convex_hull(&points(p))?,
+        ShapeFile::TriMesh { vertices, triangles } => Shape::trimesh(&points(vertices), triangles)?,
+        ShapeFile::HalfSpace { normal } => {
+            let n = v3(*normal);
+            if n.iter().all(|c| c.is_finite()) && (n.norm() - 1.0).abs() <= 1e-12 {
+                Shape::HalfSpace { normal: Unit::new_unchecked(n) }
+            } else {
+                Shape::half_space(n)?
+            }
+        }
+    })
+}
+
+fn collider(c: &ColliderFile) -> Result<(Shape, Isometry3<f64>), WorldError> {
+    let rotation = quaternion("orientation", c.orientation)?;
+    limits::vector("position", &v3(c.position), limits::COORDINATE, "m")?;
+    Ok((shape(&c.shape)?, Isometry3::from_parts(Translation3::from(v3(c.position)), rotation)))
+}
+
+fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
+    let colliders =
+        b.colliders.iter().enumerate().map(|(k, c)| collider(c).map_err(at("colliders", format!("colliders[{k}]"))));
+    let colliders = colliders.collect::<Result<Vec<_>, _>>()?;
+    let mut builder = match (b.is_static, b.mass, b.inertia, b.density) {
+        (true, None, None, None) => RigidBodyBuilder::fixed(None),
+        (true, ..) => return Err(WorldError::invalid("static", "a static body has no mass, inertia or density")),
+        (false, Some(m), Some(i), None) => RigidBodyBuilder::new(m, Matrix3::from_fn(|r, c| i[r][c])),
+        (false, m, None, d) => {
+            let Some((first, pose)) = colliders.first() else {
+                return Err(WorldError::invalid("colliders", "a body without mass and inertia needs a shape"));
+            };
+            if *pose != Isometry3::identity() {
+                return Err(WorldError::invalid(
+                    "colliders",
+                    "with a density or a mass alone, the first collider sits at the body's origin (no position or orientation)",
+                ));
+            }
+            match (m, d) {
+                (Some(m), None) => RigidBodyBuilder::from_shape_with_mass(first.clone(), m),
+                (None, Some(d)) => RigidBodyBuilder::from_shape(first.clone(), d),
+                _ => return Err(WorldError::invalid("density", "give a density, or a mass (with or without inertia)")),
+            }
+        }
+        (false, _, Some(_), _) => return Err(WorldError::invalid("inertia", "an inertia needs a mass and no density")),
+    };
+    let skip = usize::from(!b.is_static && b.inertia.is_none());
+    for (s, pose) in colliders.into_iter().skip(skip) {
+        builder = builder.collider(s, pose);
+    }
+    let both = |name: &'static str, x: bool, y: bool| {
+        if x && y {
+            Err(WorldError::invalid(name, "give it or its momentum, not both"))
+        } else {
+            Ok(())
+        }
+    };
+    both("velocity", b.velocity.is_some(), b.momentum.is_some())?;
+    both("angular_velocity", b.angular_velocity.is_some(), b.angular_momentum.is_some())?;
+    Ok(builder
+        .position(v3(b.position))
+        .orientation(quaternion("orientation", b.orientation)?)
+        .velocity(v3(b.velocity.unwrap_or_default()))
+        .angular_velocity(v3(b.angular_velocity.unwrap_or_default()))
+        .linear_damping(b.linear_damping)
+        .angular_damping(b.angular_damping)
+        .restitution(b.restitution)
+        .friction(b.friction))
+}
+
+impl World {
+    /// A world from a scene file.
+    pub(crate) fn from_scene_file(f: &SceneFile) -> Result<World, WorldError> {
+        if f.format != FORMAT {
+            return Err(WorldError::invalid("format", format!("expected \"{FORMAT}\", got \"{}\"", f.format)));
+        }
+        if f.version != VERSION {
+            return Err(WorldError::invalid(
+                "version",
+                format!("this tumble reads version {VERSION} of the scene format, the file is version {}", f.version),
+            ));
+        }
+        let mut w = World::new();
+        w.set_gravity(v3(f.gravity))?;
+        w.set_threads(f.threads)?;
+        if let Some(factor) = f.divergence_factor {
+            w.set_divergence_factor(factor)?;
+        }
+        w.set_spring_jacobian(f.spring_jacobian);
+        let mut particles: Vec<ParticleHandle> = Vec::new();
+        for (k, p) in f.particles.iter().enumerate() {
+            let builder = ParticleBuilder::new(p.mass)
+                .position(v3(p.position))
+                .velocity(v3(p.velocity))
+                .damping(p.damping)
+                .stiffness(p.stiffness)
+                .anchor(v3(p.anchor))
+                .radius(p.radius)
+                .material(p.material());
+            let h = w.add_particle(builder).map_err(at("particles", format!("particles[{k}]")))?;
+            if let Some([x, v]) = p.start {
+                let (x, v) = (v3(x), v3(v));
+                limits::vector("start", &x, limits::COORDINATE, "m")
+                    .map_err(at("particles", format!("particles[{k}]")))?;
+                limits::vector("start", &v, limits::SPEED, "m/s")
+                    .map_err(at("particles", format!("particles[{k}]")))?;
+                w.starts.set_particle(h.index(), (x, v));
+            }
+            particles.push(h);
+        }
+        let mut bodies: Vec<BodyHandle> = Vec::new();
+        for (k, b) in f.bodies.iter().enumerate() {
+            let path = format!("bodies[{k}]");
+            let h = body_builder(b).and_then(|builder| w.add_body(builder)).map_err(at("bodies", path.clone()))?;
+            w.exact_momenta(h, b).map_err(at("bodies", path))?;
+            bodies.push(h);
+        }
+        let particle = |list: &'static str, path: &str, i: usize| {
+            particles
+                .get(i)
+                .copied()
+                .ok_or_else(|| WorldError::invalid(list, format!("{path}: no particle of row {i}")))
+        };
+        let body = |list: &'static str, path: &str, i: usize| {
+            bodies.get(i).copied().ok_or_else(|| WorldError::invalid(list, format!("{path}: no body of row {i}")))
+        };
+        for (k, s) in f.springs.iter().enumerate() {
+            let end = |e: &EndFile, side: &str| -> Result<Attachment, WorldError> {
+                let path = format!("springs[{k}].{side}");
+                Ok(match e {
+                    EndFile::Particle(i) => Attachment::Particle(particle("springs", &path, *i)?),
+                    EndFile::Body { body: i, anchor } => Attachment::Body(body("springs", &path, *i)?, v3(*anchor)),
+                    EndFile::Point(p) => Attachment::Point(v3(*p)),
+                })
+            };
+            let mut builder =
+                SpringBuilder::new(end(&s.a, "a")?, end(&s.b, "b")?).stiffness(s.stiffness).damping(s.damping);
+            if let Some(l) = s.rest_length {
+                builder = builder.rest_length(l);
+            }
+            w.add_spring(builder).map_err(at("springs", format!("springs[{k}]")))?;
+        }
+        for (k, l) in f.loads.iter().enumerate() {
+            let path = format!("loads[{k}]");
+            let load = match l {
+                LoadFile::Force { target, force, at: point } => {
+                    let target = match target {
+                        TargetFile::Particle(i) => Target::Particle(particle("loads", &path, *i)?),
+                        TargetFile::Body(i) => Target::Body(body("loads", &path, *i)?),
+                    };
+                    Load::Force { target, force: v3(*force), at: point.map(v3) }
+                }
+                LoadFile::Torque { body: i, torque } => {
+                    Load::Torque { body: body("loads", &path, *i)?, torque: v3(*torque) }
+                }
+            };
+            w.add_load(load).map_err(at("loads", path))?;
+        }
+        w.set_mode(f.mode)?;
+        if let Some(settings) = &f.integrator {
+            match f.mode {
+                Mode::Accurate(_) => {
+                    w.set_integrator(settings.clone()).map_err(at("integrator", "integrator".into()))?
+                }
+                Mode::Fast(_) => w.settings = settings.clone(),
+            }
+        }
+        w.time = limits::in_range("time", f.time, -limits::TIME, limits::TIME, "s")?;
+        w.stepped = f.particles.iter().any(|p| p.start.is_some()) || f.bodies.iter().any(|b| b.start.is_some());
+        Ok(w)
+    }
+
+    /// Puts a body's momenta, collider placements (given its mass and inertia) and start as written, to the bit.
+    fn exact_momenta(&mut self, h: BodyHandle, f: &BodyFile) -> Result<(), WorldError> {
+        let b = self.bodies.get_mut(h).ok_or_else(|| WorldError::invalid("bodies", "lost"))?;
+        if f.is_static || f.inertia.is_some() {
+            for (c, written) in b.colliders.iter_mut().zip(&f.colliders) {
+                c.offset.translation.vector = v3(written.position);
+            }
+        }
+        if !b.is_static {
+            if let Some(p) = f.momentum {
+                limits::vector("momentum", &(v3(p) / b.mass), limits::SPEED, "m/s (p / m)")?;
+                b.momentum = v3(p);
+            }
+            if let Some(l) = f.angular_momentum {
+                check_finite("angular_momentum", l.iter())?;
+                b.angular_momentum = v3(l);
+            }
+        }
+        if let Some((x, q, p, l)) = f.start {
+            limits::vector("start", &v3(x), limits::COORDINATE, "m")?;
+            check_finite("start", p.iter().chain(l.iter()))?;
+            let start = (v3(x), quaternion("start", q)?, v3(p), v3(l));
+            self.starts.set_body(h.index(), start);
+        } else {
+            self.record_body_start(h);
+        }
+        Ok(())
+    }
+}
