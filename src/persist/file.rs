@@ -113,6 +113,9 @@ pub struct ColliderFile {
     pub orientation: [f64; 4],
 }
 
+/// A body's start as written: position, orientation (w, x, y, z), momentum, angular momentum.
+pub type BodyStartFile = ([f64; 3], [f64; 4], [f64; 3], [f64; 3]);
+
 /// A rigid body: either `mass` and `inertia` with colliders placed about the centre of mass (as saved, exact), or
 /// colliders with a `density` or a `mass` that give its mass properties (as a person writes it).
 #[derive(Serialize, Deserialize, Debug, Clone)]
@@ -153,7 +156,7 @@ pub struct BodyFile {
     pub friction: f64,
     /// The state `reset` returns to: position, orientation (w, x, y, z), momentum, angular momentum.
     #[serde(default)]
-    pub start: Option<([f64; 3], [f64; 4], [f64; 3], [f64; 3])>,
+    pub start: Option<BodyStartFile>,
 }
 
 /// A spring's end.
