@@ -81,6 +81,38 @@ fn a_saved_world_loads_to_the_bit_and_runs_as_the_original_started_afresh() {
 }
 
 #[test]
+fn hulls_come_back_with_their_features_numbered_alike() {
+    // Seeded random hulls (10 points each, random spins) dropped on a ground in fast mode, where the contact order
+    // follows the hulls' feature numbers: rebuilt from the hull's own vertices instead of the points it was made
+    // from, the loaded world drifts from the original at the rounding level once they tumble (tried).
+    for seed in 0..6 {
+        let mut rng = common::Lcg(seed);
+        let mut w = World::new();
+        w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0))).unwrap();
+        w.add_ground(0.0, tumble::Material { restitution: 0.3, friction: 0.7 }).unwrap();
+        for k in 0..3 {
+            let points: Vec<nalgebra::Point3<f64>> = (0..10)
+                .map(|_| nalgebra::Point3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), rng.range(-0.1, 0.1)))
+                .collect();
+            let shape = tumble::Shape::convex_hull(&points).unwrap();
+            let spin = Vector3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
+            w.add_body(
+                tumble::RigidBodyBuilder::from_shape(shape, rng.range(300.0, 2000.0))
+                    .position(Vector3::new(0.4 * k as f64, 0.0, 0.3 + 0.3 * k as f64))
+                    .angular_velocity(spin),
+            )
+            .unwrap();
+        }
+        w.step(0.25).unwrap();
+        let mut loaded = World::from_bytes(&w.to_bytes().unwrap()).unwrap();
+        let mut reference = afresh(&w);
+        loaded.step(0.5).unwrap();
+        reference.step(0.5).unwrap();
+        assert_eq!(state_bits(&loaded), state_bits(&reference), "seed {seed}");
+    }
+}
+
+#[test]
 fn a_hand_written_scene_loads_with_its_defaults() {
     let text = r#"{
         "format": "tumble-scene", "version": 1,

@@ -25,7 +25,7 @@ fn shape_file(s: &Shape) -> ShapeFile {
         Shape::Cuboid { half_extents } => ShapeFile::Box { half_extents: v3(half_extents) },
         Shape::Capsule { half_height, radius } => ShapeFile::Capsule { half_height: *half_height, radius: *radius },
         Shape::Cylinder { half_height, radius } => ShapeFile::Cylinder { half_height: *half_height, radius: *radius },
-        Shape::ConvexHull(h) => ShapeFile::ConvexHull { points: points(h.vertices()) },
+        Shape::ConvexHull(h) => ShapeFile::ConvexHull { points: points(h.source_points().to_vec()) },
         Shape::TriMesh(m) => ShapeFile::TriMesh { vertices: points(m.vertices()), triangles: m.triangles() },
         Shape::HalfSpace { normal } => ShapeFile::HalfSpace { normal: v3(normal) },
     }

@@ -11,12 +11,19 @@ use std::sync::Arc;
 #[derive(Clone, Debug)]
 pub struct ConvexHull {
     pub(crate) polyhedron: Arc<ConvexPolyhedron>,
+    /// The points it was made from (the hull of the same points is the same hull, features numbered alike).
+    pub(crate) source: Arc<Vec<Point3<f64>>>,
 }
 
 impl ConvexHull {
     /// The hull's vertices.
     pub fn vertices(&self) -> Vec<Point3<f64>> {
         self.polyhedron.points().iter().map(|&p| point_from_parry(p)).collect()
+    }
+
+    /// The points the hull was made from, in their order.
+    pub fn source_points(&self) -> &[Point3<f64>] {
+        &self.source
     }
 }
 
@@ -108,7 +115,7 @@ impl Shape {
             ConvexPolyhedron::from_convex_hull(&pts).filter(|p| p.points().len() >= 4 && !flat(p)).ok_or_else(
                 || ShapeError::new("points", "the points are coplanar (or collinear): their hull has no volume"),
             )?;
-        Ok(Shape::ConvexHull(ConvexHull { polyhedron: Arc::new(polyhedron) }))
+        Ok(Shape::ConvexHull(ConvexHull { polyhedron: Arc::new(polyhedron), source: Arc::new(points.to_vec()) }))
     }
 
     /// A triangle mesh from vertices and triangles (indices into `vertices`); static bodies only.
