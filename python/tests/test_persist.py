@@ -1,5 +1,6 @@
-"""Saving, loading and pickling worlds from Python (issue 15): every object and state to the bit; a loaded world
-runs as the original started afresh from its state; bad files raise ValueError naming the field."""
+"""Saving, loading and pickling worlds from Python (issue 15): every object and state to the bit; a loaded fast
+world continues as the original (binary, pickle), others as the original started afresh from its state; bad files
+raise ValueError naming the field."""
 
 import json
 import pickle
@@ -50,7 +51,10 @@ def test_save_load_continue(mode, how, tmp_path):
         loaded = tumble.World.load(path)
     assert type(loaded) is tumble.World
     assert arrays(loaded) == arrays(w)
-    reference = afresh(w)
+    # the binary format (and pickle) carries fast mode's engine memory: the original's own continuation; JSON, and
+    # accurate mode, start the engine afresh from the saved state
+    import copy
+    reference = copy.deepcopy(w) if mode == "fast" and how != "json" else afresh(w)
     reference.step(0.25)
     loaded.step(0.25)
     assert arrays(loaded) == arrays(reference)

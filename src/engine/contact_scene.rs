@@ -54,7 +54,7 @@ pub(crate) fn pair_runs<T>(items: &[T], pair: impl Fn(&T) -> (u32, u32)) -> Opti
 }
 
 /// Identifies a contact from one step to the next (for friction lagged on the previous normal impulse).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub(crate) struct ContactKey {
     pub colliders: (u32, u32),
     pub features: (u64, u64),

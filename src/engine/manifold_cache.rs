@@ -14,7 +14,7 @@ use tumble_collide::{Contact, ContactKind, Shape};
 pub(crate) const REUSE: f64 = 1e-4;
 
 /// A contact in its bodies' frames.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 struct Local {
     a: Point3<f64>,
     b: Point3<f64>,
@@ -25,7 +25,7 @@ struct Local {
 }
 
 /// One pair's manifold as computed.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 struct Cached {
     pair: (usize, usize),
     /// The smaller collider's pose in the larger's frame when computed (`flipped`: A's in B's).
@@ -37,7 +37,7 @@ struct Cached {
 }
 
 /// The manifolds of the last step's pairs, sorted by pair.
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub(crate) struct ManifoldCache {
     pairs: Vec<Cached>,
     /// This step's, built as pairs are asked for (in sorted order), replacing `pairs` at `finish`.
@@ -102,6 +102,13 @@ impl ManifoldCache {
             self.next.push(Cached { pair, relative, flipped, prediction: enlarged, points });
         }
         Ok(all.into_iter().filter(|c| c.distance <= prediction).collect())
+    }
+
+    /// Whether it fits a scene of `colliders` colliders: pairs in range and sorted, no step half-searched.
+    pub fn fits(&self, colliders: usize) -> bool {
+        self.next.is_empty()
+            && self.pairs.iter().all(|c| c.pair.0 < colliders && c.pair.1 < colliders)
+            && self.pairs.windows(2).all(|w| w[0].pair < w[1].pair)
     }
 
     /// Ends a step's search: its pairs become the ones to reuse.

@@ -206,6 +206,7 @@ impl Engine {
     }
 
     /// Sets the contact solves' thread count (their answers do not depend on it, so the engine keeps its memory).
+    #[cfg_attr(not(feature = "contact"), allow(unused_variables))]
     pub fn set_threads(&mut self, threads: usize) {
         match self {
             Engine::Smooth(_) => {}
@@ -213,6 +214,27 @@ impl Engine {
             Engine::Accurate(e) => e.contacts.threads = threads,
             #[cfg(feature = "contact")]
             Engine::Fast(e) => e.threads = threads,
+        }
+    }
+
+    /// Fast mode's memory, to be saved (the other engines' memory holds factorizations and is not saved).
+    #[cfg(feature = "contact")]
+    pub fn fast_memory(&self) -> Option<fast::FastSnapshot> {
+        match self {
+            Engine::Fast(e) => Some(e.snapshot()),
+            _ => None,
+        }
+    }
+
+    /// Checks a fast-mode memory read from a file and restores it.
+    #[cfg(feature = "contact")]
+    pub fn restore_fast_memory(&mut self, memory: fast::FastSnapshot) -> Result<(), String> {
+        match self {
+            Engine::Fast(e) => {
+                e.check_memory(&memory)?;
+                e.restore(memory).map_err(|err| err.to_string())
+            }
+            _ => Err("it is fast mode's, and the world is not in fast mode".into()),
         }
     }
 

@@ -5,7 +5,7 @@ use crate::engine::contact_scene::Found;
 use nalgebra::{Point3, Vector3};
 
 /// A contact of the last step, between two actors (particles, then dynamic bodies, then static bodies).
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(crate) struct StepContact {
     pub a: usize,
     pub b: usize,

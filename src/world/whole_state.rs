@@ -57,7 +57,7 @@ impl WorldState {
     }
 
     /// The same arrays, bit for bit.
-    fn same_arrays(&self, o: &WorldState) -> bool {
+    pub(crate) fn same_arrays(&self, o: &WorldState) -> bool {
         fn bits<'a>(v: impl Iterator<Item = &'a f64>) -> Vec<u64> {
             v.map(|x| x.to_bits()).collect()
         }

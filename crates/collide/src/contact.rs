@@ -14,7 +14,7 @@ use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQuer
 use parry3d_f64::shape::FeatureId;
 
 /// The feature of a shape that carries a contact point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Feature {
     /// A vertex (parry's id).
     Vertex(u32),
@@ -29,7 +29,7 @@ pub enum Feature {
 }
 
 /// The kind of a contact in the chapter's terms.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ContactKind {
     /// A vertex of A (or a point of its curved surface) on a face of B; normal = B's face normal.
     VertexFace,
@@ -42,7 +42,7 @@ pub enum ContactKind {
 }
 
 /// One contact point of a pair (A, B), in world coordinates.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct Contact {
     /// The point of A's surface.
     pub point_a: Point3<f64>,

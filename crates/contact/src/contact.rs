@@ -6,7 +6,7 @@ use crate::error::ContactError;
 use nalgebra::{Point3, Unit, Vector3};
 
 /// How a contact normal turns as the bodies move, for the n' term of the normal acceleration.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub enum NormalMotion {
     /// The normal belongs to a face of A (a face-vertex contact): n' = w_a x n.
     WithA,
@@ -19,7 +19,7 @@ pub enum NormalMotion {
 }
 
 /// One contact between bodies `a` and `b` (indices into the bodies slice).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct Contact {
     /// Body A.
     pub a: usize,

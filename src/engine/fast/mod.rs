@@ -65,7 +65,7 @@ pub(crate) struct FastEngine {
 }
 
 /// What a failed call puts back: time, state, lagged impulses, warm starts, sleep, kept manifolds.
-#[derive(Clone)]
+#[derive(serde::Serialize, serde::Deserialize, Clone)]
 pub(crate) struct FastSnapshot {
     origin: f64,
     steps: u64,
@@ -320,6 +320,28 @@ impl FastEngine {
             penetration: self.penetration,
             manifolds: self.scene.as_ref().and_then(|s| s.cache.clone()),
             last_contacts: self.last_contacts.clone(),
+        }
+    }
+
+    /// Whether a memory read from a file fits this engine (sizes and indices in range, the state finite): a file's
+    /// memory is checked before it is restored, so that a damaged one is an error, never a panic later.
+    pub fn check_memory(&self, s: &FastSnapshot) -> Result<(), String> {
+        let actors = self.compiled.model.layout.particles + self.compiled.model.layout.bodies;
+        let colliders = self.scene.as_ref().map_or(0, |sc| sc.colliders.len());
+        let all_actors = self.scene.as_ref().map_or(actors, |sc| sc.actors());
+        let keys_fit = |k: &ContactKey| (k.colliders.0 as usize) < colliders && (k.colliders.1 as usize) < colliders;
+        let checks = [
+            (s.y.len() == self.y.len(), "its state has another length"),
+            (s.y.iter().all(|v| v.is_finite()) && s.origin.is_finite(), "its state is not finite"),
+            (s.sleep.fits(actors), "its sleep does not fit the actors"),
+            (s.previous.keys().all(keys_fit) && s.warm.iter().all(|(k, _)| keys_fit(k)), "a contact names no collider"),
+            (s.warm.windows(2).all(|w| w[0].0 < w[1].0), "its warm starts are out of order"),
+            (s.manifolds.as_ref().is_none_or(|m| m.fits(colliders)), "its kept manifolds do not fit the colliders"),
+            (s.last_contacts.iter().all(|c| c.a < all_actors && c.b < all_actors), "a contact names no actor"),
+        ];
+        match checks.iter().find(|(ok, _)| !ok) {
+            Some((_, why)) => Err(why.to_string()),
+            None => Ok(()),
         }
     }
 

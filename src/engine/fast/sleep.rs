@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 use tumble_contact::{BodyState, BodyVelocity};
 
 /// Who sleeps, and how long each awake actor has been still.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(crate) struct Sleep {
     asleep: Vec<bool>,
     still: Vec<f64>,
@@ -39,6 +39,11 @@ fn groups(found: &[Found], n: usize) -> Vec<usize> {
 }
 
 impl Sleep {
+    /// Whether it fits `actors` actors.
+    pub fn fits(&self, actors: usize) -> bool {
+        self.asleep.len() == actors && self.still.len() == actors && self.still.iter().all(|s| s.is_finite())
+    }
+
     pub fn new(actors: usize) -> Self {
         Sleep { asleep: vec![false; actors], still: vec![0.0; actors] }
     }

@@ -98,7 +98,7 @@ impl SoftSettings {
 
 /// A contact's impulses over one substep: normal, and friction as a world vector (so that it carries to the next
 /// step's tangent directions).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
 pub struct SoftImpulse {
     pub normal: f64,
     pub tangent: Vector3<f64>,
