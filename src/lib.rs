@@ -50,6 +50,7 @@ pub use mode::{AccurateSettings, FastFriction, FastSettings, FastSolver, Mode, P
 pub use model::ForceCounters;
 pub use options::{mode_from, BodyOptions, IntegratorOptions, ModeOptions, WorldOptions, DEFAULT_DENSITY, DEFAULT_DT};
 pub use particle::{Particle, ParticleBuilder};
+pub use persist::{shape_from_json, shape_to_json};
 pub use plan::{Plan, Stage, StageCounts};
 pub use report::{ReportValue, WorldReport};
 pub use rollout::{rollout, RolloutSettings};

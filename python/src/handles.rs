@@ -34,6 +34,12 @@ macro_rules! handle_class {
             fn __repr__(&self) -> String {
                 format!("{}({}v{})", $name, self.index, self.generation)
             }
+            /// Pickles as its kind, world number, index and generation (a handle names an object of one world:
+            /// a world loaded from a file answers to it only through rows, not handles).
+            fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (&'static str, u64, u32, u32))> {
+                let rebuild = py.import("tumble._tumble")?.getattr("_handle")?;
+                Ok((rebuild, ($name, self.world, self.index, self.generation)))
+            }
         }
 
         impl From<$rust> for $py {
@@ -54,3 +60,15 @@ handle_class!(PyParticleHandle, "ParticleHandle", ParticleHandle, "A particle of
 handle_class!(PyBodyHandle, "BodyHandle", BodyHandle, "A rigid body of a world.");
 handle_class!(PySpringHandle, "SpringHandle", SpringHandle, "A spring of a world.");
 handle_class!(PyLoadHandle, "LoadHandle", LoadHandle, "A load (force, torque or callback) of a world.");
+
+/// A handle from its parts (unpickling: each handle's `__reduce__`).
+#[pyfunction]
+pub fn _handle(py: Python<'_>, kind: &str, world: u64, index: u32, generation: u32) -> PyResult<Py<PyAny>> {
+    Ok(match kind {
+        "ParticleHandle" => Py::new(py, PyParticleHandle { world, index, generation })?.into_any(),
+        "BodyHandle" => Py::new(py, PyBodyHandle { world, index, generation })?.into_any(),
+        "SpringHandle" => Py::new(py, PySpringHandle { world, index, generation })?.into_any(),
+        "LoadHandle" => Py::new(py, PyLoadHandle { world, index, generation })?.into_any(),
+        other => return Err(crate::convert::invalid("kind", format!("no handle kind {other}"))),
+    })
+}

@@ -27,6 +27,8 @@ pyo3::create_exception!(
 fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world::PyWorld>()?;
     m.add_function(wrap_pyfunction!(batch::_rollout, m)?)?;
+    m.add_function(wrap_pyfunction!(shapes::_shape_from_json, m)?)?;
+    m.add_function(wrap_pyfunction!(handles::_handle, m)?)?;
     m.add_class::<state::PyState>()?;
     m.add_class::<shapes::PyShape>()?;
     m.add_class::<shapes::Sphere>()?;

@@ -17,8 +17,20 @@ fn shape_err(e: tumble::collide::ShapeError) -> PyErr {
     invalid(e.name, e.reason)
 }
 
+/// A shape from its JSON (unpickling: `Shape.__reduce__`).
+#[pyfunction]
+pub fn _shape_from_json(text: &str) -> PyResult<PyShape> {
+    Ok(PyShape { shape: tumble::shape_from_json(text).map_err(crate::convert::world_error)? })
+}
+
 #[pymethods]
 impl PyShape {
+    /// Pickles as the shape's JSON (the scene file's form); it comes back as a `tumble.Shape`.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (String,))> {
+        let rebuild = py.import("tumble._tumble")?.getattr("_shape_from_json")?;
+        Ok((rebuild, (tumble::shape_to_json(&self.shape),)))
+    }
+
     /// Mass properties at `density`: a dict with `mass`, `center_of_mass` (3,) and `inertia` (3, 3) about the
     /// centre of mass, in the shape's frame.
     fn mass_properties<'py>(&self, py: Python<'py>, density: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {

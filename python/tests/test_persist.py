@@ -99,3 +99,23 @@ def test_bad_files_raise_value_errors_naming_the_field(tmp_path):
     w.add_force_callback(w.bodies.handles[1], lambda t, x, v: (0.0, 0.0, 0.0))
     with pytest.raises(ValueError, match="loads"):
         pickle.dumps(w)
+
+
+def test_a_run_pickles_saves_and_has_a_short_repr(tmp_path):
+    w = scene("fast")
+    run = w.run(0.5)
+    assert len(repr(run)) < 200 and "frames" in repr(run)
+    copies = [pickle.loads(pickle.dumps(run)), tumble.Run.load(run.save(tmp_path / "run.npz"))]
+    for other in copies:
+        for name in ("times", "body_positions", "body_orientations", "energy", "step_sizes", "penetration"):
+            assert getattr(other, name).tobytes() == getattr(run, name).tobytes(), name
+        assert other.bodies == run.bodies and other.particles == run.particles
+        assert other.report == run.report
+        kinds = [[type(s).__name__ for s, _, _ in body] for body in other.shapes]
+        assert len(kinds) == len(run.shapes)
+        hull = other.shapes[3][0][0]
+        assert np.allclose(hull.triangle_mesh()[0], run.shapes[3][0][0].triangle_mesh()[0], rtol=0, atol=0)
+    table = np.loadtxt(run.to_csv(tmp_path / "run.csv"), delimiter=",", skiprows=1)
+    assert table.shape == (run.frames, 11)
+    # written with repr: the CSV's numbers are the run's, to the bit
+    assert table[:, 0].tobytes() == run.times.tobytes() and table[:, 3].tobytes() == run.energy.tobytes()

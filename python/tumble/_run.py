@@ -1,7 +1,10 @@
-"""``Run``: the frames of a run as numpy arrays, with a plot, an animated preview and glTF export."""
+"""``Run``: the frames of a run as numpy arrays, with a plot, an animated preview, glTF export, and saving to
+``.npz`` (whole) and CSV (its per-frame scalars); a run pickles."""
 
 from __future__ import annotations
 
+import csv
+import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -11,7 +14,15 @@ import numpy as np
 from ._report import Report
 
 
-@dataclass
+# The per-frame and per-step arrays a run holds (what .npz files carry).
+ARRAYS = (
+    "times", "particle_positions", "particle_velocities", "body_positions", "body_orientations", "body_velocities",
+    "body_angular_velocities", "kinetic_energy", "potential_energy", "energy", "momentum", "angular_momentum",
+    "step_times", "step_sizes", "penetration", "contact_events",
+)
+
+
+@dataclass(repr=False)
 class Run:
     """Frames of a run. Arrays are frame-major: ``particle_positions`` is (F, P, 3), ``body_orientations``
     (F, B, 4) as (w, x, y, z); particles and bodies appear in the order of ``particles`` and ``bodies``.
@@ -50,6 +61,58 @@ class Run:
     def frames(self) -> int:
         """Number of frames."""
         return len(self.times)
+
+    def __repr__(self) -> str:
+        span = f"{self.times[0]:g} to {self.times[-1]:g} s" if len(self.times) else "empty"
+        return (f"Run({self.frames} frames, {span}, {len(self.bodies)} bodies, {len(self.particles)} particles, "
+                f"{len(self.step_times)} steps, {self.report.wall_seconds:.3g} s of work)")
+
+    def save(self, path: str | Path) -> Path:
+        """Saves the whole run as a compressed ``.npz``: every array, the report, the handles and the bodies'
+        shapes (``Run.load`` reads it back equal). Returns the path."""
+        path = Path(path)
+
+        def handles(hs: list) -> np.ndarray:
+            return np.array([[h.world, h.index, h.generation] for h in hs], dtype=np.uint64).reshape(-1, 3)
+
+        shapes = [[(s.__reduce__()[1][0], list(map(float, p)), list(map(float, q))) for s, p, q in body]
+                  for body in self.shapes]
+        report = {**self.report._fields, "_text": self.report._text}
+        np.savez_compressed(path, **{name: getattr(self, name) for name in ARRAYS},
+                            particles=handles(self.particles), bodies=handles(self.bodies),
+                            report=np.array(json.dumps(report)), shapes=np.array(json.dumps(shapes)))
+        return path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
+
+    @classmethod
+    def load(cls, path: str | Path) -> "Run":
+        """A run saved by ``save``."""
+        from ._tumble import _handle, _shape_from_json  # noqa: PLC0415
+
+        with np.load(Path(path), allow_pickle=False) as data:
+            arrays = {name: data[name] for name in ARRAYS}
+            def handles(kind: str, a: np.ndarray) -> list:
+                return [_handle(kind, int(w), int(i), int(g)) for w, i, g in a]
+
+            particles = handles("ParticleHandle", data["particles"])
+            bodies = handles("BodyHandle", data["bodies"])
+            report = Report(json.loads(str(data["report"])))
+            shapes = [[(_shape_from_json(s), p, q) for s, p, q in body] for body in json.loads(str(data["shapes"]))]
+        return cls(**arrays, report=report, particles=particles, bodies=bodies, shapes=shapes)
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Writes the per-frame scalars as CSV, a row a frame: time, kinetic, potential and total energy, momentum
+        and angular momentum (x, y, z each) and the largest penetration. Returns the path."""
+        path = Path(path)
+        with path.open("w", newline="") as out:
+            w = csv.writer(out)
+            w.writerow(["time", "kinetic_energy", "potential_energy", "energy", "momentum_x", "momentum_y",
+                        "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z",
+                        "penetration"])
+            for k in range(self.frames):
+                w.writerow([repr(float(v)) for v in (self.times[k], self.kinetic_energy[k], self.potential_energy[k],
+                                                     self.energy[k], *self.momentum[k], *self.angular_momentum[k],
+                                                     self.penetration[k])])
+        return path
 
     def plot(self, path: str | Path | None = None):
         """Plots energy (kinetic, potential, total), the largest penetration and the step size over time (contact

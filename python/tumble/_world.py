@@ -157,9 +157,11 @@ class World(_World):
     def save(self, path: str | os.PathLike) -> Path:
         """Saves the world: readable JSON if ``path`` ends in ``.json`` (a scene a person can read and edit), else
         the versioned binary format. Every object and its state are kept to the bit, with the settings and the
-        start ``reset`` returns to; a loaded world starts its engine afresh from the saved state (warm starts and
-        the integrator's step history are not saved: ``copy.deepcopy`` keeps them). A world with force callbacks
-        cannot be saved (ValueError naming ``loads``). Returns the path."""
+        start ``reset`` returns to. The binary format (and ``pickle``, which uses it) also keeps fast mode's engine
+        memory (warm starts, kept manifolds, sleep): a loaded fast world continues bit for bit as this one. From
+        JSON, and in accurate mode (whose integrator's history is not saved; ``copy.deepcopy`` keeps it), a loaded
+        world starts its engine afresh from the saved state. A world with force callbacks cannot be saved
+        (ValueError naming ``loads``). Returns the path."""
         path = Path(path)
         if path.suffix.lower() == ".json":
             path.write_text(self.to_json())
@@ -187,7 +189,7 @@ class World(_World):
         return world
 
     def __reduce__(self):
-        """Pickles through the binary format (see ``save``: the loaded world starts its engine afresh)."""
+        """Pickles through the binary format (see ``save``)."""
         return (_from_bytes, (type(self), self._to_bytes()))
 
     @property

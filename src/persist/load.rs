@@ -37,7 +37,7 @@ fn quaternion(name: &'static str, q: [f64; 4]) -> Result<UnitQuaternion<f64>, Wo
     Ok(if (n - 1.0).abs() <= 1e-12 { UnitQuaternion::new_unchecked(q) } else { UnitQuaternion::new_normalize(q) })
 }
 
-fn shape(s: &ShapeFile) -> Result<Shape, WorldError> {
+pub(crate) fn shape(s: &ShapeFile) -> Result<Shape, WorldError> {
     let points = |ps: &[[f64; 3]]| ps.iter().map(|&p| Point3::from(p)).collect::<Vec<_>>();
     Ok(match s {
         ShapeFile::Sphere { radius } => Shape::sphere(*radius)?,

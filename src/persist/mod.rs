@@ -126,6 +126,17 @@ impl World {
     }
 }
 
+/// A shape as the scene file writes it (JSON), e.g. `{"sphere":{"radius":0.1}}`.
+pub fn shape_to_json(shape: &tumble_collide::Shape) -> String {
+    serde_json::to_string(&save::shape_file(shape)).expect("a shape always writes")
+}
+
+/// A shape from `shape_to_json`'s text (or written by hand).
+pub fn shape_from_json(text: &str) -> Result<tumble_collide::Shape, WorldError> {
+    let file: file::ShapeFile = serde_json::from_str(text).map_err(|e| decode_error("JSON shape", e))?;
+    load::shape(&file)
+}
+
 fn is_json(path: &std::path::Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }

@@ -18,7 +18,7 @@ fn q4(q: &UnitQuaternion<f64>) -> [f64; 4] {
     [q.w, q.i, q.j, q.k]
 }
 
-fn shape_file(s: &Shape) -> ShapeFile {
+pub(crate) fn shape_file(s: &Shape) -> ShapeFile {
     let points = |ps: Vec<nalgebra::Point3<f64>>| ps.iter().map(|p| [p.x, p.y, p.z]).collect();
     match s {
         Shape::Sphere { radius } => ShapeFile::Sphere { radius: *radius },
