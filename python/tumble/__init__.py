@@ -37,6 +37,7 @@ from ._tumble import (
 from ._report import Report
 from ._run import Run
 from ._batch import Batch, rollout
+from ._sweep import sweep
 from ._world import BodiesView, ParticlesView, World
 from . import scenes
 
@@ -45,6 +46,7 @@ __all__ = [
     "Run",
     "Batch",
     "rollout",
+    "sweep",
     "Report",
     "ParticlesView",
     "BodiesView",
