@@ -189,3 +189,38 @@ fn bad_files_are_refused_by_name() {
     with_callback.add_force_callback(Target::Body(body), |_, _| Ok(Default::default())).unwrap();
     assert!(matches!(with_callback.to_json(), Err(WorldError::InvalidArgument { name: "loads", .. })));
 }
+
+#[test]
+fn damaged_files_give_errors_or_worlds_never_panics() {
+    // Seeded random damage: bytes of a fast world's binary file (scene and engine memory) overwritten, and characters
+    // of its JSON replaced; each read either fails with an error or gives a world that steps (or fails to) without
+    // a panic.
+    let mut w = scene(5, true);
+    w.step(0.25).unwrap();
+    let (bytes, json) = (w.to_bytes().unwrap(), w.to_json().unwrap());
+    let mut rng = common::Lcg(2024);
+    let (mut read, mut refused) = (0, 0);
+    for case in 0..600 {
+        let loaded = if case % 2 == 0 {
+            let mut damaged = bytes.clone();
+            for _ in 0..1 + (rng.next() * 4.0) as usize {
+                let at = 12 + (rng.next() * (damaged.len() - 12) as f64) as usize;
+                damaged[at] = (rng.next() * 256.0) as u8;
+            }
+            World::from_bytes(&damaged)
+        } else {
+            let mut chars: Vec<char> = json.chars().collect();
+            let at = (rng.next() * chars.len() as f64) as usize;
+            chars[at] = ['0', '9', '-', 'e', '"', ',', '1', '.'][(rng.next() * 8.0) as usize];
+            World::from_json(&chars.into_iter().collect::<String>())
+        };
+        match loaded {
+            Ok(mut world) => {
+                read += 1;
+                let _ = world.step(0.25);
+            }
+            Err(_) => refused += 1,
+        }
+    }
+    assert!(read > 0 && refused > 0, "both outcomes seen: {read} read, {refused} refused");
+}
