@@ -1380,6 +1380,7 @@ def operation(draw, made: frozenset, mode: str, shapes_only: bool = False):
         "w.time", "w.gravity", "w.mode", "w.threads", "w.plan()", "w.report", "w.report.as_dict()", "str(w.report)",
         "w.kinetic_energy()", "w.potential_energy()", "w.momentum()", "w.angular_momentum()", "w.particle_handles()",
         "w.body_handles()", "w._body_shapes()", "w.particles.positions", "w.bodies.orientations", "len(w.bodies)",
+        "w.contacts()", "w.get_state().body_momenta", "w.set_state(w.get_state())",
     ])))
 
 
