@@ -167,6 +167,35 @@ fn batches(islands: Vec<Vec<usize>>, bodies: &[BodyState], contacts: &[Contact])
     (out, converge)
 }
 
+/// What one group's solve gives the step: each dynamic body's velocities and motion, each contact's impulses (by
+/// its index in the step's contacts), and the residual.
+struct Solved {
+    bodies: Vec<(usize, BodyVelocity, Vector3<f64>, UnitQuaternion<f64>)>,
+    contacts: Vec<(usize, SoftImpulse, f64)>,
+    residual: f64,
+}
+
+impl Solved {
+    fn of(members: &[usize], island: &Island, group: &[usize], bodies: &[BodyState]) -> Solved {
+        let moved = members.iter().zip(&island.movers).filter(|(&b, _)| bodies[b].is_dynamic());
+        let mut contacts = Vec::with_capacity(group.len());
+        for (bu, fr) in island.bundles.iter().zip(&island.frictions) {
+            for l in 0..bu.lanes {
+                for p in 0..bu.count[l] {
+                    let info = &island.infos[bu.info[l][p]];
+                    let impulse = SoftImpulse { normal: bu.rows[p].normal[l], tangent: fr.points[p].vector(l) };
+                    contacts.push((group[info.index], impulse, info.step_normal));
+                }
+            }
+        }
+        Solved {
+            bodies: moved.map(|(&b, m)| (b, BodyVelocity { linear: m.v, angular: m.w }, m.dp, m.dq)).collect(),
+            contacts,
+            residual: island.residual(),
+        }
+    }
+}
+
 /// A step of h for `bodies` with `contacts`, each started from `warm[i]` (the same contact's impulses of the last
 /// step, or zero); bodies in no contact move freely by the same substeps.
 pub fn soft_step(
@@ -200,7 +229,7 @@ pub fn soft_step(
     let islands = islands(bodies, contacts);
     out.islands = islands.len();
     let (groups, converge) = batches(islands, bodies, contacts);
-    let solve = |group: &Vec<usize>, threads: usize| -> Result<(Vec<usize>, Island), ContactError> {
+    let solve = |group: &Vec<usize>, threads: usize| -> Result<Solved, ContactError> {
         LOCAL.with(|slots| {
             let slots = &mut *slots.borrow_mut();
             if slots.len() < bodies.len() {
@@ -226,7 +255,9 @@ pub fn soft_step(
                 slots[b] = usize::MAX;
             }
             island.solve(h, settings, threads);
-            Ok((members, island))
+            // only what the step gives is kept: an island's rows (kilobytes a manifold) are dropped here, so that
+            // a step over many islands never holds all their rows at once
+            Ok(Solved::of(&members, &island, group, bodies))
         })
     };
     // a soft row costs tens of nanoseconds a sweep: threads pay from about a thousand contacts (measured: the pile of
@@ -235,7 +266,7 @@ pub fn soft_step(
     // island on them
     let threads = if settings.threads == 0 { cores() } else { settings.threads };
     let whole = |g: &Vec<usize>| threads > 1 && g.len() >= COLOUR_THREADS && !converge[g[0]];
-    let solved: Vec<Result<(Vec<usize>, Island), ContactError>> = if groups.iter().any(whole) {
+    let solved: Vec<Result<Solved, ContactError>> = if groups.iter().any(whole) {
         let rest: Vec<Vec<usize>> = groups.iter().filter(|g| !whole(g)).cloned().collect();
         let mut rest =
             in_parallel(&rest, (contacts.len(), PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1)).into_iter();
@@ -247,25 +278,17 @@ pub fn soft_step(
         in_parallel(&groups, (contacts.len(), PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1))
     };
     let mut velocities: Vec<Option<BodyVelocity>> = vec![None; bodies.len()];
-    for (group, result) in groups.iter().zip(solved) {
-        let (members, island) = result?;
-        out.residual = out.residual.max(island.residual());
-        for (&b, m) in members.iter().zip(&island.movers) {
-            if bodies[b].is_dynamic() {
-                velocities[b] = Some(BodyVelocity { linear: m.v, angular: m.w });
-                out.displacements[b] = m.dp;
-                out.rotations[b] = m.dq;
-            }
+    for result in solved {
+        let solved = result?;
+        out.residual = out.residual.max(solved.residual);
+        for (b, v, dp, dq) in solved.bodies {
+            velocities[b] = Some(v);
+            out.displacements[b] = dp;
+            out.rotations[b] = dq;
         }
-        for (bu, fr) in island.bundles.iter().zip(&island.frictions) {
-            for l in 0..bu.lanes {
-                for p in 0..bu.count[l] {
-                    let info = &island.infos[bu.info[l][p]];
-                    let i = group[info.index];
-                    out.impulses[i] = SoftImpulse { normal: bu.rows[p].normal[l], tangent: fr.points[p].vector(l) };
-                    out.normal_impulses[i] = info.step_normal;
-                }
-            }
+        for (i, impulse, step_normal) in solved.contacts {
+            out.impulses[i] = impulse;
+            out.normal_impulses[i] = step_normal;
         }
     }
     // Bodies in no island (and static ones) move on their own, by the same substeps.
