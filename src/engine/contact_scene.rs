@@ -225,6 +225,32 @@ impl ContactScene {
         Ok(self.pair_contacts(&pairs, poses, |a, b| grown[a] + grown[b]))
     }
 
+    /// Fast mode's contacts of a step of h: the broad phase on boxes grown by how far each actor can move (`reach`)
+    /// plus half of `base`, and each pair's manifold within how far the two can close on each other in the step:
+    /// their relative speed plus both spins' reach, times h, plus `base`. Bodies moving together (a stack falling,
+    /// a row of boxes landing side by side) are not joined by contacts they cannot close.
+    pub fn find_closing(
+        &mut self,
+        poses: &[Isometry3<f64>],
+        states: &[tumble_contact::BodyState],
+        h: f64,
+        base: f64,
+    ) -> Result<Vec<Found>, String> {
+        let (reach, spin) = self.reach_and_spin(states, h);
+        let grown: Vec<f64> = reach.iter().map(|m| m + 0.5 * base).collect();
+        let boxes = self.boxes(poses, &grown)?;
+        let pairs = self.broad_pairs(&boxes)?;
+        let closing = |a: usize, b: usize| {
+            let relative = match (states.get(a), states.get(b)) {
+                (Some(x), Some(y)) => (x.velocity - y.velocity).norm(),
+                _ => f64::INFINITY,
+            };
+            // never more than the two reaches (the old bound), so an unknown actor cannot widen it
+            ((relative * h + spin[a] + spin[b]).min(reach[a] + reach[b])) + base
+        };
+        Ok(self.pair_contacts(&pairs, poses, closing))
+    }
+
     /// The pairs of colliders (first one moving) whose boxes, swept from `from` to `to` and grown by each actor's
     /// `margins` entry, overlap and that may touch.
     pub fn swept_pairs(
@@ -337,6 +363,29 @@ impl ContactScene {
 
     /// How far any point of each actor can travel in time `h` at the velocities of `states` (one per actor):
     /// (|v| + |w| r) h, r the radius of a ball about the actor's origin that holds its colliders.
+    /// Each actor's reach (`reach`) and the part of it its spin gives (w r h).
+    pub fn reach_and_spin(&self, states: &[tumble_contact::BodyState], h: f64) -> (Vec<f64>, Vec<f64>) {
+        let mut radius = vec![0.0f64; self.actors()];
+        for c in &self.colliders {
+            let a = self.index(c.actor);
+            radius[a] = radius[a].max(c.reach);
+        }
+        let spin: Vec<f64> = states
+            .iter()
+            .zip(&radius)
+            .map(|(s, r)| {
+                let w = s.angular_velocity.norm();
+                if w > 0.0 && r.is_finite() {
+                    w * r * h
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let reach = states.iter().zip(&spin).map(|(s, spin)| s.velocity.norm() * h + spin).collect();
+        (reach, spin)
+    }
+
     pub fn reach(&self, states: &[tumble_contact::BodyState], h: f64) -> Vec<f64> {
         let mut radius = vec![0.0f64; self.actors()];
         for c in &self.colliders {

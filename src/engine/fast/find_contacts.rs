@@ -1,6 +1,7 @@
 //! Fast mode, second stage: the contacts of the step. Pairs whose boxes, grown by how far each actor can move in
-//! the step plus the margin, overlap (pairs of sleeping or static actors left out) get parry's manifolds, reduced
-//! to at most four points a pair; a sleeping island touched by a moving actor wakes, and the contacts are found
+//! the step plus the margin, overlap (pairs of sleeping or static actors left out) get parry's manifolds within how
+//! far the two can close on each other in the step (`ContactScene::find_closing`), reduced to at most four points a
+//! pair; a sleeping island touched by a moving actor wakes, and the contacts are found
 //! again with it awake.
 
 use super::{failure, FastEngine};
@@ -22,9 +23,8 @@ impl FastEngine {
             scene.inert[a] = self.sleep.asleep(a);
         }
         let poses = scene.poses(&self.y);
-        let reach = scene.reach(states, h);
         let checks = scene.checks;
-        let mut found = reduce(scene.find(&poses, &reach, self.settings.margin).map_err(|e| failure(t, e))?);
+        let mut found = reduce(scene.find_closing(&poses, states, h, self.settings.margin).map_err(|e| failure(t, e))?);
         if self.sleep.wake_touched(&found, dynamic) {
             // The woken actors' own contacts (with the floor under them, say) were left out as inert: find again.
             for a in 0..dynamic {
@@ -32,8 +32,7 @@ impl FastEngine {
             }
             *states = self.body_states();
             let scene = self.scene.as_mut().expect("checked above");
-            let reach = scene.reach(states, h);
-            found = reduce(scene.find(&poses, &reach, self.settings.margin).map_err(|e| failure(t, e))?);
+            found = reduce(scene.find_closing(&poses, states, h, self.settings.margin).map_err(|e| failure(t, e))?);
         }
         let scene = self.scene.as_mut().expect("checked above");
         self.report.collision_checks += scene.checks - checks;
