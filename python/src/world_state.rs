@@ -59,8 +59,8 @@ impl PyWorld {
 
     /// The contacts of the last step as a dict: ``points`` and ``normals`` (C, 3) (normals from ``a`` toward
     /// ``b``), ``gaps`` (C,) (negative: overlapping), ``impulses`` (C,) normal impulses over the step (N s),
-    /// ``forces`` (C,) their mean forces (N), and ``a``, ``b``: the particles' or bodies' handles (static bodies
-    /// included). Fast mode: every contact of the last step's solve; accurate mode: those of the last contact step
+    /// ``forces`` (C,) their mean forces (N), ``a``, ``b``: the particles' or bodies' handles (static bodies
+    /// included), and ``bodies``: the (a, b) pairs. Fast mode: every contact of the last step's solve; accurate mode: those of the last contact step
     /// while bodies touch. Empty before the first step and after any change of structure or state.
     fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let found = self.r().contacts();
@@ -78,8 +78,13 @@ impl PyWorld {
                 tumble::Target::Body(h) => Py::new(py, PyBodyHandle::from(h))?.into_any(),
             })
         };
-        out.set_item("a", found.iter().map(|c| handle(c.a)).collect::<PyResult<Vec<_>>>()?)?;
-        out.set_item("b", found.iter().map(|c| handle(c.b)).collect::<PyResult<Vec<_>>>()?)?;
+        let a = found.iter().map(|c| handle(c.a)).collect::<PyResult<Vec<_>>>()?;
+        let b = found.iter().map(|c| handle(c.b)).collect::<PyResult<Vec<_>>>()?;
+        let pairs: Vec<(Py<PyAny>, Py<PyAny>)> =
+            a.iter().zip(&b).map(|(x, y)| (x.clone_ref(py), y.clone_ref(py))).collect();
+        out.set_item("bodies", pairs)?;
+        out.set_item("a", a)?;
+        out.set_item("b", b)?;
         Ok(out)
     }
 

@@ -157,6 +157,7 @@ def test_contacts_of_a_resting_box_carry_its_weight(mode):
     c = w.contacts()
     assert c["points"].shape == (4, 3) and c["normals"].shape == (4, 3)
     assert all(a == box and b == ground for a, b in zip(c["a"], c["b"]))
+    assert c["bodies"] == list(zip(c["a"], c["b"]))
     # the normals point from the box into the ground; at rest the forces on the box cancel its weight (to the
     # solvers' residual and rounding: measured 1e-13 relative, bound 1e-9)
     assert np.allclose(c["normals"], [0, 0, -1], atol=1e-12)
