@@ -76,7 +76,7 @@ def rollout(
     for k, s in enumerate(states):
         if not isinstance(s, State):
             raise ValueError(f"invalid argument `states`: states[{k}] is {type(s).__name__}, not a tumble.State")
-    shown = _progress(progress)
+    shown = Progress("rollout") if progress is True else _progress(progress)
     try:
         data = _rollout(world, states, duration, frame_interval, threads, shown)
     finally:
