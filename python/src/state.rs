@@ -26,8 +26,9 @@ impl PyState {
     }
 }
 
-fn vectors(v: &[Vector3<f64>]) -> Vec<f64> {
-    v.iter().flat_map(|x| [x.x, x.y, x.z]).collect()
+/// Rows of 3-vectors as a read-only (N, 3) array.
+fn rows3<'py>(py: Python<'py>, v: &[Vector3<f64>]) -> PyResult<Bound<'py, PyAny>> {
+    frozen(py, v.iter().flat_map(|x| [x.x, x.y, x.z]).collect(), &[v.len(), 3])
 }
 
 fn set_vectors(name: &str, obj: &Bound<'_, PyAny>, want: usize, out: &mut Vec<Vector3<f64>>) -> PyResult<()> {
@@ -50,22 +51,19 @@ impl PyState {
     /// (P, 3) particle positions.
     #[getter]
     fn particle_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let s = self.get();
-        frozen(py, vectors(&s.particle_positions), &[s.particle_positions.len(), 3])
+        rows3(py, &self.get().particle_positions)
     }
 
     /// (P, 3) particle velocities.
     #[getter]
     fn particle_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let s = self.get();
-        frozen(py, vectors(&s.particle_velocities), &[s.particle_velocities.len(), 3])
+        rows3(py, &self.get().particle_velocities)
     }
 
     /// (B, 3) body positions (centres of mass).
     #[getter]
     fn body_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let s = self.get();
-        frozen(py, vectors(&s.body_positions), &[s.body_positions.len(), 3])
+        rows3(py, &self.get().body_positions)
     }
 
     /// (B, 4) body orientations (w, x, y, z).
@@ -79,15 +77,13 @@ impl PyState {
     /// (B, 3) linear momenta M v.
     #[getter]
     fn body_momenta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let s = self.get();
-        frozen(py, vectors(&s.body_momenta), &[s.body_momenta.len(), 3])
+        rows3(py, &self.get().body_momenta)
     }
 
     /// (B, 3) angular momenta I(t) w about each centre of mass (world axes).
     #[getter]
     fn body_angular_momenta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let s = self.get();
-        frozen(py, vectors(&s.body_angular_momenta), &[s.body_angular_momenta.len(), 3])
+        rows3(py, &self.get().body_angular_momenta)
     }
 
     /// Whether it carries the engine's memory (a state read from a world that has stepped).
