@@ -7,6 +7,7 @@ mod args;
 mod batch;
 mod control;
 mod convert;
+mod files;
 mod handles;
 mod report;
 mod shapes;

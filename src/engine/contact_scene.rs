@@ -363,13 +363,19 @@ impl ContactScene {
 
     /// How far any point of each actor can travel in time `h` at the velocities of `states` (one per actor):
     /// (|v| + |w| r) h, r the radius of a ball about the actor's origin that holds its colliders.
-    /// Each actor's reach (`reach`) and the part of it its spin gives (w r h).
-    pub fn reach_and_spin(&self, states: &[tumble_contact::BodyState], h: f64) -> (Vec<f64>, Vec<f64>) {
+    /// Each actor's radius: of a ball about its origin that holds all its colliders (infinite with a half-space).
+    fn radii(&self) -> Vec<f64> {
         let mut radius = vec![0.0f64; self.actors()];
         for c in &self.colliders {
             let a = self.index(c.actor);
             radius[a] = radius[a].max(c.reach);
         }
+        radius
+    }
+
+    /// Each actor's reach (`reach`) and the part of it its spin gives (w r h).
+    pub fn reach_and_spin(&self, states: &[tumble_contact::BodyState], h: f64) -> (Vec<f64>, Vec<f64>) {
+        let radius = self.radii();
         let spin: Vec<f64> = states
             .iter()
             .zip(&radius)
@@ -387,11 +393,7 @@ impl ContactScene {
     }
 
     pub fn reach(&self, states: &[tumble_contact::BodyState], h: f64) -> Vec<f64> {
-        let mut radius = vec![0.0f64; self.actors()];
-        for c in &self.colliders {
-            let a = self.index(c.actor);
-            radius[a] = radius[a].max(c.reach);
-        }
+        let radius = self.radii();
         states
             .iter()
             .zip(&radius)

@@ -157,7 +157,7 @@ impl World {
         for (k, b) in f.bodies.iter().enumerate() {
             let path = format!("bodies[{k}]");
             let h = body_builder(b).and_then(|builder| w.add_body(builder)).map_err(at("bodies", path.clone()))?;
-            w.exact_momenta(h, b).map_err(at("bodies", path))?;
+            w.exact_fields(h, b).map_err(at("bodies", path))?;
             bodies.push(h);
         }
         let particle = |list: &'static str, path: &str, i: usize| {
@@ -216,7 +216,7 @@ impl World {
     }
 
     /// Puts a body's momenta, collider placements (given its mass and inertia) and start as written, to the bit.
-    fn exact_momenta(&mut self, h: BodyHandle, f: &BodyFile) -> Result<(), WorldError> {
+    fn exact_fields(&mut self, h: BodyHandle, f: &BodyFile) -> Result<(), WorldError> {
         let b = self.bodies.get_mut(h).ok_or_else(|| WorldError::invalid("bodies", "lost"))?;
         if f.is_static || f.inertia.is_some() {
             for (c, written) in b.colliders.iter_mut().zip(&f.colliders) {
