@@ -43,18 +43,17 @@ pub fn rollout(
         return Err(WorldError::invalid("threads", format!("must be at most 1024, got {}", settings.threads)));
     }
     // every state is checked against the world before any copy runs
-    let mut probe = world.clone();
+    let mut checker = world.clone();
     for (k, s) in states.iter().enumerate() {
-        probe.set_state(s).map_err(|e| at(k, e))?;
+        checker.set_state(s).map_err(|e| at(k, e))?;
     }
-    let probe = world.clone();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(settings.threads)
         .build()
         .map_err(|e| WorldError::invalid("threads", e.to_string()))?;
     let (done, stop) = (AtomicUsize::new(0), AtomicBool::new(false));
     // the world is not `Sync` (its integrator's parts are only `Send`): each copy is cloned under a lock
-    let template = Mutex::new(probe);
+    let template = Mutex::new(world.clone());
     let one = |k: usize, s: &WorldState| -> Result<Run, WorldError> {
         if stop.load(Ordering::Relaxed) {
             return Err(WorldError::Interrupted);
