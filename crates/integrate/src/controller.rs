@@ -2,6 +2,7 @@
 //! halving and doubling for the Adams corrector (each change restarts its history), and the chapter's
 //! step-doubling formula h_new = h (e_max / e)^(1/(n+1)).
 
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::method::Method;
 use crate::settings::{Control, Settings};
 
@@ -116,6 +117,34 @@ impl Controller {
             }
             Controller::Doubling { order } => h * doubling_factor(err, *order),
         }
+    }
+}
+
+impl Controller {
+    /// Writes the controller's history (`memory.rs`); its constants come from the settings.
+    pub fn save(&self, out: &mut MemoryWriter) {
+        match self {
+            Controller::Pi { ln_errold, .. } => out.number(*ln_errold),
+            Controller::Predictive { last, .. } => {
+                out.maybe(last.map(|l| l.0));
+                out.maybe(last.map(|l| l.1));
+            }
+            Controller::Halving { calm } => out.count(*calm as u64),
+            Controller::Fixed | Controller::Doubling { .. } | Controller::Own => {}
+        }
+    }
+
+    pub fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        match self {
+            Controller::Pi { ln_errold, .. } => *ln_errold = input.number("controller error")?,
+            Controller::Predictive { last, .. } => {
+                let (h, err) = (input.maybe("controller step")?, input.maybe("controller error")?);
+                *last = h.zip(err);
+            }
+            Controller::Halving { calm } => *calm = input.count("controller calm steps")?.min(8) as usize,
+            Controller::Fixed | Controller::Doubling { .. } | Controller::Own => {}
+        }
+        Ok(())
     }
 }
 

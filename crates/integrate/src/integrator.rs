@@ -4,6 +4,7 @@
 use crate::controller::Controller;
 use crate::error::OdeError;
 use crate::events::{Advance, StepView};
+use crate::memory::{IntegratorMemory, MemoryReader, MemoryWriter};
 use crate::point::{eval, max_norm, Point};
 use crate::report::Report;
 use crate::settings::{Control, Settings};
@@ -151,6 +152,52 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
     /// The step the adaptive control proposes next (None before the first adaptive step).
     pub fn proposed_step(&self) -> Option<f64> {
         self.h
+    }
+
+    /// The integration's memory as plain data: the current and next points, the step sizes, the controller's
+    /// history and the method's stages, histories and Jacobian. Given back with
+    /// [`set_memory`](Integrator::set_memory) to an integrator of the same system and settings, it continues bit
+    /// for bit as this one would (the report and the step log are not part of it).
+    pub fn memory(&self) -> IntegratorMemory {
+        let mut out = MemoryWriter { items: Vec::new() };
+        out.point(&self.cur);
+        out.point(&self.next);
+        out.maybe(self.h);
+        out.maybe(self.last_step);
+        out.flag(self.last_rejected);
+        out.numbers(&self.dense_buf);
+        out.numbers(&self.backup);
+        self.controller.save(&mut out);
+        self.stepper.save(&mut out);
+        IntegratorMemory { method: self.settings.method.name().to_string(), items: out.items }
+    }
+
+    /// Gives back a memory taken by [`memory`](Integrator::memory) from an integrator of the same system and
+    /// settings. A memory of another method or size is an error naming `memory`, and the integrator is unchanged.
+    pub fn set_memory(&mut self, memory: &IntegratorMemory) -> Result<(), OdeError> {
+        let name = self.settings.method.name();
+        if memory.method != name {
+            return Err(OdeError::invalid("memory", format!("is {}'s, this integrator runs {name}", memory.method)));
+        }
+        let mut copy = self.clone();
+        copy.read_memory(memory.items.clone()).map_err(|why| OdeError::invalid("memory", why))?;
+        copy.ctx.report = std::mem::replace(&mut self.ctx.report, Report::new(name));
+        *self = copy;
+        Ok(())
+    }
+
+    fn read_memory(&mut self, items: Vec<crate::memory::Item>) -> Result<(), String> {
+        let mut input = MemoryReader::new(items);
+        input.point("current point", &mut self.cur)?;
+        input.point("next point", &mut self.next)?;
+        self.h = input.maybe("proposed step")?;
+        self.last_step = input.maybe("last step")?;
+        self.last_rejected = input.flag("last rejected")?;
+        input.numbers("dense output", &mut self.dense_buf)?;
+        input.numbers("backup", &mut self.backup)?;
+        self.controller.load(&mut input)?;
+        self.stepper.load(&mut input)?;
+        input.finish()
     }
 
     /// Replaces the state (after an impulse, say). Histories and cached derivatives are dropped; the proposed
@@ -411,7 +458,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             if h < floor && !hits {
                 return Err(OdeError::StepTooSmall { t: self.cur.t, h, min_step: floor });
             }
-            let first = self.ctx.report.steps == 0;
+            let first = self.last_step.is_none();
             self.next.renew(if hits { stop } else { self.cur.t + h });
             let attempt = self
                 .stepper

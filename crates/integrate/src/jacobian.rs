@@ -2,6 +2,7 @@
 //! evaluated at most once per point, and a method may keep using it at later points (Radau does).
 
 use crate::error::{OdeError, SystemError};
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::{eval, Point};
 use crate::report::Report;
 use crate::system::{JacobianStructure, OdeSystem};
@@ -181,6 +182,25 @@ impl Jacobian {
         report.jacobians += 1;
         self.point = Some(p.id);
         self.version += 1;
+        Ok(())
+    }
+}
+
+impl Jacobian {
+    /// Writes the values, the point they belong to and the version (`memory.rs`).
+    pub fn save(&self, out: &mut MemoryWriter) {
+        let (Values::Dense { values, .. } | Values::Sparse { values, .. }) = &self.values;
+        out.numbers(values);
+        out.id(self.point);
+        out.count(self.version);
+    }
+
+    /// Reads back what `save` wrote; the factorizations built on it must be invalidated by the caller.
+    pub fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        let (Values::Dense { values, .. } | Values::Sparse { values, .. }) = &mut self.values;
+        input.numbers("jacobian", values)?;
+        self.point = input.id("jacobian point")?;
+        self.version = input.count("jacobian version")?;
         Ok(())
     }
 }

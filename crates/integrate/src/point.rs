@@ -5,11 +5,14 @@ use crate::report::Report;
 use crate::system::OdeSystem;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-const COUNT_MASK: u64 = (1 << 40) - 1;
+/// Where a point id's slot begins (the bits below count its rewrites).
+pub(crate) const SLOT_SHIFT: u32 = 40;
+const COUNT_MASK: u64 = (1 << SLOT_SHIFT) - 1;
 
 /// Each point takes a distinct slot once; its id is (slot << 40) | count, and a rewrite only bumps the count,
-/// so renewing costs no atomic operation while ids stay unique across all points.
-static NEXT_SLOT: AtomicU64 = AtomicU64::new(1);
+/// so renewing costs no atomic operation while ids stay unique across all points (a copied or restored
+/// integrator shares its points' ids with the original: caches compare ids only within one integrator).
+pub(crate) static NEXT_SLOT: AtomicU64 = AtomicU64::new(1);
 
 /// A solution point. `id` changes whenever the point is rewritten, so caches keyed by it (a Jacobian, a force)
 /// are never reused for a different state.
@@ -25,7 +28,7 @@ pub(crate) struct Point {
 impl Point {
     pub fn new(t: f64, y: &[f64]) -> Self {
         let slot = NEXT_SLOT.fetch_add(1, Ordering::Relaxed);
-        Point { t, y: y.to_vec(), f: vec![0.0; y.len()], has_f: false, id: slot << 40 }
+        Point { t, y: y.to_vec(), f: vec![0.0; y.len()], has_f: false, id: slot << SLOT_SHIFT }
     }
 
     /// Marks the point as rewritten at time `t` (its y is about to be, or has just been, written).

@@ -243,3 +243,20 @@ fn bicgstab(
     }
     (max_iter, dot(r, r).sqrt() / bnorm)
 }
+
+impl Reduced {
+    /// Writes the iterative solver's last solution (its next start); the direct solver keeps nothing between
+    /// steps (`memory.rs`).
+    pub fn save(&self, out: &mut crate::memory::MemoryWriter) {
+        if let Solve::Iterative { guess, .. } = &self.solve {
+            out.numbers(guess);
+        }
+    }
+
+    pub fn load(&mut self, input: &mut crate::memory::MemoryReader) -> Result<(), String> {
+        if let Solve::Iterative { guess, .. } = &mut self.solve {
+            input.numbers("krylov guess", guess)?;
+        }
+        Ok(())
+    }
+}

@@ -3,8 +3,9 @@
 //! with RK4 steps until three back values at spacing h exist.
 
 use super::explicit_rk::{ExplicitRk, RK4};
-use super::{Ctx, Estimate, Stepper};
+use super::{Ctx, Estimate, Remember, Stepper};
 use crate::error::OdeError;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::{eval, max_norm, weighted_rms, Point};
 use crate::system::OdeSystem;
 
@@ -89,5 +90,33 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Adams {
 
     fn reset(&mut self) {
         self.valid = 0;
+    }
+}
+
+impl Remember for Adams {
+    fn save(&self, out: &mut MemoryWriter) {
+        self.back.iter().for_each(|b| out.numbers(b));
+        out.count(self.valid as u64);
+        out.number(self.spacing);
+        self.starter.save(out);
+        out.numbers(&self.predicted);
+        out.numbers(&self.fpred);
+        out.numbers(&self.err);
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        for b in &mut self.back {
+            input.numbers("back values", b)?;
+        }
+        let valid = input.count("valid back values")?;
+        if valid > 3 {
+            return Err(format!("`valid back values` is {valid}, at most 3"));
+        }
+        self.valid = valid as usize;
+        self.spacing = input.number("spacing")?;
+        self.starter.load(input)?;
+        input.numbers("predicted", &mut self.predicted)?;
+        input.numbers("fpred", &mut self.fpred)?;
+        input.numbers("err", &mut self.err)
     }
 }

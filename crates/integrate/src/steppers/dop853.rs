@@ -3,8 +3,9 @@
 
 use super::dop853_tableau::{A, B, C, E3, E5, STAGES};
 use super::explicit_rk::combine;
-use super::{Ctx, Estimate, Stepper};
+use super::{Ctx, Estimate, Remember, Stepper};
 use crate::error::OdeError;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::{eval, Point};
 use crate::system::OdeSystem;
 
@@ -57,5 +58,19 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dop853 {
         let deno = if s5 + 0.01 * s3 > 0.0 { s5 + 0.01 * s3 } else { 1.0 };
         let err = h.abs() * s5 / (deno * n as f64).sqrt();
         Ok(Estimate { scaled: Some(err), local: Some(emax), safety: None })
+    }
+}
+
+impl Remember for Dop853 {
+    fn save(&self, out: &mut MemoryWriter) {
+        self.k.iter().for_each(|k| out.numbers(k));
+        out.numbers(&self.stage);
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        for k in &mut self.k {
+            input.numbers("dop853 stage", k)?;
+        }
+        input.numbers("dop853 stage state", &mut self.stage)
     }
 }

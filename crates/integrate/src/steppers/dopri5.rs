@@ -1,8 +1,9 @@
 //! Dormand-Prince 5(4): seven stages with first-same-as-last, the embedded 4th-order error estimate and
 //! Shampine's 4th-order continuous extension (the coefficients of Hairer's DOPRI5).
 
-use super::{Ctx, Estimate, Stepper};
+use super::{Ctx, Estimate, Remember, Stepper};
 use crate::error::OdeError;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::{eval, Point};
 use crate::system::OdeSystem;
 
@@ -136,5 +137,20 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dopri5 {
                 h * (D1 * k1[i] + D3 * self.k3[i] + D4 * self.k4[i] + D5 * self.k5[i] + D6 * self.k6[i] + D7 * k7[i]);
             out[i] = y0[i] + theta * (ydiff + th1 * (bspl + theta * (c4 + th1 * c5)));
         }
+    }
+}
+
+impl Remember for Dopri5 {
+    fn save(&self, out: &mut MemoryWriter) {
+        for k in [&self.k2, &self.k3, &self.k4, &self.k5, &self.k6, &self.stage] {
+            out.numbers(k);
+        }
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        for k in [&mut self.k2, &mut self.k3, &mut self.k4, &mut self.k5, &mut self.k6, &mut self.stage] {
+            input.numbers("dopri5 stage", k)?;
+        }
+        Ok(())
     }
 }

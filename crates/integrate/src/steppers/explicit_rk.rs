@@ -1,8 +1,9 @@
 //! Explicit Runge-Kutta methods from their Butcher tableaux (Euler, midpoint, RK4), and the chapter's
 //! variable-step Euler.
 
-use super::{Ctx, Estimate, Stepper};
+use super::{Ctx, Estimate, Remember, Stepper};
 use crate::error::OdeError;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::{eval, norm2, Point};
 use crate::system::OdeSystem;
 
@@ -141,5 +142,33 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for EulerVariable {
             *o = y + h * f;
         }
         Ok(Estimate { scaled: None, local: Some(0.5 * h * h * self.dfdt_norm), safety: None })
+    }
+}
+
+impl Remember for ExplicitRk {
+    fn save(&self, out: &mut MemoryWriter) {
+        self.k.iter().for_each(|k| out.numbers(k));
+        out.numbers(&self.stage);
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        for k in &mut self.k {
+            input.numbers("rk stage", k)?;
+        }
+        input.numbers("rk stage state", &mut self.stage)
+    }
+}
+
+impl Remember for EulerVariable {
+    fn save(&self, out: &mut MemoryWriter) {
+        out.number(self.dfdt_norm);
+        out.numbers(&self.probe);
+        out.numbers(&self.fprobe);
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        self.dfdt_norm = input.number("dfdt_norm")?;
+        input.numbers("probe", &mut self.probe)?;
+        input.numbers("fprobe", &mut self.fprobe)
     }
 }

@@ -3,10 +3,11 @@
 //! mechanical system (dq/dt = p) takes the linearised step in its velocities alone (`reduced.rs`), by sparse LU
 //! or BiCGSTAB.
 
-use super::{Ctx, Estimate, Stepper};
+use super::{Ctx, Estimate, Remember, Stepper};
 use crate::error::OdeError;
 use crate::factorization::{Factorization, Shift};
 use crate::jacobian::Jacobian;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::{max_norm, Point};
 use crate::reduced::Reduced;
 use crate::settings::{LinearSolver, NewtonMode};
@@ -118,5 +119,26 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for ImplicitEuler {
     fn reset(&mut self) {
         self.jac.invalidate();
         self.matrix.invalidate();
+    }
+}
+
+impl Remember for ImplicitEuler {
+    fn save(&self, out: &mut MemoryWriter) {
+        self.jac.save(out);
+        if let Some(r) = &self.reduced {
+            r.save(out);
+        }
+        out.point(&self.iterate);
+        out.numbers(&self.delta);
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        self.jac.load(input)?;
+        self.matrix.invalidate();
+        if let Some(r) = &mut self.reduced {
+            r.load(input)?;
+        }
+        input.point("newton iterate", &mut self.iterate)?;
+        input.numbers("delta", &mut self.delta)
     }
 }

@@ -13,6 +13,7 @@ mod step_doubling;
 mod symplectic;
 
 use crate::error::OdeError;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::method::Method;
 use crate::point::Point;
 use crate::report::Report;
@@ -52,7 +53,15 @@ impl<S: OdeSystem + ?Sized, T: Stepper<S> + Clone + Send + 'static> StepperClone
     }
 }
 
-pub(crate) trait Stepper<S: OdeSystem + ?Sized>: StepperClone<S> {
+/// What a method keeps between steps, as plain data (`memory.rs`): `save` writes it, `load` reads it back in the
+/// same order into a method built for the same system and settings. Scratch is saved too, so that nothing a later
+/// step or interpolation reads is missed; factorizations are dropped and rebuilt from the saved Jacobian.
+pub(crate) trait Remember {
+    fn save(&self, out: &mut MemoryWriter);
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String>;
+}
+
+pub(crate) trait Stepper<S: OdeSystem + ?Sized>: StepperClone<S> + Remember {
     fn step(
         &mut self,
         sys: &mut S,

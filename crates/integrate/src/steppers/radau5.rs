@@ -5,10 +5,11 @@
 //! stays. Internally the tolerances are sharpened to rtol' = 0.1 rtol^(2/3), atol' = rtol' atol / rtol, as RADAU5
 //! does, because its error estimate is of lower order than the solution.
 
-use super::{Ctx, Estimate, Stepper};
+use super::{Ctx, Estimate, Remember, Stepper};
 use crate::error::OdeError;
 use crate::factorization::{Factorization, Shift};
 use crate::jacobian::Jacobian;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::{eval, Point};
 use crate::system::OdeSystem;
 
@@ -346,5 +347,42 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Radau5 {
         for i in 0..out.len() {
             out[i] = to.y[i] + s * (self.cont[0][i] + (s - C2M1) * (self.cont[1][i] + (s - C1M1) * self.cont[2][i]));
         }
+    }
+}
+
+impl Remember for Radau5 {
+    fn save(&self, out: &mut MemoryWriter) {
+        self.jac.save(out);
+        for v in self.z.iter().chain(&self.w).chain(&self.f).chain(&self.cont) {
+            out.numbers(v);
+        }
+        out.maybe(self.h_old);
+        for v in [&self.scal, &self.stage, &self.pair, &self.err] {
+            out.numbers(v);
+        }
+        for x in [self.faccon, self.theta, self.retry] {
+            out.number(x);
+        }
+        out.flag(self.first);
+        out.flag(self.rejected_last);
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        self.jac.load(input)?;
+        self.real.invalidate();
+        self.complex.invalidate();
+        for v in self.z.iter_mut().chain(&mut self.w).chain(&mut self.f).chain(&mut self.cont) {
+            input.numbers("radau5 stage", v)?;
+        }
+        self.h_old = input.maybe("h_old")?;
+        for v in [&mut self.scal, &mut self.stage, &mut self.pair, &mut self.err] {
+            input.numbers("radau5 work", v)?;
+        }
+        self.faccon = input.number("faccon")?;
+        self.theta = input.number("theta")?;
+        self.retry = input.number("retry")?;
+        self.first = input.flag("first")?;
+        self.rejected_last = input.flag("rejected_last")?;
+        Ok(())
     }
 }

@@ -2,10 +2,11 @@
 //! embedded order-3 estimate and a 3rd-order dense output. The linearised implicit Euler step is the one-stage
 //! member of this family. Coefficients are those of Hairer's RODAS (METH = 1).
 
-use super::{Ctx, Estimate, Stepper};
+use super::{Ctx, Estimate, Remember, Stepper};
 use crate::error::OdeError;
 use crate::factorization::{Factorization, Shift};
 use crate::jacobian::Jacobian;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::{eval, max_norm, weighted_rms, Point};
 use crate::system::OdeSystem;
 
@@ -196,5 +197,26 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Rodas4 {
             let d2 = H31 * k[0][i] + H32 * k[1][i] + H33 * k[2][i] + H34 * k[3][i] + H35 * k[4][i];
             out[i] = th1 * from.y[i] + theta * (to.y[i] + th1 * (d1 + theta * d2));
         }
+    }
+}
+
+impl Remember for Rodas4 {
+    fn save(&self, out: &mut MemoryWriter) {
+        self.jac.save(out);
+        out.numbers(&self.fx);
+        out.id(self.fx_point);
+        self.k.iter().for_each(|k| out.numbers(k));
+        out.numbers(&self.stage);
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        self.jac.load(input)?;
+        self.matrix.invalidate();
+        input.numbers("df/dt", &mut self.fx)?;
+        self.fx_point = input.id("df/dt point")?;
+        for k in &mut self.k {
+            input.numbers("rodas4 stage", k)?;
+        }
+        input.numbers("rodas4 stage state", &mut self.stage)
     }
 }

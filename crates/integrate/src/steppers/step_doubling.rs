@@ -1,8 +1,9 @@
 //! The chapter's step-size control by step doubling around any one-step method of order n: one step of h and two
 //! of h/2 from the same point; e = ||X(t+h) - X(two steps of h/2)||_2; the two half steps are kept.
 
-use super::{Ctx, Estimate, Stepper};
+use super::{Ctx, Estimate, Remember, Stepper};
 use crate::error::OdeError;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::{max_norm, Point};
 use crate::system::OdeSystem;
 
@@ -70,5 +71,21 @@ impl<S: OdeSystem + ?Sized, T: Stepper<S> + Clone + Send + 'static> Stepper<S> f
 
     fn retry_factor(&self) -> Option<f64> {
         self.inner.retry_factor()
+    }
+}
+
+impl<T: Remember> Remember for StepDoubling<T> {
+    fn save(&self, out: &mut MemoryWriter) {
+        self.inner.save(out);
+        out.point(&self.full);
+        out.point(&self.mid);
+        out.numbers(&self.diff);
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        self.inner.load(input)?;
+        input.point("full step", &mut self.full)?;
+        input.point("half step", &mut self.mid)?;
+        input.numbers("difference", &mut self.diff)
     }
 }

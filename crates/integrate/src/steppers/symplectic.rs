@@ -3,8 +3,9 @@
 //! so energy errors stay bounded over long runs instead of drifting. When the force depends on velocity
 //! (damping), Verlet's closing half kick is evaluated at a predicted velocity, which keeps it second order.
 
-use super::{Ctx, Estimate, Stepper};
+use super::{Ctx, Estimate, Remember, Stepper};
 use crate::error::OdeError;
+use crate::memory::{MemoryReader, MemoryWriter};
 use crate::point::Point;
 use crate::system::{OdeSystem, Split};
 
@@ -90,5 +91,22 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Symplectic {
 
     fn reset(&mut self) {
         self.force_point = None;
+    }
+}
+
+impl Remember for Symplectic {
+    fn save(&self, out: &mut MemoryWriter) {
+        out.numbers(&self.force);
+        out.numbers(&self.rate);
+        out.numbers(&self.p_half);
+        out.id(self.force_point);
+    }
+
+    fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
+        input.numbers("force", &mut self.force)?;
+        input.numbers("rate", &mut self.rate)?;
+        input.numbers("p_half", &mut self.p_half)?;
+        self.force_point = input.id("force point")?;
+        Ok(())
     }
 }
