@@ -157,10 +157,10 @@ class World(_World):
     def save(self, path: str | os.PathLike) -> Path:
         """Saves the world: readable JSON if ``path`` ends in ``.json`` (a scene a person can read and edit), else
         the versioned binary format. Every object and its state are kept to the bit, with the settings and the
-        start ``reset`` returns to. The binary format (and ``pickle``, which uses it) also keeps fast mode's engine
-        memory (warm starts, kept manifolds, sleep): a loaded fast world continues bit for bit as this one. From
-        JSON, and in accurate mode (whose integrator's history is not saved; ``copy.deepcopy`` keeps it), a loaded
-        world starts its engine afresh from the saved state. A world with force callbacks cannot be saved
+        start ``reset`` returns to. The binary format (and ``pickle``, which uses it) also keeps the engine's memory
+        (fast mode's warm starts, kept manifolds and sleep; accurate mode's integration, resting contacts and
+        touching phase): a loaded world continues bit for bit as this one, in both modes. From JSON a loaded world
+        starts its engine afresh from the saved state. A world with force callbacks cannot be saved
         (ValueError naming ``loads``). Returns the path."""
         path = Path(path)
         if path.suffix.lower() == ".json":

@@ -72,6 +72,31 @@ pub(crate) enum Snapshot {
     Fast(Box<fast::FastSnapshot>),
 }
 
+/// An engine's memory as a file holds it: fast mode's snapshot as it is; the integrating engines' with their
+/// integrations as plain data (their factorizations are rebuilt when next needed, to the same bits). The variants
+/// keep their order with or without the `contact` feature, so that the binary format does not depend on it.
+#[allow(clippy::large_enum_variant)]
+#[derive(serde::Serialize, serde::Deserialize, Clone)]
+pub(crate) enum SavedMemory {
+    Smooth(smooth::SavedSmooth),
+    #[cfg(feature = "contact")]
+    Accurate(Box<accurate::SavedAccurate>),
+    #[cfg(feature = "contact")]
+    Fast(Box<fast::FastSnapshot>),
+}
+
+impl SavedMemory {
+    fn engine_name(&self) -> &'static str {
+        match self {
+            SavedMemory::Smooth(_) => "integration without contact",
+            #[cfg(feature = "contact")]
+            SavedMemory::Accurate(_) => "accurate mode's contact engine",
+            #[cfg(feature = "contact")]
+            SavedMemory::Fast(_) => "fast mode",
+        }
+    }
+}
+
 macro_rules! each {
     ($engine:expr, $e:ident => $body:expr) => {
         match $engine {
@@ -217,24 +242,30 @@ impl Engine {
         }
     }
 
-    /// Fast mode's memory, to be saved (the other engines' memory holds factorizations and is not saved).
-    #[cfg(feature = "contact")]
-    pub fn fast_memory(&self) -> Option<fast::FastSnapshot> {
+    /// The engine's memory as a file holds it (`saved_memory` in `persist`).
+    pub fn saved(&self) -> SavedMemory {
         match self {
-            Engine::Fast(e) => Some(e.snapshot()),
-            _ => None,
+            Engine::Smooth(e) => SavedMemory::Smooth(e.saved()),
+            #[cfg(feature = "contact")]
+            Engine::Accurate(e) => SavedMemory::Accurate(Box::new(e.saved())),
+            #[cfg(feature = "contact")]
+            Engine::Fast(e) => SavedMemory::Fast(Box::new(e.snapshot())),
         }
     }
 
-    /// Checks a fast-mode memory read from a file and restores it.
-    #[cfg(feature = "contact")]
-    pub fn restore_fast_memory(&mut self, memory: fast::FastSnapshot) -> Result<(), String> {
-        match self {
-            Engine::Fast(e) => {
-                e.check_memory(&memory)?;
-                e.restore(memory).map_err(|err| err.to_string())
+    /// Checks a memory read from a file against this engine and gives it back; on an error nothing changes.
+    pub fn restore_saved(&mut self, memory: SavedMemory) -> Result<(), String> {
+        match (self, memory) {
+            (Engine::Smooth(e), SavedMemory::Smooth(m)) => e.restore_saved(m),
+            #[cfg(feature = "contact")]
+            (Engine::Accurate(e), SavedMemory::Accurate(m)) => e.restore_saved(*m),
+            #[cfg(feature = "contact")]
+            (Engine::Fast(e), SavedMemory::Fast(m)) => {
+                e.check_memory(&m)?;
+                e.restore(*m).map_err(|err| err.to_string())
             }
-            _ => Err("it is fast mode's, and the world is not in fast mode".into()),
+            #[allow(unreachable_patterns)]
+            (_, memory) => Err(format!("it is the memory of {}, which this world does not run", memory.engine_name())),
         }
     }
 

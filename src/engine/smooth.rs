@@ -31,6 +31,13 @@ pub(crate) struct SmoothSnapshot {
     integrator: Option<Integrator<Model>>,
 }
 
+/// The smooth engine's memory as a file holds it (`engine/saved.rs`).
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
+pub(crate) struct SavedSmooth {
+    t: f64,
+    integrator: Option<tumble_integrate::IntegratorMemory>,
+}
+
 impl SmoothEngine {
     pub fn new(mut compiled: Compiled, settings: Settings, t: f64, y: Vec<f64>) -> Result<Self, WorldError> {
         let integrator =
@@ -129,6 +136,31 @@ impl SmoothEngine {
             i.take_report();
             i
         });
+        Ok(())
+    }
+
+    /// The engine's memory as a file holds it: the clock and the integration as plain data.
+    pub fn saved(&self) -> SavedSmooth {
+        SavedSmooth { t: self.t, integrator: self.integrator.as_ref().map(|i| i.memory()) }
+    }
+
+    /// Gives back a saved memory (checked by the integrator; nothing changes on an error).
+    pub fn restore_saved(&mut self, saved: SavedSmooth) -> Result<(), String> {
+        if !saved.t.is_finite() {
+            return Err("its time is not finite".into());
+        }
+        let mut integrator = self.integrator.clone();
+        match (&mut integrator, &saved.integrator) {
+            (Some(i), Some(m)) => i.set_memory(m).map_err(|e| e.to_string())?,
+            (None, None) => {}
+            _ => {
+                return Err(
+                    "it has an integration where the world has nothing to integrate, or none where it has".into()
+                )
+            }
+        }
+        self.t = saved.t;
+        self.integrator = integrator;
         Ok(())
     }
 

@@ -1,17 +1,17 @@
 //! Saving and loading worlds: a readable scene file (JSON, `file.rs`) that a person can write by hand, and a
 //! versioned binary format (an 8-byte magic, the version, the same scene in postcard, then the engine's memory).
 //! Both hold every object with its state to the bit, the settings and the start `reset` returns to. The binary
-//! format also holds fast mode's memory (warm starts, kept manifolds, sleep), so that a loaded fast world continues
-//! bit for bit as the original; a world loaded from JSON, or in accurate mode (whose integrator memory holds
-//! factorizations), starts its engine afresh from the saved state, as a world built by hand and set to it would. A
-//! file of another version, a truncated file or a bad value is a clear error naming the field, and no world is
-//! half-built.
+//! format also holds the engine's memory (fast mode's warm starts, kept manifolds and sleep; accurate mode's
+//! integration, resting contacts and touching phase), so that a loaded world continues bit for bit as the original;
+//! a world loaded from JSON starts its engine afresh from the saved state, as a world built by hand and set to it
+//! would. A file of another version, a truncated file or a bad value is a clear error naming the field, and no
+//! world is half-built.
 
 mod file;
 mod load;
 mod save;
 
-use file::VERSION;
+use crate::engine::SavedMemory;
 
 use crate::error::WorldError;
 use crate::world::World;
@@ -19,6 +19,10 @@ use file::SceneFile;
 
 /// The first bytes of a binary world.
 const MAGIC: &[u8; 8] = b"TUMBLEW\0";
+
+/// The binary format's version (the scene inside it has the scene file's own, `VERSION`). 2: the memory of every
+/// engine (1 held fast mode's only).
+const BINARY_VERSION: u32 = 2;
 
 fn decode_error(format: &str, e: impl std::fmt::Display) -> WorldError {
     WorldError::invalid("file", format!("not a readable {format} scene: {e}"))
@@ -38,35 +42,28 @@ impl World {
         World::from_scene_file(&scene)
     }
 
-    /// The world in the binary format: `TUMBLEW\0`, the version (4 bytes, little-endian), the scene, fast mode's
-    /// memory (if any).
+    /// The world in the binary format: `TUMBLEW\0`, the version (4 bytes, little-endian), the scene, the engine's
+    /// memory (if the world has stepped and its state is the engine's).
     pub fn to_bytes(&self) -> Result<Vec<u8>, WorldError> {
         let scene = self.scene_file()?;
         let mut out = MAGIC.to_vec();
-        out.extend_from_slice(&VERSION.to_le_bytes());
+        out.extend_from_slice(&BINARY_VERSION.to_le_bytes());
         let fail = |e: postcard::Error| WorldError::invalid("file", e.to_string());
         let out = postcard::to_extend(&scene, out).map_err(fail)?;
         postcard::to_extend(&self.saved_memory(), out).map_err(fail)
     }
 
-    /// Fast mode's memory, when the world's state is its engine's.
-    #[cfg(feature = "contact")]
-    fn saved_memory(&self) -> Option<crate::engine::fast::FastSnapshot> {
-        self.engine.as_ref().filter(|_| !self.state_changed).and_then(|e| e.fast_memory())
+    /// The engine's memory, when the world's state is its engine's.
+    fn saved_memory(&self) -> Option<SavedMemory> {
+        self.engine.as_ref().filter(|_| !self.state_changed).map(|e| e.saved())
     }
 
-    #[cfg(not(feature = "contact"))]
-    fn saved_memory(&self) -> Option<()> {
-        None
-    }
-
-    /// Gives the world the memory read with its scene, checked against it first.
-    #[cfg(feature = "contact")]
-    fn restore_memory(&mut self, memory: Option<crate::engine::fast::FastSnapshot>) -> Result<(), WorldError> {
+    /// Gives the world the memory read with its scene, checked against it first; on an error no world is made.
+    fn restore_memory(&mut self, memory: Option<SavedMemory>) -> Result<(), WorldError> {
         let Some(memory) = memory else { return Ok(()) };
         let before = self.state();
         let refused = |why: String| WorldError::invalid("memory", format!("the file's engine memory: {why}"));
-        self.engine()?.restore_fast_memory(memory).map_err(refused)?;
+        self.engine()?.restore_saved(memory).map_err(refused)?;
         self.state_changed = false;
         self.store_state();
         if !self.state().same_arrays(&before) {
@@ -75,24 +72,19 @@ impl World {
         Ok(())
     }
 
-    #[cfg(not(feature = "contact"))]
-    fn restore_memory(&mut self, memory: Option<()>) -> Result<(), WorldError> {
-        match memory {
-            None => Ok(()),
-            Some(()) => Err(WorldError::invalid("memory", "fast mode's memory needs the `contact` feature")),
-        }
-    }
-
     /// A world from `to_bytes`. A truncated file, another version or a bad value is an error naming it.
     pub fn from_bytes(bytes: &[u8]) -> Result<World, WorldError> {
         if bytes.len() < 12 || &bytes[..8] != MAGIC {
             return Err(WorldError::invalid("file", "not a tumble world (it does not start with TUMBLEW)"));
         }
         let version = u32::from_le_bytes(bytes[8..12].try_into().expect("four bytes"));
-        if version != VERSION {
+        if version != BINARY_VERSION {
             return Err(WorldError::invalid(
                 "version",
-                format!("this tumble reads version {VERSION} of the world format, the file is version {version}"),
+                format!(
+                    "this tumble reads version {BINARY_VERSION} of the binary world format, the file is version \
+                     {version}"
+                ),
             ));
         }
         let (scene, rest): (SceneFile, &[u8]) =
@@ -146,10 +138,12 @@ mod tests {
     use crate::{FastSettings, Material, Mode, RigidBodyBuilder, Shape, World, WorldError};
     use nalgebra::Vector3;
 
-    /// Two boxes on a ground in fast mode, stepped `steps` times.
-    fn boxes(steps: usize, count: usize) -> World {
+    /// `count` boxes on a ground, in fast mode or accurate, stepped `steps` times.
+    fn boxes(steps: usize, count: usize, fast: bool) -> World {
         let mut w = World::new();
-        w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0))).unwrap();
+        if fast {
+            w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0))).unwrap();
+        }
         w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
         for k in 0..count {
             let shape = Shape::cuboid(Vector3::repeat(0.1)).unwrap();
@@ -169,19 +163,30 @@ mod tests {
     /// A file with one world's scene and another's memory.
     fn spliced(scene_of: &World, memory_of: &World) -> Vec<u8> {
         let mut out = super::MAGIC.to_vec();
-        out.extend_from_slice(&super::VERSION.to_le_bytes());
+        out.extend_from_slice(&super::BINARY_VERSION.to_le_bytes());
         let out = postcard::to_extend(&scene_of.scene_file().unwrap(), out).unwrap();
         postcard::to_extend(&memory_of.saved_memory(), out).unwrap()
     }
 
     #[test]
     fn a_memory_that_does_not_fit_its_scene_is_refused() {
-        let (a, later, bigger) = (boxes(30, 2), boxes(31, 2), boxes(30, 3));
-        assert!(World::from_bytes(&spliced(&a, &a)).is_ok());
-        for (what, bytes) in [("another state", spliced(&a, &later)), ("another structure", spliced(&a, &bigger))] {
-            match World::from_bytes(&bytes) {
-                Err(WorldError::InvalidArgument { name: "memory", .. }) => {}
-                other => panic!("{what}: expected the memory refused, got {:?}", other.map(|_| ())),
+        for fast in [true, false] {
+            // accurate mode: 60 steps, so that the boxes touch and the touching phase is part of the memory
+            let steps = if fast { 30 } else { 60 };
+            let (a, later, bigger) = (boxes(steps, 2, fast), boxes(steps + 1, 2, fast), boxes(steps, 3, fast));
+            let other_mode = boxes(steps, 2, !fast);
+            assert!(World::from_bytes(&spliced(&a, &a)).is_ok());
+            for (what, bytes) in [
+                ("another state", spliced(&a, &later)),
+                ("another structure", spliced(&a, &bigger)),
+                ("another mode", spliced(&a, &other_mode)),
+            ] {
+                match World::from_bytes(&bytes) {
+                    Err(WorldError::InvalidArgument { name: "memory", reason }) => {
+                        assert!(reason.contains("engine memory"), "{reason}")
+                    }
+                    other => panic!("fast {fast}, {what}: expected the memory refused, got {:?}", other.map(|_| ())),
+                }
             }
         }
     }

@@ -192,6 +192,14 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         input.point("next point", &mut self.next)?;
         self.h = input.maybe("proposed step")?;
         self.last_step = input.maybe("last step")?;
+        for (name, h) in [("proposed step", self.h), ("last step", self.last_step)] {
+            if h.is_some_and(|h| !(h > 0.0 && h.is_finite())) {
+                return Err(format!("`{name}` must be positive and finite"));
+            }
+        }
+        if !self.cur.t.is_finite() {
+            return Err("`current point` has a time that is not finite".into());
+        }
         self.last_rejected = input.flag("last rejected")?;
         input.numbers("dense output", &mut self.dense_buf)?;
         input.numbers("backup", &mut self.backup)?;

@@ -17,8 +17,8 @@ use tumble_integrate::{Integrator, OdeError};
 #[derive(Clone)]
 pub(crate) struct FreeFlight {
     /// The state components held still (those of the touching actors).
-    frozen: Vec<usize>,
-    integrator: Integrator<Model>,
+    pub(super) frozen: Vec<usize>,
+    pub(super) integrator: Integrator<Model>,
 }
 
 /// Which actors (particles, then dynamic bodies) take part in a step with the contacts `found`: those of a

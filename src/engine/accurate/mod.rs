@@ -29,9 +29,11 @@ mod drift;
 mod free_flight;
 mod pass_through;
 mod resting;
+mod saved;
 mod touching;
 
 pub(crate) use resting::RestingSet;
+pub(crate) use saved::SavedAccurate;
 
 use crate::engine::contact_scene::{ContactKey, ContactScene};
 use crate::engine::smooth::{attempts, mechanical_energy, over_budget, take_integrator_report};
@@ -117,6 +119,30 @@ pub(crate) struct AccurateSnapshot {
     penetration: f64,
     window: (f64, usize),
     touching: Option<touching::Touching>,
+    scales: Scales,
+}
+
+/// The contact engine's scales, set from the scene's size where the engine was built (a world built, stepped
+/// and loaded elsewhere must keep the original's): resting speed, stall step, contact tolerance, largest contact
+/// step, the lagged-friction tolerance.
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Scales([f64; 5]);
+
+impl Contacts {
+    fn scales(&self) -> Scales {
+        Scales([self.resting_speed, self.stall_step, self.tolerance, self.max_step, self.lagged_tolerance])
+    }
+
+    fn set_scales(&mut self, s: Scales) {
+        [self.resting_speed, self.stall_step, self.tolerance, self.max_step, self.lagged_tolerance] = s.0;
+    }
+}
+
+impl Scales {
+    /// Each positive and finite (the resting speed may be zero).
+    fn valid(&self) -> bool {
+        self.0[0] >= 0.0 && self.0.iter().all(|x| x.is_finite()) && self.0[1..].iter().all(|&x| x > 0.0)
+    }
 }
 
 pub(crate) fn failure(t: f64, message: String) -> OdeError {
@@ -290,6 +316,7 @@ impl AccurateEngine {
             penetration: self.contacts.penetration,
             window: self.contacts.window,
             touching: self.contacts.touching.clone(),
+            scales: self.contacts.scales(),
         }
     }
 
@@ -302,6 +329,7 @@ impl AccurateEngine {
         self.contacts.penetration = s.penetration;
         self.contacts.window = s.window;
         self.contacts.touching = s.touching;
+        self.contacts.set_scales(s.scales);
         Ok(())
     }
 

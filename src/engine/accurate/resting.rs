@@ -11,7 +11,7 @@ use tumble_contact::{contact_wrenches, resting_forces, Contact, NormalMotion, So
 use tumble_integrate::SystemError;
 
 /// A resting contact held in the frames of its two actors.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(crate) struct RestingContact {
     pub a: usize,
     pub b: usize,
