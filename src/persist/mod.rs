@@ -20,6 +20,14 @@ use file::SceneFile;
 /// The first bytes of a binary world.
 const MAGIC: &[u8; 8] = b"TUMBLEW\0";
 
+/// The engine part of a binary file.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct SavedEngine {
+    /// The world's state was set after the engine last ran (the scene holds it, the memory the engine's).
+    edited: bool,
+    memory: SavedMemory,
+}
+
 /// The binary format's version (the scene inside it has the scene file's own, `VERSION`). 2: the memory of every
 /// engine (1 held fast mode's only).
 const BINARY_VERSION: u32 = 2;
@@ -53,17 +61,23 @@ impl World {
         postcard::to_extend(&self.saved_memory(), out).map_err(fail)
     }
 
-    /// The engine's memory, when the world's state is its engine's.
-    fn saved_memory(&self) -> Option<SavedMemory> {
-        self.engine.as_ref().filter(|_| !self.state_changed).map(|e| e.saved())
+    /// The engine's memory, and whether the world's state was set since the engine last ran (the next step then
+    /// gives the engine that state, keeping its contact memory, as the original's would).
+    fn saved_memory(&self) -> Option<SavedEngine> {
+        self.engine.as_ref().map(|e| SavedEngine { edited: self.state_changed, memory: e.saved() })
     }
 
     /// Gives the world the memory read with its scene, checked against it first; on an error no world is made.
-    fn restore_memory(&mut self, memory: Option<SavedMemory>) -> Result<(), WorldError> {
-        let Some(memory) = memory else { return Ok(()) };
+    fn restore_memory(&mut self, saved: Option<SavedEngine>) -> Result<(), WorldError> {
+        let Some(SavedEngine { edited, memory }) = saved else { return Ok(()) };
         let before = self.state();
         let refused = |why: String| WorldError::invalid("memory", format!("the file's engine memory: {why}"));
         self.engine()?.restore_saved(memory).map_err(refused)?;
+        if edited {
+            // the scene holds the state set since; the engine applies it at the next step
+            self.state_changed = true;
+            return Ok(());
+        }
         self.state_changed = false;
         self.store_state();
         if !self.state().same_arrays(&before) {
