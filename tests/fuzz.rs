@@ -1,7 +1,7 @@
 //! A fuzz suite over the Rust API (proptest): random programs of world calls, with good, extreme and bad values
 //! (NaN, infinities, 5e-324, 1e308, negative and zero sizes, stale handles), in both modes. After every call the
 //! world must be finite if the call succeeded and bit for bit unchanged if it failed; no call may panic; a program
-//! rerun on a fresh world must end in the same bits.
+//! rerun on a fresh world must end in the same bits; its last world saved and loaded must continue as a copy of it.
 //!
 //! CI runs a short, fixed-seed search (1500 programs); `TUMBLE_FUZZ_CASES=20000 cargo test --release --test fuzz`
 //! runs a long one.
@@ -231,7 +231,7 @@ fn apply(w: &mut World, made: &mut Made, op: &Op) -> Result<(), WorldError> {
 }
 
 /// Runs a program, checking every call; returns the final bits.
-fn execute(ops: &[Op]) -> Result<Vec<u64>, TestCaseError> {
+fn execute(ops: &[Op]) -> Result<(Vec<u64>, World), TestCaseError> {
     let mut w = World::new();
     let mut made = Made::default();
     for (k, op) in ops.iter().enumerate() {
@@ -251,7 +251,24 @@ fn execute(ops: &[Op]) -> Result<Vec<u64>, TestCaseError> {
             }
         }
     }
-    Ok(state_bits(&w))
+    Ok((state_bits(&w), w))
+}
+
+/// The world saved in the binary format and loaded continues as a copy of it over four fast steps or 0.02 s: the
+/// same bits, or the same error.
+fn check_saved(w: &World) -> Result<(), TestCaseError> {
+    let bytes = w.to_bytes().map_err(|e| TestCaseError::fail(format!("saving failed: {e}")))?;
+    let mut loaded =
+        World::from_bytes(&bytes).map_err(|e| TestCaseError::fail(format!("the world's own file is refused: {e}")))?;
+    let mut original = w.clone();
+    let span = match w.mode() {
+        Mode::Fast(f) => 4.0 * f.dt,
+        Mode::Accurate(_) => 0.02,
+    };
+    let (a, b) = (original.step(span).map_err(|e| e.to_string()), loaded.step(span).map_err(|e| e.to_string()));
+    prop_assert_eq!(a, b, "saved and loaded, the step ends otherwise");
+    prop_assert_eq!(state_bits(&loaded), state_bits(&original), "saved and loaded, the world continues otherwise");
+    Ok(())
 }
 
 #[test]
@@ -263,10 +280,10 @@ fn random_programs_never_panic_leak_nan_or_change_the_world_when_they_fail() {
     let mut runner = TestRunner::new_with_rng(config, rng);
     runner
         .run(&prop::collection::vec(op(), 1..14), |ops| {
-            let first = execute(&ops)?;
-            let again = execute(&ops)?;
+            let (first, w) = execute(&ops)?;
+            let (again, _) = execute(&ops)?;
             prop_assert_eq!(first, again, "a rerun of the same program ended differently");
-            Ok(())
+            check_saved(&w)
         })
         .unwrap();
 }

@@ -242,6 +242,29 @@ impl Engine {
         }
     }
 
+    /// The size past which a state component is divergence, set where the engine was built (from the state's scale
+    /// there): a copy or a loaded world keeps the original's.
+    pub fn divergence_limit(&self) -> f64 {
+        match self {
+            Engine::Smooth(e) => e.divergence_limit(),
+            #[cfg(feature = "contact")]
+            Engine::Accurate(e) => e.divergence_limit(),
+            #[cfg(feature = "contact")]
+            Engine::Fast(e) => e.divergence_limit,
+        }
+    }
+
+    /// Sets the divergence limit everywhere the engine keeps it (before its memory is given back).
+    pub fn set_divergence_limit(&mut self, limit: f64) {
+        match self {
+            Engine::Smooth(e) => e.set_divergence_limit(limit),
+            #[cfg(feature = "contact")]
+            Engine::Accurate(e) => e.set_divergence_limit(limit),
+            #[cfg(feature = "contact")]
+            Engine::Fast(e) => e.divergence_limit = limit,
+        }
+    }
+
     /// The engine's memory as a file holds it (`saved_memory` in `persist`).
     pub fn saved(&self) -> SavedMemory {
         match self {

@@ -139,6 +139,17 @@ impl SmoothEngine {
         Ok(())
     }
 
+    pub fn divergence_limit(&self) -> f64 {
+        self.settings.divergence_limit
+    }
+
+    pub fn set_divergence_limit(&mut self, limit: f64) {
+        self.settings.divergence_limit = limit;
+        if let Some(i) = &mut self.integrator {
+            i.set_divergence_limit(limit);
+        }
+    }
+
     /// The engine's memory as a file holds it: the clock and the integration as plain data.
     pub fn saved(&self) -> SavedSmooth {
         SavedSmooth { t: self.t, integrator: self.integrator.as_ref().map(|i| i.memory()) }

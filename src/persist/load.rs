@@ -102,8 +102,8 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
     };
     both("velocity", b.velocity.is_some(), b.momentum.is_some())?;
     both("angular_velocity", b.angular_velocity.is_some(), b.angular_momentum.is_some())?;
+    // the position is put in exactly by `exact_fields`, within the bound of states a file may hold
     Ok(builder
-        .position(v3(b.position))
         .orientation(quaternion("orientation", b.orientation)?)
         .velocity(v3(b.velocity.unwrap_or_default()))
         .angular_velocity(v3(b.angular_velocity.unwrap_or_default()))
@@ -112,6 +112,11 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
         .restitution(b.restitution)
         .friction(b.friction))
 }
+
+/// The bound on positions and velocities a file may hold: beyond what a user may set (1e12 m, 1e12 m/s), since a
+/// world's own steps can carry it further before its divergence limit stops them, and a world must load what it
+/// saved; within it, energies and momenta stay finite.
+const STATE: f64 = 1e100;
 
 impl World {
     /// A world from a scene file.
@@ -135,14 +140,19 @@ impl World {
         let mut particles: Vec<ParticleHandle> = Vec::new();
         for (k, p) in f.particles.iter().enumerate() {
             let builder = ParticleBuilder::new(p.mass)
-                .position(v3(p.position))
-                .velocity(v3(p.velocity))
                 .damping(p.damping)
                 .stiffness(p.stiffness)
                 .anchor(v3(p.anchor))
                 .radius(p.radius)
                 .material(p.material());
             let h = w.add_particle(builder).map_err(at("particles", format!("particles[{k}]")))?;
+            let (x, v) = (v3(p.position), v3(p.velocity));
+            limits::vector("position", &x, STATE, "m").map_err(at("particles", format!("particles[{k}]")))?;
+            limits::vector("velocity", &v, STATE, "m/s").map_err(at("particles", format!("particles[{k}]")))?;
+            if let Some(particle) = w.particles.get_mut(h) {
+                (particle.position, particle.velocity) = (x, v);
+            }
+            w.record_particle_start(h);
             if let Some([x, v]) = p.start {
                 let (x, v) = (v3(x), v3(v));
                 limits::vector("start", &x, limits::COORDINATE, "m")
@@ -223,9 +233,11 @@ impl World {
                 c.offset.translation.vector = v3(written.position);
             }
         }
+        limits::vector("position", &v3(f.position), STATE, "m")?;
+        b.position = v3(f.position);
         if !b.is_static {
             if let Some(p) = f.momentum {
-                limits::vector("momentum", &(v3(p) / b.mass), limits::SPEED, "m/s (p / m)")?;
+                limits::vector("momentum", &(v3(p) / b.mass), STATE, "m/s (p / m)")?;
                 b.momentum = v3(p);
             }
             if let Some(l) = f.angular_momentum {

@@ -25,6 +25,8 @@ const MAGIC: &[u8; 8] = b"TUMBLEW\0";
 struct SavedEngine {
     /// The world's state was set after the engine last ran (the scene holds it, the memory the engine's).
     edited: bool,
+    /// The engine's divergence limit, set from the state's scale where it was built.
+    divergence_limit: f64,
     memory: SavedMemory,
 }
 
@@ -64,23 +66,38 @@ impl World {
     /// The engine's memory, and whether the world's state was set since the engine last ran (the next step then
     /// gives the engine that state, keeping its contact memory, as the original's would).
     fn saved_memory(&self) -> Option<SavedEngine> {
-        self.engine.as_ref().map(|e| SavedEngine { edited: self.state_changed, memory: e.saved() })
+        self.engine.as_ref().map(|e| SavedEngine {
+            edited: self.state_changed,
+            divergence_limit: e.divergence_limit(),
+            memory: e.saved(),
+        })
     }
 
     /// Gives the world the memory read with its scene, checked against it first; on an error no world is made.
     fn restore_memory(&mut self, saved: Option<SavedEngine>) -> Result<(), WorldError> {
-        let Some(SavedEngine { edited, memory }) = saved else { return Ok(()) };
-        let before = self.state();
+        let Some(SavedEngine { edited, divergence_limit, memory }) = saved else { return Ok(()) };
         let refused = |why: String| WorldError::invalid("memory", format!("the file's engine memory: {why}"));
-        self.engine()?.restore_saved(memory).map_err(refused)?;
+        if !(divergence_limit > 0.0 && divergence_limit.is_finite()) {
+            return Err(refused(format!("its divergence limit {divergence_limit} is not positive and finite")));
+        }
+        let engine = self.engine()?;
+        engine.set_divergence_limit(divergence_limit);
+        engine.restore_saved(memory).map_err(refused)?;
         if edited {
             // the scene holds the state set since; the engine applies it at the next step
             self.state_changed = true;
             return Ok(());
         }
-        self.state_changed = false;
-        self.store_state();
-        if !self.state().same_arrays(&before) {
+        // The scene holds the world's arrays as they were, the memory the engine's state: the same state (the arrays
+        // are the engine's state unpacked, or were set and packed into it, quaternions normalized on the way), to
+        // the rounding; a memory of another time or another motion is refused.
+        let engine = self.engine.as_ref().expect("built above");
+        let packed = engine.compiled().pack(&self.particles, &self.bodies);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
+        let same = engine.state().len() == packed.len()
+            && engine.state().iter().zip(&packed).all(|(a, b)| close(*a, *b))
+            && close(engine.time(), self.time);
+        if !same {
             return Err(refused("its state is not the scene's".into()));
         }
         Ok(())

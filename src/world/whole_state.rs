@@ -34,6 +34,8 @@ pub struct WorldState {
 #[derive(Clone)]
 struct Memory {
     structure: u64,
+    /// The engine's divergence limit (set from the state's scale where it was built).
+    divergence_limit: f64,
     /// Behind a mutex so that a state can cross threads (the snapshot holds `Send` integrator parts).
     snapshot: Arc<Mutex<Snapshot>>,
     read: Box<WorldState>,
@@ -157,6 +159,7 @@ impl World {
         if let (Some(e), false) = (&self.engine, self.state_changed) {
             s.memory = Some(Memory {
                 structure: self.structure,
+                divergence_limit: e.divergence_limit(),
                 snapshot: Arc::new(Mutex::new(e.snapshot())),
                 read: Box::new(s.clone()),
             });
@@ -174,7 +177,9 @@ impl World {
             if m.structure == self.structure && state.same_arrays(&m.read) {
                 // an engine of this structure (built anew if the world dropped its own) given the memory back
                 let snapshot = m.snapshot.lock().unwrap_or_else(|e| e.into_inner()).clone();
-                self.engine()?.restore(snapshot)?;
+                let engine = self.engine()?;
+                engine.set_divergence_limit(m.divergence_limit);
+                engine.restore(snapshot)?;
                 self.state_changed = false;
                 self.store_state();
                 return Ok(());

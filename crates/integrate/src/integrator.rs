@@ -129,6 +129,12 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         self.settings.max_steps = max_steps.max(1);
     }
 
+    /// Sets the size past which a state component is divergence (callers that keep one limit across integrators
+    /// they rebuild).
+    pub fn set_divergence_limit(&mut self, limit: f64) {
+        self.settings.divergence_limit = limit;
+    }
+
     /// Returns the report so far and starts a new one (for callers that report per call).
     pub fn take_report(&mut self) -> Report {
         std::mem::replace(&mut self.ctx.report, Report::new(self.settings.method.name()))

@@ -49,7 +49,7 @@ pub(crate) struct FastEngine {
     settings: FastSettings,
     pub(crate) threads: usize,
     /// A state component larger than this is divergence: the step fails instead of running on to overflow.
-    divergence_limit: f64,
+    pub(crate) divergence_limit: f64,
     /// Each contact's normal impulse of the last step (ordered: the warm start sums them in key order).
     previous: BTreeMap<ContactKey, f64>,
     /// The soft solver's impulses of the last step, by contact (sorted by key).
