@@ -17,6 +17,10 @@ and stale handles. Each program runs in a worker subprocess (address space limit
 3. without the calls that failed: the final state must be the same bits, since a failed call changes nothing,
    hidden state (contact caches, warm starts, step sizes, sleep) included.
 
+Before the rerun, the first execution's last world is pickled (the binary format, engine memory included) and
+loaded: the file must be read back, and the loaded world must continue over a short step exactly as a
+``copy.deepcopy`` of the original (the same bits, or the same error).
+
 A worker that dies (an abort, a segfault, an allocation failure) or does not answer within
 ``TUMBLE_FUZZ_TIMEOUT`` seconds (default 20) per execution is a failure too, so hypothesis shrinks crashes and hangs
 like any other failure. Every call's work is bounded by its budget (``max_steps``, by default 1e6 integrator steps,
@@ -27,7 +31,8 @@ budget uses ``TUMBLE_FUZZ_TIMEOUT=300``. Every failure message carries a runnabl
 Failures are reported by kind (one exception class each, so that hypothesis shrinks each kind separately): Panic,
 Crash, Hang, WrongExceptionType, ArgumentNotNamed, AcceptedBadArgument (a stale, foreign or wrong-kind handle, a
 callback that is not callable), NonFiniteState, NonFiniteResult, FailedCallChangedState, NotRepeatable,
-FailedCallChangedHiddenState, CallbackErrorLost, SwallowedCallbackError, WrongTime, BadResult.
+FailedCallChangedHiddenState, CallbackErrorLost, SwallowedCallbackError, WrongTime, BadResult, SavedWorldRefused,
+SavedWorldDiffers.
 
 Sizes:
 

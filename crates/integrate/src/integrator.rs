@@ -199,8 +199,9 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         self.h = input.maybe("proposed step")?;
         self.last_step = input.maybe("last step")?;
         for (name, h) in [("proposed step", self.h), ("last step", self.last_step)] {
-            if h.is_some_and(|h| !(h > 0.0 && h.is_finite())) {
-                return Err(format!("`{name}` must be positive and finite"));
+            // (an unbounded tolerance lets the controller propose an infinite step: the step limits cap it)
+            if h.is_some_and(|h| !(h > 0.0)) {
+                return Err(format!("`{name}` must be positive"));
             }
         }
         if !self.cur.t.is_finite() {
