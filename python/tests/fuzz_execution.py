@@ -3,11 +3,9 @@ the world on failure), and compare reruns. Part of ``test_fuzz.py``."""
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import hashlib
 import math
-import pickle
 import re
 import struct
 from typing import Any
@@ -495,41 +493,11 @@ def check_program(program: Program, log: str | None, phase=lambda name: None) ->
     return first.failures + later
 
 
-def _check_saved(first: Execution) -> list[tuple[str, str]]:
-    """The program's last world saved in the binary format (through pickle) and loaded continues bit for bit as
-    an exact copy of it, over four fast steps or 0.02 s: the same state, or the same error."""
-    w = first.ns["w"]
-    try:
-        data = pickle.dumps(w)
-    except ValueError as e:  # force callbacks cannot be saved
-        if "loads" in str(e):
-            return []
-        raise
-    try:
-        loaded = pickle.loads(data)
-    except (ValueError, tumble.SimulationError) as e:
-        return [("SavedWorldRefused", f"the world's own file is refused: {e}\n\nReproducer:\n" + first.reproducer())]
-    original = copy.deepcopy(w)
-    span = 4 * first.fast_dt if w.mode == "fast" else 0.02
-    outcomes = []
-    for x in (original, loaded):
-        try:
-            x.step(span)
-            outcomes.append(("ok", snapshot(x)))
-        except (ValueError, tumble.SimulationError) as e:
-            outcomes.append((type(e).__name__, snapshot(x)))
-    changed = _diff(outcomes[0][1], outcomes[1][1])
-    if changed or outcomes[0][0] != outcomes[1][0]:
-        return [("SavedWorldDiffers", f"saved and loaded, the world continues otherwise than a copy of it "
-                 f"({outcomes[0][0]} against {outcomes[1][0]}):\n  " + "\n  ".join(changed)
-                 + "\n\nReproducer:\n" + first.reproducer())]
-    return []
-
-
 def _compare_executions(program: Program, log: str | None, phase, first: Execution) -> list[tuple[str, str]]:
     first.run()
     phase("saved and loaded")
-    saved = _check_saved(first)
+    from fuzz_saved import check_saved
+    saved = check_saved(first)
     if saved:
         return saved
     phase("rerun")
