@@ -5,8 +5,8 @@
 use tumble_integrate::faer::MatMut;
 use tumble_integrate::*;
 
-/// Two Duffing oscillators coupled by a spring, damped: y = (x0, x1, v0, v1), a_i = -k x_i - c x_i^3 - d v_i
-/// + s (x_j - x_i). Nonlinear (the Jacobian changes along the path), stiff enough with k = 400 that the implicit
+/// Two Duffing oscillators coupled by a spring, damped: y = (x0, x1, v0, v1),
+/// a_i = -k x_i - c x_i^3 - d v_i + s (x_j - x_i). Nonlinear (the Jacobian changes along the path), stiff enough with k = 400 that the implicit
 /// methods reuse and refactor; dense or sparse analytic Jacobian.
 #[derive(Clone)]
 struct Duffing {

@@ -63,14 +63,10 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for Dop853 {
 
 impl Remember for Dop853 {
     fn save(&self, out: &mut MemoryWriter) {
-        self.k.iter().for_each(|k| out.numbers(k));
-        out.numbers(&self.stage);
+        super::explicit_rk::save_stages(out, &self.k, &self.stage);
     }
 
     fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
-        for k in &mut self.k {
-            input.numbers("dop853 stage", k)?;
-        }
-        input.numbers("dop853 stage state", &mut self.stage)
+        super::explicit_rk::load_stages(input, &mut self.k, &mut self.stage)
     }
 }

@@ -145,17 +145,27 @@ impl<S: OdeSystem + ?Sized> Stepper<S> for EulerVariable {
     }
 }
 
+/// Writes a Runge-Kutta method's stage derivatives and stage state (shared with dop853).
+pub(crate) fn save_stages(out: &mut MemoryWriter, k: &[Vec<f64>], stage: &[f64]) {
+    k.iter().for_each(|k| out.numbers(k));
+    out.numbers(stage);
+}
+
+/// Reads back what `save_stages` wrote.
+pub(crate) fn load_stages(input: &mut MemoryReader, k: &mut [Vec<f64>], stage: &mut [f64]) -> Result<(), String> {
+    for k in k {
+        input.numbers("rk stage", k)?;
+    }
+    input.numbers("rk stage state", stage)
+}
+
 impl Remember for ExplicitRk {
     fn save(&self, out: &mut MemoryWriter) {
-        self.k.iter().for_each(|k| out.numbers(k));
-        out.numbers(&self.stage);
+        save_stages(out, &self.k, &self.stage);
     }
 
     fn load(&mut self, input: &mut MemoryReader) -> Result<(), String> {
-        for k in &mut self.k {
-            input.numbers("rk stage", k)?;
-        }
-        input.numbers("rk stage state", &mut self.stage)
+        load_stages(input, &mut self.k, &mut self.stage)
     }
 }
 
