@@ -283,10 +283,7 @@ impl Engine {
             #[cfg(feature = "contact")]
             (Engine::Accurate(e), SavedMemory::Accurate(m)) => e.restore_saved(*m),
             #[cfg(feature = "contact")]
-            (Engine::Fast(e), SavedMemory::Fast(m)) => {
-                e.check_memory(&m)?;
-                e.restore(*m).map_err(|err| err.to_string())
-            }
+            (Engine::Fast(e), SavedMemory::Fast(m)) => e.restore_saved(*m),
             #[allow(unreachable_patterns)]
             (_, memory) => Err(format!("it is the memory of {}, which this world does not run", memory.engine_name())),
         }

@@ -31,7 +31,7 @@ pub(crate) struct SmoothSnapshot {
     integrator: Option<Integrator<Model>>,
 }
 
-/// The smooth engine's memory as a file holds it (`engine/saved.rs`).
+/// The smooth engine's memory as a file holds it (a variant of `SavedMemory`).
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(crate) struct SavedSmooth {
     t: f64,

@@ -53,7 +53,7 @@ impl World {
     }
 
     /// The world in the binary format: `TUMBLEW\0`, the version (4 bytes, little-endian), the scene, the engine's
-    /// memory (if the world has stepped and its state is the engine's).
+    /// memory (if the world has an engine: it has stepped since its structure or settings last changed).
     pub fn to_bytes(&self) -> Result<Vec<u8>, WorldError> {
         let scene = self.scene_file()?;
         let mut out = MAGIC.to_vec();

@@ -7,7 +7,6 @@
 use crate::error::OdeError;
 use crate::integrator::Integrator;
 use crate::point::{Point, NEXT_SLOT, SLOT_SHIFT};
-use crate::report::Report;
 use crate::system::OdeSystem;
 use std::sync::atomic::Ordering;
 
@@ -92,6 +91,11 @@ impl MemoryWriter {
     }
 }
 
+/// The error of a value of another kind than expected.
+fn wrong(name: &str, expected: &str, found: &Item) -> String {
+    format!("`{name}` should be {expected}, found {}", found.kind())
+}
+
 /// Reads a memory's values back in the order they were written, each checked for its kind and length; an error
 /// names the value.
 pub(crate) struct MemoryReader {
@@ -105,46 +109,57 @@ impl MemoryReader {
         MemoryReader { items: items.into_iter(), max_slot: 0 }
     }
 
-    fn next(&mut self, name: &str, kind: &'static str) -> Result<Item, String> {
-        let item = self.items.next().ok_or_else(|| format!("`{name}` is missing (the memory ends early)"))?;
-        if item.kind() != kind {
-            return Err(format!("`{name}` should be {kind}, found {}", item.kind()));
-        }
-        Ok(item)
+    fn next(&mut self, name: &str) -> Result<Item, String> {
+        self.items.next().ok_or_else(|| format!("`{name}` is missing (the memory ends early)"))
     }
 
     /// Numbers into `into`, which they must fit exactly.
     pub fn numbers(&mut self, name: &str, into: &mut [f64]) -> Result<(), String> {
-        let Item::Numbers(v) = self.next(name, "numbers")? else { unreachable!("kind checked") };
-        if v.len() != into.len() {
-            return Err(format!("`{name}` has {} numbers where this integration has {}", v.len(), into.len()));
+        match self.next(name)? {
+            Item::Numbers(v) if v.len() == into.len() => {
+                into.copy_from_slice(&v);
+                Ok(())
+            }
+            Item::Numbers(v) => {
+                Err(format!("`{name}` has {} numbers where this integration has {}", v.len(), into.len()))
+            }
+            other => Err(wrong(name, "numbers", &other)),
         }
-        into.copy_from_slice(&v);
-        Ok(())
     }
 
     pub fn number(&mut self, name: &str) -> Result<f64, String> {
-        let Item::Number(x) = self.next(name, "a number")? else { unreachable!("kind checked") };
-        Ok(x)
+        match self.next(name)? {
+            Item::Number(x) => Ok(x),
+            other => Err(wrong(name, "a number", &other)),
+        }
     }
 
     pub fn maybe(&mut self, name: &str) -> Result<Option<f64>, String> {
-        let Item::Maybe(x) = self.next(name, "an optional number")? else { unreachable!("kind checked") };
-        Ok(x)
+        match self.next(name)? {
+            Item::Maybe(x) => Ok(x),
+            other => Err(wrong(name, "an optional number", &other)),
+        }
     }
 
     pub fn flag(&mut self, name: &str) -> Result<bool, String> {
-        let Item::Flag(b) = self.next(name, "a flag")? else { unreachable!("kind checked") };
-        Ok(b)
+        match self.next(name)? {
+            Item::Flag(b) => Ok(b),
+            other => Err(wrong(name, "a flag", &other)),
+        }
     }
 
     pub fn count(&mut self, name: &str) -> Result<u64, String> {
-        let Item::Count(n) = self.next(name, "a count")? else { unreachable!("kind checked") };
-        Ok(n)
+        match self.next(name)? {
+            Item::Count(n) => Ok(n),
+            other => Err(wrong(name, "a count", &other)),
+        }
     }
 
     pub fn id(&mut self, name: &str) -> Result<Option<u64>, String> {
-        let Item::Id(id) = self.next(name, "a point id")? else { unreachable!("kind checked") };
+        let id = match self.next(name)? {
+            Item::Id(id) => id,
+            other => return Err(wrong(name, "a point id", &other)),
+        };
         if let Some(id) = id {
             self.max_slot = self.max_slot.max(id >> SLOT_SHIFT);
         }
@@ -198,7 +213,6 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         }
         let mut copy = self.clone();
         copy.read_memory(memory.items.clone()).map_err(|why| OdeError::invalid("memory", why))?;
-        copy.ctx.report = std::mem::replace(&mut self.ctx.report, Report::new(name));
         *self = copy;
         Ok(())
     }

@@ -308,6 +308,18 @@ impl AccurateEngine {
         self.contacts.touching.as_ref().map_or(&[], |t| &t.last)
     }
 
+    pub fn divergence_limit(&self) -> f64 {
+        self.settings.divergence_limit
+    }
+
+    /// Sets the divergence limit of the integration, the contact steps and the free flights to come.
+    pub fn set_divergence_limit(&mut self, limit: f64) {
+        self.settings.divergence_limit = limit;
+        self.integrator.set_divergence_limit(limit);
+        self.contacts.divergence_limit = limit;
+        self.contacts.free_settings.divergence_limit = limit;
+    }
+
     pub fn snapshot(&self) -> AccurateSnapshot {
         AccurateSnapshot {
             integrator: self.integrator.clone(),

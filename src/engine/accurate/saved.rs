@@ -41,18 +41,6 @@ pub(crate) struct SavedAccurate {
 }
 
 impl AccurateEngine {
-    pub fn divergence_limit(&self) -> f64 {
-        self.settings.divergence_limit
-    }
-
-    /// Sets the divergence limit of the integration, the contact steps and the free flights to come.
-    pub fn set_divergence_limit(&mut self, limit: f64) {
-        self.settings.divergence_limit = limit;
-        self.integrator.set_divergence_limit(limit);
-        self.contacts.divergence_limit = limit;
-        self.contacts.free_settings.divergence_limit = limit;
-    }
-
     /// The engine's memory as a file holds it.
     pub fn saved(&self) -> SavedAccurate {
         let c = &self.contacts;

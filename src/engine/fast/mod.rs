@@ -325,7 +325,7 @@ impl FastEngine {
 
     /// Whether a memory read from a file fits this engine (sizes and indices in range, the state finite): a file's
     /// memory is checked before it is restored, so that a damaged one is an error, never a panic later.
-    pub fn check_memory(&self, s: &FastSnapshot) -> Result<(), String> {
+    fn check_memory(&self, s: &FastSnapshot) -> Result<(), String> {
         let actors = self.compiled.model.layout.particles + self.compiled.model.layout.bodies;
         let colliders = self.scene.as_ref().map_or(0, |sc| sc.colliders.len());
         let all_actors = self.scene.as_ref().map_or(actors, |sc| sc.actors());
@@ -353,6 +353,12 @@ impl FastEngine {
             scene.cache = s.manifolds;
         }
         Ok(())
+    }
+
+    /// Gives back a memory read from a file, checked against the scene first; on an error nothing changes.
+    pub fn restore_saved(&mut self, s: FastSnapshot) -> Result<(), String> {
+        self.check_memory(&s)?;
+        self.restore(s).map_err(|err| err.to_string())
     }
 
     pub fn take_report(&mut self) -> WorldReport {
