@@ -4,7 +4,7 @@
 use crate::controller::Controller;
 use crate::error::OdeError;
 use crate::events::{Advance, StepView};
-use crate::point::{eval, max_norm, Point};
+use crate::point::{max_norm, Point};
 use crate::report::Report;
 use crate::settings::{Control, Settings};
 use crate::steppers::{self, Ctx, Stepper};
@@ -338,41 +338,6 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         }
     }
 
-    fn view<'a>(&'a mut self, sys: &'a mut S) -> StepView<'a, S> {
-        let dense = self.stepper.has_dense_output() && !matches!(self.settings.control, Control::StepDoubling { .. });
-        StepView { sys, stepper: &mut *self.stepper, ctx: &mut self.ctx, from: &self.cur, to: &self.next, dense }
-    }
-
-    /// Shows the step just accepted (cur -> next) to `detect`; returns the event time it reports, within the step.
-    fn detect(
-        &mut self,
-        sys: &mut S,
-        detect: &mut impl FnMut(&mut StepView<'_, S>) -> Result<Option<f64>, OdeError>,
-    ) -> Result<Option<f64>, OdeError> {
-        let (t0, t1) = (self.cur.t, self.next.t);
-        Ok(detect(&mut self.view(sys))?.map(|tc| tc.clamp(t0, t1)))
-    }
-
-    /// Ends the step just accepted at tc: cur becomes the state there and the method's histories are dropped.
-    fn cut_at(&mut self, sys: &mut S, tc: f64) -> Result<(), OdeError> {
-        // The step taken is the one that ends at the event: the log shows that one (none if it ends where it began).
-        let start = self.cur.t;
-        if let Some(log) = &mut self.step_log {
-            log.pop();
-            if tc > start {
-                log.push((tc, tc - start));
-            }
-        }
-        if tc < self.next.t {
-            let y = self.view(sys).state_at(tc)?;
-            self.next.y.copy_from_slice(&y);
-            self.next.renew(tc);
-        }
-        std::mem::swap(&mut self.cur, &mut self.next);
-        self.stepper.reset();
-        Ok(())
-    }
-
     /// Adaptive steps toward `t_end` (the only hard stop besides saves without dense output), pausing once past
     /// `pause_at`. Returns the number of saves delivered.
     fn run_adaptive(
@@ -504,43 +469,5 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         }
         self.h = Some(smaller);
         Ok(())
-    }
-
-    /// The first adaptive step: the settings' value, step doubling's `dt`, or Hairer's estimate from the sizes
-    /// of y, f and f' (one extra evaluation).
-    fn initial_step(&mut self, sys: &mut S) -> Result<f64, OdeError> {
-        if let Some(h) = self.settings.initial_step {
-            return Ok(h.min(self.settings.max_step));
-        }
-        match self.settings.control {
-            Control::StepDoubling { dt, .. } => return Ok(dt.min(self.settings.max_step)),
-            Control::Fixed { dt } => return Ok(dt),
-            Control::Derivative { .. } => return Ok(self.settings.max_step.min(1.0)),
-            Control::Tolerances { .. } => {}
-        }
-        let (rtol, atol) = (self.ctx.rtol, self.ctx.atol);
-        let order = self.settings.method.order() as f64;
-        let p = &mut self.cur;
-        p.ensure_f(sys, &mut self.ctx.report)?;
-        let (mut dnf, mut dny) = (0.0, 0.0);
-        for (y, f) in p.y.iter().zip(&p.f) {
-            let sk = atol + rtol * y.abs();
-            dnf += (f / sk).powi(2);
-            dny += (y / sk).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
-        h = h.min(self.settings.max_step);
-        let y1: Vec<f64> = p.y.iter().zip(&p.f).map(|(y, f)| y + h * f).collect();
-        let mut f1 = vec![0.0; y1.len()];
-        eval(sys, p.t + h, &y1, &mut f1, &mut self.ctx.report)?;
-        let mut der2 = 0.0;
-        for ((a, b), y) in f1.iter().zip(&p.f).zip(&p.y) {
-            let sk = atol + rtol * y.abs();
-            der2 += ((a - b) / sk).powi(2);
-        }
-        let der2 = der2.sqrt() / h;
-        let der12 = der2.max(dnf.sqrt());
-        let h1 = if !(der12 > 1e-15) { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(1.0 / order) };
-        Ok((100.0 * h).min(h1).min(self.settings.max_step))
     }
 }
