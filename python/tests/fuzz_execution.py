@@ -4,10 +4,8 @@ the world on failure), and compare reruns. Part of ``test_fuzz.py``."""
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import math
 import re
-import struct
 from typing import Any
 
 import numpy as np
@@ -18,98 +16,11 @@ import tumble
 from fuzz_programs import (CREATES, FOREIGN_COUNT, FOREIGN_WORLD, HANDLE_PARAMS, IGNORE, PREAMBLE, SIGNATURES,
                            STEPPING, Callback, CallbackError, Foreign, Op, Program, Raw, Ref, ShapeX, Steps,
                            _float_src, _int_src)
+from fuzz_saved import check_saved
+from fuzz_snapshot import Failure, diff, digest, non_finite, short, snapshot
 
 # ----------------------------------------------------------------------------------------------------------------
 # Executing a program (in the worker).
-
-
-class Failure(Exception):
-    def __init__(self, kind: str, message: str) -> None:
-        super().__init__(message)
-        self.kind = kind
-        self.message = message
-
-
-def _canon(v: Any) -> bytes:
-    """Bit-exact bytes of a value (NaN-safe: NaN payloads compare by bits)."""
-    if isinstance(v, np.ndarray):
-        return repr((v.dtype.str, v.shape)).encode() + np.ascontiguousarray(v).tobytes()
-    if isinstance(v, (float, np.floating)):
-        return b"f" + struct.pack("<d", float(v))
-    if isinstance(v, (list, tuple)):
-        return b"(" + b",".join(_canon(x) for x in v) + b")"
-    if isinstance(v, dict):
-        return b"{" + b",".join(repr(k).encode() + b":" + _canon(x) for k, x in v.items()) + b"}"
-    return repr(v).encode()
-
-
-def _numbers(v: Any, path: str = ""):
-    """Every float in a value, with where it is."""
-    if isinstance(v, np.ndarray):
-        if v.dtype.kind in "fc":
-            yield path, v
-    elif isinstance(v, (float, np.floating)):
-        yield path, np.float64(v)
-    elif isinstance(v, (list, tuple)):
-        for k, x in enumerate(v):
-            yield from _numbers(x, f"{path}[{k}]")
-    elif isinstance(v, dict):
-        for k, x in v.items():
-            yield from _numbers(x, f"{path}[{k!r}]")
-
-
-def _non_finite(v: Any) -> list[str]:
-    return [p or "value" for p, a in _numbers(v) if not np.all(np.isfinite(a))]
-
-
-def snapshot(w) -> list[tuple[str, Any]]:
-    """The world's state as (name, value) pairs; raises Failure if reading it fails."""
-    try:
-        return [
-            ("time", w.time),
-            ("gravity", w.gravity),
-            ("mode", w.mode),
-            ("threads", w.threads),
-            ("plan", repr(w.plan())),
-            ("particle handles", [(h.index, h.generation) for h in w.particles.handles]),
-            ("body handles", [(h.index, h.generation) for h in w.bodies.handles]),
-            ("particles.positions", w.particles.positions),
-            ("particles.velocities", w.particles.velocities),
-            ("bodies.positions", w.bodies.positions),
-            ("bodies.orientations", w.bodies.orientations),
-            ("bodies.velocities", w.bodies.velocities),
-            ("bodies.angular_velocities", w.bodies.angular_velocities),
-            ("kinetic_energy()", w.kinetic_energy()),
-            ("potential_energy()", w.potential_energy()),
-            ("momentum()", w.momentum()),
-            ("angular_momentum()", w.angular_momentum()),
-        ]
-    except BaseException as e:  # noqa: BLE001 - a panic is a BaseException
-        raise Failure("ReadingStateFailed", f"reading the state raised {type(e).__name__}: {e}") from None
-
-
-def _diff(a: list, b: list) -> list[str]:
-    out = []
-    for (name, x), (_, y) in zip(a, b):
-        if _canon(x) != _canon(y):
-            out.append(f"{name}: {_short(x)} -> {_short(y)}")
-    return out
-
-
-def _short(v: Any) -> str:
-    s = repr(v).replace("\n", " ")
-    return s if len(s) < 300 else s[:300] + "..."
-
-
-def _digest(v: Any) -> str:
-    """A digest of a call's result (what is deterministic of it)."""
-    if isinstance(v, tumble.Run):
-        v = [(f.name, getattr(v, f.name)) for f in dataclasses.fields(v) if f.name not in ("report", "shapes")]
-    elif isinstance(v, tumble.Report):
-        return "report"
-    elif isinstance(v, tuple) and v and isinstance(v[0], str):
-        return repr(v)
-    return hashlib.sha1(_canon(v)).hexdigest()[:16]
 
 
 def _normalized(message: str) -> str:
@@ -300,7 +211,7 @@ class Execution:
                 self.log.write("O\n")
             self.after_success(index, op, ctx, line, time_before, callback_raised)
         else:
-            message = f"{type(error).__name__}: {_short(str(error))}"
+            message = f"{type(error).__name__}: {short(str(error))}"
             self.entries[-1] = (line, message)
             if self.log:
                 self.log.write(f"E {message}\n")
@@ -317,7 +228,7 @@ class Execution:
                 self.check_finite(after, "the fallback world")
 
     def check_finite(self, snap: list, after: str) -> None:
-        bad = [f"{name} = {_short(v)}" for name, v in snap if _non_finite(v)]
+        bad = [f"{name} = {short(v)}" for name, v in snap if non_finite(v)]
         if bad:
             self.fail("NonFiniteState", f"non-finite state after {after}:\n  " + "\n  ".join(bad))
             return False
@@ -332,9 +243,9 @@ class Execution:
         snap = snapshot(w)
         self.check_finite(snap, f"`{line}`")
         result = ns.get("_r")
-        bad = _non_finite(_result_numbers(result))
+        bad = non_finite(_result_numbers(result))
         if bad:
-            self.fail("NonFiniteResult", f"`{line}` returned non-finite values at {bad[:5]}: {_short(result)}")
+            self.fail("NonFiniteResult", f"`{line}` returned non-finite values at {bad[:5]}: {short(result)}")
         self.check_result(op, line, result, time_before, w)
         if "creates" in ctx:
             kind, name = ctx["creates"]
@@ -356,7 +267,7 @@ class Execution:
             self.handles["p"] = [f"sp[{k}]" for k in range(len(ns["sp"]))]
             self.handles["b"] = [f"sb[{k}]" for k in range(len(ns["sb"]))]
         # a report holds wall-clock times: not compared
-        self.trace.append((index, "ok", "report" if "report" in op.name else _digest(result)))
+        self.trace.append((index, "ok", "report" if "report" in op.name else digest(result)))
 
     def track_fast_dt(self, op: Op) -> None:
         params = dict(op.params)
@@ -381,11 +292,11 @@ class Execution:
         if op.name == "run":
             times = result.times
             if times.size == 0 or times[-1] != w.time or np.any(np.diff(times) < 0):
-                self.fail("BadResult", f"`{line}`: frame times {_short(times)}, w.time = {w.time!r}")
+                self.fail("BadResult", f"`{line}`: frame times {short(times)}, w.time = {w.time!r}")
 
     def after_failure(self, index, op, ctx, error, before, callback_raised) -> None:
         line = self.entries[-1][0]
-        described = f"`{line}` raised {type(error).__module__}.{type(error).__name__}: {_short(str(error))}"
+        described = f"`{line}` raised {type(error).__module__}.{type(error).__name__}: {short(str(error))}"
         if type(error).__name__ == "PanicException":
             self.fail("Panic", described)
         allowed = isinstance(error, (ValueError, TypeError, tumble.SimulationError)) or (
@@ -403,7 +314,7 @@ class Execution:
                       f"{error.__cause__!r}")
         if before is not None:
             after = snapshot(self.ns["w"])
-            changed = _diff(before, after)
+            changed = diff(before, after)
             if changed:
                 self.fail("FailedCallChangedState", f"{described}\nand changed the state:\n  " + "\n  ".join(changed))
         self.trace.append((index, "error", type(error).__name__, _normalized(str(error))))
@@ -496,14 +407,13 @@ def check_program(program: Program, log: str | None, phase=lambda name: None) ->
 def _compare_executions(program: Program, log: str | None, phase, first: Execution) -> list[tuple[str, str]]:
     first.run()
     phase("saved and loaded")
-    from fuzz_saved import check_saved
     saved = check_saved(first)
     if saved:
         return saved
     phase("rerun")
     second = Execution(program, log=log)
     second.run()
-    changed = _diff(first.final, second.final)
+    changed = diff(first.final, second.final)
     calls = [f"{a} != {b}" for a, b in zip(first.trace, second.trace) if a != b][:3]
     if changed or calls or len(first.trace) != len(second.trace):
         return [("NotRepeatable", "a rerun on fresh worlds differs:\n  " + "\n  ".join(changed + calls)
@@ -519,7 +429,7 @@ def _compare_executions(program: Program, log: str | None, phase, first: Executi
         return [("FailedCallChangedHiddenState", "without its failed calls, the program fails differently:\n"
                  f"{f.message}\n\nOriginal:\n{first.reproducer()}")]
     kept = [t for t in first.trace if t[0] not in failed]
-    changed = _diff(first.final, third.final)
+    changed = diff(first.final, third.final)
     calls = [f"{a} != {b}" for a, b in zip(kept, third.trace) if a != b][:3]
     if changed or calls:
         return [("FailedCallChangedHiddenState", "the same program without its failed calls (the try/except "

@@ -8,7 +8,7 @@ import pickle
 
 import tumble
 
-from fuzz_execution import _diff, snapshot
+from fuzz_snapshot import diff, snapshot
 
 
 def check_saved(first) -> list[tuple[str, str]]:
@@ -34,7 +34,7 @@ def check_saved(first) -> list[tuple[str, str]]:
             outcomes.append(("ok", snapshot(x)))
         except (ValueError, tumble.SimulationError) as e:
             outcomes.append((type(e).__name__, snapshot(x)))
-    changed = _diff(outcomes[0][1], outcomes[1][1])
+    changed = diff(outcomes[0][1], outcomes[1][1])
     if changed or outcomes[0][0] != outcomes[1][0]:
         return [("SavedWorldDiffers", f"saved and loaded, the world continues otherwise than a copy of it "
                  f"({outcomes[0][0]} against {outcomes[1][0]}):\n  " + "\n  ".join(changed)

@@ -46,9 +46,10 @@ sets the number of programs of ``test_programs`` (a quarter of it for ``test_sha
 ``TUMBLE_FUZZ_TIMEOUT`` the hang limit; ``TUMBLE_FUZZ_IGNORE=ArgumentNotNamed,...`` ignores failures of those kinds
 and runs on past them, to look beyond known failures.
 
-The harness is in five modules beside this file: ``fuzz_programs.py`` (programs as data and the settings),
+The harness is in six modules beside this file: ``fuzz_programs.py`` (programs as data and the settings),
 ``fuzz_arguments.py`` and ``fuzz_strategies.py`` (the hypothesis strategies: arguments, then calls and programs),
-``fuzz_execution.py`` (running a program in the worker) and ``fuzz_saved.py`` (the save-and-load check).
+``fuzz_execution.py`` (running a program in the worker), ``fuzz_snapshot.py`` (reading and comparing worlds bit for
+bit) and ``fuzz_saved.py`` (the save-and-load check).
 """
 
 from __future__ import annotations
