@@ -36,6 +36,7 @@ mod friction_island;
 mod impulse;
 mod islands;
 mod jacobian;
+mod joint;
 mod lcp;
 mod polish;
 mod projection;
@@ -50,6 +51,10 @@ pub use error::ContactError;
 pub use friction::{free_velocity, velocity_step, velocity_step_lagged, StepSettings, VelocityStep};
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
 pub use islands::islands;
+pub use joint::{
+    across, joint_rows, Joint, JointFrame, JointImpulse, JointKind, JointMotor, JointRow, JointSpring, RowKind,
+    MAX_ROWS,
+};
 pub use lcp::SolverSettings;
 pub use projection::{position_correction, Correction};
 pub use resting::{contact_wrenches, resting_forces, RestingForces};
