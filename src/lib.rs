@@ -22,6 +22,7 @@ mod collider;
 mod engine;
 mod error;
 mod handle;
+mod joint;
 mod limits;
 mod load;
 mod mode;
@@ -45,6 +46,7 @@ pub use handle::Handle;
 pub mod limit {
     pub use crate::limits::{COORDINATE, FORCE, GRAVITY, INERTIA, MASS, SPEED, STIFFNESS, TIME};
 }
+pub use joint::{Joint, JointBuilder, JointHandle, JointSpringSpec, JointType, Motor};
 pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
 pub use mode::{AccurateSettings, FastFriction, FastSettings, FastSolver, Mode, Persistent, SoftSolver};
 pub use model::ForceCounters;

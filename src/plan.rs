@@ -23,6 +23,8 @@ pub enum Stage {
     Loads,
     /// User force callbacks.
     Callbacks,
+    /// Joints: constraint forces in the equations of motion (accurate mode) or rows of the soft step (fast mode).
+    Joints,
     /// Broad and narrow phase (both contact modes).
     CollisionDetection,
     /// Collision times located by bisection (accurate mode).
@@ -45,7 +47,7 @@ pub enum Stage {
 
 impl Stage {
     /// Every stage, in pipeline order.
-    pub const ALL: [Stage; 17] = [
+    pub const ALL: [Stage; 18] = [
         Stage::Particles,
         Stage::RigidBodies,
         Stage::Rotation,
@@ -54,6 +56,7 @@ impl Stage {
         Stage::Springs,
         Stage::Loads,
         Stage::Callbacks,
+        Stage::Joints,
         Stage::CollisionDetection,
         Stage::Bisection,
         Stage::Impulses,
@@ -76,6 +79,7 @@ impl Stage {
             Stage::Springs => "springs",
             Stage::Loads => "loads",
             Stage::Callbacks => "callbacks",
+            Stage::Joints => "joints",
             Stage::CollisionDetection => "collision-detection",
             Stage::Bisection => "bisection",
             Stage::Impulses => "impulses",
@@ -129,7 +133,7 @@ impl std::ops::AddAssign for StageCounts {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Plan {
     /// Active stages in pipeline order: "particles", "rigid-bodies", "rotation", "gravity", "damping",
-    /// "springs", "loads", "callbacks", then with colliders that can touch "collision-detection" and either
+    /// "springs", "loads", "callbacks", "joints", then with colliders that can touch "collision-detection" and either
     /// (accurate mode) "bisection", "impulses", "resting-contact" or (fast mode) "contact-soft-step" (or "contact-cone-program") and
     /// "sleeping"; then "integrate", "jacobian".
     pub stages: Vec<&'static str>,

@@ -54,6 +54,12 @@ pub struct WorldReport {
     pub contact_error: f64,
     /// Smallest accepted contact step (s; infinite before any).
     pub contact_min_step: f64,
+    /// Rows the joints gave at the last step measured.
+    pub joint_rows: usize,
+    /// Largest joint position error seen (m): fast mode after every step, accurate mode at the end of every call.
+    pub joint_error: f64,
+    /// Largest joint angle error seen (rad), as `joint_error`.
+    pub joint_angle_error: f64,
     /// How many times each stage ran.
     pub stages: StageCounts,
 }
@@ -94,6 +100,9 @@ impl WorldReport {
             contact_rejected: 0,
             contact_error: 0.0,
             contact_min_step: f64::INFINITY,
+            joint_rows: 0,
+            joint_error: 0.0,
+            joint_angle_error: 0.0,
             stages: StageCounts::default(),
         }
     }
@@ -137,6 +146,9 @@ impl WorldReport {
             ("contact_rejected", Count(self.contact_rejected)),
             ("contact_error", Optional((self.contact_steps > 0).then_some(self.contact_error))),
             ("contact_min_step", Optional((self.contact_steps > 0).then_some(self.contact_min_step))),
+            ("joint_rows", Count(self.joint_rows)),
+            ("joint_error", Number(self.joint_error)),
+            ("joint_angle_error", Number(self.joint_angle_error)),
             ("evaluations", Count(f.evaluations)),
             ("spring_evaluations", Count(f.spring_evaluations)),
             ("load_evaluations", Count(f.load_evaluations)),
@@ -177,6 +189,17 @@ impl WorldReport {
         self.contact_rejected += o.contact_rejected;
         self.contact_error = self.contact_error.max(o.contact_error);
         self.contact_min_step = self.contact_min_step.min(o.contact_min_step);
+        self.joint_rows = if o.joint_rows > 0 { o.joint_rows } else { self.joint_rows };
+        self.joint_error = self.joint_error.max(o.joint_error);
+        self.joint_angle_error = self.joint_angle_error.max(o.joint_angle_error);
+    }
+
+    /// Books joint errors (m, rad) measured at a state with `rows` joint rows.
+    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
+    pub(crate) fn book_joints(&mut self, rows: usize, (position, angle): (f64, f64)) {
+        self.joint_rows = rows;
+        self.joint_error = self.joint_error.max(position);
+        self.joint_angle_error = self.joint_angle_error.max(angle);
     }
 }
 
@@ -212,6 +235,13 @@ impl fmt::Display for WorldReport {
                 f,
                 "\ncontact steps    {} accepted, {} rejected, smallest {:.3e} s, largest error estimate {:.3e} m",
                 self.contact_steps, self.contact_rejected, self.contact_min_step, self.contact_error
+            )?;
+        }
+        if self.joint_rows > 0 {
+            write!(
+                f,
+                "\njoints           {} rows, largest error {:.3e} m and {:.3e} rad",
+                self.joint_rows, self.joint_error, self.joint_angle_error
             )?;
         }
         write!(f, "\nstages ran       {}", self.stages.ran().join(" -> "))

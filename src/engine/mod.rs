@@ -97,6 +97,44 @@ impl SavedMemory {
     }
 }
 
+/// Whether the mode can solve the model's joints: fast mode's soft solver takes every kind and option; its exact
+/// solver none; accurate mode holds joints as equality constraints (no limits, motors or ropes yet).
+#[cfg(feature = "contact")]
+fn check_joints(mode: &Mode, model: &Model) -> Result<(), WorldError> {
+    use tumble_contact::JointKind;
+    if model.joints.is_empty() {
+        return Ok(());
+    }
+    match mode {
+        Mode::Fast(f) if matches!(f.solver, crate::mode::FastSolver::Exact { .. }) => Err(WorldError::invalid(
+            "joint",
+            "fast mode's exact solver has no joint rows: use solver=\"soft\" (the default) for joints",
+        )),
+        Mode::Fast(_) => Ok(()),
+        Mode::Accurate(_) => {
+            for cj in &model.joints {
+                let j = &cj.joint;
+                let (name, what) = if j.limits.is_some() {
+                    ("limits", "limits")
+                } else if j.motor.is_some() {
+                    ("motor", "motors")
+                } else if matches!(j.kind, JointKind::Distance { rope: true, .. }) {
+                    ("joint", "ropes")
+                } else {
+                    continue;
+                };
+                return Err(WorldError::invalid(
+                    name,
+                    format!(
+                        "accurate mode holds joints as equality constraints and has no {what} yet: use mode=\"fast\""
+                    ),
+                ));
+            }
+            Ok(())
+        }
+    }
+}
+
 macro_rules! each {
     ($engine:expr, $e:ident => $body:expr) => {
         match $engine {
@@ -116,6 +154,9 @@ impl Engine {
         #[cfg(feature = "contact")]
         {
             let EngineSpec { mode, settings, scene, gravity, threads } = spec;
+            let mut compiled = compiled;
+            check_joints(&mode, &compiled.model)?;
+            compiled.model.joints_in_rhs = !matches!(mode, Mode::Fast(_));
             match (mode, scene) {
                 (Mode::Fast(fast), scene) => {
                     let limit = settings.divergence_limit;

@@ -12,6 +12,9 @@ use tumble_integrate::{JacobianStructure, OdeSystem, Split, SystemError};
 
 /// Quaternions further than this from unit length are renormalised after a step.
 const NORM_DRIFT: f64 = 1e-12;
+/// Joint errors (m, rad) and speeds (m/s, rad/s) above this are projected away after a step.
+#[cfg(feature = "contact")]
+const JOINT_DRIFT: f64 = 1e-12;
 
 impl Model {
     /// A body's kinematics from the state (its quaternion normalised first).
@@ -141,6 +144,10 @@ impl Model {
             }
         }
         #[cfg(feature = "contact")]
+        if self.joints_in_rhs {
+            self.add_joint_forces(y, dp);
+        }
+        #[cfg(feature = "contact")]
         self.add_resting_forces(y, dp)?;
         Ok(())
     }
@@ -255,6 +262,10 @@ impl OdeSystem for Model {
                 y[o..o + 4].iter_mut().for_each(|v| *v /= norm);
                 changed = true;
             }
+        }
+        #[cfg(feature = "contact")]
+        if self.joints_in_rhs && self.project_joints(y, JOINT_DRIFT) {
+            changed = true;
         }
         if changed {
             self.counters.projections += 1;

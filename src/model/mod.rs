@@ -6,6 +6,8 @@ mod actors;
 mod dynamics;
 mod energy;
 mod jacobian;
+#[cfg(feature = "contact")]
+pub(crate) mod joints;
 pub(crate) mod layout;
 
 #[cfg(feature = "contact")]
@@ -137,6 +139,13 @@ pub(crate) struct Model {
     /// State components whose rates the right-hand side sets to zero (actors held still while the rest fly;
     /// empty but in accurate mode's free flights).
     pub frozen: Vec<usize>,
+    /// Joints, with their ends resolved.
+    #[cfg(feature = "contact")]
+    pub joints: Vec<joints::CompiledJoint>,
+    /// Whether the right-hand side adds the joints' constraint forces and `project` puts the state back on them
+    /// (accurate mode; fast mode's soft step solves them itself).
+    #[cfg(feature = "contact")]
+    pub joints_in_rhs: bool,
 }
 
 /// A compiled model with the handles of its rows: particles and dynamic bodies in state order.
@@ -153,6 +162,7 @@ pub(crate) fn compile(
     bodies: &Arena<RigidBody>,
     springs: &Arena<Spring>,
     loads: &Arena<Load>,
+    joints: &Arena<crate::joint::Joint>,
 ) -> Compiled {
     let particle_handles: Vec<ParticleHandle> = particles.iter().map(|(h, _)| h).collect();
     let body_handles: Vec<BodyHandle> = bodies.iter().filter(|(_, b)| !b.is_static).map(|(h, _)| h).collect();
@@ -234,7 +244,12 @@ pub(crate) fn compile(
         #[cfg(feature = "contact")]
         resting: None,
         frozen: Vec::new(),
+        #[cfg(feature = "contact")]
+        joints: joints::compile_joints(joints, bodies, &b_index),
+        #[cfg(feature = "contact")]
+        joints_in_rhs: false,
     };
+    let _ = joints;
     model.terms = model.stages();
     Compiled { model, particles: particle_handles, bodies: body_handles }
 }
@@ -257,7 +272,16 @@ impl Model {
         add(!self.springs.is_empty(), Stage::Springs);
         add(self.loads.iter().any(|l| !matches!(l, CompiledLoad::Callback { .. })), Stage::Loads);
         add(self.loads.iter().any(|l| matches!(l, CompiledLoad::Callback { .. })), Stage::Callbacks);
+        add(self.has_joints(), Stage::Joints);
         out
+    }
+
+    /// Whether the model has joints.
+    pub(crate) fn has_joints(&self) -> bool {
+        #[cfg(feature = "contact")]
+        return !self.joints.is_empty();
+        #[cfg(not(feature = "contact"))]
+        false
     }
 
     /// Whether any particle has damping or a restoring term, or any body damping.

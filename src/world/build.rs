@@ -1,4 +1,4 @@
-//! Building a world: adding particles, bodies, springs and loads (each checked where it enters), and removing
+//! Building a world: adding particles, bodies, springs and loads (joints: `joints.rs`) (each checked where it enters), and removing
 //! them with what hangs on them. Any change of structure retires the engine; the next step compiles anew.
 
 use super::{unknown, World};
@@ -146,6 +146,7 @@ impl World {
         let b = self.bodies.remove(h).ok_or_else(|| unknown("body", h))?;
         self.springs.retain(|s| ![s.a, s.b].iter().any(|e| matches!(e, Attachment::Body(b, _) if *b == h)));
         self.loads.retain(|l| l.target() != Target::Body(h));
+        self.joints.retain(|j| j.a() != Some(h) && j.b() != Some(h));
         self.retire_engine();
         Ok(b)
     }

@@ -6,6 +6,7 @@
 
 mod build;
 mod contacts;
+mod joints;
 mod plan;
 mod state;
 mod stepping;
@@ -49,6 +50,7 @@ pub struct World {
     pub(crate) bodies: Arena<RigidBody>,
     pub(crate) springs: Arena<Spring>,
     pub(crate) loads: Arena<Load>,
+    pub(crate) joints: Arena<crate::joint::Joint>,
     pub(crate) engine: Option<Engine>,
     pub(crate) state_changed: bool,
     /// The frames of the last run that failed, until taken.
@@ -93,6 +95,7 @@ impl World {
             bodies: Arena::new(number),
             springs: Arena::new(number),
             loads: Arena::new(number),
+            joints: Arena::new(number),
             engine: None,
             state_changed: false,
             failed_run: None,

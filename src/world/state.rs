@@ -104,7 +104,7 @@ impl World {
     }
 
     pub(crate) fn compile(&self) -> Compiled {
-        let mut c = compile(self.gravity, &self.particles, &self.bodies, &self.springs, &self.loads);
+        let mut c = compile(self.gravity, &self.particles, &self.bodies, &self.springs, &self.loads, &self.joints);
         c.model.definite_springs = self.spring_jacobian() == SpringJacobian::Definite;
         c
     }

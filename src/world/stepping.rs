@@ -93,7 +93,18 @@ impl World {
     /// Moves the engine's report into the totals and returns it.
     fn book_report(&mut self) -> WorldReport {
         let r = match &mut self.engine {
-            Some(e) => e.take_report(),
+            Some(e) => {
+                let mut r = e.take_report();
+                #[cfg(feature = "contact")]
+                {
+                    let model = &e.compiled().model;
+                    if model.joints_in_rhs && !model.joints.is_empty() {
+                        let y = e.state();
+                        r.book_joints(model.joint_row_count(y), model.joint_errors(y));
+                    }
+                }
+                r
+            }
             None => WorldReport::new(self.settings.method.name()),
         };
         self.totals.merge(&r);

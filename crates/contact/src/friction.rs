@@ -197,12 +197,23 @@ pub(crate) fn in_parallel<T: Send>(
     threads: usize,
     solve: impl Fn(&Vec<usize>) -> Result<T, ContactError> + Sync,
 ) -> Vec<Result<T, ContactError>> {
+    in_parallel_by(groups, Vec::len, (contacts, least), threads, solve)
+}
+
+/// `in_parallel` for groups of any kind, `size` giving the work of one (the largest start first).
+pub(crate) fn in_parallel_by<G: Sync, T: Send>(
+    groups: &[G],
+    size: impl Fn(&G) -> usize + Sync,
+    (contacts, least): (usize, usize),
+    threads: usize,
+    solve: impl Fn(&G) -> Result<T, ContactError> + Sync,
+) -> Vec<Result<T, ContactError>> {
     let threads = if threads == 0 { cores() } else { threads }.min(groups.len());
     if threads < 2 || contacts < least {
         return groups.iter().map(&solve).collect();
     }
     let mut order: Vec<usize> = (0..groups.len()).collect();
-    order.sort_by_key(|&g| std::cmp::Reverse(groups[g].len()));
+    order.sort_by_key(|&g| std::cmp::Reverse(size(&groups[g])));
     let next = std::sync::atomic::AtomicUsize::new(0);
     let mut slots: Vec<Option<Result<T, ContactError>>> = (0..groups.len()).map(|_| None).collect();
     let done: Vec<Vec<(usize, Result<T, ContactError>)>> = std::thread::scope(|scope| {

@@ -58,3 +58,37 @@ pub fn islands(bodies: &[BodyState], contacts: &[Contact]) -> Vec<Vec<usize>> {
     }
     out
 }
+
+/// Islands of contacts and joints together: bodies joined by either are one island. Each island lists its
+/// contacts and its joints (`pairs`, the joints' bodies), each in their original order; islands come in the order
+/// of their first contact, then of their first joint.
+pub(crate) fn joint_islands(
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    pairs: &[(usize, usize)],
+) -> Vec<(Vec<usize>, Vec<usize>)> {
+    let mut uf = UnionFind::new(bodies.len());
+    let links = contacts.iter().map(|c| (c.a, c.b)).chain(pairs.iter().copied());
+    for (a, b) in links {
+        if bodies[a].is_dynamic() && bodies[b].is_dynamic() {
+            uf.union(a, b);
+        }
+    }
+    let mut index_of_root = vec![usize::MAX; bodies.len()];
+    let mut out: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
+    let ends = contacts.iter().map(|c| (c.a, c.b)).chain(pairs.iter().copied());
+    for (i, (a, b)) in ends.enumerate() {
+        let root = uf.find(if bodies[a].is_dynamic() { a } else { b });
+        if index_of_root[root] == usize::MAX {
+            index_of_root[root] = out.len();
+            out.push((Vec::new(), Vec::new()));
+        }
+        let island = &mut out[index_of_root[root]];
+        if i < contacts.len() {
+            island.0.push(i);
+        } else {
+            island.1.push(i - contacts.len());
+        }
+    }
+    out
+}

@@ -59,4 +59,4 @@ pub use lcp::SolverSettings;
 pub use projection::{position_correction, Correction};
 pub use resting::{contact_wrenches, resting_forces, RestingForces};
 pub use simultaneous::{collision_impulses, Impulses};
-pub use soft::{soft_step, SoftImpulse, SoftSettings, SoftStep};
+pub use soft::{soft_step, soft_step_with_joints, SoftImpulse, SoftSettings, SoftStep};

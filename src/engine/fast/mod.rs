@@ -54,6 +54,8 @@ pub(crate) struct FastEngine {
     previous: BTreeMap<ContactKey, f64>,
     /// The soft solver's impulses of the last step, by contact (sorted by key).
     warm: Vec<(ContactKey, tumble_contact::SoftImpulse)>,
+    /// Each joint's row impulses of the last step.
+    joint_warm: Vec<tumble_contact::JointImpulse>,
     sleep: Sleep,
     dy: Vec<f64>,
     /// What the steps since the last `take_report` cost.
@@ -72,6 +74,7 @@ pub(crate) struct FastSnapshot {
     y: Vec<f64>,
     previous: BTreeMap<ContactKey, f64>,
     warm: Vec<(ContactKey, tumble_contact::SoftImpulse)>,
+    joint_warm: Vec<tumble_contact::JointImpulse>,
     sleep: Sleep,
     penetration: f64,
     manifolds: Option<crate::engine::manifold_cache::ManifoldCache>,
@@ -93,6 +96,7 @@ impl FastEngine {
         divergence_limit: f64,
     ) -> Self {
         let actors = compiled.model.layout.particles + compiled.model.layout.bodies;
+        let joints = compiled.model.joints.len();
         let mut scene = scene;
         if let (Some(scene), FastSolver::Soft(_)) = (scene.as_mut(), settings.solver) {
             // the soft step reuses the manifolds of pairs that barely moved; the exact solver computes every one
@@ -111,6 +115,7 @@ impl FastEngine {
             divergence_limit,
             previous: BTreeMap::new(),
             warm: Vec::new(),
+            joint_warm: vec![Default::default(); joints],
             report: WorldReport::new(method_name(&settings)),
             penetration: 0.0,
             last_contacts: Vec::new(),
@@ -242,6 +247,11 @@ impl FastEngine {
             }
         };
         self.check_state(h)?;
+        let model = &self.compiled.model;
+        if !model.joints.is_empty() {
+            let (rows, errors) = (model.joint_row_count(&self.y), model.joint_errors(&self.y));
+            self.report.book_joints(rows, errors);
+        }
         self.update_sleep(&states, &velocities, &found, h);
         self.steps += 1;
         let change = self.energy() - before;
@@ -316,6 +326,7 @@ impl FastEngine {
             y: self.y.clone(),
             previous: self.previous.clone(),
             warm: self.warm.clone(),
+            joint_warm: self.joint_warm.clone(),
             sleep: self.sleep.clone(),
             penetration: self.penetration,
             manifolds: self.scene.as_ref().and_then(|s| s.cache.clone()),
@@ -336,6 +347,8 @@ impl FastEngine {
             (s.sleep.fits(actors), "its sleep does not fit the actors"),
             (s.previous.keys().all(keys_fit) && s.warm.iter().all(|(k, _)| keys_fit(k)), "a contact names no collider"),
             (s.warm.windows(2).all(|w| w[0].0 < w[1].0), "its warm starts are out of order"),
+            (s.joint_warm.len() == self.joint_warm.len(), "its joints are not the scene's"),
+            (s.joint_warm.iter().all(|j| j.0.iter().all(|p| p.is_finite())), "a joint's impulse is not finite"),
             (s.manifolds.as_ref().is_none_or(|m| m.fits(colliders)), "its kept manifolds do not fit the colliders"),
             (s.last_contacts.iter().all(|c| c.a < all_actors && c.b < all_actors), "a contact names no actor"),
         ];
@@ -349,6 +362,7 @@ impl FastEngine {
         (self.origin, self.steps, self.y, self.previous, self.warm, self.sleep, self.penetration) =
             (s.origin, s.steps, s.y, s.previous, s.warm, s.sleep, s.penetration);
         self.last_contacts = s.last_contacts;
+        self.joint_warm = s.joint_warm;
         if let Some(scene) = self.scene.as_mut() {
             scene.cache = s.manifolds;
         }

@@ -141,6 +141,10 @@ impl FastEngine {
     /// still islands to sleep, their momenta zeroed.
     pub(super) fn update_sleep(&mut self, states: &[BodyState], v: &[BodyVelocity], found: &[Found], h: f64) {
         let (true, Some(scene)) = (self.settings.sleep, &self.scene) else { return };
+        // jointed bodies do not sleep (sleep groups bodies by their contacts alone)
+        if !self.compiled.model.joints.is_empty() {
+            return;
+        }
         let moved: Vec<BodyState> = states
             .iter()
             .zip(v)

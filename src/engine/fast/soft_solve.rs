@@ -7,9 +7,11 @@ use super::{failure, FastEngine};
 use crate::engine::contact_scene::{pair_runs, ContactKey, Found};
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
+use crate::model::joints::JointEnd;
 use crate::plan::Stage;
+use nalgebra::Point3;
 use std::time::Instant;
-use tumble_contact::{soft_step, BodyState, Contact, SoftImpulse, SoftSettings, SoftStep};
+use tumble_contact::{soft_step_with_joints, BodyState, Contact, Joint, SoftImpulse, SoftSettings, SoftStep};
 
 /// Each contact's impulses from the last step: its own if it was there, else its pair's mean, else none.
 /// `previous` is sorted by key (so a pair's contacts are neighbours, summed in key order).
@@ -76,9 +78,16 @@ impl FastEngine {
             max_push_out: soft.max_push_out,
             bounce_threshold: self.settings.bounce_threshold,
             threads: self.threads,
+            ..SoftSettings::default()
         };
-        let out = soft_step(states, &contacts, &warm, h, &settings)
+        let (actors, joints) = self.joints_at_start(states);
+        let actors = actors.as_deref().unwrap_or(states);
+        let out = soft_step_with_joints(actors, &contacts, &warm, &joints, &self.joint_warm, h, &settings)
             .map_err(|e| failure(self.time(), format!("contact solve: {e}")))?;
+        self.joint_warm.clone_from(&out.joint_impulses);
+        if !joints.is_empty() {
+            self.report.stages.mark(Stage::Joints);
+        }
         self.warm = by_key(found, &out.impulses);
         self.last_contacts = crate::engine::step_contacts::from_found(found, out.normal_impulses.iter().copied(), h);
         if !found.is_empty() {
@@ -89,5 +98,32 @@ impl FastEngine {
         }
         self.report.contact_seconds += clock.elapsed().as_secs_f64();
         Ok(out)
+    }
+}
+
+impl FastEngine {
+    /// The joints where the bodies are at the step's start, for the soft step: a dynamic end is its actor, a fixed
+    /// end (the world, a static body) an extra fixed actor at its pose, appended to the actors (returned when any).
+    fn joints_at_start(&self, states: &[BodyState]) -> (Option<Vec<BodyState>>, Vec<Joint>) {
+        let model = &self.compiled.model;
+        if model.joints.is_empty() {
+            return (None, Vec::new());
+        }
+        let mut actors = states.to_vec();
+        let l = model.layout;
+        let mut index = |end: JointEnd| match end {
+            JointEnd::Body(j) => l.particles + j,
+            JointEnd::Fixed(p) => {
+                actors.push(BodyState::fixed(Point3::from(p.translation.vector)));
+                actors.len() - 1
+            }
+        };
+        let mut joints = Vec::with_capacity(model.joints.len());
+        for cj in &model.joints {
+            let (ea, eb) = (model.end_state_of(&self.y, cj.a), model.end_state_of(&self.y, cj.b));
+            let (a, b) = (index(cj.a), index(cj.b));
+            joints.push(Joint { a, b, frame: cj.frame(&ea, &eb), ..cj.joint });
+        }
+        (Some(actors), joints)
     }
 }

@@ -8,6 +8,7 @@
 use super::bundle::{self, Arms, Bundle, FrictionBundle, Sweep, P, W};
 use super::colour::{colours, COLOURS};
 use super::geometry;
+use super::joints::{JointSet, JointSweep};
 use super::parallel::{self, Substeps};
 use super::row::{Mover, RowInfo};
 use super::softness::Softness;
@@ -30,6 +31,8 @@ pub(crate) struct Island {
     colours: Vec<(std::ops::Range<usize>, bool)>,
     /// Whether its passes sweep on until the impulses settle (an island of a large mass ratio, `converges`).
     converge: bool,
+    /// Its joints (solved before the contacts in every stage).
+    pub joints: JointSet,
 }
 
 /// Mass ratio above which an island's passes sweep until the impulses settle (a heavy body on a light one needs many
@@ -151,7 +154,7 @@ impl Island {
                 }
             }
         }
-        Island { movers, bundles, frictions, arms, infos, colours: by_colour, converge }
+        Island { movers, bundles, frictions, arms, infos, colours: by_colour, converge, joints: JointSet::empty() }
     }
 
     /// Each used point of the bundles: (bundle, lane, point).
@@ -171,7 +174,9 @@ impl Island {
         let hertz = s.contact_hertz.min(0.25 / hs);
         let soft = Softness::new(hertz, s.damping_ratio, hs);
         let stiff = Softness::new(2.0 * hertz, s.damping_ratio, hs);
-        if threads > 1 && !self.converge {
+        let rigid = Softness::new(s.joint_hertz.min(0.5 / hs), s.joint_damping_ratio, hs);
+        let (biased_joints, relax_joints) = (JointSweep { hs, rigid: Some(rigid) }, JointSweep { hs, rigid: None });
+        if threads > 1 && !self.converge && self.joints.is_empty() {
             let biased = Sweep { hs, soft: Some((&soft, &stiff)), max_push: s.max_push_out, friction: false };
             let relax = Sweep { soft: None, friction: true, ..biased };
             let island = Substeps {
@@ -190,14 +195,21 @@ impl Island {
             for m in &mut self.movers {
                 m.integrate_velocity(hs);
             }
+            if !self.joints.is_empty() {
+                self.joints.prepare(&self.movers);
+                self.joints.warm_start(&mut self.movers);
+            }
             bundle::warm_start(&self.bundles, &self.frictions, &mut self.movers);
             let biased = Sweep { hs, soft: Some((&soft, &stiff)), max_push: s.max_push_out, friction: false };
-            self.pass(s.iterations, biased);
+            self.pass(s.iterations, biased, biased_joints);
             for m in &mut self.movers {
                 m.integrate_position(hs);
             }
             geometry::update_gaps(&mut self.bundles, &self.arms, &self.movers);
-            self.pass(s.iterations, Sweep { soft: None, friction: true, ..biased });
+            if !self.joints.is_empty() {
+                self.joints.prepare(&self.movers);
+            }
+            self.pass(s.iterations, Sweep { soft: None, friction: true, ..biased }, relax_joints);
             for bu in &self.bundles {
                 for l in 0..bu.lanes {
                     for p in 0..bu.count[l] {
@@ -231,17 +243,23 @@ impl Island {
                 worst = worst.max(f.axes[0].speed_of(l, a, b).hypot(f.axes[1].speed_of(l, a, b)));
             }
         }
-        worst
+        worst.max(self.joints.residual(&self.movers))
     }
 
-    /// `iterations` sweeps; for an island of a large mass ratio, on until they settle (at most `MAX_SWEEPS`).
-    fn pass(&mut self, iterations: usize, how: Sweep) {
+    /// `iterations` sweeps, joints before contacts; for an island of a large mass ratio, on until they settle (at
+    /// most `MAX_SWEEPS`).
+    fn pass(&mut self, iterations: usize, how: Sweep, joints: JointSweep) {
         let extra = if self.converge { MAX_SWEEPS } else { 0 };
         for k in 0..iterations.max(1) + extra {
-            let change = bundle::sweep(&mut self.bundles, &mut self.frictions, &mut self.movers, how);
+            let mut change = 0.0f64;
+            if !self.joints.is_empty() {
+                change = self.joints.sweep(&mut self.movers, joints);
+            }
+            change = change.max(bundle::sweep(&mut self.bundles, &mut self.frictions, &mut self.movers, how));
             if extra > 0 && k + 1 >= iterations.max(1) {
-                let largest =
+                let contacts =
                     self.bundles.iter().flat_map(|bu| bu.rows.iter().flat_map(|r| r.normal)).fold(0.0f64, f64::max);
+                let largest = contacts.max(self.joints.largest());
                 if change <= SETTLED * largest {
                     break;
                 }

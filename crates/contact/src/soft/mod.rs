@@ -15,6 +15,7 @@ mod bundle;
 mod colour;
 mod geometry;
 mod island;
+mod joints;
 mod parallel;
 mod row;
 mod softness;
@@ -23,10 +24,12 @@ mod wide;
 use crate::body::BodyState;
 use crate::contact::{check_all, Contact};
 use crate::error::ContactError;
-use crate::friction::{cores, in_parallel};
+use crate::friction::{cores, in_parallel_by};
 use crate::impulse::BodyVelocity;
-use crate::islands::islands;
+use crate::islands::joint_islands;
+use crate::joint::{Joint, JointImpulse};
 use island::Island;
+use joints::JointSet;
 use nalgebra::{UnitQuaternion, Vector3};
 use row::Mover;
 
@@ -50,6 +53,11 @@ pub struct SoftSettings {
     pub bounce_threshold: f64,
     /// Threads for the islands: 0 uses one per core, 1 stays on the calling thread.
     pub threads: usize,
+    /// Stiffness of the pull that holds rigid joints together (Hz), capped at half the substep rate; infinity (the
+    /// default) means the cap.
+    pub joint_hertz: f64,
+    /// Damping ratio of that pull (>= 0); 2 by default.
+    pub joint_damping_ratio: f64,
 }
 
 impl Default for SoftSettings {
@@ -62,6 +70,8 @@ impl Default for SoftSettings {
             max_push_out: 3.0,
             bounce_threshold: 0.1,
             threads: 0,
+            joint_hertz: f64::INFINITY,
+            joint_damping_ratio: 2.0,
         }
     }
 }
@@ -83,6 +93,13 @@ impl SoftSettings {
         };
         positive("contact_hertz", self.contact_hertz, true)?;
         positive("max_push_out", self.max_push_out, false)?;
+        positive("joint_hertz", self.joint_hertz, true)?;
+        if !(self.joint_damping_ratio >= 0.0 && self.joint_damping_ratio.is_finite()) {
+            return Err(ContactError::invalid(
+                "joint_damping_ratio",
+                format!("must be >= 0, got {}", self.joint_damping_ratio),
+            ));
+        }
         if !(self.damping_ratio >= 0.0 && self.damping_ratio.is_finite()) {
             return Err(ContactError::invalid("damping_ratio", format!("must be >= 0, got {}", self.damping_ratio)));
         }
@@ -117,6 +134,8 @@ pub struct SoftStep {
     pub impulses: Vec<SoftImpulse>,
     /// Each contact's normal impulse over the whole step (the substeps' sum).
     pub normal_impulses: Vec<f64>,
+    /// Each joint's row impulses of the last substep (to start the next step with).
+    pub joint_impulses: Vec<JointImpulse>,
     /// Islands solved.
     pub islands: usize,
     /// How far the step's end is from the exact contact conditions (m/s): the largest approach speed of a touching
@@ -140,31 +159,44 @@ const COLOUR_THREADS: usize = 1000;
 /// Rows a batch of islands gathers before it is closed.
 const BATCH_ROWS: usize = 256;
 
+/// A group solved as one: contacts and joints (indices into the step's).
+#[derive(Clone, Debug, Default)]
+struct Group {
+    contacts: Vec<usize>,
+    joints: Vec<usize>,
+}
+
 /// The islands gathered into batches solved as one (in island order, up to `BATCH_ROWS` contacts each), and for
-/// each contact whether its island needs sweeps until it settles (`island::converges`; such an island is a batch of
-/// its own). Islands share no moving body, so a batch's colour order puts the rows of different islands side by
-/// side (a lone box on the floor no longer chains four solves on one body) while each island's rows keep the colours
-/// and order they have alone: the answer is the same bit for bit as island by island.
-fn batches(islands: Vec<Vec<usize>>, bodies: &[BodyState], contacts: &[Contact]) -> (Vec<Vec<usize>>, Vec<bool>) {
-    let mut converge = vec![false; contacts.len()];
-    let mut out: Vec<Vec<usize>> = Vec::new();
+/// each island whether it needs sweeps until it settles (`island::converges`; such an island is a batch of its
+/// own, as is an island with joints). Islands share no moving body, so a batch's colour order puts the rows of
+/// different islands side by side (a lone box on the floor no longer chains four solves on one body) while each
+/// island's rows keep the colours and order they have alone: the answer is the same bit for bit as island by
+/// island.
+fn batches(
+    islands: Vec<(Vec<usize>, Vec<usize>)>,
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    joints: &[Joint],
+) -> Vec<(Group, bool)> {
+    let mut out: Vec<(Group, bool)> = Vec::new();
     let mut open: Vec<usize> = Vec::new();
-    for island in islands {
-        let masses = island.iter().flat_map(|&i| [bodies[contacts[i].a].inv_mass, bodies[contacts[i].b].inv_mass]);
-        if island::converges(masses) {
-            island.iter().for_each(|&i| converge[i] = true);
-            out.push(island);
+    for (island, linked) in islands {
+        let ends = island.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]);
+        let ends = ends.chain(linked.iter().flat_map(|&j| [joints[j].a, joints[j].b]));
+        let converge = island::converges(ends.map(|b| bodies[b].inv_mass));
+        if converge || !linked.is_empty() {
+            out.push((Group { contacts: island, joints: linked }, converge));
             continue;
         }
         open.extend(island);
         if open.len() >= BATCH_ROWS {
-            out.push(std::mem::take(&mut open));
+            out.push((Group { contacts: std::mem::take(&mut open), joints: Vec::new() }, false));
         }
     }
     if !open.is_empty() {
-        out.push(open);
+        out.push((Group { contacts: open, joints: Vec::new() }, false));
     }
-    (out, converge)
+    out
 }
 
 /// What one group's solve gives the step: each dynamic body's velocities and motion, each contact's impulses (by
@@ -172,25 +204,27 @@ fn batches(islands: Vec<Vec<usize>>, bodies: &[BodyState], contacts: &[Contact])
 struct Solved {
     bodies: Vec<(usize, BodyVelocity, Vector3<f64>, UnitQuaternion<f64>)>,
     contacts: Vec<(usize, SoftImpulse, f64)>,
+    joints: Vec<(usize, JointImpulse)>,
     residual: f64,
 }
 
 impl Solved {
-    fn of(members: &[usize], island: &Island, group: &[usize], bodies: &[BodyState]) -> Solved {
+    fn of(members: &[usize], island: &Island, group: &Group, bodies: &[BodyState]) -> Solved {
         let moved = members.iter().zip(&island.movers).filter(|(&b, _)| bodies[b].is_dynamic());
-        let mut contacts = Vec::with_capacity(group.len());
+        let mut contacts = Vec::with_capacity(group.contacts.len());
         for (bu, fr) in island.bundles.iter().zip(&island.frictions) {
             for l in 0..bu.lanes {
                 for p in 0..bu.count[l] {
                     let info = &island.infos[bu.info[l][p]];
                     let impulse = SoftImpulse { normal: bu.rows[p].normal[l], tangent: fr.points[p].vector(l) };
-                    contacts.push((group[info.index], impulse, info.step_normal));
+                    contacts.push((group.contacts[info.index], impulse, info.step_normal));
                 }
             }
         }
         Solved {
             bodies: moved.map(|(&b, m)| (b, BodyVelocity { linear: m.v, angular: m.w }, m.dp, m.dq)).collect(),
             contacts,
+            joints: group.joints.iter().copied().zip(island.joints.impulses.iter().copied()).collect(),
             residual: island.residual(),
         }
     }
@@ -205,6 +239,48 @@ pub fn soft_step(
     h: f64,
     settings: &SoftSettings,
 ) -> Result<SoftStep, ContactError> {
+    soft_step_with_joints(bodies, contacts, warm, &[], &[], h, settings)
+}
+
+/// Checks each joint against the bodies: indices in range, two different bodies, one of them moving, every number
+/// finite.
+fn check_joints(bodies: &[BodyState], joints: &[Joint], warm: &[JointImpulse]) -> Result<(), ContactError> {
+    if warm.len() != joints.len() {
+        return Err(ContactError::invalid(
+            "joint_warm",
+            format!("has {} entries for {} joints", warm.len(), joints.len()),
+        ));
+    }
+    for (k, j) in joints.iter().enumerate() {
+        if j.a >= bodies.len() || j.b >= bodies.len() || j.a == j.b {
+            return Err(ContactError::invalid("joints", format!("joint {k} joins bodies {} and {}", j.a, j.b)));
+        }
+        if !(bodies[j.a].is_dynamic() || bodies[j.b].is_dynamic()) {
+            return Err(ContactError::invalid("joints", format!("joint {k} joins two bodies that do not move")));
+        }
+        let f = &j.frame;
+        let numbers =
+            [f.ra, f.rb, f.axis, f.across[0], f.across[1], f.axis_b].into_iter().flat_map(|v| [v.x, v.y, v.z]);
+        if !(numbers.chain(f.error.coords.iter().copied()).all(f64::is_finite)
+            && warm[k].0.iter().all(|p| p.is_finite()))
+        {
+            return Err(ContactError::invalid("joints", format!("joint {k} has a non-finite number")));
+        }
+    }
+    Ok(())
+}
+
+/// A step of h for `bodies` with `contacts` (warm-started from `warm`) and `joints` (from `joint_warm`, each joint's
+/// impulses of the last step, or zero); bodies joined by neither move freely by the same substeps.
+pub fn soft_step_with_joints(
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    warm: &[SoftImpulse],
+    joints: &[Joint],
+    joint_warm: &[JointImpulse],
+    h: f64,
+    settings: &SoftSettings,
+) -> Result<SoftStep, ContactError> {
     settings.check()?;
     if !(h.is_finite() && h > 0.0) {
         return Err(ContactError::invalid("dt", format!("must be finite and > 0, got {h}")));
@@ -216,6 +292,7 @@ pub fn soft_step(
         ));
     }
     check_all(bodies, contacts)?;
+    check_joints(bodies, joints, joint_warm)?;
     let substeps = settings.substeps;
     let mut out = SoftStep {
         velocities: Vec::with_capacity(bodies.len()),
@@ -223,34 +300,41 @@ pub fn soft_step(
         rotations: vec![UnitQuaternion::identity(); bodies.len()],
         impulses: vec![SoftImpulse::default(); contacts.len()],
         normal_impulses: vec![0.0; contacts.len()],
+        joint_impulses: vec![JointImpulse::default(); joints.len()],
         islands: 0,
         residual: 0.0,
     };
-    let islands = islands(bodies, contacts);
+    let pairs: Vec<(usize, usize)> = joints.iter().map(|j| (j.a, j.b)).collect();
+    let islands = joint_islands(bodies, contacts, &pairs);
     out.islands = islands.len();
-    let (groups, converge) = batches(islands, bodies, contacts);
-    let solve = |group: &Vec<usize>, threads: usize| -> Result<Solved, ContactError> {
+    let groups = batches(islands, bodies, contacts, joints);
+    let solve = |(group, converge): &(Group, bool), threads: usize| -> Result<Solved, ContactError> {
         LOCAL.with(|slots| {
             let slots = &mut *slots.borrow_mut();
             if slots.len() < bodies.len() {
                 slots.resize(bodies.len(), usize::MAX);
             }
-            // the group's bodies in order of first appearance, each given its place
+            // the group's bodies in order of first appearance (contacts, then joints), each given its place
             let mut members: Vec<usize> = Vec::new();
-            for &i in group {
-                for b in [contacts[i].a, contacts[i].b] {
-                    if slots[b] == usize::MAX {
-                        slots[b] = members.len();
-                        members.push(b);
-                    }
+            let ends = group.contacts.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]);
+            for b in ends.chain(group.joints.iter().flat_map(|&k| [joints[k].a, joints[k].b])) {
+                if slots[b] == usize::MAX {
+                    slots[b] = members.len();
+                    members.push(b);
                 }
             }
             let movers = members.iter().map(|&b| Mover::new(&bodies[b])).collect();
-            let cs: Vec<&Contact> = group.iter().map(|&i| &contacts[i]).collect();
-            let ws: Vec<SoftImpulse> = group.iter().map(|&i| warm[i]).collect();
-            // a batch of several islands converges only if it is one island that needs to (`batches`)
-            let converge = group.first().is_some_and(|i| converge[*i]);
-            let mut island = Island::new(movers, bodies, &cs, |b| slots[b], &ws, converge);
+            let cs: Vec<&Contact> = group.contacts.iter().map(|&i| &contacts[i]).collect();
+            let ws: Vec<SoftImpulse> = group.contacts.iter().map(|&i| warm[i]).collect();
+            let mut island = Island::new(movers, bodies, &cs, |b| slots[b], &ws, *converge);
+            if !group.joints.is_empty() {
+                let local = group.joints.iter().map(|&k| {
+                    let j = &joints[k];
+                    let placed = Joint { a: slots[j.a], b: slots[j.b], ..*j };
+                    (placed, bodies[j.a].position.coords, bodies[j.b].position.coords)
+                });
+                island.joints = JointSet::new(local.collect(), group.joints.iter().map(|&k| joint_warm[k]).collect());
+            }
             for &b in &members {
                 slots[b] = usize::MAX;
             }
@@ -265,17 +349,21 @@ pub fn soft_step(
     // a group of many contacts is solved on all the threads, graph colour by graph colour; the others island by
     // island on them
     let threads = if settings.threads == 0 { cores() } else { settings.threads };
-    let whole = |g: &Vec<usize>| threads > 1 && g.len() >= COLOUR_THREADS && !converge[g[0]];
+    let whole = |(g, converge): &(Group, bool)| {
+        threads > 1 && g.contacts.len() >= COLOUR_THREADS && !converge && g.joints.is_empty()
+    };
+    let rows = contacts.len() + joints.len();
+    let size = |(g, _): &(Group, bool)| g.contacts.len() + g.joints.len();
     let solved: Vec<Result<Solved, ContactError>> = if groups.iter().any(whole) {
-        let rest: Vec<Vec<usize>> = groups.iter().filter(|g| !whole(g)).cloned().collect();
-        let mut rest =
-            in_parallel(&rest, (contacts.len(), PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1)).into_iter();
+        let rest: Vec<(Group, bool)> = groups.iter().filter(|g| !whole(g)).cloned().collect();
+        let mut rest = in_parallel_by(&rest, size, (rows, PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1));
+        let mut rest = rest.drain(..);
         groups
             .iter()
             .map(|g| if whole(g) { solve(g, threads) } else { rest.next().expect("one result a group") })
             .collect()
     } else {
-        in_parallel(&groups, (contacts.len(), PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1))
+        in_parallel_by(&groups, size, (rows, PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1))
     };
     let mut velocities: Vec<Option<BodyVelocity>> = vec![None; bodies.len()];
     for result in solved {
@@ -289,6 +377,9 @@ pub fn soft_step(
         for (i, impulse, step_normal) in solved.contacts {
             out.impulses[i] = impulse;
             out.normal_impulses[i] = step_normal;
+        }
+        for (k, impulse) in solved.joints {
+            out.joint_impulses[k] = impulse;
         }
     }
     // Bodies in no island (and static ones) move on their own, by the same substeps.

@@ -1,0 +1,186 @@
+//! An island's joints in the soft step, solved as Box2D v3 solves its joints: before the contacts in each stage,
+//! rows rebuilt where the substeps have moved the bodies (`prepare`), the last impulses applied at each substep's
+//! start (`warm_start`), a pass with a soft pull back to the joint (`sweep` with softness) and a relax pass without
+//! it. A rigid joint's pull is a spring of half the substep rate (twice the contacts') with damping ratio
+//! `joint_damping_ratio`; a soft joint (its own hertz and damping ratio) keeps its spring in both passes. Limits are
+//! one-sided rows that let a joint close on its limit within a substep (speculative) and push only on it; a motor
+//! drives its row's speed with a bounded impulse; a spring is a soft row of the given stiffness and damping
+//! (implicit, stable at any step). Within a joint, springs, motors and limits are solved before the rows that hold
+//! it, so that these come last and hold best.
+
+use super::row::Mover;
+use super::softness::Softness;
+use crate::joint::{joint_rows, Joint, JointImpulse, JointRow, RowKind};
+use nalgebra::{Matrix3, Vector3};
+use std::f64::consts::TAU;
+
+/// One row where the bodies are now: its Jacobian, the inverse inertia times its angular parts, its effective mass.
+#[derive(Clone, Debug)]
+struct Row {
+    joint: usize,
+    row: JointRow,
+    ia: Vector3<f64>,
+    ib: Vector3<f64>,
+    mass: f64,
+}
+
+/// An island's joints: each joint (its bodies by local index, and their centres at the step's start), its
+/// accumulated impulses and its rows at the current substep, in solve order.
+pub(crate) struct JointSet {
+    joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>,
+    pub impulses: Vec<JointImpulse>,
+    rows: Vec<Row>,
+}
+
+/// How a sweep treats the rows: with the soft pull of rigid joints (biased pass) or without (relax), at substep h.
+#[derive(Clone, Copy)]
+pub(crate) struct JointSweep {
+    pub hs: f64,
+    pub rigid: Option<Softness>,
+}
+
+impl JointSet {
+    pub fn empty() -> JointSet {
+        JointSet { joints: Vec::new(), impulses: Vec::new(), rows: Vec::new() }
+    }
+
+    /// `joints` with local body indices, their centres at the step's start, and their warm starts.
+    pub fn new(joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>, warm: Vec<JointImpulse>) -> JointSet {
+        JointSet { joints, impulses: warm, rows: Vec::new() }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.joints.is_empty()
+    }
+
+    /// The rows where the substeps have moved the bodies (inverse inertia turned with each body).
+    pub fn prepare(&mut self, movers: &[Mover]) {
+        self.rows.clear();
+        let mut rows = Vec::new();
+        for (index, (j, xa, xb)) in self.joints.iter().enumerate() {
+            let (ma, mb) = (&movers[j.a], &movers[j.b]);
+            let frame = j.frame.turned(&ma.dq, &mb.dq);
+            rows.clear();
+            joint_rows(j, &frame, &(xa + ma.dp), &(xb + mb.dp), None, &mut rows);
+            let world = |m: &Mover| -> Matrix3<f64> { m.turn * m.inv_inertia * m.turn.transpose() };
+            let (inva, invb) = (world(ma), world(mb));
+            // springs, motors and limits first, then the rows that hold the joint
+            let order = rows
+                .iter()
+                .filter(|r| r.kind != RowKind::Equality)
+                .chain(rows.iter().filter(|r| r.kind == RowKind::Equality));
+            for row in order {
+                let (ia, ib) = (inva * row.ang_a, invb * row.ang_b);
+                let k = row.lin.norm_squared() * (ma.inv_mass + mb.inv_mass) + row.ang_a.dot(&ia) + row.ang_b.dot(&ib);
+                let mass = if k > 0.0 { 1.0 / k } else { 0.0 };
+                self.rows.push(Row { joint: index, row: *row, ia, ib, mass });
+            }
+        }
+    }
+
+    /// Applies every row's accumulated impulse (the last substep's) to the bodies.
+    pub fn warm_start(&self, movers: &mut [Mover]) {
+        for r in &self.rows {
+            let p = self.impulses[r.joint].0[r.row.slot];
+            if p != 0.0 {
+                let j = &self.joints[r.joint].0;
+                apply(movers, j.a, j.b, r, p);
+            }
+        }
+    }
+
+    /// One Gauss-Seidel sweep over the rows; returns the largest impulse change.
+    pub fn sweep(&mut self, movers: &mut [Mover], s: JointSweep) -> f64 {
+        let mut change = 0.0f64;
+        for r in &self.rows {
+            if r.mass == 0.0 {
+                continue;
+            }
+            let j = &self.joints[r.joint].0;
+            let (a, b) = (&movers[j.a], &movers[j.b]);
+            let speed = r.row.lin.dot(&(b.v - a.v)) + r.row.ang_a.dot(&a.w) + r.row.ang_b.dot(&b.w);
+            let acc = &mut self.impulses[r.joint].0[r.row.slot];
+            let old = *acc;
+            let c = r.row.error;
+            // the soft pull of this row: a soft joint's own spring in both passes, a rigid joint's in the biased one
+            let pull = match j.softness {
+                Some((hertz, zeta)) => Some(Softness::new(hertz, zeta, s.hs)),
+                None => s.rigid,
+            };
+            match r.row.kind {
+                RowKind::Equality => {
+                    let (bias, scale, keep) = match pull {
+                        Some(p) => (p.bias_rate * c, p.mass_scale, p.impulse_scale),
+                        None => (0.0, 1.0, 0.0),
+                    };
+                    *acc += -r.mass * scale * (speed + bias) - keep * old;
+                }
+                RowKind::Lower => {
+                    // apart: close at most to the limit within the substep; on it or past: the soft pull
+                    let (bias, scale, keep) = if c > 0.0 {
+                        (c / s.hs, 1.0, 0.0)
+                    } else {
+                        match pull {
+                            Some(p) => (p.bias_rate * c, p.mass_scale, p.impulse_scale),
+                            None => (0.0, 1.0, 0.0),
+                        }
+                    };
+                    *acc = (old - r.mass * scale * (speed + bias) - keep * old).max(0.0);
+                }
+                RowKind::Motor { speed: target, max_force } => {
+                    let most = max_force * s.hs;
+                    *acc = (old - r.mass * (speed - target)).clamp(-most, most);
+                }
+                RowKind::Spring { stiffness, damping } => {
+                    // a spring and damper on this row's effective mass, as a soft row (implicit)
+                    // (omega^2 = k / m, 2 zeta omega = c / m; a spring's stiffness is > 0)
+                    let omega = (stiffness / r.mass).sqrt();
+                    let zeta = damping / (2.0 * (stiffness * r.mass).sqrt());
+                    let p = Softness::new(omega / TAU, zeta, s.hs);
+                    *acc += -r.mass * p.mass_scale * (speed + p.bias_rate * c) - p.impulse_scale * old;
+                }
+            }
+            let delta = *acc - old;
+            if delta != 0.0 {
+                apply(movers, j.a, j.b, r, delta);
+                change = change.max(delta.abs());
+            }
+        }
+        change
+    }
+
+    /// The largest accumulated impulse of a row (for the settling test of a converging pass).
+    pub fn largest(&self) -> f64 {
+        self.impulses.iter().flat_map(|i| i.0).fold(0.0f64, |m, p| m.max(p.abs()))
+    }
+
+    /// The largest speed of an equality row at the bodies' velocities (m/s or rad/s): what the sweeps left of the
+    /// joints' velocity conditions.
+    pub fn residual(&self, movers: &[Mover]) -> f64 {
+        let mut worst = 0.0f64;
+        for r in self.rows.iter().filter(|r| r.row.kind == RowKind::Equality && r.mass > 0.0) {
+            let j = &self.joints[r.joint].0;
+            if j.softness.is_some() {
+                continue;
+            }
+            let (a, b) = (&movers[j.a], &movers[j.b]);
+            let speed = r.row.lin.dot(&(b.v - a.v)) + r.row.ang_a.dot(&a.w) + r.row.ang_b.dot(&b.w);
+            worst = worst.max(speed.abs());
+        }
+        worst
+    }
+}
+
+/// Applies impulse p along row r: +p on B, -p on A (the angular parts carry their own signs).
+fn apply(movers: &mut [Mover], a: usize, b: usize, r: &Row, p: f64) {
+    let ma = &mut movers[a];
+    if ma.moves() {
+        ma.v -= r.row.lin * (p * ma.inv_mass);
+        ma.w += r.ia * p;
+    }
+    let mb = &mut movers[b];
+    if mb.moves() {
+        mb.v += r.row.lin * (p * mb.inv_mass);
+        mb.w += r.ib * p;
+    }
+}

@@ -1,0 +1,168 @@
+//! Joints: ball, hinge, slider, weld and distance joints between two rigid bodies, or a body and the world. A joint
+//! is described by a `JointBuilder` (its kind, the two ends, anchors in each body's frame, the axis in A's frame,
+//! and a hinge's or slider's limits, motor and spring) and added with `World::add_joint`, which checks it and fixes
+//! its reference: the bodies' relative rotation when it is added is the joint's zero (a hinge's angle, a weld's
+//! hold). A `None` end is the world: its anchor is then a world point. Joints need the `contact` feature.
+
+use crate::handle::Handle;
+use crate::spring::BodyHandle;
+use nalgebra::{UnitQuaternion, Vector3};
+
+/// Handle of a joint.
+pub type JointHandle = Handle<Joint>;
+
+/// What a joint allows (see each builder).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointType {
+    Ball,
+    Hinge,
+    Slider,
+    Weld,
+    /// The anchors held `length` apart (None when built: their distance then); a rope only pulls.
+    Distance {
+        length: Option<f64>,
+        rope: bool,
+    },
+}
+
+/// A motor: drives a hinge's angular speed (rad/s, torque in N m) or a slider's speed (m/s, force in N).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Motor {
+    pub speed: f64,
+    pub max_force: f64,
+}
+
+/// A spring on a hinge's angle (N m/rad, N m s/rad) or a slider's travel (N/m, N s/m), towards `target`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct JointSpringSpec {
+    pub stiffness: f64,
+    pub damping: f64,
+    pub target: f64,
+}
+
+/// Describes a joint to add: `JointBuilder::hinge(a, b, axis).anchor_a(..).anchor_b(..).limits(-1.0, 1.0)`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct JointBuilder {
+    pub(crate) kind: JointType,
+    #[serde(skip)]
+    pub(crate) a: Option<BodyHandle>,
+    #[serde(skip)]
+    pub(crate) b: Option<BodyHandle>,
+    /// Anchor on A (A's frame; a world point when A is the world), and on B.
+    pub(crate) anchor_a: Vector3<f64>,
+    pub(crate) anchor_b: Vector3<f64>,
+    /// The axis in A's frame (world axes when A is the world).
+    pub(crate) axis: Vector3<f64>,
+    pub(crate) limits: Option<(f64, f64)>,
+    pub(crate) motor: Option<Motor>,
+    pub(crate) spring: Option<JointSpringSpec>,
+    /// A soft joint's stiffness (Hz) and damping ratio (fast mode); None: rigid.
+    pub(crate) softness: Option<(f64, f64)>,
+}
+
+impl JointBuilder {
+    fn new(kind: JointType, a: Option<BodyHandle>, b: Option<BodyHandle>) -> Self {
+        JointBuilder {
+            kind,
+            a,
+            b,
+            anchor_a: Vector3::zeros(),
+            anchor_b: Vector3::zeros(),
+            axis: Vector3::x(),
+            limits: None,
+            motor: None,
+            spring: None,
+            softness: None,
+        }
+    }
+    /// A ball (spherical) joint: the anchors coincide.
+    pub fn ball(a: Option<BodyHandle>, b: Option<BodyHandle>) -> Self {
+        Self::new(JointType::Ball, a, b)
+    }
+    /// A hinge (revolute) joint about `axis` (A's frame).
+    pub fn hinge(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
+        Self { axis, ..Self::new(JointType::Hinge, a, b) }
+    }
+    /// A slider (prismatic) joint along `axis` (A's frame).
+    pub fn slider(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
+        Self { axis, ..Self::new(JointType::Slider, a, b) }
+    }
+    /// A weld (fixed) joint.
+    pub fn weld(a: Option<BodyHandle>, b: Option<BodyHandle>) -> Self {
+        Self::new(JointType::Weld, a, b)
+    }
+    /// A rigid rod between the anchors, of `length` (None: their distance when added).
+    pub fn distance(a: Option<BodyHandle>, b: Option<BodyHandle>, length: Option<f64>) -> Self {
+        Self::new(JointType::Distance { length, rope: false }, a, b)
+    }
+    /// A rope between the anchors, at most `length` long (None: their distance when added).
+    pub fn rope(a: Option<BodyHandle>, b: Option<BodyHandle>, length: Option<f64>) -> Self {
+        Self::new(JointType::Distance { length, rope: true }, a, b)
+    }
+    /// Anchor on A: in A's frame, or a world point when A is the world.
+    pub fn anchor_a(mut self, p: Vector3<f64>) -> Self {
+        self.anchor_a = p;
+        self
+    }
+    /// Anchor on B: in B's frame, or a world point when B is the world.
+    pub fn anchor_b(mut self, p: Vector3<f64>) -> Self {
+        self.anchor_b = p;
+        self
+    }
+    /// The axis (A's frame) of a hinge or slider.
+    pub fn axis(mut self, axis: Vector3<f64>) -> Self {
+        self.axis = axis;
+        self
+    }
+    /// Lower and upper angle (hinge, rad, within (-pi, pi)) or travel (slider, m).
+    pub fn limits(mut self, lower: f64, upper: f64) -> Self {
+        self.limits = Some((lower, upper));
+        self
+    }
+    /// A motor of target `speed` and at most `max_force` (N m for a hinge, N for a slider).
+    pub fn motor(mut self, speed: f64, max_force: f64) -> Self {
+        self.motor = Some(Motor { speed, max_force });
+        self
+    }
+    /// A spring towards `target` (angle or travel).
+    pub fn spring(mut self, stiffness: f64, damping: f64, target: f64) -> Self {
+        self.spring = Some(JointSpringSpec { stiffness, damping, target });
+        self
+    }
+    /// Softness in fast mode: stiffness (Hz) and damping ratio; rigid without.
+    pub fn softness(mut self, hertz: f64, damping_ratio: f64) -> Self {
+        self.softness = Some((hertz, damping_ratio));
+        self
+    }
+}
+
+/// A joint in a world: its description and the reference fixed when it was added.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    pub(crate) spec: JointBuilder,
+    /// Distance joints: the length in force.
+    pub(crate) length: f64,
+    /// The axis in B's frame, and B's rotation relative to A's when the joint was added (q_A^-1 q_B).
+    pub(crate) axis_b: Vector3<f64>,
+    pub(crate) reference: UnitQuaternion<f64>,
+}
+
+impl Joint {
+    /// Body A (None: the world).
+    pub fn a(&self) -> Option<BodyHandle> {
+        self.spec.a
+    }
+    /// Body B (None: the world).
+    pub fn b(&self) -> Option<BodyHandle> {
+        self.spec.b
+    }
+    /// Its kind.
+    pub fn kind(&self) -> JointType {
+        self.spec.kind
+    }
+    /// The description it was added with.
+    pub fn builder(&self) -> &JointBuilder {
+        &self.spec
+    }
+}

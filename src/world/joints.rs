@@ -1,0 +1,118 @@
+//! Adding and removing joints: each joint is checked where it enters (ends that exist and differ, one of them
+//! moving, finite anchors, a non-zero axis, options only where the kind has them, limits in order) and gets its
+//! reference, the bodies' relative rotation as they are now.
+
+use super::{unknown, World};
+use crate::error::WorldError;
+use crate::joint::{Joint, JointBuilder, JointHandle, JointType};
+use crate::limits;
+use crate::spring::BodyHandle;
+use nalgebra::{UnitQuaternion, Vector3};
+
+impl World {
+    /// An end's pose (the world's is the identity); `name` is the argument it came from.
+    fn end_pose(
+        &self,
+        name: &'static str,
+        end: Option<BodyHandle>,
+    ) -> Result<(Vector3<f64>, UnitQuaternion<f64>, bool), WorldError> {
+        match end {
+            None => Ok((Vector3::zeros(), UnitQuaternion::identity(), false)),
+            Some(h) => {
+                let b = self.bodies.get(h).ok_or_else(|| unknown(name, h))?;
+                Ok((b.position, b.orientation, !b.is_static))
+            }
+        }
+    }
+
+    /// Checks a joint description against the world; gives the joint with its reference.
+    fn check_joint(&self, spec: JointBuilder) -> Result<Joint, WorldError> {
+        if cfg!(not(feature = "contact")) {
+            return Err(WorldError::invalid("joint", "joints need tumble built with the `contact` feature"));
+        }
+        let (xa, qa, moves_a) = self.end_pose("a", spec.a)?;
+        let (xb, qb, moves_b) = self.end_pose("b", spec.b)?;
+        if spec.a.is_some() && spec.a == spec.b {
+            return Err(WorldError::invalid("b", "a joint needs two different bodies, got the same body twice"));
+        }
+        if !moves_a && !moves_b {
+            return Err(WorldError::invalid("b", "a joint between the world and static bodies holds nothing"));
+        }
+        limits::vector("anchor_a", &spec.anchor_a, limits::COORDINATE, "m")?;
+        limits::vector("anchor_b", &spec.anchor_b, limits::COORDINATE, "m")?;
+        limits::vector("axis", &spec.axis, limits::COORDINATE, "")?;
+        let n = spec.axis.norm();
+        if !(n > 1e-12 * spec.axis.amax().max(1e-300) && n > 1e-150) {
+            return Err(WorldError::invalid("axis", "must have a length > 0"));
+        }
+        let moving = matches!(spec.kind, JointType::Hinge | JointType::Slider);
+        let what = |name: &'static str| {
+            WorldError::invalid(name, format!("a {:?} joint has none: only hinges and sliders do", spec.kind))
+        };
+        if let Some((lo, hi)) = spec.limits {
+            if !moving {
+                return Err(what("limits"));
+            }
+            let bound = if spec.kind == JointType::Hinge { std::f64::consts::PI } else { limits::COORDINATE };
+            limits::in_range("limits", lo, -bound, bound, "")?;
+            limits::in_range("limits", hi, -bound, bound, "")?;
+            if lo > hi {
+                return Err(WorldError::invalid("limits", format!("lower {lo} is above upper {hi}")));
+            }
+        }
+        if let Some(m) = spec.motor {
+            if !moving {
+                return Err(what("motor"));
+            }
+            limits::in_range("motor", m.speed, -limits::SPEED, limits::SPEED, "(speed)")?;
+            limits::non_negative("motor", m.max_force, limits::FORCE, "(max_force)")?;
+        }
+        if let Some(s) = spec.spring {
+            if !moving {
+                return Err(what("spring"));
+            }
+            limits::positive("spring", s.stiffness, limits::STIFFNESS, "(stiffness)")?;
+            limits::non_negative("spring", s.damping, limits::STIFFNESS, "(damping)")?;
+            limits::in_range("spring", s.target, -limits::COORDINATE, limits::COORDINATE, "(target)")?;
+        }
+        if let Some((hertz, zeta)) = spec.softness {
+            limits::positive("softness", hertz, 1e12, "Hz")?;
+            limits::non_negative("softness", zeta, 1e12, "(damping ratio)")?;
+        }
+        // the anchors in the world, for a distance joint's length
+        let world_a = if spec.a.is_some() { xa + qa * spec.anchor_a } else { spec.anchor_a };
+        let world_b = if spec.b.is_some() { xb + qb * spec.anchor_b } else { spec.anchor_b };
+        let length = match spec.kind {
+            JointType::Distance { length: Some(l), .. } => {
+                limits::non_negative("length", l, 4.0 * limits::COORDINATE, "m")?
+            }
+            _ => (world_a - world_b).norm(),
+        };
+        let axis_b = qb.inverse() * (qa * (spec.axis / n));
+        Ok(Joint { length, axis_b, reference: qa.inverse() * qb, spec })
+    }
+
+    /// Adds a joint.
+    pub fn add_joint(&mut self, joint: JointBuilder) -> Result<JointHandle, WorldError> {
+        let j = self.check_joint(joint)?;
+        self.retire_engine();
+        Ok(self.joints.insert(j))
+    }
+
+    /// Removes a joint.
+    pub fn remove_joint(&mut self, h: JointHandle) -> Result<Joint, WorldError> {
+        let j = self.joints.remove(h).ok_or_else(|| unknown("joint", h))?;
+        self.retire_engine();
+        Ok(j)
+    }
+
+    /// A joint.
+    pub fn joint(&self, h: JointHandle) -> Option<&Joint> {
+        self.joints.get(h)
+    }
+
+    /// The joints, with their handles.
+    pub fn joints(&self) -> impl Iterator<Item = (JointHandle, &Joint)> {
+        self.joints.iter()
+    }
+}
