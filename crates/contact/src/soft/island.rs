@@ -205,10 +205,10 @@ impl Island {
             for m in &mut self.movers {
                 m.integrate_position(hs);
             }
-            geometry::update_gaps(&mut self.bundles, &self.arms, &self.movers);
             if !self.joints.is_empty() {
                 self.joints.prepare(&self.movers);
             }
+            geometry::update_gaps(&mut self.bundles, &self.arms, &self.movers);
             self.pass(s.iterations, Sweep { soft: None, friction: true, ..biased }, relax_joints);
             for bu in &self.bundles {
                 for l in 0..bu.lanes {

