@@ -1,7 +1,7 @@
 //! Typed handles as Python objects: a particle, body, spring or load of one world.
 
 use pyo3::prelude::*;
-use tumble::{BodyHandle, LoadHandle, ParticleHandle, SpringHandle};
+use tumble::{BodyHandle, JointHandle, LoadHandle, ParticleHandle, SpringHandle};
 
 macro_rules! handle_class {
     ($py:ident, $name:literal, $rust:ty, $doc:literal) => {
@@ -60,6 +60,7 @@ handle_class!(PyParticleHandle, "ParticleHandle", ParticleHandle, "A particle of
 handle_class!(PyBodyHandle, "BodyHandle", BodyHandle, "A rigid body of a world.");
 handle_class!(PySpringHandle, "SpringHandle", SpringHandle, "A spring of a world.");
 handle_class!(PyLoadHandle, "LoadHandle", LoadHandle, "A load (force, torque or callback) of a world.");
+handle_class!(PyJointHandle, "JointHandle", JointHandle, "A joint of a world.");
 
 /// A handle from its parts (unpickling: each handle's `__reduce__`).
 #[pyfunction]
@@ -69,6 +70,7 @@ pub fn _handle(py: Python<'_>, kind: &str, world: u64, index: u32, generation: u
         "BodyHandle" => Py::new(py, PyBodyHandle { world, index, generation })?.into_any(),
         "SpringHandle" => Py::new(py, PySpringHandle { world, index, generation })?.into_any(),
         "LoadHandle" => Py::new(py, PyLoadHandle { world, index, generation })?.into_any(),
+        "JointHandle" => Py::new(py, PyJointHandle { world, index, generation })?.into_any(),
         other => return Err(crate::convert::invalid("kind", format!("no handle kind {other}"))),
     })
 }

@@ -13,6 +13,7 @@ mod report;
 mod shapes;
 mod state;
 mod world;
+mod world_joints;
 mod world_modes;
 mod world_scenes;
 mod world_state;
@@ -42,6 +43,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<handles::PyBodyHandle>()?;
     m.add_class::<handles::PySpringHandle>()?;
     m.add_class::<handles::PyLoadHandle>()?;
+    m.add_class::<handles::PyJointHandle>()?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -24,6 +24,7 @@ from ._tumble import (
     Capsule,
     ConvexHull,
     Cylinder,
+    JointHandle,
     LoadHandle,
     ParticleHandle,
     Shape,
@@ -38,6 +39,7 @@ from ._report import Report
 from ._run import Run
 from ._batch import Batch, rollout
 from ._sweep import sweep
+from ._joints import Ball, Distance, Hinge, JointSpring, Motor, Slider, Weld
 from ._world import BodiesView, ParticlesView, World
 from . import scenes
 
@@ -61,6 +63,14 @@ __all__ = [
     "BodyHandle",
     "SpringHandle",
     "LoadHandle",
+    "JointHandle",
+    "Ball",
+    "Hinge",
+    "Slider",
+    "Weld",
+    "Distance",
+    "Motor",
+    "JointSpring",
     "State",
     "SimulationError",
     "scenes",

@@ -68,6 +68,12 @@ class LoadHandle:
     @property
     def generation(self) -> int: ...
 
+class JointHandle:
+    @property
+    def index(self) -> int: ...
+    @property
+    def generation(self) -> int: ...
+
 class Shape:
     """A collision and mass shape (base class)."""
     @property
@@ -190,6 +196,24 @@ class World:
         self, target: ParticleHandle | BodyHandle, callback: Callable[[float, np.ndarray, np.ndarray], Any]
     ) -> LoadHandle: ...
     def remove(self, handle: ParticleHandle | BodyHandle | SpringHandle | LoadHandle) -> None: ...
+    def _add_joint(
+        self,
+        kind: str,
+        a: BodyHandle | None,
+        b: BodyHandle | None,
+        anchor_a: Vec3 | None = None,
+        anchor_b: Vec3 | None = None,
+        axis: Vec3 | None = None,
+        limits: tuple[float, float] | None = None,
+        motor: tuple[float, float] | None = None,
+        spring: tuple[float, float, float] | None = None,
+        softness: tuple[float, float] | None = None,
+        length: float | None = None,
+    ) -> JointHandle: ...
+    def remove_joint(self, joint: JointHandle) -> None:
+        """Removes a joint."""
+    @property
+    def joint_count(self) -> int: ...
     def set_particle_state(self, particle: ParticleHandle, position: Vec3 | None = None, velocity: Vec3 | None = None) -> None: ...
     def set_body_state(
         self,

@@ -12,7 +12,8 @@ from ._errors import named_arguments, renamed
 from ._progress import Progress, progress as _progress
 from ._report import Report
 from ._run import Run
-from ._tumble import BodyHandle, ParticleHandle, SimulationError, World as _World
+from ._joints import Joint
+from ._tumble import BodyHandle, JointHandle, ParticleHandle, SimulationError, World as _World
 
 
 class ParticlesView:
@@ -142,6 +143,18 @@ class World(_World):
     def bodies(self) -> BodiesView:
         """The bodies' state as arrays."""
         return BodiesView(self)
+
+    def add_joint(self, joint: "Joint") -> "JointHandle":
+        """Adds a joint (``tumble.Ball``, ``Hinge``, ``Slider``, ``Weld`` or ``Distance``); returns its handle.
+
+        ``w.add_joint(tumble.Hinge(a, b, anchor_a=(0, 0, 0.5), anchor_b=(0, 0, -0.5), axis=(1, 0, 0),
+        limits=(-1.0, 1.0), motor=tumble.Motor(speed=2.0, max_torque=50.0)))``. Remove it with
+        ``remove_joint(handle)``. The plan gains a "joints" stage; the report counts joint rows and the largest joint
+        error (``joint_error`` in m, ``joint_angle_error`` in rad).
+        """
+        if not isinstance(joint, Joint):
+            raise ValueError(f"invalid argument `joint`: expected tumble.Ball, Hinge, Slider, Weld or Distance, got {joint!r}")
+        return self._add_joint(**joint._fields())
 
     def __copy__(self) -> "World":
         """A copy: objects, settings, state, the engine's memory and report; it answers to this world's handles

@@ -1,0 +1,131 @@
+"""Joints as Python objects: ``tumble.Ball``, ``Hinge``, ``Slider``, ``Weld`` and ``Distance``, with ``Motor`` and
+``JointSpring``, added to a world with ``World.add_joint``. Each only holds its fields; the world checks them (a
+bad axis, a body joined to itself, limits out of order, non-finite anchors raise ``ValueError`` naming the
+argument) and fixes the joint's reference: the bodies' relative rotation when it is added is its zero.
+
+Anchors are in each body's frame (relative to its centre of mass); ``None`` for a body means the world, and its
+anchor is then ``world_point``. A hinge's or slider's ``axis`` is in the first body's frame (world axes when it is
+the world). Fast mode takes every kind and option; accurate mode holds joints exactly as constraints but has no
+limits, motors or ropes yet.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Sequence, Tuple
+
+from ._tumble import BodyHandle
+
+Vec = Sequence[float]
+
+
+@dataclass(frozen=True)
+class Motor:
+    """Drives a hinge's angular speed (rad/s, at most ``max_torque`` N m) or a slider's speed (m/s, at most
+    ``max_force`` N)."""
+
+    speed: float
+    max_torque: Optional[float] = None
+    max_force: Optional[float] = None
+
+    def _pair(self) -> Tuple[float, float]:
+        if (self.max_torque is None) == (self.max_force is None):
+            raise ValueError("invalid argument `motor`: give one of max_torque (hinge) or max_force (slider)")
+        bound = self.max_torque if self.max_torque is not None else self.max_force
+        return (float(self.speed), float(bound))
+
+
+@dataclass(frozen=True)
+class JointSpring:
+    """A spring on a hinge's angle (N m/rad, N m s/rad) or a slider's travel (N/m, N s/m) towards ``target``."""
+
+    stiffness: float
+    damping: float = 0.0
+    target: float = 0.0
+
+
+@dataclass(frozen=True)
+class _Joint:
+    a: Optional[BodyHandle]
+    b: Optional[BodyHandle] = None
+    anchor_a: Optional[Vec] = None
+    anchor_b: Optional[Vec] = None
+    world_point: Optional[Vec] = None
+    softness: Optional[Tuple[float, float]] = None
+
+    _kind = ""
+
+    def _fields(self) -> dict:
+        anchor_a, anchor_b = self.anchor_a, self.anchor_b
+        if self.world_point is not None:
+            if self.a is not None and self.b is not None:
+                raise ValueError("invalid argument `world_point`: both ends are bodies")
+            if self.b is None:
+                anchor_b = self.world_point
+            else:
+                anchor_a = self.world_point
+        return dict(kind=self._kind, a=self.a, b=self.b, anchor_a=anchor_a, anchor_b=anchor_b,
+                    softness=None if self.softness is None else tuple(self.softness))
+
+
+@dataclass(frozen=True)
+class Ball(_Joint):
+    """A ball (spherical) joint: the anchors coincide, any relative rotation."""
+
+    _kind = "ball"
+
+
+@dataclass(frozen=True)
+class Weld(_Joint):
+    """A weld (fixed) joint: no relative motion."""
+
+    _kind = "weld"
+
+
+@dataclass(frozen=True)
+class _Axial(_Joint):
+    axis: Vec = (1.0, 0.0, 0.0)
+    limits: Optional[Tuple[float, float]] = None
+    motor: Optional[Motor] = None
+    spring: Optional[JointSpring] = None
+
+    def _fields(self) -> dict:
+        f = super()._fields()
+        f.update(axis=self.axis, limits=None if self.limits is None else (float(self.limits[0]), float(self.limits[1])),
+                 motor=None if self.motor is None else self.motor._pair(),
+                 spring=None if self.spring is None else (float(self.spring.stiffness), float(self.spring.damping),
+                                                          float(self.spring.target)))
+        return f
+
+
+@dataclass(frozen=True)
+class Hinge(_Axial):
+    """A hinge (revolute) joint about ``axis``; ``limits`` in radians within (-pi, pi), a ``Motor`` on its speed, a
+    ``JointSpring`` on its angle."""
+
+    _kind = "hinge"
+
+
+@dataclass(frozen=True)
+class Slider(_Axial):
+    """A slider (prismatic) joint along ``axis``; ``limits`` in metres, a ``Motor`` on its speed, a ``JointSpring``
+    on its travel."""
+
+    _kind = "slider"
+
+
+@dataclass(frozen=True)
+class Distance(_Joint):
+    """The anchors held ``length`` apart (None: their distance when added): a rigid rod, or with ``rope=True`` a
+    rope that only pulls."""
+
+    length: Optional[float] = None
+    rope: bool = False
+
+    def _fields(self) -> dict:
+        f = super()._fields()
+        f.update(kind="rope" if self.rope else "distance", length=self.length)
+        return f
+
+
+Joint = _Joint
