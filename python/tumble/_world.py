@@ -153,7 +153,9 @@ class World(_World):
         error (``joint_error`` in m, ``joint_angle_error`` in rad).
         """
         if not isinstance(joint, Joint):
-            raise ValueError(f"invalid argument `joint`: expected tumble.Ball, Hinge, Slider, Weld or Distance, got {joint!r}")
+            raise ValueError(
+                f"invalid argument `joint`: expected tumble.Ball, Hinge, Slider, Weld or Distance, got {joint!r}"
+            )
         return self._add_joint(**joint._fields())
 
     def __copy__(self) -> "World":

@@ -47,6 +47,11 @@ pub(crate) struct EndState {
     pub inv_inertia: Matrix3<f64>,
 }
 
+/// Rows with their joints' indices, and each joint's two ends.
+type Rows = (Vec<(usize, JointRow)>, Vec<(EndState, EndState)>);
+/// A row's part on one end: the body (if it moves), linear and angular.
+type Part = (Option<usize>, Vector3<f64>, Vector3<f64>);
+
 impl CompiledJoint {
     /// The joint's frame with its ends at `a` and `b`.
     pub fn frame(&self, a: &EndState, b: &EndState) -> JointFrame {
@@ -90,7 +95,7 @@ impl Model {
     }
 
     /// Every joint's rows at y (with velocity products when `velocity`), each with its joint's index.
-    fn all_rows(&self, y: &[f64], velocity: bool) -> (Vec<(usize, JointRow)>, Vec<(EndState, EndState)>) {
+    fn all_rows(&self, y: &[f64], velocity: bool) -> Rows {
         let mut rows = Vec::new();
         let mut ends = Vec::with_capacity(self.joints.len());
         let mut scratch = Vec::new();
@@ -130,7 +135,7 @@ impl Model {
         let n = rows.len();
         let mut k = DMatrix::zeros(n, n);
         // each row's parts on each dynamic body: (body, linear, angular)
-        let parts: Vec<[(Option<usize>, Vector3<f64>, Vector3<f64>); 2]> = rows
+        let parts: Vec<[Part; 2]> = rows
             .iter()
             .map(|(j, r)| {
                 let cj = &self.joints[*j];
@@ -144,7 +149,6 @@ impl Model {
         for i in 0..n {
             let (ji, _) = rows[i];
             for m in i..n {
-                let (jm, _) = rows[m];
                 let mut sum = 0.0;
                 for (side_i, (bi, li, ai)) in parts[i].iter().enumerate() {
                     let Some(bi) = bi else { continue };
@@ -155,7 +159,6 @@ impl Model {
                         }
                     }
                 }
-                let _ = jm;
                 k[(i, m)] = sum;
                 k[(m, i)] = sum;
             }
