@@ -94,6 +94,7 @@ impl World {
     fn book_report(&mut self) -> WorldReport {
         let r = match &mut self.engine {
             Some(e) => {
+                #[cfg_attr(not(feature = "contact"), allow(unused_mut))]
                 let mut r = e.take_report();
                 #[cfg(feature = "contact")]
                 {
