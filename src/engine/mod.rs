@@ -111,9 +111,21 @@ fn check_joints(mode: &Mode, model: &Model) -> Result<(), WorldError> {
             "fast mode's exact solver has no joint rows: use solver=\"soft\" (the default) for joints",
         )),
         Mode::Fast(_) => Ok(()),
-        Mode::Accurate(_) => {
+        Mode::Accurate(a) => {
+            if a.persistent == crate::mode::Persistent::RestingForces {
+                return Err(WorldError::invalid(
+                    "joint",
+                    "the chapter's resting forces know nothing of joints: use persistent contact steps (the default)",
+                ));
+            }
             for cj in &model.joints {
                 let j = &cj.joint;
+                if j.softness.is_some() {
+                    return Err(WorldError::invalid(
+                        "softness",
+                        "a joint's softness applies to fast mode (accurate mode holds joints exactly)",
+                    ));
+                }
                 let (name, what) = if j.limits.is_some() {
                     ("limits", "limits")
                 } else if j.motor.is_some() {

@@ -14,7 +14,7 @@ use tumble_integrate::{JacobianStructure, OdeSystem, Split, SystemError};
 const NORM_DRIFT: f64 = 1e-12;
 /// Joint errors (m, rad) and speeds (m/s, rad/s) above this are projected away after a step.
 #[cfg(feature = "contact")]
-const JOINT_DRIFT: f64 = 1e-12;
+pub(crate) const JOINT_DRIFT: f64 = 1e-12;
 
 impl Model {
     /// A body's kinematics from the state (its quaternion normalised first).

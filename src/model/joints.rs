@@ -356,3 +356,36 @@ pub(crate) fn compile_joints(
         })
         .collect()
 }
+
+impl Model {
+    /// The rigid joints' holding rows for a velocity step from y (accurate mode's contact steps): J v = 0 at the
+    /// step's end (the position error is projected away after the step, `project_joints`: a velocity that pulls it
+    /// back would differ between a step and its two halves by the error itself, at any step size); a dynamic end is
+    /// its actor, a fixed end an extra fixed actor numbered from `first_extra` and returned.
+    pub(crate) fn bilateral_rows(
+        &self,
+        y: &[f64],
+        first_extra: usize,
+    ) -> (Vec<tumble_contact::BilateralRow>, Vec<tumble_contact::BodyState>) {
+        let l = self.layout;
+        let (mut out, mut extra) = (Vec::new(), Vec::new());
+        let mut scratch = Vec::new();
+        for cj in &self.joints {
+            let mut index = |end: JointEnd| match end {
+                JointEnd::Body(j) => l.particles + j,
+                JointEnd::Fixed(p) => {
+                    extra.push(tumble_contact::BodyState::fixed(nalgebra::Point3::from(p.translation.vector)));
+                    first_extra + extra.len() - 1
+                }
+            };
+            let (a, b) = (index(cj.a), index(cj.b));
+            let (ea, eb) = (self.end_state_of(y, cj.a), self.end_state_of(y, cj.b));
+            scratch.clear();
+            joint_rows(&cj.joint, &cj.frame(&ea, &eb), &ea.x, &eb.x, None, &mut scratch);
+            for r in scratch.iter().filter(|r| r.kind == RowKind::Equality) {
+                out.push(tumble_contact::BilateralRow { a, b, lin: r.lin, ang_a: r.ang_a, ang_b: r.ang_b, speed: 0.0 });
+            }
+        }
+        (out, extra)
+    }
+}

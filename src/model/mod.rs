@@ -4,6 +4,8 @@
 #[cfg(feature = "contact")]
 mod actors;
 mod dynamics;
+#[cfg(feature = "contact")]
+pub(crate) use dynamics::JOINT_DRIFT;
 mod energy;
 mod jacobian;
 #[cfg(feature = "contact")]

@@ -59,6 +59,8 @@ pub struct SceneFile {
     pub springs: Vec<SpringFile>,
     #[serde(default)]
     pub loads: Vec<LoadFile>,
+    #[serde(default)]
+    pub joints: Vec<JointFile>,
 }
 
 /// A particle.
@@ -200,6 +202,43 @@ pub enum TargetFile {
 pub enum LoadFile {
     Force { target: TargetFile, force: [f64; 3], at: Option<[f64; 3]> },
     Torque { body: usize, torque: [f64; 3] },
+}
+
+fn x_axis() -> [f64; 3] {
+    [1.0, 0.0, 0.0]
+}
+
+/// A joint between the bodies of rows `a` and `b` (absent: the world, whose anchor is a world point).
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct JointFile {
+    pub kind: crate::joint::JointType,
+    #[serde(default)]
+    pub a: Option<usize>,
+    #[serde(default)]
+    pub b: Option<usize>,
+    #[serde(default)]
+    pub anchor_a: [f64; 3],
+    #[serde(default)]
+    pub anchor_b: [f64; 3],
+    /// The axis in A's frame.
+    #[serde(default = "x_axis")]
+    pub axis: [f64; 3],
+    #[serde(default)]
+    pub limits: Option<[f64; 2]>,
+    #[serde(default)]
+    pub motor: Option<crate::joint::Motor>,
+    #[serde(default)]
+    pub spring: Option<crate::joint::JointSpringSpec>,
+    /// Stiffness (Hz) and damping ratio of a soft joint.
+    #[serde(default)]
+    pub softness: Option<[f64; 2]>,
+    /// The joint's zero: B's rotation relative to A's (w, x, y, z) and the axis in B's frame, as when it was made;
+    /// absent: the bodies as they are loaded.
+    #[serde(default)]
+    pub reference: Option<[f64; 4]>,
+    #[serde(default)]
+    pub axis_b: Option<[f64; 3]>,
 }
 
 impl ParticleFile {

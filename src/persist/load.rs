@@ -4,6 +4,7 @@
 use super::file::*;
 use crate::body::RigidBodyBuilder;
 use crate::error::{check_finite, WorldError};
+use crate::joint::{JointBuilder, JointType};
 use crate::limits;
 use crate::load::{Load, Target};
 use crate::mode::Mode;
@@ -210,6 +211,45 @@ impl World {
                 }
             };
             w.add_load(load).map_err(at("loads", path))?;
+        }
+        for (k, j) in f.joints.iter().enumerate() {
+            let path = format!("joints[{k}]");
+            let end = |i: Option<usize>| i.map(|i| body("joints", &path, i)).transpose();
+            let (a, b) = (end(j.a)?, end(j.b)?);
+            let mut builder = match j.kind {
+                JointType::Ball => JointBuilder::ball(a, b),
+                JointType::Hinge => JointBuilder::hinge(a, b, v3(j.axis)),
+                JointType::Slider => JointBuilder::slider(a, b, v3(j.axis)),
+                JointType::Weld => JointBuilder::weld(a, b),
+                JointType::Distance { length, rope: false } => JointBuilder::distance(a, b, length),
+                JointType::Distance { length, rope: true } => JointBuilder::rope(a, b, length),
+            };
+            builder = builder.anchor_a(v3(j.anchor_a)).anchor_b(v3(j.anchor_b)).axis(v3(j.axis));
+            if let Some([lo, hi]) = j.limits {
+                builder = builder.limits(lo, hi);
+            }
+            if let Some(m) = j.motor {
+                builder = builder.motor(m.speed, m.max_force);
+            }
+            if let Some(sp) = j.spring {
+                builder = builder.spring(sp.stiffness, sp.damping, sp.target);
+            }
+            if let Some([hz, zeta]) = j.softness {
+                builder = builder.softness(hz, zeta);
+            }
+            let h = w.add_joint(builder).map_err(at("joints", path.clone()))?;
+            // the joint's zero as it was made, to the bit
+            let joint = w.joints.get_mut(h).expect("just added");
+            if let Some(q) = j.reference {
+                joint.reference = quaternion("reference", q).map_err(at("joints", path.clone()))?;
+            }
+            if let Some(axis) = j.axis_b {
+                let axis = v3(axis);
+                if !(axis.iter().all(|c| c.is_finite()) && (axis.norm() - 1.0).abs() < 1e-9) {
+                    return Err(WorldError::invalid("joints", format!("{path}.axis_b: must be a unit vector")));
+                }
+                joint.axis_b = axis;
+            }
         }
         w.set_mode(f.mode)?;
         if let Some(settings) = &f.integrator {

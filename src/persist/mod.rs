@@ -31,8 +31,8 @@ struct SavedEngine {
 }
 
 /// The binary format's version (the scene inside it has the scene file's own, `VERSION`). 2: the memory of every
-/// engine (1 held fast mode's only).
-const BINARY_VERSION: u32 = 2;
+/// engine (1 held fast mode's only); 3: joints (the scene's, and fast mode's joint impulses).
+const BINARY_VERSION: u32 = 3;
 
 fn decode_error(format: &str, e: impl std::fmt::Display) -> WorldError {
     WorldError::invalid("file", format!("not a readable {format} scene: {e}"))

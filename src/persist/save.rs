@@ -3,6 +3,7 @@
 
 use super::file::*;
 use crate::error::WorldError;
+use crate::joint::JointType;
 use crate::load::{Load, Target};
 use crate::spring::Attachment;
 use crate::world::World;
@@ -35,13 +36,6 @@ impl World {
     /// The scene file of the world as it is. A world with force callbacks cannot be written (they are code): the
     /// error names `loads`.
     pub(crate) fn scene_file(&self) -> Result<SceneFile, WorldError> {
-        if self.joints.iter().next().is_some() {
-            // refused rather than dropped: a file without them would load as another scene
-            return Err(WorldError::invalid(
-                "world",
-                "a world with joints cannot be saved yet (the file formats have no joints)",
-            ));
-        }
         let particle_rows: BTreeMap<u32, usize> =
             self.particles.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
         let body_rows: BTreeMap<u32, usize> = self.bodies.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
@@ -134,6 +128,32 @@ impl World {
                 )),
             })
             .collect::<Result<Vec<_>, _>>()?;
+        let row = |h: Option<crate::spring::BodyHandle>| h.map(|h| body_rows[&h.index()]);
+        let joints = self
+            .joints
+            .iter()
+            .map(|(_, j)| {
+                let s = &j.spec;
+                let kind = match s.kind {
+                    JointType::Distance { rope, .. } => JointType::Distance { length: Some(j.length), rope },
+                    other => other,
+                };
+                JointFile {
+                    kind,
+                    a: row(s.a),
+                    b: row(s.b),
+                    anchor_a: v3(&s.anchor_a),
+                    anchor_b: v3(&s.anchor_b),
+                    axis: v3(&s.axis),
+                    limits: s.limits.map(|(lo, hi)| [lo, hi]),
+                    motor: s.motor,
+                    spring: s.spring,
+                    softness: s.softness.map(|(h, z)| [h, z]),
+                    reference: Some(q4(&j.reference)),
+                    axis_b: Some(v3(&j.axis_b)),
+                }
+            })
+            .collect();
         Ok(SceneFile {
             format: FORMAT.into(),
             version: VERSION,
@@ -148,6 +168,7 @@ impl World {
             bodies,
             springs,
             loads,
+            joints,
         })
     }
 }

@@ -16,7 +16,6 @@ use crate::contact::{check_all, Contact};
 use crate::error::ContactError;
 use crate::friction_island::{bias, solve_island, IslandSolution};
 use crate::impulse::BodyVelocity;
-use crate::islands::islands;
 use crate::lcp::SolverSettings;
 use nalgebra::Vector3;
 
@@ -112,7 +111,7 @@ pub fn velocity_step(
     contacts: &[Contact],
     settings: &StepSettings,
 ) -> Result<VelocityStep, ContactError> {
-    step(bodies, contacts, None, settings)
+    step(bodies, contacts, None, &[], settings)
 }
 
 /// Velocities after one step with friction lagged on `previous[i]`, a normal impulse for each contact (the last
@@ -121,6 +120,30 @@ pub fn velocity_step_lagged(
     bodies: &[BodyState],
     contacts: &[Contact],
     previous: &[f64],
+    settings: &StepSettings,
+) -> Result<VelocityStep, ContactError> {
+    velocity_step_lagged_with_joints(bodies, contacts, previous, &[], settings)
+}
+
+/// One joint row of a velocity step: J v = lin . (v_B - v_A) + ang_a . w_A + ang_b . w_B must equal `speed` at
+/// the step's end (a bilateral constraint: any impulse).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BilateralRow {
+    pub a: usize,
+    pub b: usize,
+    pub lin: Vector3<f64>,
+    pub ang_a: Vector3<f64>,
+    pub ang_b: Vector3<f64>,
+    pub speed: f64,
+}
+
+/// `velocity_step_lagged` with joint rows held exactly in the same programs (bodies joined by a row share an
+/// island).
+pub fn velocity_step_lagged_with_joints(
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    previous: &[f64],
+    bilateral: &[BilateralRow],
     settings: &StepSettings,
 ) -> Result<VelocityStep, ContactError> {
     if previous.len() != contacts.len() {
@@ -135,13 +158,20 @@ pub fn velocity_step_lagged(
             format!("impulse {i} must be finite and >= 0, got {}", previous[i]),
         ));
     }
-    step(bodies, contacts, Some(previous), settings)
+    for (k, r) in bilateral.iter().enumerate() {
+        let numbers = [r.lin, r.ang_a, r.ang_b].into_iter().flat_map(|v| [v.x, v.y, v.z]);
+        if r.a >= bodies.len() || r.b >= bodies.len() || r.a == r.b || !numbers.chain([r.speed]).all(f64::is_finite) {
+            return Err(ContactError::invalid("bilateral", format!("row {k} is not a finite row between two bodies")));
+        }
+    }
+    step(bodies, contacts, Some(previous), bilateral, settings)
 }
 
 fn step(
     bodies: &[BodyState],
     contacts: &[Contact],
     bounds: Option<&[f64]>,
+    bilateral: &[BilateralRow],
     settings: &StepSettings,
 ) -> Result<VelocityStep, ContactError> {
     check_all(bodies, contacts)?;
@@ -150,19 +180,26 @@ fn step(
     let mut normal_impulses = vec![0.0; contacts.len()];
     let mut friction_impulses = vec![Vector3::zeros(); contacts.len()];
     let (mut iterations, mut solver_calls, mut solver_work) = (0, 0, 0);
-    let groups = islands(bodies, contacts);
+    let pairs: Vec<(usize, usize)> = bilateral.iter().map(|r| (r.a, r.b)).collect();
+    let groups = crate::islands::joint_islands(bodies, contacts, &pairs);
     let free = &velocities;
-    let solve = |island: &Vec<usize>| -> Result<IslandSolution, ContactError> {
-        let lone =
-            if island.len() == 1 { lone_particle(bodies, contacts, bounds, island[0], free, settings) } else { None };
+    let solve = |(island, linked): &(Vec<usize>, Vec<usize>)| -> Result<IslandSolution, ContactError> {
+        let rows: Vec<&BilateralRow> = linked.iter().map(|&k| &bilateral[k]).collect();
+        let lone = if island.len() == 1 && rows.is_empty() {
+            lone_particle(bodies, contacts, bounds, island[0], free, settings)
+        } else {
+            None
+        };
         match lone {
             Some(sol) => Ok(sol),
-            None => solve_island(bodies, contacts, bounds, island, free, settings),
+            None => solve_island(bodies, contacts, bounds, island, &rows, free, settings),
         }
     };
     // a clarabel call takes tens of microseconds or more: worth a thread from a few dozen contacts
-    let solved = in_parallel(&groups, (contacts.len(), 32), settings.threads, solve);
-    for (island, result) in groups.iter().zip(solved) {
+    let size = |(island, linked): &(Vec<usize>, Vec<usize>)| island.len() + linked.len();
+    let rows = contacts.len() + bilateral.len();
+    let solved = in_parallel_by(&groups, size, (rows, 32), settings.threads, solve);
+    for ((island, _), result) in groups.iter().zip(solved) {
         let sol = result?;
         solver_calls += usize::from(sol.solved);
         if sol.solved {
@@ -191,16 +228,7 @@ pub(crate) fn cores() -> usize {
 /// has cores, each taking the largest remaining island first; a step of fewer than `least` contacts or one island
 /// stays on the calling thread (threads are started for each step: below that, starting them costs more than they
 /// save). Results come back in island order, so the answer does not depend on the thread count.
-pub(crate) fn in_parallel<T: Send>(
-    groups: &[Vec<usize>],
-    (contacts, least): (usize, usize),
-    threads: usize,
-    solve: impl Fn(&Vec<usize>) -> Result<T, ContactError> + Sync,
-) -> Vec<Result<T, ContactError>> {
-    in_parallel_by(groups, Vec::len, (contacts, least), threads, solve)
-}
-
-/// `in_parallel` for groups of any kind, `size` giving the work of one (the largest start first).
+/// Groups of any kind, `size` giving the work of one (the largest start first).
 pub(crate) fn in_parallel_by<G: Sync, T: Send>(
     groups: &[G],
     size: impl Fn(&G) -> usize + Sync,

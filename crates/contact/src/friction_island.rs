@@ -2,7 +2,7 @@
 //! island's moving bodies (3 for a particle, 6 for a rigid body) and, with lagged friction, one epigraph variable
 //! per frictional contact. Objective 1/2 v^T M v - (M v*)^T v (+ sum mu p_prev s). Rows per contact: Anitescu's cone
 //! (J_n v + beta, mu J_t v) in SOC(3), or frictionless J_n v + beta >= 0, or lagged J_n v + beta >= 0 with
-//! (s, J_t v) in SOC(3).
+//! (s, J_t v) in SOC(3); then joint rows J v = speed (a zero cone).
 
 use crate::body::BodyState;
 use crate::contact::{tangents, Contact};
@@ -12,7 +12,7 @@ use crate::impulse::{velocities_after, BodyVelocity};
 use crate::jacobian::{rows, Row};
 use crate::lcp::{usable, with_retries};
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT, SupportedConeT};
+use clarabel::solver::{DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT, SupportedConeT, ZeroConeT};
 use nalgebra::Vector3;
 
 pub(crate) struct IslandSolution {
@@ -103,11 +103,13 @@ pub(crate) fn bias(c: &Contact, bodies: &[BodyState], s: &StepSettings) -> f64 {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_island(
     bodies: &[BodyState],
     contacts: &[Contact],
     bounds: Option<&[f64]>,
     island: &[usize],
+    bilateral: &[&crate::friction::BilateralRow],
     free: &[BodyVelocity],
     s: &StepSettings,
 ) -> Result<IslandSolution, ContactError> {
@@ -115,17 +117,18 @@ pub(crate) fn solve_island(
     let mut offset = vec![usize::MAX; bodies.len()];
     let mut members = Vec::new();
     let mut n = 0;
-    for &i in island {
-        for k in [contacts[i].a, contacts[i].b] {
-            if bodies[k].is_dynamic() && offset[k] == usize::MAX {
-                offset[k] = n;
-                members.push(k);
-                n += if bodies[k].rotates() { 6 } else { 3 };
-            }
+    let ends = island.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]);
+    for k in ends.chain(bilateral.iter().flat_map(|r| [r.a, r.b])) {
+        if bodies[k].is_dynamic() && offset[k] == usize::MAX {
+            offset[k] = n;
+            members.push(k);
+            n += if bodies[k].rotates() { 6 } else { 3 };
         }
     }
-    if let Some(untouched) = untouched(bodies, contacts, bounds, island, &members, free, s) {
-        return Ok(untouched);
+    if bilateral.is_empty() {
+        if let Some(untouched) = untouched(bodies, contacts, bounds, island, &members, free, s) {
+            return Ok(untouched);
+        }
     }
     let (layout, vars) = row_layout(contacts, bounds, island, n);
     // P = M (upper triangle), q = -M v* (and the bounds on the epigraph variables).
@@ -201,6 +204,19 @@ pub(crate) fn solve_island(
             }
         }
     }
+    // joint rows: J v = speed exactly (a zero cone after the contacts')
+    if !bilateral.is_empty() {
+        for r in bilateral {
+            let row = rhs.len();
+            rhs.push(-r.speed);
+            let pair = [
+                crate::jacobian::Row { body: r.a, lin: -r.lin, ang: r.ang_a },
+                crate::jacobian::Row { body: r.b, lin: r.lin, ang: r.ang_b },
+            ];
+            put_row(&mut a, row, 1.0, &pair, &mut rhs);
+        }
+        cones.push(ZeroConeT(bilateral.len()));
+    }
     let m = rhs.len();
     // clarabel's absolute tolerances assume data of order one: measure masses in units of the largest diagonal
     // entry of M (m_s) and velocities in units of the largest free or target velocity (v_s). With x = v_s x',
@@ -229,7 +245,23 @@ pub(crate) fn solve_island(
         let x: Vec<f64> = sol.x.iter().map(|v| v * v_s).collect();
         let z: Vec<f64> = sol.z.iter().map(|v| v * m_s * v_s).collect();
         let out = read_back(bodies, contacts, island, &layout, &offset, &members, &x, &z);
-        let r = residual(bodies, contacts, island, &layout, free, &out, s);
+        // the joints' impulses (the zero cone's duals, pushing as J^T z) are judged as part of the free motion: the
+        // contacts' conditions are checked against them
+        let r = if bilateral.is_empty() {
+            residual(bodies, contacts, island, &layout, free, &out, s)
+        } else {
+            let mut moved = free.to_vec();
+            for (r, &p) in bilateral.iter().zip(&z[m - bilateral.len()..]) {
+                for (k, lin, ang) in [(r.a, -r.lin, r.ang_a), (r.b, r.lin, r.ang_b)] {
+                    let b = &bodies[k];
+                    if b.is_dynamic() {
+                        moved[k].linear += lin * (p * b.inv_mass);
+                        moved[k].angular += b.inv_inertia * ang * p;
+                    }
+                }
+            }
+            residual(bodies, contacts, island, &layout, &moved, &out, s)
+        };
         Ok((out, r, sol.iterations))
     })?;
     Ok(IslandSolution { iterations, ..solution })
@@ -321,7 +353,10 @@ fn residual(
     let island_contacts: Vec<Contact> =
         island.iter().map(|&i| Contact { a: index(&contacts[i].a), b: index(&contacts[i].b), ..contacts[i] }).collect();
     let mut after: Vec<BodyVelocity> = local.iter().map(|&k| free[k]).collect();
-    for (k, v) in &out.velocities {
+    // bodies held only by joints are not the contacts' to judge
+    let velocities: Vec<(usize, BodyVelocity)> =
+        out.velocities.iter().filter(|(k, _)| local.binary_search(k).is_ok()).copied().collect();
+    for (k, v) in &velocities {
         after[index(k)] = *v;
     }
     let bodies: Vec<BodyState> = local.iter().map(|&k| bodies[k]).collect();
@@ -339,8 +374,7 @@ fn residual(
         let (va, vb) = (free_state[c.a].point_velocity(&c.point), free_state[c.b].point_velocity(&c.point));
         v_scale = v_scale.max((vb - va).norm()).max(bias(c, bodies, s).abs()).max(va.norm()).max(vb.norm());
     }
-    let p_scale = out
-        .velocities
+    let p_scale = velocities
         .iter()
         .map(|(k, _)| v_scale / bodies[index(k)].inv_mass)
         .chain(out.normal.iter().copied())
@@ -352,7 +386,7 @@ fn residual(
         .map(|(slot, c)| c.normal.into_inner() * out.normal[slot] + out.friction[slot])
         .collect();
     let predicted = velocities_after(&free_state, &island_contacts, &impulses);
-    for (k, v) in &out.velocities {
+    for (k, v) in &velocities {
         let k = index(k);
         let b = &bodies[k];
         let dl = (v.linear - predicted[k].linear).norm() / b.inv_mass;

@@ -48,7 +48,10 @@ pub use body::BodyState;
 pub use classify::{classify, velocity_tolerance, ContactClass};
 pub use contact::{Contact, NormalMotion};
 pub use error::ContactError;
-pub use friction::{free_velocity, velocity_step, velocity_step_lagged, StepSettings, VelocityStep};
+pub use friction::{
+    free_velocity, velocity_step, velocity_step_lagged, velocity_step_lagged_with_joints, BilateralRow, StepSettings,
+    VelocityStep,
+};
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
 pub use islands::islands;
 pub use joint::{

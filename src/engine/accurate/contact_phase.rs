@@ -1,5 +1,5 @@
 //! The contact phase of accurate mode, run at each event: find the touching contacts. When one of them has
-//! friction, the touching phase takes over from here (its convex steps resolve the impact with friction and
+//! friction, or the world has joints, the touching phase takes over from here (its convex steps resolve the impact with friction and
 //! restitution). Otherwise apply impulses to those that close (all at once, restitution only where the closing
 //! speed exceeds the resting speed); contacts that then neither close nor open start the touching phase, or, with
 //! `Persistent::RestingForces`, are lifted back to zero gap if they drifted and handed to the right-hand side as
@@ -25,7 +25,9 @@ impl Contacts {
         let mut y = integ.state().to_vec();
         let mut active = self.touching(model, &y, t)?;
         let steps = self.settings.persistent == Persistent::ContactSteps;
-        if steps && active.iter().any(|(f, _)| f.contact.friction > 0.0) {
+        // with friction, or joints (which Newton's impulses know nothing of), the convex steps take the impact
+        let joined = model.has_joints() && !active.is_empty();
+        if steps && (joined || active.iter().any(|(f, _)| f.contact.friction > 0.0)) {
             model.resting = None;
             self.start_touching();
             return Ok(());

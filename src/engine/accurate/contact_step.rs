@@ -14,7 +14,7 @@ use crate::model::{actor_poses, Model, StateOptions};
 use crate::plan::Stage;
 use std::collections::BTreeMap;
 use std::time::Instant;
-use tumble_contact::{free_velocity, velocity_step_lagged, BodyState, Contact, ContactError, StepSettings};
+use tumble_contact::{free_velocity, velocity_step_lagged_with_joints, BodyState, Contact, ContactError, StepSettings};
 use tumble_integrate::{OdeError, OdeSystem};
 
 /// Most solves of one step's lagged-friction fixed point.
@@ -93,7 +93,7 @@ impl Contacts {
         h: f64,
     ) -> Result<Option<StepOutcome>, OdeError> {
         let mut next = y.to_vec();
-        if found.is_empty() {
+        if found.is_empty() && model.joints.is_empty() {
             let v: Vec<_> = states.iter().map(|b| free_velocity(b, h)).collect();
             update_positions(model, &mut next, &v, h, |_| true);
             return Ok(Some(StepOutcome { y: next, forces: BTreeMap::new(), pressing: Vec::new() }));
@@ -114,16 +114,26 @@ impl Contacts {
         // is a position error of 1e-4 of the tolerance.
         settings.velocity_scale = self.tolerance / h;
         settings.solver = tumble_contact::SolverSettings { complementarity_tolerance: 1e-4, ..self.solver };
-        let mut solve = |bounds: &[f64]| match velocity_step_lagged(states, &contacts, bounds, &settings) {
-            Ok(out) => Ok(Some(out)),
-            Err(ContactError::InvalidArgument { name, reason }) => {
-                Err(failure(t, format!("contact step: invalid {name}: {reason}")))
-            }
-            Err(e) => {
-                self.last_solver_error = e.to_string();
-                Ok(None)
-            }
+        // joints: their rows held exactly in the same programs, fixed ends as extra fixed actors
+        let (bilateral, extra) = model.bilateral_rows(y, states.len());
+        let with_extra: Vec<BodyState>;
+        let states = if extra.is_empty() {
+            states
+        } else {
+            with_extra = states.iter().copied().chain(extra).collect();
+            &with_extra[..]
         };
+        let mut solve =
+            |bounds: &[f64]| match velocity_step_lagged_with_joints(states, &contacts, bounds, &bilateral, &settings) {
+                Ok(out) => Ok(Some(out)),
+                Err(ContactError::InvalidArgument { name, reason }) => {
+                    Err(failure(t, format!("contact step: invalid {name}: {reason}")))
+                }
+                Err(e) => {
+                    self.last_solver_error = e.to_string();
+                    Ok(None)
+                }
+            };
         let mut bounds: Vec<f64> = found.iter().map(|f| lagged.get(&f.key).map_or(0.0, |p| p * h)).collect();
         let (mut solves, mut work) = (0, 0);
         let Some(mut out) = solve(&bounds)? else { return Ok(None) };
@@ -146,6 +156,7 @@ impl Contacts {
         self.solve_work += work;
         self.report.stages.add(Stage::ContactConeProgram, solves.max(1));
         update_positions(model, &mut next, &out.velocities, h, |_| true);
+        model.project_joints(&mut next, crate::model::JOINT_DRIFT);
         let forces = found.iter().zip(&out.normal_impulses).map(|(f, p)| (f.key, p / h)).collect();
         let pressing = found.iter().zip(&out.normal_impulses).filter(|(_, p)| **p > 0.0).map(|(f, _)| f.key).collect();
         self.report.contact_seconds += clock.elapsed().as_secs_f64();

@@ -8,6 +8,7 @@ use super::Contacts;
 use crate::engine::contact_scene::Found;
 use crate::engine::smooth::over_budget;
 use crate::engine::Budget;
+use crate::model::joints::JointEnd;
 use crate::model::layout::Layout;
 use crate::model::{End, Model};
 use tumble_integrate::{Integrator, OdeError};
@@ -39,11 +40,18 @@ pub(crate) fn involved(model: &Model, found: &[&[Found]]) -> Vec<bool> {
         End::Body(j, _) => Some(l.particles + j),
         End::Point(_) => None,
     };
-    // Springs join actors: spread along them until nothing changes (at most one pass per spring).
-    for _ in 0..=model.springs.len() {
+    // Springs and joints join actors: spread along them until nothing changes (at most one pass per link).
+    let joint_actor = |e: &JointEnd| match *e {
+        JointEnd::Body(j) => Some(l.particles + j),
+        JointEnd::Fixed(_) => None,
+    };
+    let springs = model.springs.iter().map(|s| (actor(&s.a), actor(&s.b)));
+    let links: Vec<(Option<usize>, Option<usize>)> =
+        springs.chain(model.joints.iter().map(|j| (joint_actor(&j.a), joint_actor(&j.b)))).collect();
+    for _ in 0..=links.len() {
         let mut changed = false;
-        for s in &model.springs {
-            if let (Some(a), Some(b)) = (actor(&s.a), actor(&s.b)) {
+        for link in &links {
+            if let (Some(a), Some(b)) = *link {
                 if out[a] != out[b] {
                     (out[a], out[b]) = (true, true);
                     changed = true;
