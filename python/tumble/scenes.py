@@ -94,3 +94,33 @@ def pyramid(layers: int = 10) -> World:
 def cloth_drape(n: int = 12, size: float = 1.2) -> World:
     """A cloth of n x n particles (1 cm spheres) falling over a ball onto the floor (fast mode at 1/480 s)."""
     return World._rust_scene("cloth_drape", n=n, size=size)
+
+
+def pendulum(length: float = 1.0, radius: float = 0.05) -> World:
+    """A 1 kg ball on a rigid rod of ``length`` from a fixed point, released from the horizontal (accurate mode,
+    dopri5 at rtol 1e-10): its period matches 4 sqrt(L/g) K(sin 45 deg) to about 1e-10."""
+    return World._rust_scene("pendulum", length=length, radius=radius)
+
+
+def chain(links: int = 20) -> World:
+    """``links`` rods of 0.1 m and 1 kg hanging from a fixed point by ball joints, a 10 kg weight at the end (fast
+    mode at 1/60 s): it does not stretch."""
+    return World._rust_scene("chain", links=links)
+
+
+def newtons_cradle(balls: int = 5, angle: float = 0.5) -> World:
+    """Newton's cradle: ``balls`` steel balls on hinges, the first pulled out by ``angle`` rad (fast mode at 1/240 s,
+    restitution 1)."""
+    return World._rust_scene("newtons_cradle", balls=balls, angle=angle)
+
+
+def door() -> World:
+    """A 20 kg door on a vertical hinge, its motor (1 rad/s, 20 N m) swinging it open to its limit at 1.5 rad (fast
+    mode at 1/60 s)."""
+    return World._rust_scene("door")
+
+
+def ragdoll() -> World:
+    """A 70 kg ragdoll of 10 parts (ball joints at the neck, shoulders and hips, limited hinges at the elbows and
+    knees) pushed off the top of a flight of stairs (fast mode at 1/60 s)."""
+    return World._rust_scene("ragdoll")

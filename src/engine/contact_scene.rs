@@ -95,6 +95,9 @@ pub(crate) struct ContactScene {
     pub cache: Option<ManifoldCache>,
     /// Contacts the last call found: room made for as many (a growing list of contacts would copy them).
     found_last: usize,
+    /// Pairs of actors a joint joins directly (sorted, lower index first): they never touch (a joint's bodies
+    /// overlap at the joint, as a ragdoll's limbs do at their sockets).
+    pub joined: Vec<(usize, usize)>,
 }
 
 fn collider_entry(actor: Actor, c: &Collider, material: Material) -> SceneCollider {
@@ -151,6 +154,7 @@ impl ContactScene {
             inert,
             cache: None,
             found_last: 0,
+            joined: Vec::new(),
         })
     }
 
@@ -191,6 +195,12 @@ impl ContactScene {
         let (x, y) = (self.colliders[a].actor, self.colliders[b].actor);
         if self.inert[self.index(x)] && self.inert[self.index(y)] {
             return false;
+        }
+        if !self.joined.is_empty() {
+            let (i, j) = (self.index(x), self.index(y));
+            if self.joined.binary_search(&(i.min(j), i.max(j))).is_ok() {
+                return false;
+            }
         }
         match (x, y) {
             (Actor::Particle(_), Actor::Particle(_)) => false,

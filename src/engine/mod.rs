@@ -193,7 +193,7 @@ impl Engine {
         let dim = model.layout.dim();
         match mode {
             #[cfg(feature = "contact")]
-            Mode::Fast(f) => stages.extend(fast::FastEngine::planned(f, dim, has_scene)),
+            Mode::Fast(f) => stages.extend(fast::FastEngine::planned(f, dim, has_scene, model.has_joints())),
             #[cfg(feature = "contact")]
             Mode::Accurate(a) if has_scene => stages.extend(accurate::AccurateEngine::planned(settings, a, dim)),
             _ => stages.extend(SmoothEngine::planned(settings, dim)),

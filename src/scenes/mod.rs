@@ -4,6 +4,8 @@
 
 #[cfg(feature = "contact")]
 mod contact;
+#[cfg(feature = "contact")]
+pub mod joints;
 mod registry;
 #[cfg(feature = "contact")]
 pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};

@@ -7,8 +7,21 @@ use crate::error::WorldError;
 use crate::world::World;
 
 /// The built-in scenes' names.
-pub const NAMES: [&str; 8] =
-    ["cloth", "spinning_top", "bouncing_ball", "tumbling_box", "dominoes", "pyramid", "pile", "cloth_drape"];
+pub const NAMES: [&str; 13] = [
+    "cloth",
+    "spinning_top",
+    "bouncing_ball",
+    "tumbling_box",
+    "dominoes",
+    "pyramid",
+    "pile",
+    "cloth_drape",
+    "pendulum",
+    "chain",
+    "newtons_cradle",
+    "door",
+    "ragdoll",
+];
 
 /// Largest count a scene parameter may take (particles a side, dominoes, pyramid layers).
 const MAX_COUNT: f64 = 1000.0;
@@ -109,6 +122,38 @@ fn scene(name: &str, params: &[(String, f64)], make: bool) -> Result<Option<Worl
     Ok(world)
 }
 
+/// The jointed scenes (`joints.rs`).
+#[cfg(feature = "contact")]
+fn jointed(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>, WorldError> {
+    use super::joints;
+    let world = match name {
+        "pendulum" => {
+            let (length, radius) = (p.number("length", 1.0)?, p.number("radius", 0.05)?);
+            p.finish(name)?;
+            make.then(|| joints::pendulum(length, radius).map(|s| s.0)).transpose()?
+        }
+        "chain" => {
+            let links = p.count("links", 20)?;
+            p.finish(name)?;
+            make.then(|| joints::chain(links).map(|s| s.0)).transpose()?
+        }
+        "newtons_cradle" => {
+            let (balls, angle) = (p.count("balls", 5)?, p.number("angle", 0.5)?);
+            p.finish(name)?;
+            make.then(|| joints::newtons_cradle(balls, angle).map(|s| s.0)).transpose()?
+        }
+        "door" => {
+            p.finish(name)?;
+            make.then(|| joints::door().map(|s| s.0)).transpose()?
+        }
+        _ => {
+            p.finish(name)?;
+            make.then(|| joints::ragdoll().map(|s| s.0)).transpose()?
+        }
+    };
+    Ok(world)
+}
+
 fn unknown(name: &str) -> WorldError {
     WorldError::invalid("name", format!("unknown scene {name:?}; expected one of {}", NAMES.join(", ")))
 }
@@ -183,6 +228,7 @@ fn contact_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<Wor
                 None
             }
         }
+        "pendulum" | "chain" | "newtons_cradle" | "door" | "ragdoll" => return jointed(name, p, make),
         other => return Err(unknown(other)),
     };
     Ok(world)

@@ -43,12 +43,28 @@ impl World {
 
     #[cfg(feature = "contact")]
     fn contact_scene(&self, compiled: &Compiled) -> Option<crate::engine::contact_scene::ContactScene> {
-        crate::engine::contact_scene::ContactScene::build(
+        let mut scene = crate::engine::contact_scene::ContactScene::build(
             compiled.model.layout,
             &self.particles,
             &self.bodies,
             &compiled.bodies,
-        )
+        )?;
+        // bodies a joint joins directly do not collide with each other
+        use crate::model::joints::JointEnd;
+        let p = compiled.model.layout.particles;
+        let mut joined: Vec<(usize, usize)> = compiled
+            .model
+            .joints
+            .iter()
+            .filter_map(|j| match (j.a, j.b) {
+                (JointEnd::Body(a), JointEnd::Body(b)) => Some(((p + a).min(p + b), (p + a).max(p + b))),
+                _ => None,
+            })
+            .collect();
+        joined.sort_unstable();
+        joined.dedup();
+        scene.joined = joined;
+        Some(scene)
     }
 
     /// A new engine for the world as it is.

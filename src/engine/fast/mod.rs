@@ -123,7 +123,7 @@ impl FastEngine {
     }
 
     /// The engine's own stages for a state of length `dim`, with or without colliders that can touch.
-    pub fn planned(settings: &FastSettings, dim: usize, has_scene: bool) -> Vec<Stage> {
+    pub fn planned(settings: &FastSettings, dim: usize, has_scene: bool, joints: bool) -> Vec<Stage> {
         let mut out = Vec::new();
         if has_scene {
             out.push(Stage::CollisionDetection);
@@ -131,7 +131,8 @@ impl FastEngine {
                 FastSolver::Soft(_) => Stage::ContactSoftStep,
                 FastSolver::Exact { .. } => Stage::ContactConeProgram,
             });
-            if settings.sleep {
+            // jointed bodies do not sleep (`sleep.rs`)
+            if settings.sleep && !joints {
                 out.push(Stage::Sleeping);
             }
         }
@@ -142,7 +143,7 @@ impl FastEngine {
     }
 
     pub fn own_stages(&self) -> Vec<Stage> {
-        Self::planned(&self.settings, self.y.len(), self.scene.is_some())
+        Self::planned(&self.settings, self.y.len(), self.scene.is_some(), self.compiled.model.has_joints())
     }
 
     pub fn compiled(&self) -> &Compiled {
