@@ -39,9 +39,12 @@ pub(crate) fn update_positions(m: &Model, y: &mut [f64], v: &[BodyVelocity], h: 
 
 /// The poses and velocities of a soft step (whose substeps moved the actors): every actor for which
 /// `moves(actor)` holds is displaced and turned as the step says, its momenta from its new velocities (angular
-/// momentum from the inertia at the step's start, scaled as in `update_positions` so the turn gains no energy).
+/// momentum from the inertia at the step's start, scaled as in `update_positions` so the turn gains no energy; a
+/// jointed body's from its inertia at the step's end, as its rows had it). Keeping a jointed body's momentum from
+/// the start's inertia fed a whipping chain's thin links a spin about their own axes until it blew up.
 pub(crate) fn apply_moves(m: &Model, y: &mut [f64], out: &SoftStep, moves: impl Fn(usize) -> bool) {
     let l = m.layout;
+    let jointed = m.jointed_bodies();
     for i in (0..l.particles).filter(|&i| moves(i)) {
         let x = get3(y, l.px(i)) + out.displacements[i];
         set3(y, l.px(i), &x);
@@ -56,7 +59,14 @@ pub(crate) fn apply_moves(m: &Model, y: &mut [f64], out: &SoftStep, moves: impl 
         let x = get3(y, l.bx(j)) + out.displacements[a];
         let q0 = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
         let q1 = out.rotations[a] * q0;
-        let momentum = turned_momentum(b, &q0, &q1, &w);
+        // a jointed body's velocities come from rows that turned its inertia with it (and its spin kept its
+        // momentum over each substep): its momentum is its inertia where it ends times its velocity
+        let momentum = if jointed.get(j).copied().unwrap_or(false) {
+            let r1 = q1.to_rotation_matrix().into_inner();
+            r1 * b.inertia * r1.transpose() * w
+        } else {
+            turned_momentum(b, &q0, &q1, &w)
+        };
         set3(y, l.bx(j), &x);
         set_quat(y, l.bq(j), &q1);
         set3(y, l.bp(j), &(lin * b.mass));

@@ -278,6 +278,23 @@ impl Model {
         out
     }
 
+    /// Whether each dynamic body is an end of a joint (empty without joints).
+    pub(crate) fn jointed_bodies(&self) -> Vec<bool> {
+        #[cfg(feature = "contact")]
+        if !self.joints.is_empty() {
+            let mut out = vec![false; self.bodies.len()];
+            for j in &self.joints {
+                for end in [j.a, j.b] {
+                    if let joints::JointEnd::Body(i) = end {
+                        out[i] = true;
+                    }
+                }
+            }
+            return out;
+        }
+        Vec::new()
+    }
+
     /// Whether the model has joints.
     pub(crate) fn has_joints(&self) -> bool {
         #[cfg(feature = "contact")]
