@@ -9,6 +9,8 @@ take minutes.
 
     python3 benches/peers/compare.py             # piles of 100 and 1000
     python3 benches/peers/compare.py 100 --exact # also tumble's exact solver (slow on large piles)
+    python3 benches/peers/compare.py --joints    # the joint scenes: tumble (fast and accurate), Rapier (impulse and
+                                                 # multibody joints), MuJoCo (``examples/joint_scenes.rs``)
 """
 
 from __future__ import annotations
@@ -41,6 +43,17 @@ def _table(command: list[str]) -> tuple[str, list[tuple[str, str]], str | None]:
     return header, body, failure
 
 
+def joint_commands() -> tuple[list[list[str]], list[str]]:
+    """The joint scenes' commands, and the peers left out."""
+    cargo = ["cargo", "run", "--quiet", "--release"]
+    rapier = cargo + ["--manifest-path", os.path.join(PEERS, "rapier", "Cargo.toml"), "--", "joints"]
+    commands = [cargo + ["--example", "joint_scenes"], cargo + ["--example", "joint_scenes", "--", "accurate"],
+                rapier, rapier + ["multibody"]]
+    if importlib.util.find_spec("mujoco") is None:
+        return commands, ["mujoco"]
+    return commands + [[sys.executable, os.path.join(PEERS, "python_engines.py"), "joints"]], []
+
+
 def main() -> None:
     args = sys.argv[1:]
     sizes = [a for a in args if a.isdigit()] or ["100", "1000"]
@@ -55,6 +68,8 @@ def main() -> None:
             missing.append(module)
         else:
             commands.append([sys.executable, os.path.join(PEERS, script), *sizes])
+    if "--joints" in args:
+        commands, missing = joint_commands()
     columns, labels, failures = [], [], []
     for command in commands:
         header, rows, failure = _table(command)

@@ -85,9 +85,88 @@ def _displacement(model, data, names: list[str], steps: int) -> float:
     return worst
 
 
+def _joint_model(dt: float, body: str):
+    import mujoco
+
+    xml = f"""<mujoco>
+  <option timestep="{dt!r}" gravity="0 0 {-G}"/>
+  <worldbody>{body}</worldbody>
+</mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    return model, mujoco.MjData(model)
+
+
+def _chain(horizontal: bool) -> str:
+    """The joint scenes' chain as a kinematic tree: each link's frame at its top anchor, a ball joint there."""
+    turn = ' quat="0.7071067811865476 0 -0.7071067811865476 0"' if horizontal else ""
+    link = ('<body name="l{k}" pos="{pos}"{turn}><joint type="ball"/>'
+            '<geom type="capsule" size="0.01 0.04" pos="0 0 -0.05" mass="1"/>')
+    xml = "".join(link.format(k=k, pos="0 0 2.5" if k == 0 else "0 0 -0.1", turn=turn if k == 0 else "")
+                  for k in range(20))
+    xml += '<body name="weight" pos="0 0 -0.1"><joint type="ball"/><geom type="sphere" size="0.1" pos="0 0 -0.1" mass="10"/></body>'
+    return xml + "</body>" * 20
+
+
+def _stretch(model, data) -> float:
+    """The sum of the joints' gaps: each child's frame origin against its parent's bottom anchor."""
+    import mujoco
+
+    ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"l{k}") for k in range(20)]
+    ids.append(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "weight"))
+    gaps = [np.linalg.norm(data.xpos[ids[0]] - np.array([0.0, 0.0, 2.5]))]
+    for parent, child in zip(ids, ids[1:]):
+        bottom = data.xpos[parent] + data.xmat[parent].reshape(3, 3) @ np.array([0.0, 0.0, -0.1])
+        gaps.append(np.linalg.norm(data.xpos[child] - bottom))
+    return float(sum(gaps))
+
+
+def joints() -> None:
+    """The joint scenes (``examples/joint_scenes.rs`` in tumble has their definitions): ball and hinge joints in
+    MuJoCo's generalized coordinates, which cannot stretch by construction."""
+    import mujoco
+
+    print(f"| MuJoCo {mujoco.__version__} (defaults, joints in generalized coordinates) | value |\n|---|---|")
+    dt = 1 / 60
+    for horizontal, label in ((False, "chain hanging, dt 1/60: stretch after 5 s"),
+                              (True, "chain from horizontal, dt 1/60: largest stretch in 5 s")):
+        model, data = _joint_model(dt, _chain(horizontal))
+        mujoco.mj_forward(model, data)
+        spent, worst = 0.0, 0.0
+        for _ in range(300):
+            clock = time.perf_counter()
+            mujoco.mj_step(model, data)
+            spent += time.perf_counter() - clock
+            mujoco.mj_kinematics(model, data)
+            worst = max(worst, _stretch(model, data))
+        value = worst if horizontal else _stretch(model, data)
+        # MuJoCo resets a simulation whose accelerations blow up (and warns): say so rather than print the reset's 0
+        resets = data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
+        shown = f"{value:.2e} m" if resets == 0 else f"unstable ({resets} resets)"
+        print(f"| {label} / ms a step | {shown} / {spent * 1e3 / 300:.3f} ms |")
+    r = 0.05
+    model, data = _joint_model(dt, '<body name="bob"><joint type="hinge" axis="0 1 0"/>'
+                                   f'<geom type="sphere" size="{r}" pos="1 0 0" mass="1"/></body>')
+    spent, crossings, last = 0.0, [], (0.0, 1.0)
+    for k in range(600):
+        clock = time.perf_counter()
+        mujoco.mj_step(model, data)
+        spent += time.perf_counter() - clock
+        t, x = (k + 1) * dt, float(data.geom_xpos[0][0])
+        if last[1] > 0 and x <= 0:
+            crossings.append(last[0] + last[1] / (last[1] - x) * (t - last[0]))
+        last = (t, x)
+    period = (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+    exact = 4 * np.sqrt((1 + 0.4 * r * r) / G) * 1.854074677301372
+    print(f"| hinged pendulum from 90 deg, dt 1/60: period error / ms a step | {(period - exact) / exact:+.2e} / "
+          f"{spent * 1e3 / 600:.4f} ms |")
+
+
 def main() -> None:
     import mujoco
 
+    if "joints" in sys.argv[1:]:
+        joints()
+        return
     sizes = [int(a) for a in sys.argv[1:]] or [100, 1000]
     print(f"| MuJoCo {mujoco.__version__} (defaults) | value |\n|---|---|")
     for n in sizes:

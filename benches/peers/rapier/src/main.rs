@@ -34,10 +34,7 @@ fn cube(w: &mut PhysicsWorld, half: f64, density: f64, at: Vector, mu: f64, slee
 }
 
 fn penetration(w: &PhysicsWorld) -> f64 {
-    w.narrow_phase
-        .contact_pairs()
-        .filter_map(|p| p.find_deepest_contact().map(|(_, c)| -c.dist))
-        .fold(0.0, f64::max)
+    w.narrow_phase.contact_pairs().filter_map(|p| p.find_deepest_contact().map(|(_, c)| -c.dist)).fold(0.0, f64::max)
 }
 
 fn pile(n: usize, sleep: bool) -> (f64, f64) {
@@ -72,13 +69,133 @@ fn displacement(w: &mut PhysicsWorld, bodies: &[RigidBodyHandle], steps: usize) 
     worst
 }
 
+/// The joint scenes (`examples/joint_scenes.rs` in tumble has their definitions), with impulse joints or multibody
+/// joints; contacts between jointed bodies disabled, as tumble's are.
+mod joints {
+    use super::*;
+
+    /// Either joint set, by kind.
+    fn join(
+        w: &mut PhysicsWorld,
+        multibody: bool,
+        a: RigidBodyHandle,
+        b: RigidBodyHandle,
+        joint: impl Into<GenericJoint>,
+    ) {
+        if multibody {
+            w.multibody_joints.insert(a, b, joint, true).expect("a tree");
+        } else {
+            w.impulse_joints.insert(a, b, joint, true);
+        }
+    }
+
+    type Anchor = (RigidBodyHandle, Vector);
+
+    /// The chain, turned about the pivot when `horizontal`; its joints' anchors in pairs.
+    fn chain(w: &mut PhysicsWorld, multibody: bool, horizontal: bool) -> Vec<(Anchor, Anchor)> {
+        let pivot = Vector::new(0.0, 0.0, 2.5);
+        let turn = if horizontal { Vector::new(0.0, -std::f64::consts::FRAC_PI_2, 0.0) } else { Vector::ZERO };
+        let place = |v: Vector| if horizontal { Vector::new(-v.z, v.y, v.x) } else { v };
+        let fixed = w.insert_body(RigidBodyBuilder::fixed());
+        let (top, bottom) = (Vector::new(0.0, 0.0, 0.05), Vector::new(0.0, 0.0, -0.05));
+        let mut above: Anchor = (fixed, pivot);
+        let mut out = Vec::new();
+        for k in 0..20 {
+            let at = pivot + place(Vector::new(0.0, 0.0, -0.05 - 0.1 * k as f64));
+            let (b, _) = w.insert(
+                RigidBodyBuilder::dynamic().translation(at).rotation(turn).can_sleep(false),
+                ColliderBuilder::capsule_z(0.04, 0.01).mass(1.0),
+            );
+            let joint = SphericalJointBuilder::new().local_anchor1(above.1).local_anchor2(top).contacts_enabled(false);
+            join(w, multibody, above.0, b, joint);
+            out.push((above, (b, top)));
+            above = (b, bottom);
+        }
+        let at = pivot + place(Vector::new(0.0, 0.0, -2.1));
+        let (ball, _) = w.insert(
+            RigidBodyBuilder::dynamic().translation(at).rotation(turn).can_sleep(false),
+            ColliderBuilder::ball(0.1).mass(10.0),
+        );
+        let anchor = Vector::new(0.0, 0.0, 0.1);
+        let joint = SphericalJointBuilder::new().local_anchor1(above.1).local_anchor2(anchor).contacts_enabled(false);
+        join(w, multibody, above.0, ball, joint);
+        out.push((above, (ball, anchor)));
+        out
+    }
+
+    fn stretch(w: &PhysicsWorld, joints: &[(Anchor, Anchor)]) -> f64 {
+        let point = |(b, p): &Anchor| w.bodies[*b].position().transform_point(*p);
+        joints.iter().map(|(a, b)| (point(a) - point(b)).length()).sum()
+    }
+
+    pub fn table(multibody: bool) {
+        let kind = if multibody { "multibody" } else { "impulse" };
+        println!("| Rapier 0.36.1 (f64, {kind} joints, defaults) | value |\n|---|---|");
+        let dt = 1.0 / 60.0;
+        for (horizontal, label) in [
+            (false, "chain hanging, dt 1/60: stretch after 5 s"),
+            (true, "chain from horizontal, dt 1/60: largest stretch in 5 s"),
+        ] {
+            let mut w = world(dt);
+            let joints = chain(&mut w, multibody, horizontal);
+            let (mut spent, mut worst) = (0.0, 0.0f64);
+            for _ in 0..300 {
+                let clock = Instant::now();
+                w.step();
+                spent += clock.elapsed().as_secs_f64();
+                worst = worst.max(stretch(&w, &joints));
+            }
+            let value = if horizontal { worst } else { stretch(&w, &joints) };
+            println!("| {label} / ms a step | {value:.2e} m / {:.3} ms |", spent * 1e3 / 300.0);
+        }
+        let mut w = world(dt);
+        let fixed = w.insert_body(RigidBodyBuilder::fixed());
+        let r = 0.05;
+        let (bob, _) = w.insert(
+            RigidBodyBuilder::dynamic().translation(Vector::new(1.0, 0.0, 0.0)).can_sleep(false),
+            ColliderBuilder::ball(r).mass(1.0),
+        );
+        let hinge = RevoluteJointBuilder::new(Vector::Y)
+            .local_anchor1(Vector::ZERO)
+            .local_anchor2(Vector::new(-1.0, 0.0, 0.0))
+            .contacts_enabled(false);
+        join(&mut w, multibody, fixed, bob, hinge);
+        let (mut spent, mut crossings, mut last) = (0.0, Vec::new(), (0.0, 1.0));
+        for k in 0..600 {
+            let clock = Instant::now();
+            w.step();
+            spent += clock.elapsed().as_secs_f64();
+            let (t, x) = ((k + 1) as f64 * dt, w.bodies[bob].translation().x);
+            if last.1 > 0.0 && x <= 0.0 {
+                crossings.push(last.0 + last.1 / (last.1 - x) * (t - last.0));
+            }
+            last = (t, x);
+        }
+        let period = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+        let exact = 4.0 * ((1.0 + 0.4 * r * r) / G).sqrt() * 1.854_074_677_301_372;
+        println!(
+            "| hinged pendulum from 90 deg, dt 1/60: period error / ms a step | {:+.2e} / {:.4} ms |",
+            (period - exact) / exact,
+            spent * 1e3 / 600.0
+        );
+    }
+}
+
 fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "joints") {
+        joints::table(args.iter().any(|a| a == "multibody"));
+        return;
+    }
     let sizes: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
     println!("| Rapier 0.36.1 (f64, defaults) | value |\n|---|---|");
     for &n in if sizes.is_empty() { &[100usize, 1000][..] } else { &sizes[..] } {
         for (sleep, label) in [(false, "no sleep"), (true, "sleeping")] {
             let (ms, pen) = pile(n, sleep);
-            println!("| pile {n}, {label}: ms a step / penetration (last 100 steps) | {ms:.3} ms / {:.3} mm |", pen * 1e3);
+            println!(
+                "| pile {n}, {label}: ms a step / penetration (last 100 steps) | {ms:.3} ms / {:.3} mm |",
+                pen * 1e3
+            );
         }
     }
     let dt = 1.0 / 240.0;
@@ -90,7 +207,10 @@ fn main() {
     let mut w = world(dt);
     ground(&mut w, 0.5);
     let (b, _) = w.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, 0.2)).linvel(Vector::new(2.0, 0.0, 0.0)).can_sleep(false),
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.0, 0.0, 0.2))
+            .linvel(Vector::new(2.0, 0.0, 0.0))
+            .can_sleep(false),
         ColliderBuilder::cuboid(0.2, 0.2, 0.2).density(500.0).friction(0.5).restitution(0.0),
     );
     for _ in 0..480 {
@@ -114,5 +234,8 @@ fn main() {
         w.step();
     }
     let x = w.bodies[ball].translation().x;
-    println!("| bullet: ball ends at x (wall at 5 m) | {x:.3} m ({}) |", if x < 5.0 { "held by the wall" } else { "TUNNELLED" });
+    println!(
+        "| bullet: ball ends at x (wall at 5 m) | {x:.3} m ({}) |",
+        if x < 5.0 { "held by the wall" } else { "TUNNELLED" }
+    );
 }
