@@ -103,7 +103,8 @@ def _chain(horizontal: bool) -> str:
             '<geom type="capsule" size="0.01 0.04" pos="0 0 -0.05" mass="1"/>')
     xml = "".join(link.format(k=k, pos="0 0 2.5" if k == 0 else "0 0 -0.1", turn=turn if k == 0 else "")
                   for k in range(20))
-    xml += '<body name="weight" pos="0 0 -0.1"><joint type="ball"/><geom type="sphere" size="0.1" pos="0 0 -0.1" mass="10"/></body>'
+    xml += ('<body name="weight" pos="0 0 -0.1"><joint type="ball"/>'
+            '<geom type="sphere" size="0.1" pos="0 0 -0.1" mass="10"/></body>')
     return xml + "</body>" * 20
 
 
