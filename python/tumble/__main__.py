@@ -23,6 +23,11 @@ SCENES = {
     "cloth-drape": (scenes.cloth_drape, 3.0),
     "cloth": (scenes.cloth, 3.0),
     "top": (scenes.spinning_top, 3.0),
+    "pendulum": (scenes.pendulum, 4.0),
+    "chain": (scenes.chain, 5.0),
+    "cradle": (scenes.newtons_cradle, 3.0),
+    "door": (scenes.door, 3.0),
+    "ragdoll": (scenes.ragdoll, 3.0),
 }
 
 
