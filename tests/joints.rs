@@ -172,19 +172,21 @@ fn door_angle(w: &World, b: BodyHandle) -> f64 {
 
 #[test]
 fn a_door_thrown_past_its_limit_stops_there() {
-    let mut w = fast(8);
-    let b = door(&mut w, |a, b| JointBuilder::hinge(a, b, Vector3::z()).limits(-1.0, 1.0), 5.0);
-    let mut largest = 0.0f64;
-    for _ in 0..120 {
-        w.step(1.0 / 60.0).unwrap();
-        largest = largest.max(door_angle(&w, b));
+    for accurate_mode in [false, true] {
+        let mut w = if accurate_mode { accurate(1e-8) } else { fast(8) };
+        let b = door(&mut w, |a, b| JointBuilder::hinge(a, b, Vector3::z()).limits(-1.0, 1.0), 5.0);
+        let mut largest = 0.0f64;
+        for _ in 0..120 {
+            w.step(1.0 / 60.0).unwrap();
+            largest = largest.max(door_angle(&w, b));
+        }
+        eprintln!("door: largest angle {largest}, final {}", door_angle(&w, b));
+        // the limit row lets the door close on the limit within a substep and pushes only on it: measured no overshoot
+        // beyond rounding; bound 1e-2 rad. Without restitution it stays at the limit.
+        assert!(largest < 1.0 + 1e-2, "{largest}");
+        assert!((door_angle(&w, b) - 1.0).abs() < 1e-2, "{}", door_angle(&w, b));
+        assert!(w.body(b).unwrap().angular_velocity().z.abs() < 1e-3);
     }
-    eprintln!("door: largest angle {largest}, final {}", door_angle(&w, b));
-    // the limit row lets the door close on the limit within a substep and pushes only on it: measured no overshoot
-    // beyond rounding; bound 1e-2 rad. Without restitution it stays at the limit.
-    assert!(largest < 1.0 + 1e-2, "{largest}");
-    assert!((door_angle(&w, b) - 1.0).abs() < 1e-2, "{}", door_angle(&w, b));
-    assert!(w.body(b).unwrap().angular_velocity().z.abs() < 1e-3);
 }
 
 #[test]
@@ -192,20 +194,21 @@ fn a_motor_reaches_its_speed_under_a_load_below_its_torque_and_stalls_above() {
     // the door on its hinge, driven at 2 rad/s against a constant 10 N m; the door's inertia about the hinge is
     // I = m (w^2 + t^2) / 12 + m (w/2)^2
     let inertia = 20.0 * (1.0 + 0.0025) / 12.0 + 20.0 * 0.25;
-    for max_torque in [50.0, 5.0] {
-        let mut w = fast(8);
+    for (max_torque, accurate_mode) in [(50.0, false), (5.0, false), (50.0, true), (5.0, true)] {
+        let mut w = if accurate_mode { accurate(1e-8) } else { fast(8) };
         let b = door(&mut w, |a, b| JointBuilder::hinge(a, b, Vector3::z()).motor(2.0, max_torque), 0.0);
         w.add_torque(b, Vector3::new(0.0, 0.0, -10.0)).unwrap();
         w.step(1.0).unwrap();
         let spin = w.body(b).unwrap().angular_velocity().z;
         if max_torque > 10.0 {
-            // holds its speed: the motor row meets its target to the sweeps' convergence (measured 1e-12)
-            assert!((spin - 2.0).abs() < 1e-6, "{spin}");
+            // holds its speed: fast mode's motor row meets its target to the solve's rounding (measured 1e-12);
+            // accurate mode's drives it there at 100/s (after 1 s, e^-100 of the way is left)
+            assert!((spin - 2.0).abs() < 1e-6, "accurate {accurate_mode}: {spin}");
         } else {
             // stalls: the net torque 5 - 10 turns it backwards at -5 / I rad/s^2 (the substeps integrate a constant
             // acceleration exactly; the hinge's own rows add rounding)
             let expected = (max_torque - 10.0) / inertia;
-            assert!((spin - expected).abs() < 1e-6 * expected.abs(), "{spin} vs {expected}");
+            assert!((spin - expected).abs() < 1e-6 * expected.abs(), "accurate {accurate_mode}: {spin} vs {expected}");
         }
     }
 }
@@ -260,11 +263,12 @@ fn bad_joints_are_refused_by_name_and_change_nothing() {
     assert_eq!(name(w.add_joint(JointBuilder::ball(None, None))), "b");
     assert_eq!(w.joints().count(), 0);
     assert!(!w.plan().has("joints"));
-    // a joint accurate mode cannot hold is refused at the step, and the world is as it was
-    w.add_joint(JointBuilder::hinge(Some(a), Some(b), Vector3::z()).limits(-1.0, 1.0)).unwrap();
+    // an option that does not apply (a softness, fast mode's, in accurate mode) is refused at the step, and the
+    // world is as it was
+    w.add_joint(JointBuilder::hinge(Some(a), Some(b), Vector3::z()).softness(30.0, 1.0)).unwrap();
     assert!(w.plan().has("joints"));
     let before = w.body(b).unwrap().position();
-    assert_eq!(name(w.step(0.1)), "limits");
+    assert_eq!(name(w.step(0.1)), "softness");
     assert_eq!(w.body(b).unwrap().position(), before);
     assert_eq!(w.time(), 0.0);
     // removing a body removes its joints
@@ -347,4 +351,30 @@ fn a_whipping_chain_of_thin_links_gains_no_energy() {
     // measured: the highest 0.9 J above the start (0.1% of the 736 J the fall exchanges), the end 94 J below it
     assert!(highest < e0 + 5e-3 * 736.0 && last < e0, "{highest} {last} against {e0}");
     assert!(w.report().joint_error < 2e-2, "{}", w.report().joint_error);
+}
+
+#[test]
+fn a_rope_is_slack_until_taut_then_holds_in_both_modes() {
+    // a 1 kg ball on a 1 m rope from the origin, started 0.5 m to the side of it at rest: it falls freely until the
+    // rope is taut (at t = sqrt(2 * sqrt(0.75) / g), when it has fallen sqrt(1 - 0.25) m), then swings on it
+    for accurate_mode in [false, true] {
+        let mut w = if accurate_mode { accurate(1e-9) } else { fast(8) };
+        let bob = w
+            .add_body(RigidBodyBuilder::new(1.0, Matrix3::identity() * 1e-3).position(Vector3::new(0.5, 0.0, 0.0)))
+            .unwrap();
+        w.add_joint(JointBuilder::rope(None, Some(bob), Some(1.0))).unwrap();
+        // free fall before the rope is taut: the fast mode's substeps are semi-implicit Euler (error h g t / 2)
+        w.step(0.2).unwrap();
+        let z = w.body(bob).unwrap().position().z;
+        let tolerance = if accurate_mode { 1e-9 } else { 0.5 * (1.0 / 480.0) * G * 0.2 + 1e-12 };
+        assert!((z + 0.5 * G * 0.04).abs() < tolerance, "accurate {accurate_mode}: z {z}");
+        let mut longest = 0.0f64;
+        for _ in 0..120 {
+            w.step(1.0 / 60.0).unwrap();
+            longest = longest.max(w.body(bob).unwrap().position().norm());
+        }
+        // taut, it holds: measured 1 + 1e-14 m (accurate), 1 + 1.5e-5 m (fast); bound 1 + 1e-3 m
+        eprintln!("rope accurate {accurate_mode}: longest {longest}");
+        assert!(longest < 1.0 + 1e-3 && longest > 0.999, "accurate {accurate_mode}: {longest}");
+    }
 }

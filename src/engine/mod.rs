@@ -98,10 +98,9 @@ impl SavedMemory {
 }
 
 /// Whether the mode can solve the model's joints: fast mode's soft solver takes every kind and option; its exact
-/// solver none; accurate mode holds joints as equality constraints (no limits, motors or ropes yet).
+/// solver none; accurate mode holds them exactly (a softness is fast mode's) and needs its contact steps.
 #[cfg(feature = "contact")]
 fn check_joints(mode: &Mode, model: &Model) -> Result<(), WorldError> {
-    use tumble_contact::JointKind;
     if model.joints.is_empty() {
         return Ok(());
     }
@@ -118,28 +117,10 @@ fn check_joints(mode: &Mode, model: &Model) -> Result<(), WorldError> {
                     "the chapter's resting forces know nothing of joints: use persistent contact steps (the default)",
                 ));
             }
-            for cj in &model.joints {
-                let j = &cj.joint;
-                if j.softness.is_some() {
-                    return Err(WorldError::invalid(
-                        "softness",
-                        "a joint's softness applies to fast mode (accurate mode holds joints exactly)",
-                    ));
-                }
-                let (name, what) = if j.limits.is_some() {
-                    ("limits", "limits")
-                } else if j.motor.is_some() {
-                    ("motor", "motors")
-                } else if matches!(j.kind, JointKind::Distance { rope: true, .. }) {
-                    ("joint", "ropes")
-                } else {
-                    continue;
-                };
+            if model.joints.iter().any(|cj| cj.joint.softness.is_some()) {
                 return Err(WorldError::invalid(
-                    name,
-                    format!(
-                        "accurate mode holds joints as equality constraints and has no {what} yet: use mode=\"fast\""
-                    ),
+                    "softness",
+                    "a joint's softness applies to fast mode (accurate mode holds joints exactly)",
                 ));
             }
             Ok(())

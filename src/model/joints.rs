@@ -6,9 +6,9 @@
 //! control keeps its meaning. Springs on hinges and sliders are forces (-k C - c C'). Fast mode's soft step reads
 //! the same frames (`engine/fast/soft_solve.rs`).
 
-use crate::model::layout::{add3, get3, get_quat, set_quat};
+use crate::model::layout::{get3, get_quat};
 use crate::model::Model;
-use nalgebra::{DMatrix, DVector, Isometry3, Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 use tumble_contact::{joint_rows, Joint, JointFrame, JointRow, RowKind};
 
 /// Where a joint end is.
@@ -49,8 +49,6 @@ pub(crate) struct EndState {
 
 /// Rows with their joints' indices, and each joint's two ends.
 type Rows = (Vec<(usize, JointRow)>, Vec<(EndState, EndState)>);
-/// A row's part on one end: the body (if it moves), linear and angular.
-type Part = (Option<usize>, Vector3<f64>, Vector3<f64>);
 
 impl CompiledJoint {
     /// The joint's frame with its ends at `a` and `b`.
@@ -95,7 +93,7 @@ impl Model {
     }
 
     /// Every joint's rows at y (with velocity products when `velocity`), each with its joint's index.
-    fn all_rows(&self, y: &[f64], velocity: bool) -> Rows {
+    pub(crate) fn all_rows(&self, y: &[f64], velocity: bool) -> Rows {
         let mut rows = Vec::new();
         let mut ends = Vec::with_capacity(self.joints.len());
         let mut scratch = Vec::new();
@@ -128,167 +126,6 @@ impl Model {
     /// The number of rows the joints give.
     pub(crate) fn joint_row_count(&self, y: &[f64]) -> usize {
         self.all_rows(y, false).0.len()
-    }
-
-    /// The rows' K = J M^-1 J^T (rows of `rows`, over the ends of their joints).
-    fn delassus(&self, rows: &[(usize, JointRow)], ends: &[(EndState, EndState)]) -> DMatrix<f64> {
-        let n = rows.len();
-        let mut k = DMatrix::zeros(n, n);
-        // each row's parts on each dynamic body: (body, linear, angular)
-        let parts: Vec<[Part; 2]> = rows
-            .iter()
-            .map(|(j, r)| {
-                let cj = &self.joints[*j];
-                let body = |e: JointEnd| match e {
-                    JointEnd::Body(i) => Some(i),
-                    JointEnd::Fixed(_) => None,
-                };
-                [(body(cj.a), -r.lin, r.ang_a), (body(cj.b), r.lin, r.ang_b)]
-            })
-            .collect();
-        for i in 0..n {
-            let (ji, _) = rows[i];
-            for m in i..n {
-                let mut sum = 0.0;
-                for (side_i, (bi, li, ai)) in parts[i].iter().enumerate() {
-                    let Some(bi) = bi else { continue };
-                    for (bm, lm, am) in parts[m].iter() {
-                        if *bm == Some(*bi) {
-                            let e = if side_i == 0 { &ends[ji].0 } else { &ends[ji].1 };
-                            sum += e.inv_mass * li.dot(lm) + ai.dot(&(e.inv_inertia * am));
-                        }
-                    }
-                }
-                k[(i, m)] = sum;
-                k[(m, i)] = sum;
-            }
-        }
-        k
-    }
-
-    /// Solves K x = r, K positive semidefinite (a redundant joint makes it singular: then the least-norm answer of
-    /// a slightly regularised K).
-    fn solve_rows(k: DMatrix<f64>, r: DVector<f64>) -> DVector<f64> {
-        if let Some(c) = k.clone().cholesky() {
-            return c.solve(&r);
-        }
-        let scale = k.diagonal().amax().max(1e-300);
-        let n = k.nrows();
-        let reg = k + DMatrix::identity(n, n) * (1e-12 * scale);
-        match reg.clone().cholesky() {
-            Some(c) => c.solve(&r),
-            None => reg.pseudo_inverse(1e-14 * scale).map(|p| p * r).unwrap_or_else(|_| DVector::zeros(n)),
-        }
-    }
-
-    /// Adds the joints' constraint forces and springs to the p rates `dp` (accurate mode's right-hand side).
-    pub(crate) fn add_joint_forces(&self, y: &[f64], dp: &mut [f64]) {
-        if self.joints.is_empty() {
-            return;
-        }
-        let (l, q) = (self.layout, self.layout.positions());
-        let (rows, ends) = self.all_rows(y, true);
-        let apply = |dp: &mut [f64], j: usize, r: &JointRow, lambda: f64| {
-            let cj = &self.joints[j];
-            if let JointEnd::Body(i) = cj.a {
-                add3(dp, l.bp(i) - q, &(-r.lin * lambda));
-                add3(dp, l.bl(i) - q, &(r.ang_a * lambda));
-            }
-            if let JointEnd::Body(i) = cj.b {
-                add3(dp, l.bp(i) - q, &(r.lin * lambda));
-                add3(dp, l.bl(i) - q, &(r.ang_b * lambda));
-            }
-        };
-        // springs: forces of the state alone
-        let speed = |j: usize, r: &JointRow| {
-            let (a, b) = &ends[j];
-            r.lin.dot(&(b.v - a.v)) + r.ang_a.dot(&a.w) + r.ang_b.dot(&b.w)
-        };
-        for (j, r) in &rows {
-            if let RowKind::Spring { stiffness, damping } = r.kind {
-                apply(dp, *j, r, -stiffness * r.error - damping * speed(*j, r));
-            }
-        }
-        let held: Vec<(usize, JointRow)> = rows.into_iter().filter(|(_, r)| r.kind == RowKind::Equality).collect();
-        if held.is_empty() {
-            return;
-        }
-        // each end's acceleration under the forces so far (Euler's equations with L = I w)
-        let accel = |e: JointEnd, s: &EndState, dp: &[f64]| match e {
-            JointEnd::Body(i) => {
-                let f = get3(dp, l.bp(i) - q);
-                let tau = get3(dp, l.bl(i) - q);
-                let lw = s.inv_inertia.try_inverse().unwrap_or_else(Matrix3::zeros) * s.w;
-                (f * s.inv_mass, s.inv_inertia * (tau - s.w.cross(&lw)))
-            }
-            JointEnd::Fixed(_) => (Vector3::zeros(), Vector3::zeros()),
-        };
-        let mut rhs = DVector::zeros(held.len());
-        for (n, (j, r)) in held.iter().enumerate() {
-            let cj = &self.joints[*j];
-            let (aa, alpha_a) = accel(cj.a, &ends[*j].0, dp);
-            let (ab, alpha_b) = accel(cj.b, &ends[*j].1, dp);
-            rhs[n] = -(r.lin.dot(&(ab - aa)) + r.ang_a.dot(&alpha_a) + r.ang_b.dot(&alpha_b) + r.curvature);
-        }
-        let lambda = Self::solve_rows(self.delassus(&held, &ends), rhs);
-        for ((j, r), &lam) in held.iter().zip(lambda.iter()) {
-            apply(dp, *j, r, lam);
-        }
-    }
-
-    /// Puts positions, then velocities, back on the joints (accurate mode, after an accepted step): at most four
-    /// Gauss-Newton corrections in the mass metric while an error exceeds `tolerance` (m or rad), then the velocity
-    /// correction that removes every row's speed at least kinetic energy. Returns whether y changed.
-    pub(crate) fn project_joints(&self, y: &mut [f64], tolerance: f64) -> bool {
-        if self.joints.is_empty() {
-            return false;
-        }
-        let l = self.layout;
-        let mut changed = false;
-        for _ in 0..4 {
-            let (rows, ends) = self.all_rows(y, false);
-            let held: Vec<(usize, JointRow)> = rows.into_iter().filter(|(_, r)| r.kind == RowKind::Equality).collect();
-            if held.iter().all(|(_, r)| r.error.abs() <= tolerance) {
-                break;
-            }
-            let c = DVector::from_iterator(held.len(), held.iter().map(|(_, r)| -r.error));
-            let delta = Self::solve_rows(self.delassus(&held, &ends), c);
-            for ((j, r), &d) in held.iter().zip(delta.iter()) {
-                let cj = &self.joints[*j];
-                for (end, lin, ang, s) in [(cj.a, -r.lin, r.ang_a, &ends[*j].0), (cj.b, r.lin, r.ang_b, &ends[*j].1)] {
-                    if let JointEnd::Body(i) = end {
-                        add3(y, l.bx(i), &(lin * (d * s.inv_mass)));
-                        let turn = UnitQuaternion::from_scaled_axis(s.inv_inertia * ang * d);
-                        let qn = turn * UnitQuaternion::new_normalize(get_quat(y, l.bq(i)));
-                        set_quat(y, l.bq(i), &qn);
-                    }
-                }
-            }
-            changed = true;
-        }
-        let (rows, ends) = self.all_rows(y, false);
-        let held: Vec<(usize, JointRow)> = rows.into_iter().filter(|(_, r)| r.kind == RowKind::Equality).collect();
-        let speeds: Vec<f64> = held
-            .iter()
-            .map(|(j, r)| {
-                let (a, b) = &ends[*j];
-                r.lin.dot(&(b.v - a.v)) + r.ang_a.dot(&a.w) + r.ang_b.dot(&b.w)
-            })
-            .collect();
-        if speeds.iter().all(|s| s.abs() <= tolerance) {
-            return changed;
-        }
-        let mu = Self::solve_rows(self.delassus(&held, &ends), -DVector::from_vec(speeds));
-        for ((j, r), &m) in held.iter().zip(mu.iter()) {
-            let cj = &self.joints[*j];
-            for (end, lin, ang) in [(cj.a, -r.lin, r.ang_a), (cj.b, r.lin, r.ang_b)] {
-                if let JointEnd::Body(i) = end {
-                    add3(y, l.bp(i), &(lin * m));
-                    add3(y, l.bl(i), &(ang * m));
-                }
-            }
-        }
-        true
     }
 }
 
@@ -358,13 +195,15 @@ pub(crate) fn compile_joints(
 }
 
 impl Model {
-    /// The rigid joints' holding rows for a velocity step from y (accurate mode's contact steps): J v = 0 at the
+    /// The joints' rows for a velocity step of h from y (accurate mode's contact steps): holding rows J v = 0 at the
     /// step's end (the position error is projected away after the step, `project_joints`: a velocity that pulls it
-    /// back would differ between a step and its two halves by the error itself, at any step size); a dynamic end is
-    /// its actor, a fixed end an extra fixed actor numbered from `first_extra` and returned.
+    /// back would differ between a step and its two halves by the error itself, at any step size), limits and ropes
+    /// J v >= what closes them within the step, motors their speed within their force over h; springs are forces.
+    /// A dynamic end is its actor, a fixed end an extra fixed actor numbered from `first_extra` and returned.
     pub(crate) fn bilateral_rows(
         &self,
         y: &[f64],
+        h: f64,
         first_extra: usize,
     ) -> (Vec<tumble_contact::BilateralRow>, Vec<tumble_contact::BodyState>) {
         let l = self.layout;
@@ -382,8 +221,24 @@ impl Model {
             let (ea, eb) = (self.end_state_of(y, cj.a), self.end_state_of(y, cj.b));
             scratch.clear();
             joint_rows(&cj.joint, &cj.frame(&ea, &eb), &ea.x, &eb.x, None, &mut scratch);
-            for r in scratch.iter().filter(|r| r.kind == RowKind::Equality) {
-                out.push(tumble_contact::BilateralRow { a, b, lin: r.lin, ang_a: r.ang_a, ang_b: r.ang_b, speed: 0.0 });
+            for r in &scratch {
+                use tumble_contact::BilateralKind;
+                let (kind, speed) = match r.kind {
+                    RowKind::Equality => (BilateralKind::Equal, 0.0),
+                    // a limit may close within the step, and holds at it (its overshoot is projected away)
+                    RowKind::Lower => (BilateralKind::AtLeast, if r.error > 0.0 { -r.error / h } else { 0.0 }),
+                    RowKind::Motor { speed, max_force } => (BilateralKind::Motor { max_impulse: max_force * h }, speed),
+                    RowKind::Spring { .. } => continue,
+                };
+                out.push(tumble_contact::BilateralRow {
+                    a,
+                    b,
+                    lin: r.lin,
+                    ang_a: r.ang_a,
+                    ang_b: r.ang_b,
+                    speed,
+                    kind,
+                });
             }
         }
         (out, extra)

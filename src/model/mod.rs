@@ -9,6 +9,8 @@ pub(crate) use dynamics::JOINT_DRIFT;
 mod energy;
 mod jacobian;
 #[cfg(feature = "contact")]
+mod joint_forces;
+#[cfg(feature = "contact")]
 pub(crate) mod joints;
 pub(crate) mod layout;
 

@@ -125,8 +125,19 @@ pub fn velocity_step_lagged(
     velocity_step_lagged_with_joints(bodies, contacts, previous, &[], settings)
 }
 
-/// One joint row of a velocity step: J v = lin . (v_B - v_A) + ang_a . w_A + ang_b . w_B must equal `speed` at
-/// the step's end (a bilateral constraint: any impulse).
+/// How a joint row of a velocity step holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BilateralKind {
+    /// J v = speed, any impulse.
+    Equal,
+    /// J v >= speed, an impulse >= 0 (a limit, a rope).
+    AtLeast,
+    /// J v = speed as far as an impulse within +-max_impulse reaches (a motor).
+    Motor { max_impulse: f64 },
+}
+
+/// One joint row of a velocity step: J v = lin . (v_B - v_A) + ang_a . w_A + ang_b . w_B against `speed` at the
+/// step's end, as `kind` says.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BilateralRow {
     pub a: usize,
@@ -135,6 +146,7 @@ pub struct BilateralRow {
     pub ang_a: Vector3<f64>,
     pub ang_b: Vector3<f64>,
     pub speed: f64,
+    pub kind: BilateralKind,
 }
 
 /// `velocity_step_lagged` with joint rows held exactly in the same programs (bodies joined by a row share an
@@ -160,7 +172,12 @@ pub fn velocity_step_lagged_with_joints(
     }
     for (k, r) in bilateral.iter().enumerate() {
         let numbers = [r.lin, r.ang_a, r.ang_b].into_iter().flat_map(|v| [v.x, v.y, v.z]);
-        if r.a >= bodies.len() || r.b >= bodies.len() || r.a == r.b || !numbers.chain([r.speed]).all(f64::is_finite) {
+        let bound = match r.kind {
+            BilateralKind::Motor { max_impulse } => max_impulse,
+            _ => 0.0,
+        };
+        let mut numbers = numbers.chain([r.speed]).chain([bound]);
+        if r.a >= bodies.len() || r.b >= bodies.len() || r.a == r.b || !numbers.all(f64::is_finite) || bound < 0.0 {
             return Err(ContactError::invalid("bilateral", format!("row {k} is not a finite row between two bodies")));
         }
     }

@@ -204,19 +204,52 @@ pub(crate) fn solve_island(
             }
         }
     }
-    // joint rows: J v = speed exactly (a zero cone after the contacts')
-    if !bilateral.is_empty() {
-        for r in bilateral {
-            let row = rhs.len();
-            rhs.push(-r.speed);
+    // joint rows after the contacts': J v = speed (a zero cone), then J v >= speed (limits, ropes), then motors
+    // (J v - speed within an epigraph variable t costing max_impulse t: their impulse within +-max_impulse)
+    let contact_rows = rhs.len();
+    let mut joint_z: Vec<(usize, bool)> = vec![(0, false); bilateral.len()];
+    let mut vars = vars;
+    let mut motor_costs = Vec::new();
+    for pass in 0..3 {
+        let start = rhs.len();
+        for (k, r) in bilateral.iter().enumerate() {
+            let which = match r.kind {
+                crate::friction::BilateralKind::Equal => 0,
+                crate::friction::BilateralKind::AtLeast => 1,
+                crate::friction::BilateralKind::Motor { .. } => 2,
+            };
+            if which != pass {
+                continue;
+            }
             let pair = [
                 crate::jacobian::Row { body: r.a, lin: -r.lin, ang: r.ang_a },
                 crate::jacobian::Row { body: r.b, lin: r.lin, ang: r.ang_b },
             ];
-            put_row(&mut a, row, 1.0, &pair, &mut rhs);
+            let row = rhs.len();
+            joint_z[k] = (row, pass == 2);
+            if let crate::friction::BilateralKind::Motor { max_impulse } = r.kind {
+                // t - (J v - speed) >= 0 and t + (J v - speed) >= 0
+                let t = vars;
+                vars += 1;
+                motor_costs.push(max_impulse);
+                rhs.push(r.speed);
+                put_row(&mut a, row, -1.0, &pair, &mut rhs);
+                a.push(row, t, -1.0);
+                rhs.push(-r.speed);
+                put_row(&mut a, row + 1, 1.0, &pair, &mut rhs);
+                a.push(row + 1, t, -1.0);
+            } else {
+                rhs.push(-r.speed);
+                put_row(&mut a, row, 1.0, &pair, &mut rhs);
+            }
         }
-        cones.push(ZeroConeT(bilateral.len()));
+        let n = rhs.len() - start;
+        if n > 0 {
+            cones.push(if pass == 0 { ZeroConeT(n) } else { NonnegativeConeT(n) });
+        }
     }
+    q.extend(motor_costs);
+    let _ = contact_rows;
     let m = rhs.len();
     // clarabel's absolute tolerances assume data of order one: measure masses in units of the largest diagonal
     // entry of M (m_s) and velocities in units of the largest free or target velocity (v_s). With x = v_s x',
@@ -251,7 +284,8 @@ pub(crate) fn solve_island(
             residual(bodies, contacts, island, &layout, free, &out, s)
         } else {
             let mut moved = free.to_vec();
-            for (r, &p) in bilateral.iter().zip(&z[m - bilateral.len()..]) {
+            for (r, &(row, motor)) in bilateral.iter().zip(&joint_z) {
+                let p = if motor { z[row + 1] - z[row] } else { z[row] };
                 for (k, lin, ang) in [(r.a, -r.lin, r.ang_a), (r.b, r.lin, r.ang_b)] {
                     let b = &bodies[k];
                     if b.is_dynamic() {

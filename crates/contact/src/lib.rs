@@ -49,8 +49,8 @@ pub use classify::{classify, velocity_tolerance, ContactClass};
 pub use contact::{Contact, NormalMotion};
 pub use error::ContactError;
 pub use friction::{
-    free_velocity, velocity_step, velocity_step_lagged, velocity_step_lagged_with_joints, BilateralRow, StepSettings,
-    VelocityStep,
+    free_velocity, velocity_step, velocity_step_lagged, velocity_step_lagged_with_joints, BilateralKind, BilateralRow,
+    StepSettings, VelocityStep,
 };
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
 pub use islands::islands;

@@ -115,7 +115,7 @@ impl Contacts {
         settings.velocity_scale = self.tolerance / h;
         settings.solver = tumble_contact::SolverSettings { complementarity_tolerance: 1e-4, ..self.solver };
         // joints: their rows held exactly in the same programs, fixed ends as extra fixed actors
-        let (bilateral, extra) = model.bilateral_rows(y, states.len());
+        let (bilateral, extra) = model.bilateral_rows(y, h, states.len());
         let with_extra: Vec<BodyState>;
         let states = if extra.is_empty() {
             states
