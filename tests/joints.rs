@@ -278,7 +278,7 @@ fn bad_joints_are_refused_by_name_and_change_nothing() {
 
 /// Two bars of wood hinged end to end, the second turned 0.5 rad about the hinge, dropped onto a ground (with
 /// friction) from `height`.
-fn hinged_pair(w: &mut World, height: f64) -> (BodyHandle, BodyHandle) {
+fn hinged_pair(w: &mut World, height: f64, limits: bool) -> (BodyHandle, BodyHandle) {
     w.add_ground(0.0, tumble::Material { restitution: 0.2, friction: 0.5 }).unwrap();
     let bar = tumble::Shape::cuboid(Vector3::new(0.2, 0.05, 0.05)).unwrap();
     let a =
@@ -290,9 +290,12 @@ fn hinged_pair(w: &mut World, height: f64) -> (BodyHandle, BodyHandle) {
             RigidBodyBuilder::from_shape(bar, 700.0).position(hinge + turn * Vector3::x() * 0.2).orientation(turn),
         )
         .unwrap();
-    let joint = JointBuilder::hinge(Some(a), Some(b), Vector3::y())
+    let mut joint = JointBuilder::hinge(Some(a), Some(b), Vector3::y())
         .anchor_a(Vector3::new(0.2, 0.0, 0.0))
         .anchor_b(Vector3::new(-0.2, 0.0, 0.0));
+    if limits {
+        joint = joint.limits(-0.3, 0.3);
+    }
     w.add_joint(joint).unwrap();
     (a, b)
 }
@@ -300,17 +303,30 @@ fn hinged_pair(w: &mut World, height: f64) -> (BodyHandle, BodyHandle) {
 #[test]
 fn jointed_bodies_landing_stay_joined_in_accurate_mode() {
     // the joint rows sit in the contact steps' convex programs and the positions are projected back after each
-    // step: measured largest joint error 1.4e-12 m through the landing; bound 1e-9 m
-    let mut w = World::new();
-    let (a, b) = hinged_pair(&mut w, 0.5);
-    w.step(2.0).unwrap();
-    let r = w.report();
-    assert!(r.contact_steps > 0, "the bars touched the ground");
-    assert!(r.joint_error < 1e-9 && r.joint_angle_error < 1e-9, "{} {}", r.joint_error, r.joint_angle_error);
-    // both bars came to rest on the ground (their centres at their half thickness, to the contact tolerance)
-    for h in [a, b] {
-        let z = w.body(h).unwrap().position().z;
-        assert!((z - 0.05).abs() < 1e-3, "{z}");
+    // step: measured largest joint error 1.4e-12 m through the landing; bound 1e-9 m. With limits of +-0.3 rad (the
+    // second bar lands turned 0.5 rad, so the hinge reaches one) the limit rows sit there too.
+    for limits in [false, true] {
+        let mut w = World::new();
+        let (a, b) = hinged_pair(&mut w, 0.5, limits);
+        w.step(2.0).unwrap();
+        let r = w.report();
+        assert!(r.contact_steps > 0, "the bars touched the ground");
+        assert!(r.joint_error < 1e-9 && r.joint_angle_error < 1e-9, "{} {}", r.joint_error, r.joint_angle_error);
+        if limits {
+            // the hinge's angle (from its zero, the second bar turned -0.5 rad) within its limits, to the
+            // projection's tolerance; the bars cannot both lie flat, which needs +0.5 rad
+            let relative = w.body(b).unwrap().orientation() * w.body(a).unwrap().orientation().inverse();
+            let angle = relative.scaled_axis().y + 0.5;
+            assert!(angle.abs() <= 0.3 + 1e-9, "{angle}");
+            assert!(angle > 0.3 - 1e-6, "it rests on its upper limit: {angle}");
+        } else {
+            // both bars came to rest on the ground (their centres at their half thickness, to the contact
+            // tolerance)
+            for h in [a, b] {
+                let z = w.body(h).unwrap().position().z;
+                assert!((z - 0.05).abs() < 1e-3, "{z}");
+            }
+        }
     }
 }
 

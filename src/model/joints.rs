@@ -226,7 +226,15 @@ impl Model {
                 let (kind, speed) = match r.kind {
                     RowKind::Equality => (BilateralKind::Equal, 0.0),
                     // a limit may close within the step, and holds at it (its overshoot is projected away)
-                    RowKind::Lower => (BilateralKind::AtLeast, if r.error > 0.0 { -r.error / h } else { 0.0 }),
+                    RowKind::Lower => {
+                        // only a limit the step can reach: one far from it would ask for a speed of its gap over h,
+                        // which grows without bound as the steps shrink and swamps the program's scale
+                        let closing = -(r.lin.dot(&(eb.v - ea.v)) + r.ang_a.dot(&ea.w) + r.ang_b.dot(&eb.w));
+                        if r.error > 2.0 * h * closing.max(0.0) {
+                            continue;
+                        }
+                        (BilateralKind::AtLeast, if r.error > 0.0 { -r.error / h } else { 0.0 })
+                    }
                     RowKind::Motor { speed, max_force } => (BilateralKind::Motor { max_impulse: max_force * h }, speed),
                     RowKind::Spring { .. } => continue,
                 };
