@@ -1,5 +1,6 @@
 //! A fuzz suite over the Rust API (proptest): random programs of world calls, with good, extreme and bad values
-//! (NaN, infinities, 5e-324, 1e308, negative and zero sizes, stale handles), in both modes. After every call the
+//! (NaN, infinities, 5e-324, 1e308, negative and zero sizes, stale handles), joints of every kind and option
+//! between bodies and the world, in both modes. After every call the
 //! world must be finite if the call succeeded and bit for bit unchanged if it failed; no call may panic; a program
 //! rerun on a fresh world must end in the same bits; its last world saved and loaded must continue as a copy of it.
 //!
@@ -47,6 +48,19 @@ enum Op {
         b: usize,
         k: f64,
         c: f64,
+    },
+    Joint {
+        kind: u8,
+        a: usize,
+        b: usize,
+        anchor: [f64; 3],
+        axis: [f64; 3],
+        limits: Option<(f64, f64)>,
+        motor: Option<(f64, f64)>,
+        soft: bool,
+    },
+    RemoveJoint {
+        target: usize,
     },
     Force {
         target: usize,
@@ -109,6 +123,9 @@ fn op() -> impl Strategy<Value = Op> {
             .prop_map(|(kind, size, density, pos, turn, vel, spin, e, mu)| Op::Body { kind, size, density, pos, turn, vel, spin, e, mu }),
         1 => (num(-1.0, 1.0), num(0.0, 1.0), num(0.0, 1.0)).prop_map(|(height, e, mu)| Op::Ground { height, e, mu }),
         2 => (0usize..8, 0usize..8, num(1.0, 1e6), num(0.0, 10.0)).prop_map(|(a, b, k, c)| Op::Spring { a, b, k, c }),
+        2 => (0u8..6, 0usize..9, 0usize..9, vec3(-0.5, 0.5), vec3(-1.0, 1.0), prop::option::of((num(-3.0, 0.0), num(0.0, 3.0))), prop::option::of((num(-5.0, 5.0), num(0.0, 50.0))), any::<bool>())
+            .prop_map(|(kind, a, b, anchor, axis, limits, motor, soft)| Op::Joint { kind, a, b, anchor, axis, limits, motor, soft }),
+        1 => (0usize..8).prop_map(|target| Op::RemoveJoint { target }),
         1 => (0usize..8, vec3(-100.0, 100.0)).prop_map(|(target, f)| Op::Force { target, f }),
         1 => (0usize..8, vec3(-100.0, 100.0)).prop_map(|(target, t)| Op::Torque { target, t }),
         1 => (0usize..8).prop_map(|target| Op::Remove { target }),
@@ -127,6 +144,7 @@ fn op() -> impl Strategy<Value = Op> {
 struct Made {
     particles: Vec<tumble::ParticleHandle>,
     bodies: Vec<tumble::BodyHandle>,
+    joints: Vec<tumble::JointHandle>,
 }
 
 fn v(a: [f64; 3]) -> Vector3<f64> {
@@ -172,6 +190,35 @@ fn apply(w: &mut World, made: &mut Made, op: &Op) -> Result<(), WorldError> {
                 },
             };
             w.add_spring(SpringBuilder::new(end(a), end(b)).stiffness(k).damping(c))?;
+        }
+        Op::Joint { kind, a, b, anchor, axis, limits, motor, soft } => {
+            // index 8 (and no bodies) is the world
+            let end = |i: usize| if i == 8 { None } else { pick(&made.bodies, i) };
+            let (a, b) = (end(a), end(b));
+            let mut j = match kind {
+                0 => tumble::JointBuilder::ball(a, b),
+                1 => tumble::JointBuilder::hinge(a, b, v(axis)),
+                2 => tumble::JointBuilder::slider(a, b, v(axis)),
+                3 => tumble::JointBuilder::weld(a, b),
+                4 => tumble::JointBuilder::distance(a, b, None),
+                _ => tumble::JointBuilder::rope(a, b, Some(anchor[0].abs() + 0.5)),
+            };
+            j = j.anchor_a(v(anchor)).anchor_b(-v(anchor));
+            if let Some((lo, hi)) = limits {
+                j = j.limits(lo, hi);
+            }
+            if let Some((speed, force)) = motor {
+                j = j.motor(speed, force);
+            }
+            if soft {
+                j = j.softness(30.0, 1.0);
+            }
+            made.joints.push(w.add_joint(j)?);
+        }
+        Op::RemoveJoint { target } => {
+            if let Some(j) = pick(&made.joints, target) {
+                w.remove_joint(j)?;
+            }
         }
         Op::Force { target, f } => {
             let t = match (pick(&made.bodies, target), pick(&made.particles, target)) {
