@@ -45,7 +45,7 @@ class Execution:
         self.ns["_raise"] = _raise
         self.entries: list[tuple[str, str]] = []  # (source, outcome) for the reproducer
         self.trace: list[tuple] = []
-        self.handles: dict[str, list[str]] = {k: [] for k in "pbsl"}
+        self.handles: dict[str, list[str]] = {k: [] for k in "pbslj"}
         self.deps: dict[str, set[str]] = {}
         self.removed: set[str] = set()
         self.uses_foreign = False

@@ -126,8 +126,9 @@ w2s = [w2.add_spring(w2p[0], w2p[1]), w2.add_spring(w2b[0], w2b[1])]
 w2l = [w2.add_force(w2p[0], (1.0, 0.0, 0.0)), w2.add_torque(w2b[0], (0.0, 0.0, 1.0))]
 w2.remove(w2p[2]); w2p.append(w2.add_particle())
 w2.remove(w2b[2]); w2b.append(w2.add_body(tumble.Sphere(0.5)))
+w2j = [w2.add_joint(tumble.Ball(w2b[0], w2b[1]))]
 """
-FOREIGN_COUNT = {"p": 4, "b": 4, "s": 2, "l": 2}
+FOREIGN_COUNT = {"p": 4, "b": 4, "s": 2, "l": 2, "j": 1}
 
 # Parameter names of every callable, for "the error names an argument".
 SIGNATURES = {
@@ -164,6 +165,15 @@ SIGNATURES = {
     "dominoes": "count spacing",
     "pyramid": "layers",
     "cloth_drape": "n size",
+    "add_joint": "joint",
+    "remove_joint": "joint",
+    "Ball": "a b anchor_a anchor_b world_point softness",
+    "Weld": "a b anchor_a anchor_b world_point softness",
+    "Hinge": "a b anchor_a anchor_b world_point softness axis limits motor spring",
+    "Slider": "a b anchor_a anchor_b world_point softness axis limits motor spring",
+    "Distance": "a b anchor_a anchor_b world_point softness length rope",
+    "Motor": "speed max_torque max_force",
+    "JointSpring": "stiffness damping target",
 }
 SIGNATURES = {k: v.split() for k, v in SIGNATURES.items()}
 
@@ -177,9 +187,10 @@ HANDLE_PARAMS = {
     ("remove", "handle"): "pbsl",
     ("set_particle_state", "particle"): "p",
     ("set_body_state", "body"): "b",
+    ("remove_joint", "joint"): "j",
 }
 CREATES = {"add_particle": "p", "add_body": "b", "add_ground": "b", "add_spring": "s", "add_force": "l",
-           "add_torque": "l", "add_force_callback": "l"}
+           "add_torque": "l", "add_force_callback": "l", "add_joint": "j"}
 STEPPING = {"step", "run"}
 
 

@@ -177,6 +177,31 @@ def _op(draw, name: str, required: tuple, optional: dict) -> Op:
 
 
 @st.composite
+def joint_op(draw, made: frozenset, h: bool) -> Op:
+    """An add_joint call: a joint of any kind between bodies or a body and the world, with its options."""
+    cls = draw(st.sampled_from(["Ball", "Hinge", "Slider", "Weld", "Distance"]))
+    a = pick(draw, (4, handle("b", made, h)), (1, st.just(None)))
+    b = pick(draw, (4, handle("b", made, h)), (1, st.just(None)))
+    optional = {"anchor_a": vector(-0.5, 0.5, h), "anchor_b": vector(-0.5, 0.5, h)}
+    if h or draw(st.integers(0, 3)) == 0:
+        optional["softness"] = st.tuples(scalar(1.0, 60.0, h), scalar(0.0, 5.0, h))
+    if cls in ("Hinge", "Slider"):
+        motor = st.builds(lambda s, m: ShapeX("Motor", (("speed", s), ("max_torque" if cls == "Hinge" else
+                                                                       "max_force", m)), 0),
+                          scalar(-5.0, 5.0, h), scalar(0.0, 50.0, h))
+        spring = st.builds(lambda k, c: ShapeX("JointSpring", (("stiffness", k), ("damping", c)), 0),
+                           scalar(1.0, 100.0, h), scalar(0.0, 5.0, h))
+        optional.update({"axis": vector(-1.0, 1.0, h), "limits": st.tuples(scalar(-1.5, 0.0, h), scalar(0.0, 1.5, h)),
+                         "motor": motor, "spring": spring})
+    if cls == "Distance":
+        optional.update({"length": scalar(0.1, 2.0, h), "rope": st.booleans()})
+    chosen = (("a", a), ("b", b)) + draw(params(optional))
+    if a is None or b is None:
+        chosen += (("world_point", draw(vector(-2.0, 2.0, h))),)
+    return Op("call", "add_joint", (("joint", ShapeX(cls, chosen, 2)),), 1)
+
+
+@st.composite
 def operation(draw, made: frozenset, mode: str, shapes_only: bool = False):
     """One call, given the kinds of handles the program has made so far and the mode it is probably in."""
     h = hostile = draw(st.integers(0, 2)) == 2
@@ -186,7 +211,8 @@ def operation(draw, made: frozenset, mode: str, shapes_only: bool = False):
         (1, "add_force"), (1 if "b" in has else 0, "add_torque"), (2, "add_force_callback"), (1, "remove"),
         (1 if "p" in has else 0, "set_particle_state"), (1 if "b" in has else 0, "set_body_state"),
         (1, "set_mode"), (1 if mode != "fast" or hostile else 0, "set_integrator"), (5, "step"), (2, "run"),
-        (1, "read"), (1, "threads"), (2, "shape"),
+        (1, "read"), (1, "threads"), (2, "shape"), (3 if "b" in has else 1, "add_joint"),
+        (1 if "j" in has else 0, "remove_joint"),
     ]
     name = pick(draw, *[(wt, st.just(n)) for wt, n in table if wt])
     material = {"restitution": scalar(0.0, 1.0, h), "friction": scalar(0.0, 1.5, h)}
@@ -260,6 +286,10 @@ def operation(draw, made: frozenset, mode: str, shapes_only: bool = False):
         if b is None or (h and draw(st.integers(0, 4)) == 0):
             chosen += (("world_point", draw(vector(-2.0, 2.0, h))),)
         return Op("call", name, chosen, draw(st.integers(0, 2)))
+    if name == "add_joint":
+        return draw(joint_op(made, h))
+    if name == "remove_joint":
+        return _op(draw, name, (("joint", handle("j", made, h)),), {})
     if name == "add_force":
         target = draw(handle("pb", made, h))
         optional = {"at": vector(-0.5, 0.5, h)} if h or getattr(target, "kind", "") == "b" else {}

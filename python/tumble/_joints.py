@@ -19,6 +19,25 @@ from ._tumble import BodyHandle
 Vec = Sequence[float]
 
 
+def _number(name: str, value) -> float:
+    """`value` as a float, or a ValueError naming the argument."""
+    if isinstance(value, bool):
+        raise ValueError(f"invalid argument `{name}`: expected a number, got {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(f"invalid argument `{name}`: expected a number, got {value!r}") from None
+
+
+def _pair(name: str, value) -> Tuple[float, float]:
+    """`value` as two floats, or a ValueError naming the argument."""
+    try:
+        first, second = value
+    except (TypeError, ValueError):
+        raise ValueError(f"invalid argument `{name}`: expected two numbers, got {value!r}") from None
+    return (_number(name, first), _number(name, second))
+
+
 @dataclass(frozen=True)
 class Motor:
     """Drives a hinge's angular speed (rad/s, at most ``max_torque`` N m) or a slider's speed (m/s, at most
@@ -32,7 +51,7 @@ class Motor:
         if (self.max_torque is None) == (self.max_force is None):
             raise ValueError("invalid argument `motor`: give one of max_torque (hinge) or max_force (slider)")
         bound = self.max_torque if self.max_torque is not None else self.max_force
-        return (float(self.speed), float(bound))
+        return (_number("motor", self.speed), _number("motor", bound))
 
 
 @dataclass(frozen=True)
@@ -65,7 +84,7 @@ class _Joint:
             else:
                 anchor_a = self.world_point
         return dict(kind=self._kind, a=self.a, b=self.b, anchor_a=anchor_a, anchor_b=anchor_b,
-                    softness=None if self.softness is None else tuple(self.softness))
+                    softness=None if self.softness is None else _pair("softness", self.softness))
 
 
 @dataclass(frozen=True)
@@ -91,10 +110,15 @@ class _Axial(_Joint):
 
     def _fields(self) -> dict:
         f = super()._fields()
-        f.update(axis=self.axis, limits=None if self.limits is None else (float(self.limits[0]), float(self.limits[1])),
-                 motor=None if self.motor is None else self.motor._pair(),
-                 spring=None if self.spring is None else (float(self.spring.stiffness), float(self.spring.damping),
-                                                          float(self.spring.target)))
+        if self.motor is not None and not isinstance(self.motor, Motor):
+            raise ValueError(f"invalid argument `motor`: expected a tumble.Motor, got {self.motor!r}")
+        if self.spring is not None and not isinstance(self.spring, JointSpring):
+            raise ValueError(f"invalid argument `spring`: expected a tumble.JointSpring, got {self.spring!r}")
+        spring = None
+        if self.spring is not None:
+            spring = tuple(_number("spring", getattr(self.spring, k)) for k in ("stiffness", "damping", "target"))
+        f.update(axis=self.axis, limits=None if self.limits is None else _pair("limits", self.limits),
+                 motor=None if self.motor is None else self.motor._pair(), spring=spring)
         return f
 
 
@@ -124,7 +148,10 @@ class Distance(_Joint):
 
     def _fields(self) -> dict:
         f = super()._fields()
-        f.update(kind="rope" if self.rope else "distance", length=self.length)
+        if not isinstance(self.rope, bool):
+            raise ValueError(f"invalid argument `rope`: expected True or False, got {self.rope!r}")
+        length = None if self.length is None else _number("length", self.length)
+        f.update(kind="rope" if self.rope else "distance", length=length)
         return f
 
 
