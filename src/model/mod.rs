@@ -281,6 +281,7 @@ impl Model {
     }
 
     /// Whether each dynamic body is an end of a joint (empty without joints).
+    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub(crate) fn jointed_bodies(&self) -> Vec<bool> {
         #[cfg(feature = "contact")]
         if !self.joints.is_empty() {

@@ -67,17 +67,9 @@ pub(crate) struct JointSweep {
 }
 
 impl JointSet {
+    /// No joints (an island of contacts alone).
     pub fn empty() -> JointSet {
-        JointSet {
-            joints: Vec::new(),
-            impulses: Vec::new(),
-            rows: Vec::new(),
-            direct: Vec::new(),
-            factor: None,
-            kmat: nalgebra::DMatrix::zeros(0, 0),
-            holding: Vec::new(),
-            masses: Vec::new(),
-        }
+        JointSet::new(Vec::new(), Vec::new())
     }
 
     /// `joints` with local body indices, their centres at the step's start, and their warm starts.
