@@ -15,7 +15,7 @@ from typing import Any
 
 EXAMPLES = int(os.environ.get("TUMBLE_FUZZ_EXAMPLES", "0") or 0)
 LONG = EXAMPLES > 0
-TIMEOUT = float(os.environ.get("TUMBLE_FUZZ_TIMEOUT", "90"))
+TIMEOUT = float(os.environ.get("TUMBLE_FUZZ_TIMEOUT", "20"))
 # Failure kinds to ignore, running on past them (to look beyond known failures), e.g. "ArgumentNotNamed,Hang".
 IGNORE = set(filter(None, os.environ.get("TUMBLE_FUZZ_IGNORE", "").split(",")))
 MEMORY_LIMIT = 4 << 30

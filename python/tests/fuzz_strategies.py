@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from fuzz_arguments import (ADAPTIVE, BAD_INTS, BAD_SCALARS, FAST_DTS, HOSTILE_DURATIONS, INTEGRATORS, counts, floats,
                              good_or_bad, params, pick, quaternion, scalar, shapes, vector, weighted)
-from fuzz_programs import CREATES, INF, MAX_OPS, NAN, Callback, Foreign, Op, Program, Raw, Ref, ShapeX, Steps
+from fuzz_programs import CREATES, INF, LONG, MAX_OPS, NAN, Callback, Foreign, Op, Program, Raw, Ref, ShapeX, Steps
 
 # ----------------------------------------------------------------------------------------------------------------
 # Strategies. A call is clean (every argument good, now and then a valid extreme: a stiff spring, a tiny or huge
@@ -211,8 +211,9 @@ def operation(draw, made: frozenset, mode: str, shapes_only: bool = False):
         (1, "add_force"), (1 if "b" in has else 0, "add_torque"), (2, "add_force_callback"), (1, "remove"),
         (1 if "p" in has else 0, "set_particle_state"), (1 if "b" in has else 0, "set_body_state"),
         (1, "set_mode"), (1 if mode != "fast" or hostile else 0, "set_integrator"), (5, "step"), (2, "run"),
-        (1, "read"), (1, "threads"), (2, "shape"), (3 if "b" in has else 1, "add_joint"),
-        (1 if "j" in has else 0, "remove_joint"),
+        (1, "read"), (1, "threads"), (2, "shape"),
+        # joints in long runs only (see test_fuzz.py): with weight 0 the CI search draws what it drew before them
+        (0 if not LONG else 3 if "b" in has else 1, "add_joint"), (1 if LONG and "j" in has else 0, "remove_joint"),
     ]
     name = pick(draw, *[(wt, st.just(n)) for wt, n in table if wt])
     material = {"restitution": scalar(0.0, 1.0, h), "friction": scalar(0.0, 1.5, h)}
