@@ -128,6 +128,15 @@ class Run:
 
         return animate_run(self, Path(path), fps, size)
 
+    def export_usd(self, path: str | Path) -> Path:
+        """Writes the run as USD (``.usda`` text, ``.usdc`` binary) through usd-core (``pip install
+        "tumble[usd]"``): one prim per body with its colliders' meshes (each distinct shape written once and
+        referenced), translation and orientation time-sampled at every frame, the stage in metres with z up.
+        Houdini, Omniverse and Blender read it. Returns the path."""
+        from ._usd import export  # noqa: PLC0415
+
+        return export(self, Path(path))
+
     def export_gltf(self, path: str | Path) -> Path:
         """Writes the run as binary glTF 2.0 (``.glb``): one node per body with its colliders' meshes and its
         translation and rotation animated over the frames (Blender and web viewers play it). Returns the path."""

@@ -1,0 +1,97 @@
+"""USD export of a run through usd-core (``pip install "tumble[usd]"``): one Xform prim per body carrying its
+colliders as meshes (each identical shape written once, under the abstract class prim /Shapes, and referenced), one per particle carrying a
+small sphere, with translation and orientation time-sampled at every frame (time codes are frames, at the run's
+frame rate). The stage states metres and z up, tumble's own units and axes, so no root transform is needed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from ._run import Run
+
+
+def _pxr():
+    try:
+        from pxr import Gf, Sdf, Usd, UsdGeom  # noqa: PLC0415
+    except ImportError:
+        raise ImportError('USD export needs usd-core: pip install "tumble[usd]"') from None
+    return Gf, Sdf, Usd, UsdGeom
+
+
+def _frame_rate(times: np.ndarray) -> float:
+    """Frames a second: from the run's frame spacing (its median, so a shorter last frame does not count)."""
+    if len(times) < 2:
+        return 24.0
+    step = float(np.median(np.diff(times)))
+    return 1.0 / step if step > 0 else 24.0
+
+
+def export(run: "Run", path: Path) -> Path:
+    if path.suffix.lower() not in (".usda", ".usdc", ".usd"):
+        raise ValueError(f"invalid argument `path`: USD files end in .usda, .usdc or .usd, got {path.name!r}")
+    Gf, Sdf, Usd, UsdGeom = _pxr()
+    stage = Usd.Stage.CreateNew(str(path))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    rate = _frame_rate(run.times)
+    stage.SetTimeCodesPerSecond(rate)
+    stage.SetFramesPerSecond(rate)
+    stage.SetStartTimeCode(0)
+    stage.SetEndTimeCode(max(0, len(run.times) - 1))
+    stage.SetMetadata("comment", f"tumble run: {len(run.times)} frames from t = {run.times[0]!r} s")
+    root = UsdGeom.Xform.Define(stage, "/World")
+    stage.SetDefaultPrim(root.GetPrim())
+    # the distinct shapes' meshes, under an abstract class prim (never drawn itself; the colliders reference them)
+    stage.CreateClassPrim("/Shapes")
+
+    meshes: dict = {}
+
+    def shape_mesh(shape, key) -> str:
+        """The path of `shape`'s mesh under /Shapes, written once for each distinct shape."""
+        if key not in meshes:
+            v, t = shape.triangle_mesh(24, 10.0)
+            mesh = UsdGeom.Mesh.Define(stage, f"/Shapes/shape_{len(meshes)}")
+            mesh.CreatePointsAttr([Gf.Vec3f(*map(float, p)) for p in np.asarray(v)])
+            triangles = np.asarray(t)
+            mesh.CreateFaceVertexCountsAttr([3] * len(triangles))
+            mesh.CreateFaceVertexIndicesAttr([int(i) for i in triangles.reshape(-1)])
+            meshes[key] = mesh.GetPath()
+        return meshes[key]
+
+    def animated(name: str, positions: np.ndarray, orientations: np.ndarray | None):
+        xform = UsdGeom.Xform.Define(stage, f"/World/{name}")
+        translate = xform.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble)
+        orient = xform.AddOrientOp(UsdGeom.XformOp.PrecisionDouble) if orientations is not None else None
+        for k in range(len(run.times)):
+            translate.Set(Gf.Vec3d(*map(float, positions[k])), Usd.TimeCode(k))
+            if orient is not None:
+                w, x, y, z = map(float, orientations[k])
+                orient.Set(Gf.Quatd(w, x, y, z), Usd.TimeCode(k))
+        return xform
+
+    for b in range(run.body_positions.shape[1]):
+        xform = animated(f"body_{b}", run.body_positions[:, b], run.body_orientations[:, b])
+        colliders = run.shapes[b] if b < len(run.shapes) else []
+        for c, (shape, offset, orientation) in enumerate(colliders):
+            key = shape.__reduce__()[1][0]  # the shape's JSON: equal shapes share one mesh
+            part = UsdGeom.Xform.Define(stage, xform.GetPath().AppendChild(f"collider_{c}"))
+            part.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble).Set(Gf.Vec3d(*map(float, offset)))
+            w, x, y, z = map(float, orientation)
+            part.AddOrientOp(UsdGeom.XformOp.PrecisionDouble).Set(Gf.Quatd(w, x, y, z))
+            # a typeless prim under the collider takes the shared mesh (its type and points) by reference
+            stage.DefinePrim(part.GetPath().AppendChild("mesh")).GetReferences().AddInternalReference(
+                shape_mesh(shape, key))
+    if run.particle_positions.shape[1]:
+        from ._tumble import Sphere  # noqa: PLC0415
+
+        dot = Sphere(0.01)
+        for i in range(run.particle_positions.shape[1]):
+            xform = animated(f"particle_{i}", run.particle_positions[:, i], None)
+            stage.DefinePrim(xform.GetPath().AppendChild("mesh")).GetReferences().AddInternalReference(
+                shape_mesh(dot, "particle"))
+    stage.GetRootLayer().Save()
+    return path
