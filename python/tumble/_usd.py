@@ -1,7 +1,8 @@
 """USD export of a run through usd-core (``pip install "tumble[usd]"``): one Xform prim per body carrying its
 colliders as meshes (each identical shape written once, under the abstract class prim /Shapes, and referenced), one
-per particle carrying a small sphere, with translation and orientation time-sampled at every frame (time codes are frames, at the run's
-frame rate). The stage states metres and z up, tumble's own units and axes, so no root transform is needed."""
+per particle carrying a small sphere, with translation and orientation time-sampled at every frame (time codes are
+frames, at the run's frame rate). The stage states metres and z up, tumble's own units and axes, so no root
+transform is needed."""
 
 from __future__ import annotations
 
