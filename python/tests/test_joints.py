@@ -75,3 +75,4 @@ def test_the_jointed_scenes_run_with_their_joints_held(name):
     # its landing; 1e-3 m is far below anything a viewer would see
     assert w.report.joint_error < 1e-3
     assert w.report.joint_rows > 0
+

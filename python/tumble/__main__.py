@@ -31,10 +31,21 @@ SCENES = {
 }
 
 
+def _duration(text: str) -> float:
+    """A duration from the command line: a finite number of seconds > 0, else argparse's usage error."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    if not (0.0 < value < float("inf")):
+        raise argparse.ArgumentTypeError(f"must be a finite number of seconds above 0, got {text!r}")
+    return value
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(prog="python -m tumble", description=__doc__.splitlines()[0])
     parser.add_argument("--scene", choices=list(SCENES), default="dominoes")
-    parser.add_argument("--duration", type=float, help="seconds to simulate (each scene has a default)")
+    parser.add_argument("--duration", type=_duration, help="seconds to simulate (each scene has a default)")
     parser.add_argument("--out", default="tumble-out", help="folder for the animation, plot and report")
     parser.add_argument("--no-gif", action="store_true", help="skip the GIF preview (the slowest output)")
     args = parser.parse_args()
