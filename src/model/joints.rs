@@ -109,8 +109,9 @@ impl Model {
         (rows, ends)
     }
 
-    /// The largest joint errors at y: position (m) and angle (rad), over the rows that hold the joints.
-    pub(crate) fn joint_errors(&self, y: &[f64]) -> (f64, f64) {
+    /// The joints' rows at y and their largest errors: (rows, position error in m, angle error in rad), over the
+    /// rows that hold the joints (one evaluation of the rows for both).
+    pub(crate) fn joint_errors(&self, y: &[f64]) -> (usize, (f64, f64)) {
         let (rows, _) = self.all_rows(y, false);
         let (mut lin, mut ang) = (0.0f64, 0.0f64);
         for (_, r) in rows.iter().filter(|(_, r)| r.kind == RowKind::Equality) {
@@ -120,12 +121,7 @@ impl Model {
                 lin = lin.max(r.error.abs());
             }
         }
-        (lin, ang)
-    }
-
-    /// The number of rows the joints give.
-    pub(crate) fn joint_row_count(&self, y: &[f64]) -> usize {
-        self.all_rows(y, false).0.len()
+        (rows.len(), (lin, ang))
     }
 }
 

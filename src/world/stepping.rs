@@ -117,7 +117,8 @@ impl World {
                     let model = &e.compiled().model;
                     if model.joints_in_rhs && !model.joints.is_empty() {
                         let y = e.state();
-                        r.book_joints(model.joint_row_count(y), model.joint_errors(y));
+                        let (rows, errors) = model.joint_errors(y);
+                        r.book_joints(rows, errors);
                     }
                 }
                 r

@@ -206,7 +206,6 @@ pub(crate) fn solve_island(
     }
     // joint rows after the contacts': J v = speed (a zero cone), then J v >= speed (limits, ropes), then motors
     // (J v - speed within an epigraph variable t costing max_impulse t: their impulse within +-max_impulse)
-    let contact_rows = rhs.len();
     let mut joint_z: Vec<(usize, bool)> = vec![(0, false); bilateral.len()];
     let mut vars = vars;
     let mut motor_costs = Vec::new();
@@ -249,7 +248,6 @@ pub(crate) fn solve_island(
         }
     }
     q.extend(motor_costs);
-    let _ = contact_rows;
     let m = rhs.len();
     // clarabel's absolute tolerances assume data of order one: measure masses in units of the largest diagonal
     // entry of M (m_s) and velocities in units of the largest free or target velocity (v_s). With x = v_s x',

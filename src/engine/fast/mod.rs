@@ -250,7 +250,7 @@ impl FastEngine {
         self.check_state(h)?;
         let model = &self.compiled.model;
         if !model.joints.is_empty() {
-            let (rows, errors) = (model.joint_row_count(&self.y), model.joint_errors(&self.y));
+            let (rows, errors) = model.joint_errors(&self.y);
             self.report.book_joints(rows, errors);
         }
         self.update_sleep(&states, &velocities, &found, h);
