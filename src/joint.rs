@@ -161,6 +161,10 @@ impl Joint {
     pub fn kind(&self) -> JointType {
         self.spec.kind
     }
+    /// Its anchors: on A (A's frame, or a world point when A is the world) and on B (likewise).
+    pub fn anchors(&self) -> (Vector3<f64>, Vector3<f64>) {
+        (self.spec.anchor_a, self.spec.anchor_b)
+    }
     /// The description it was added with.
     pub fn builder(&self) -> &JointBuilder {
         &self.spec

@@ -5,7 +5,7 @@ use crate::model::layout::{get3, get_quat};
 use crate::model::Model;
 use crate::report::WorldReport;
 use crate::spring::{BodyHandle, ParticleHandle};
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{Point3, UnitQuaternion, Vector3};
 
 /// The frame interval of a run when none is given (s): 60 frames a second.
 pub const DEFAULT_FRAME_INTERVAL: f64 = 1.0 / 60.0;
@@ -47,6 +47,10 @@ pub struct Run {
     pub penetration: Vec<f64>,
     /// Times of the contact events of accurate mode (collisions located by bisection, and drift corrections).
     pub contact_events: Vec<f64>,
+    /// How many contact points each frame has (the contacts of the step that ended there).
+    pub contact_counts: Vec<usize>,
+    /// The contact points of all frames, frame after frame: a point (x, y, z) then its normal (x, y, z).
+    pub(crate) contact_points: Vec<f64>,
     /// What the run cost.
     pub report: WorldReport,
     pub(crate) sources: Vec<BodySource>,
@@ -77,6 +81,8 @@ impl Run {
             step_sizes: Vec::new(),
             penetration: Vec::new(),
             contact_events: Vec::new(),
+            contact_counts: Vec::new(),
+            contact_points: Vec::new(),
             report: WorldReport::new(method),
             sources,
         }
@@ -88,11 +94,20 @@ impl Run {
         self.step_sizes.push(h);
     }
 
-    /// Appends the frame at time t with state y and the largest penetration among the contacts there.
-    pub(crate) fn record(&mut self, model: &Model, t: f64, y: &[f64], penetration: f64) {
+    /// Appends the frame at time t with state y, the largest penetration among the contacts there and the contacts'
+    /// points and normals (only read: recording frames never changes the physics).
+    pub(crate) fn record<I>(&mut self, model: &Model, t: f64, y: &[f64], penetration: f64, contacts: I)
+    where
+        I: IntoIterator<Item = (Point3<f64>, Vector3<f64>)>,
+    {
         let l = model.layout;
         self.times.push(t);
         self.penetration.push(penetration);
+        let before = self.contact_points.len();
+        for (p, n) in contacts {
+            self.contact_points.extend_from_slice(&[p.x, p.y, p.z, n.x, n.y, n.z]);
+        }
+        self.contact_counts.push((self.contact_points.len() - before) / 6);
         self.particle_positions.extend_from_slice(&y[l.px(0)..l.px(0) + 3 * l.particles]);
         self.particle_velocities.extend_from_slice(&y[l.pv(0)..l.pv(0) + 3 * l.particles]);
         for source in &self.sources {
@@ -112,6 +127,13 @@ impl Run {
         self.potential_energy.push(model.potential_energy(y));
         self.momentum.extend_from_slice(model.momentum(y).as_slice());
         self.angular_momentum.extend_from_slice(model.angular_momentum(y).as_slice());
+    }
+
+    /// The contact points and normals at `frame` (the contacts of the step that ended there; empty without contact).
+    pub fn contacts(&self, frame: usize) -> Vec<(Point3<f64>, Vector3<f64>)> {
+        let start: usize = self.contact_counts[..frame].iter().sum();
+        let data = &self.contact_points[6 * start..6 * (start + self.contact_counts[frame])];
+        data.chunks_exact(6).map(|c| (Point3::new(c[0], c[1], c[2]), Vector3::new(c[3], c[4], c[5]))).collect()
     }
 
     /// Number of frames.
@@ -186,6 +208,8 @@ impl Run {
                 step_sizes: self.step_sizes,
                 penetration: self.penetration,
                 contact_events: self.contact_events,
+                contact_counts: self.contact_counts,
+                contact_points: self.contact_points,
                 particle_count: self.particles.len(),
                 body_count: self.bodies.len(),
             },
@@ -214,6 +238,9 @@ pub struct RunArrays {
     pub step_sizes: Vec<f64>,
     pub penetration: Vec<f64>,
     pub contact_events: Vec<f64>,
+    /// Contact points per frame, and each point with its normal (6 numbers) for all frames in order.
+    pub contact_counts: Vec<usize>,
+    pub contact_points: Vec<f64>,
     pub particle_count: usize,
     pub body_count: usize,
 }

@@ -51,6 +51,10 @@ pub fn run_arrays<'py>(
     let events = a.contact_events.len();
     d.set_item("penetration", array(py, a.penetration, &[f])?)?;
     d.set_item("contact_events", array(py, a.contact_events, &[events])?)?;
+    let points = a.contact_points.len() / 6;
+    let counts = a.contact_counts.iter().map(|&c| c as f64).collect();
+    d.set_item("contact_counts", array(py, counts, &[f])?)?;
+    d.set_item("contact_points", array(py, a.contact_points, &[points, 2, 3])?)?;
     d.set_item("report", report_dict(py, report)?)?;
     d.set_item("particles", PyList::new(py, handles.0)?)?;
     d.set_item("bodies", PyList::new(py, handles.1)?)?;

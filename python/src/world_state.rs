@@ -11,6 +11,11 @@ use nalgebra::UnitQuaternion;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+/// One end of a drawn link: what it is attached to, its row, and a point.
+type LinkEnd = (&'static str, i64, [f64; 3]);
+/// A spring or joint to draw: its kind and two ends.
+type Link = (&'static str, LinkEnd, LinkEnd);
+
 /// A body's colliders: each shape with its pose in the body frame (position, quaternion w, x, y, z).
 type BodyShapes = Vec<(Py<PyShape>, [f64; 3], [f64; 4])>;
 
@@ -149,6 +154,43 @@ impl PyWorld {
     fn _body_angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let w = self.r();
         rows(py, w.body_count(), w.bodies().map(|(_, b)| b.angular_velocity().into()))
+    }
+
+    /// The world's springs and joints as lines to draw: (kind, end a, end b), kind "spring" or the joint's type
+    /// ("ball", "hinge", "slider", "weld", "distance", "rope"), each end ("particle", row, [0, 0, 0]), ("body", row,
+    /// point in the body frame) or ("world", -1, world point); rows index the run and state arrays.
+    fn _links(&self) -> PyResult<Vec<Link>> {
+        let w = self.r();
+        let end = |a: tumble::Attachment| -> PyResult<LinkEnd> {
+            Ok(match a {
+                tumble::Attachment::Particle(h) => {
+                    ("particle", w.particle_row(h).map_err(world_error)? as i64, [0.0; 3])
+                }
+                tumble::Attachment::Body(h, p) => ("body", w.body_row(h).map_err(world_error)? as i64, [p.x, p.y, p.z]),
+                tumble::Attachment::Point(p) => ("world", -1, [p.x, p.y, p.z]),
+            })
+        };
+        let mut out = Vec::new();
+        for (_, s) in w.springs() {
+            out.push(("spring", end(s.a())?, end(s.b())?));
+        }
+        for (_, j) in w.joints() {
+            let (pa, pb) = j.anchors();
+            let side = |b: Option<tumble::BodyHandle>, p: nalgebra::Vector3<f64>| match b {
+                Some(h) => end(tumble::Attachment::Body(h, p)),
+                None => end(tumble::Attachment::Point(p)),
+            };
+            let kind = match j.kind() {
+                tumble::JointType::Ball => "ball",
+                tumble::JointType::Hinge => "hinge",
+                tumble::JointType::Slider => "slider",
+                tumble::JointType::Weld => "weld",
+                tumble::JointType::Distance { rope: false, .. } => "distance",
+                tumble::JointType::Distance { rope: true, .. } => "rope",
+            };
+            out.push((kind, side(j.a(), pa)?, side(j.b(), pb)?));
+        }
+        Ok(out)
     }
 
     /// Each body's colliders (empty where a body has none) as (shape, position, orientation w x y z) in its body

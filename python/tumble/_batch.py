@@ -82,5 +82,5 @@ def rollout(
     finally:
         if isinstance(shown, Progress):
             shown.close()
-    shapes = world._body_shapes()
-    return Batch([Run.from_dict(d, shapes) for d in data])
+    shapes, links = world._body_shapes(), world._links()
+    return Batch([Run.from_dict(d, shapes, links) for d in data])

@@ -18,7 +18,7 @@ from ._report import Report
 ARRAYS = (
     "times", "particle_positions", "particle_velocities", "body_positions", "body_orientations", "body_velocities",
     "body_angular_velocities", "kinetic_energy", "potential_energy", "energy", "momentum", "angular_momentum",
-    "step_times", "step_sizes", "penetration", "contact_events",
+    "step_times", "step_sizes", "penetration", "contact_events", "contact_counts", "contact_points",
 )
 
 
@@ -28,7 +28,9 @@ class Run:
     (F, B, 4) as (w, x, y, z); particles and bodies appear in the order of ``particles`` and ``bodies``.
     ``step_times`` and ``step_sizes`` hold every accepted integrator step; ``penetration`` (F,) the largest
     penetration among the contacts at each frame; ``contact_events`` the times of accurate mode's contact events
-    (collisions located by bisection)."""
+    (collisions located by bisection); ``contact_counts`` (F,) how many contacts each frame has and
+    ``contact_points`` (C, 2, 3) each contact's point and normal, frame after frame (``contacts(frame)`` picks a
+    frame's). ``links`` lists the springs and joints to draw (``link_segments``), ``name`` the scene's name."""
 
     times: np.ndarray
     particle_positions: np.ndarray
@@ -46,16 +48,38 @@ class Run:
     step_sizes: np.ndarray
     penetration: np.ndarray
     contact_events: np.ndarray
+    contact_counts: np.ndarray
+    contact_points: np.ndarray
     report: Report
     particles: list
     bodies: list
     shapes: list = field(default_factory=list, repr=False)
+    links: list = field(default_factory=list, repr=False)
+    name: str = ""
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any], shapes: list | None = None) -> "Run":
+    def from_dict(cls, data: dict[str, Any], shapes: list | None = None, links: list | None = None,
+                  name: str = "") -> "Run":
         data = dict(data)
         data["report"] = Report(data["report"])
-        return cls(**data, shapes=shapes or [])
+        data["contact_counts"] = np.asarray(data["contact_counts"], dtype=np.int64)
+        from ._geometry import normal_links  # noqa: PLC0415
+
+        return cls(**data, shapes=shapes or [], links=normal_links(links or []), name=name)
+
+    def contacts(self, frame: int) -> np.ndarray:
+        """The contacts at ``frame`` as a (C, 2, 3) array: each contact's point and unit normal."""
+        if not -self.frames <= frame < self.frames:
+            raise ValueError(f"invalid argument `frame`: the run has {self.frames} frames, got {frame}")
+        frame %= self.frames
+        start = int(self.contact_counts[:frame].sum())
+        return self.contact_points[start:start + int(self.contact_counts[frame])]
+
+    def link_segments(self, frame: int) -> np.ndarray:
+        """The springs and joints at ``frame`` as an (L, 2, 3) array of line segments, in the order of ``links``."""
+        from ._geometry import link_segments  # noqa: PLC0415
+
+        return link_segments(self, frame)
 
     @property
     def frames(self) -> int:
@@ -80,12 +104,14 @@ class Run:
         report = {**self.report._fields, "_text": self.report._text}
         np.savez_compressed(path, **{name: getattr(self, name) for name in ARRAYS},
                             particles=handles(self.particles), bodies=handles(self.bodies),
-                            report=np.array(json.dumps(report)), shapes=np.array(json.dumps(shapes)))
+                            report=np.array(json.dumps(report)), shapes=np.array(json.dumps(shapes)),
+                            links=np.array(json.dumps(self.links)), name=np.array(self.name))
         return path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
 
     @classmethod
     def load(cls, path: str | Path) -> "Run":
         """A run saved by ``save``."""
+        from ._geometry import normal_links  # noqa: PLC0415
         from ._tumble import _handle, _shape_from_json  # noqa: PLC0415
 
         with np.load(Path(path), allow_pickle=False) as data:
@@ -97,7 +123,10 @@ class Run:
             bodies = handles("BodyHandle", data["bodies"])
             report = Report(json.loads(str(data["report"])))
             shapes = [[(_shape_from_json(s), p, q) for s, p, q in body] for body in json.loads(str(data["shapes"]))]
-        return cls(**arrays, report=report, particles=particles, bodies=bodies, shapes=shapes)
+            links = normal_links(json.loads(str(data["links"])))
+            name = str(data["name"])
+        return cls(**arrays, report=report, particles=particles, bodies=bodies, shapes=shapes, links=links,
+                   name=name)
 
     def to_csv(self, path: str | Path) -> Path:
         """Writes the per-frame scalars as CSV, a row a frame: time, kinetic, potential and total energy, momentum

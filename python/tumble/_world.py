@@ -232,12 +232,12 @@ class World(_World):
         except SimulationError as error:
             partial = getattr(error, "_partial", None)
             if partial is not None:
-                error.run = Run.from_dict(partial, self._body_shapes())
+                error.run = Run.from_dict(partial, self._body_shapes(), self._links())
             raise
         finally:
             if isinstance(shown, Progress):
                 shown.close()
-        return Run.from_dict(data, self._body_shapes())
+        return Run.from_dict(data, self._body_shapes(), self._links())
 
 
 def _from_bytes(cls: type, data: bytes) -> World:

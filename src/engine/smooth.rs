@@ -98,7 +98,7 @@ impl SmoothEngine {
             // Nothing moves: every save is the same empty state.
             if let Some(run) = run {
                 for &t in saves {
-                    run.record(&self.compiled.model, t, &[], 0.0);
+                    run.record(&self.compiled.model, t, &[], 0.0, []);
                 }
             }
             self.t = t_end;
@@ -110,7 +110,7 @@ impl SmoothEngine {
         let energy = mechanical_energy(&self.compiled.model, integrator.state());
         let delivered = integrator.advance_until(&mut self.compiled.model, t_end, pause, saves, |m, t, y| {
             if let Some(run) = run.as_deref_mut() {
-                run.record(m, t, y, 0.0);
+                run.record(m, t, y, 0.0, []);
             }
         });
         if let Some(run) = run {

@@ -273,7 +273,7 @@ impl AccurateEngine {
                     &saves[done..],
                     |m, t, y| {
                         if let Some(run) = run.as_deref_mut() {
-                            run.record(m, t, y, penetration);
+                            run.record(m, t, y, penetration, []);
                         }
                     },
                     |step| contacts.detect(step),

@@ -91,7 +91,7 @@ impl Contacts {
         let result = loop {
             while delivered < saves.len() && saves[delivered] <= t + slack {
                 if let Some(run) = run.as_deref_mut() {
-                    run.record(model, t, &y, self.penetration);
+                    run.record(model, t, &y, self.penetration, phase.last.iter().map(|c| (c.point, c.normal)));
                 }
                 delivered += 1;
             }

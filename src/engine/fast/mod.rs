@@ -211,7 +211,8 @@ impl FastEngine {
             if reached > 0 {
                 delivered += reached;
                 if let Some(run) = run.as_deref_mut() {
-                    run.record(&self.compiled.model, t, &self.y, self.penetration);
+                    let contacts = self.last_contacts.iter().map(|c| (c.point, c.normal));
+                    run.record(&self.compiled.model, t, &self.y, self.penetration, contacts);
                 }
             }
             if t >= pause.min(t_end) - slack {
