@@ -1,8 +1,7 @@
-"""Run outputs: the plot, the animated preview and the glTF file, read back."""
+"""Run outputs: the glTF file, read back (the preview and plot: test_preview.py)."""
 
 import numpy as np
 import pygltflib
-from PIL import Image
 
 import tumble
 
@@ -12,21 +11,6 @@ def small_run():
     w.add_body(tumble.Box(half_extents=(0.2, 0.3, 0.4)), density=500.0, position=(0, 0, 2), angular_velocity=(1, 2, 3))
     w.add_particle(position=(1, 0, 1), velocity=(0, 1, 3))
     return w.run(1.0, 0.1)
-
-
-def test_plot(tmp_path):
-    run = small_run()
-    fig = run.plot(tmp_path / "run.png")
-    assert [a.get_ylabel() for a in fig.axes] == ["energy (J)", "max penetration (mm)", "step size (s)"]
-    with Image.open(tmp_path / "run.png") as im:
-        assert im.size[0] > 500 and im.size[1] > 400
-
-
-def test_animated_gif(tmp_path):
-    run = small_run()
-    path = run.animate(tmp_path / "anim.gif", fps=10)
-    with Image.open(path) as im:
-        assert im.n_frames == run.frames
 
 
 def test_gltf_round_trip(tmp_path):

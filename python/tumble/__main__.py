@@ -1,38 +1,46 @@
-"""The default job: ``python -m tumble`` runs a built-in scene, prints its plan and run report, and writes its
-animation (glTF and a GIF preview), a plot and the report into an output folder.
+"""Runs a built-in scene, prints its plan and run report, and writes its animation, a preview, a plot and the report
+into a folder.
 
-    python -m tumble [--scene NAME] [--duration SECONDS] [--out DIR] [--no-gif]
+    python -m tumble [--scene NAME] [--duration SECONDS] [--fps FRAMES] [--out DIR] [--no-gif] [--view]
 
-Scenes: dominoes (the default), bouncing-ball, tumbling-box, pyramid, cloth-drape (contact), cloth, top.
+The default scene is twenty dominoes toppling one another for 6 s. The folder gets NAME.glb (glTF for Blender and
+web viewers), NAME.gif (a preview), NAME.png (energy and what else the run has, over time) and NAME-report.txt; the
+last lines say how long each took.
 """
 
 from __future__ import annotations
 
 import argparse
+import textwrap
+import time
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
 from . import scenes
+from ._run import Run
+from ._world import World
 
-SCENES = {
-    "dominoes": (scenes.dominoes, 6.0),
-    "bouncing-ball": (scenes.bouncing_ball, 5.0),
-    "tumbling-box": (scenes.tumbling_box, 4.0),
-    "pyramid": (scenes.pyramid, 5.0),
-    "cloth-drape": (scenes.cloth_drape, 3.0),
-    "cloth": (scenes.cloth, 3.0),
-    "top": (scenes.spinning_top, 3.0),
-    "pendulum": (scenes.pendulum, 4.0),
-    "chain": (scenes.chain, 5.0),
-    "cradle": (scenes.newtons_cradle, 3.0),
-    "door": (scenes.door, 3.0),
-    "ragdoll": (scenes.ragdoll, 3.0),
+# Each scene: how to build it, its default duration (s) and what it shows.
+SCENES: dict[str, tuple[Callable[[], World], float, str]] = {
+    "dominoes": (scenes.dominoes, 6.0, "twenty dominoes toppling one another (fast mode)"),
+    "bouncing-ball": (scenes.bouncing_ball, 5.0, "a ball bouncing on the floor, each impact located exactly"),
+    "tumbling-box": (scenes.tumbling_box, 4.0, "a box thrown spinning onto the floor, stopped by friction"),
+    "pyramid": (scenes.pyramid, 5.0, "a pyramid of cubes, each resting on two below"),
+    "cloth-drape": (scenes.cloth_drape, 3.0, "a cloth of particles falling over a ball onto the floor"),
+    "cloth": (scenes.cloth, 3.0, "a cloth of particles and springs hanging from two corners"),
+    "top": (scenes.spinning_top, 3.0, "a heavy spinning top precessing about its tip"),
+    "pendulum": (scenes.pendulum, 4.0, "a ball on a rigid rod released from the horizontal"),
+    "chain": (scenes.chain, 5.0, "a chain of twenty rods hanging from a point, a weight at its end"),
+    "cradle": (scenes.newtons_cradle, 3.0, "Newton's cradle, the first ball pulled out and let go"),
+    "door": (scenes.door, 3.0, "a door swung open by its hinge's motor to its limit"),
+    "ragdoll": (scenes.ragdoll, 3.0, "a ragdoll of ten parts pushed down a flight of stairs"),
 }
 
 
 def _duration(text: str) -> float:
-    """A duration from the command line: a finite number of seconds > 0, else argparse's usage error."""
+    """A duration from the command line: a finite number of seconds above 0, else argparse's usage error."""
     try:
         value = float(text)
     except ValueError:
@@ -42,44 +50,97 @@ def _duration(text: str) -> float:
     return value
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(prog="python -m tumble", description=__doc__.splitlines()[0])
-    parser.add_argument("--scene", choices=list(SCENES), default="dominoes")
-    parser.add_argument("--duration", type=_duration, help="seconds to simulate (each scene has a default)")
-    parser.add_argument("--out", default="tumble-out", help="folder for the animation, plot and report")
-    parser.add_argument("--no-gif", action="store_true", help="skip the GIF preview (the slowest output)")
-    args = parser.parse_args()
+def _fps(text: str) -> float:
+    """A preview frame rate: a number from 1 to 50 (GIF players slow faster ones down)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of frames a second, got {text!r}") from None
+    if not (1.0 <= value <= 50.0):
+        raise argparse.ArgumentTypeError(f"must be from 1 to 50 frames a second, got {text!r}")
+    return value
 
-    build, default_duration = SCENES[args.scene]
+
+def parser() -> argparse.ArgumentParser:
+    """The command line's parser."""
+    doc = __doc__ or ""
+    width = max(len(name) for name in SCENES)
+    scenes_help = "\n".join(f"  {name:{width}}  {what}" for name, (_, _, what) in SCENES.items())
+    p = argparse.ArgumentParser(
+        prog="python -m tumble", description=textwrap.fill(doc.split("\n\n")[0].replace("\n", " "), 79),
+        epilog=f"scenes:\n{scenes_help}", formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--scene", choices=list(SCENES), default="dominoes", metavar="NAME",
+                   help="The scene to run (listed below). The default is dominoes.")
+    p.add_argument("--duration", type=_duration, metavar="SECONDS",
+                   help="How many seconds to simulate. Each scene has its own default, from 3 to 6 s.")
+    p.add_argument("--fps", type=_fps, default=15.0, metavar="FRAMES",
+                   help="Frames a second in the preview, from 1 to 50. The default is 15.")
+    p.add_argument("--out", default="tumble-out", metavar="DIR",
+                   help="The folder to write into; it is made if missing. The default is tumble-out.")
+    p.add_argument("--no-gif", action="store_true", help="Writes no GIF preview.")
+    p.add_argument("--view", action="store_true",
+                   help="Opens the run in the interactive viewer afterwards (needs the viewer extra: "
+                        "pip install 'tumble[viewer]'); Ctrl-C ends it.")
+    return p
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Runs the command line (``argv`` defaults to the process's arguments)."""
+    p = parser()
+    args = p.parse_args(argv)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        p.error(f"argument --out: {str(out)!r} is a file, not a folder")
+    start = time.perf_counter()
+    build, default_duration, what = SCENES[args.scene]
     world = build()
     duration = args.duration or default_duration
     plan = world.plan()
-    print(f"scene   {args.scene}: {len(world.particles)} particles, {len(world.bodies)} bodies")
+    print(f"scene   {args.scene}, {what}: {len(world.particles)} particles, {len(world.bodies)} bodies")
     print(f"plan    {' -> '.join(plan['stages'])} ({plan['state_len']} state variables, {plan['mode']} mode, "
           f"method {plan['method']}" + (f", jacobian {plan['jacobian']}" if plan["jacobian"] else "") + ")")
+    clock = time.perf_counter()
     run = world.run(duration, 1 / 60, progress=True)
+    run.name = args.scene
+    timings = {"run": time.perf_counter() - clock}
     print(f"ran     {run.times[-1]:.3f} s in {run.frames} frames")
     print(f"energy  {run.energy[0]:.6g} J -> {run.energy[-1]:.6g} J ({run.energy[-1] - run.energy[0]:+.3g} J)")
     if args.scene == "top":
-        axis = run.body_positions[:, 0, :2]
-        angle = np.unwrap(np.arctan2(axis[:, 1], axis[:, 0]))
-        rate = (angle[-1] - angle[0]) / (run.times[-1] - run.times[0])
-        a, b, c = 0.02 * np.cos(0.3), 0.04 * 40.0, 1.0 * 9.81 * 0.1
-        steady = (b - np.sqrt(b * b - 4 * a * c)) / (2 * a)
-        print(f"top     precession {rate:+.4f} rad/s (steady precession of a heavy top: {steady:.4f} rad/s)")
+        _precession(run)
     if len(run.contact_events):
         print(f"events  {len(run.contact_events)} contact events, the first at {run.contact_events[0]:.9f} s")
     print(run.report)
-    out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / f"{args.scene}-report.txt").write_text(str(run.report) + "\n")
-    written = [run.export_gltf(out / f"{args.scene}.glb"), out / f"{args.scene}-report.txt"]
-    run.plot(out / f"{args.scene}.png")
-    written.append(out / f"{args.scene}.png")
+    outputs: list[tuple[str, Path, Callable[[Path], object]]] = [
+        ("report", out / f"{args.scene}-report.txt", lambda path: path.write_text(str(run.report) + "\n")),
+        ("glTF", out / f"{args.scene}.glb", run.export_gltf),
+        ("plot", out / f"{args.scene}.png", run.plot),
+    ]
     if not args.no_gif:
-        written.append(run.animate(out / f"{args.scene}.gif", fps=15))
-    for path in written:
-        print(f"wrote   {path}")
+        outputs.append(("preview", out / f"{args.scene}.gif", lambda path: run.animate(path, fps=args.fps)))
+    for label, path, write in outputs:
+        clock = time.perf_counter()
+        write(path)
+        timings[label] = time.perf_counter() - clock
+        print(f"wrote   {path} ({timings[label]:.2f} s)")
+    total = time.perf_counter() - start
+    shares = ", ".join(f"{label} {seconds:.2f} s" for label, seconds in timings.items())
+    line = f"time    {total:.2f} s in all: {shares}"
+    if "preview" in timings:
+        line += f"; the preview is {100 * timings['preview'] / total:.0f}% of it"
+    print(line)
+    if args.view:
+        run.show()  # type: ignore[attr-defined]
+
+
+def _precession(run: Run) -> None:
+    """Prints the top's precession rate beside the steady precession of a heavy top."""
+    axis = run.body_positions[:, 0, :2]
+    angle = np.unwrap(np.arctan2(axis[:, 1], axis[:, 0]))
+    rate = (angle[-1] - angle[0]) / (run.times[-1] - run.times[0])
+    a, b, c = 0.02 * np.cos(0.3), 0.04 * 40.0, 1.0 * 9.81 * 0.1
+    steady = (b - np.sqrt(b * b - 4 * a * c)) / (2 * a)
+    print(f"top     precession {rate:+.4f} rad/s (steady precession of a heavy top: {steady:.4f} rad/s)")
 
 
 if __name__ == "__main__":

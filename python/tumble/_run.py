@@ -7,11 +7,21 @@ import csv
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ._report import Report
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from ._geometry import Link
+    from ._tumble import BodyHandle, ParticleHandle, Shape
+    from ._viewer import Viewer
+
+# A body's colliders: each shape with its position and orientation (w, x, y, z) in the body's frame.
+Colliders = list[tuple["Shape", list[float], list[float]]]
 
 
 # The per-frame and per-step arrays a run holds (what .npz files carry).
@@ -51,14 +61,14 @@ class Run:
     contact_counts: np.ndarray
     contact_points: np.ndarray
     report: Report
-    particles: list
-    bodies: list
-    shapes: list = field(default_factory=list, repr=False)
-    links: list = field(default_factory=list, repr=False)
+    particles: list[ParticleHandle]
+    bodies: list[BodyHandle]
+    shapes: list[Colliders] = field(default_factory=list, repr=False)
+    links: list[Link] = field(default_factory=list, repr=False)
     name: str = ""
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any], shapes: list | None = None, links: list | None = None,
+    def from_dict(cls, data: dict[str, Any], shapes: list[Colliders] | None = None, links: list[Any] | None = None,
                   name: str = "") -> "Run":
         data = dict(data)
         data["report"] = Report(data["report"])
@@ -96,7 +106,7 @@ class Run:
         shapes (``Run.load`` reads it back equal). Returns the path."""
         path = Path(path)
 
-        def handles(hs: list) -> np.ndarray:
+        def handles(hs: list[ParticleHandle] | list[BodyHandle]) -> np.ndarray:
             return np.array([[h.world, h.index, h.generation] for h in hs], dtype=np.uint64).reshape(-1, 3)
 
         shapes = [[(s.__reduce__()[1][0], list(map(float, p)), list(map(float, q))) for s, p, q in body]
@@ -116,7 +126,7 @@ class Run:
 
         with np.load(Path(path), allow_pickle=False) as data:
             arrays = {name: data[name] for name in ARRAYS}
-            def handles(kind: str, a: np.ndarray) -> list:
+            def handles(kind: str, a: np.ndarray) -> list[Any]:
                 return [_handle(kind, int(w), int(i), int(g)) for w, i, g in a]
 
             particles = handles("ParticleHandle", data["particles"])
@@ -143,19 +153,24 @@ class Run:
                                                      self.penetration[k])])
         return path
 
-    def plot(self, path: str | Path | None = None):
+    def plot(self, path: str | Path | None = None) -> Figure:
         """Plots energy (kinetic, potential, total), the largest penetration and the step size over time (contact
         events marked); saves it to ``path`` (any format matplotlib writes) if given, and returns the figure."""
         from ._plots import plot_run  # noqa: PLC0415 - matplotlib loads only when asked
 
         return plot_run(self, path)
 
-    def animate(self, path: str | Path, fps: float | None = None, size: float = 5.0) -> Path:
-        """Writes a quick preview of particles and bodies (a 3-D scatter with each body's axes) as an animated
-        GIF (``.gif``) or, when ffmpeg is installed, an MP4 (``.mp4``). Returns the path."""
-        from ._plots import animate_run  # noqa: PLC0415
+    def animate(self, path: str | Path, fps: float | None = None, size: float = 5.0,
+                title: str | None = None) -> Path:
+        """Writes a preview of the run as an animated GIF (``.gif``) or, when ffmpeg is installed, an MP4
+        (``.mp4``): the bodies shaded with their edges, the floor, springs and joints as lines, particles as dots
+        and contacts as red points, seen from the side and framed on the scene, with ``title`` (default: the
+        scene's ``name``) and the time on every frame. ``fps`` frames a second (default: the run's frame rate, at
+        most 30); a frame is held until the next one's time, and frames where nothing moves are merged into one.
+        ``size`` is the longer side in inches at 128 pixels an inch. Returns the path."""
+        from ._preview import write_preview  # noqa: PLC0415
 
-        return animate_run(self, Path(path), fps, size)
+        return write_preview(self, Path(path), fps, size, title)
 
     def export_usd(self, path: str | Path) -> Path:
         """Writes the run as USD (``.usda`` text, ``.usdc`` binary) through usd-core (``pip install
@@ -170,5 +185,24 @@ class Run:
         """Writes the run as binary glTF 2.0 (``.glb``): one node per body with its colliders' meshes and its
         translation and rotation animated over the frames (Blender and web viewers play it). Returns the path."""
         from ._gltf import export  # noqa: PLC0415
+
+        return export(self, Path(path))
+
+    def show(self, port: int = 8080, block: bool = True, host: str = "127.0.0.1") -> Viewer:
+        """Shows the run in an interactive 3-D viewer in the browser at ``http://127.0.0.1:8080`` (viser: ``pip
+        install "tumble[viewer]"``): the bodies' colliders, particles, springs and joints, each frame's contacts;
+        play, pause, scrub and playback speed, with energy and penetration plotted beside the scene. ``port`` 0
+        takes a free port (a taken one, the next free one: ``Viewer.url`` says which); ``host="0.0.0.0"`` serves
+        other machines too. With ``block`` it prints the address and serves until Ctrl-C; without, it returns the
+        ``Viewer`` at once (``viewer.stop()`` ends it)."""
+        from ._viewer import show  # noqa: PLC0415
+
+        return show(self, port, block, host)
+
+    def export_viewer(self, path: str | Path) -> Path:
+        """Writes the viewer's scene, recorded frame by frame, as one self-contained HTML file (``.html``, viser's
+        client and the recording in it) that a browser opens from disk, no server, and plays with play/pause,
+        scrubbing and speed; no plots (viser records the scene only). Returns the path."""
+        from ._viewer import export  # noqa: PLC0415
 
         return export(self, Path(path))

@@ -1,0 +1,314 @@
+"""The animated preview of a run (GIF, or MP4 through ffmpeg): a small renderer of our own with Pillow, so that a
+preview costs a few milliseconds a frame. Bodies are shaded by face with their edges drawn, the floor is a gridded
+square under the scene, springs and joints are lines, particles dots and contacts red points. The camera looks
+down at the scene from the side, framed on the bounds of everything that moves (and the floor under it), with the
+floor at the bottom; each frame carries the scene's name and its time. Frames where nothing moved are merged into
+one frame held as long as the stillness lasts, and each frame is held for its own time, to the GIF's 10 ms."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from PIL import Image, ImageDraw, ImageFont
+
+from ._geometry import link_segments, rotation_matrices, rotation_matrix
+from ._preview_mesh import Meshes, floor_quad, gather_meshes, scene_points
+
+if TYPE_CHECKING:
+    from ._run import Run
+
+# The palette: fixed entries, then SHADES shades of each body colour (frames are drawn palettised, so no
+# quantisation is needed and colours stay exact).
+BACKGROUND, TEXT, FLOOR, GRID, EDGE, SPRING, JOINT, PARTICLE, CONTACT, AXIS_X, AXIS_Y, AXIS_Z = range(12)
+FIXED = [(246, 247, 249), (20, 20, 20), (222, 224, 228), (190, 193, 200), (40, 44, 52), (200, 120, 40),
+         (40, 90, 200), (30, 110, 190), (220, 30, 30), (220, 50, 50), (40, 160, 60), (50, 80, 220)]
+BODY_COLOURS = [(140, 140, 145), (66, 133, 244), (234, 140, 50), (52, 168, 83), (171, 71, 188), (0, 172, 193),
+                (219, 68, 55), (158, 157, 36), (121, 85, 72), (236, 64, 122)]
+SHADES = 24
+FIRST_SHADE = 16
+TITLE_BAND = 26  # px at the top for the scene's name and time
+LIGHT = np.array([0.35, -0.45, 0.82]) / np.linalg.norm([0.35, -0.45, 0.82])
+
+
+def _palette() -> list[int]:
+    colours = list(FIXED) + [(0, 0, 0)] * (FIRST_SHADE - len(FIXED))
+    for r, g, b in BODY_COLOURS:
+        for s in range(SHADES):
+            k = 0.45 + 0.55 * s / (SHADES - 1)
+            colours.append((round(r * k), round(g * k), round(b * k)))
+    colours += [(0, 0, 0)] * (256 - len(colours))
+    return [c for rgb in colours for c in rgb]
+
+
+@dataclass
+class Camera:
+    """An orthographic camera: ``view`` turns world vectors into (right, up, towards the viewer); a world point p
+    lands at pixel (cx + scale * right, cy - scale * up)."""
+
+    view: np.ndarray
+    centre: np.ndarray
+    scale: float
+    width: int
+    height: int
+
+    def project(self, points: np.ndarray) -> np.ndarray:
+        """Pixel coordinates and depth (N, 3) of world points (N, 3); larger depth is nearer the viewer."""
+        c = (np.asarray(points, dtype=float) - self.centre) @ self.view.T
+        out = np.empty_like(c)
+        out[:, 0] = self.width / 2 + self.scale * c[:, 0]
+        out[:, 1] = TITLE_BAND + (self.height - TITLE_BAND) / 2 - self.scale * c[:, 1]
+        out[:, 2] = c[:, 2]
+        return out
+
+    def scene_box(self, points: np.ndarray) -> tuple[float, float, float, float]:
+        """The pixel box (left, top, right, bottom) of points."""
+        p = self.project(points)
+        return float(p[:, 0].min()), float(p[:, 1].min()), float(p[:, 0].max()), float(p[:, 1].max())
+
+
+def frame_camera(points: np.ndarray, size: int, azimuth: float = -55.0, elevation: float = 22.0) -> Camera:
+    """A camera looking at ``points`` (the scene's extent) from ``azimuth`` and ``elevation`` (degrees), z up,
+    scaled so that they fill the picture. The picture's longer side is ``size`` pixels and its shape follows the
+    scene's (the shorter side between half and all of the longer), so that a long row of bodies or a hanging chain
+    is not a thin strip in a square."""
+    a, e = np.radians(azimuth), np.radians(elevation)
+    towards = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])  # from the scene to the camera
+    right = np.cross([0.0, 0.0, 1.0], towards)
+    right /= np.linalg.norm(right)
+    up = np.cross(towards, right)
+    view = np.array([right, up, towards])
+    c = np.asarray(points, dtype=float) @ view.T
+    span_x = max(float(np.ptp(c[:, 0])), 1e-3)
+    span_y = max(float(np.ptp(c[:, 1])), 1e-3)
+    if span_x >= span_y:
+        width, height = size, int(np.clip(size * span_y / span_x, 0.5 * size, size))
+    else:
+        width, height = int(np.clip(size * span_x / span_y, 0.5 * size, size)), size
+    width += width % 2
+    height += TITLE_BAND + height % 2
+    scale = 0.92 * min(width / span_x, (height - TITLE_BAND) / span_y)
+    middle = np.array([(c[:, 0].min() + c[:, 0].max()) / 2, (c[:, 1].min() + c[:, 1].max()) / 2, 0.0])
+    return Camera(view, middle @ view, scale, width, height)
+
+
+def _font(size: int) -> ImageFont.FreeTypeFont | ImageFont.ImageFont:
+    try:
+        return ImageFont.load_default(size=size)
+    except TypeError:  # Pillow < 10.1 has only the fixed bitmap font
+        return ImageFont.load_default()
+
+
+class Renderer:
+    """Draws a run's frames with one camera."""
+
+    def __init__(self, run: "Run", width: int) -> None:
+        self.run = run
+        self.meshes: Meshes = gather_meshes(run)
+        points = scene_points(run, self.meshes)
+        # A body without shapes is drawn as its axes, a quarter of the scene's size long, and framed with them.
+        self.axis_length = 0.25 * float(np.ptp(points, axis=0).max())
+        if len(self.meshes.bare):
+            frames = np.unique(np.linspace(0, run.frames - 1, min(60, run.frames)).round().astype(int))
+            tips = rotation_matrices(run.body_orientations[np.ix_(frames, self.meshes.bare)]) * self.axis_length
+            centres = run.body_positions[np.ix_(frames, self.meshes.bare)]
+            points = np.vstack([points, (centres[..., None, :] + np.swapaxes(tips, -1, -2)).reshape(-1, 3)])
+        self.floor = floor_quad(self.meshes, points)
+        if self.floor is not None:
+            points = np.vstack([points, self.floor[0]])
+        self.camera = frame_camera(points, width)
+        self.points = points
+        self.size = float(np.ptp(points, axis=0).max())  # the scene's largest extent (m)
+        self.font_size = 15
+        self.font = _font(self.font_size)
+        self._glyphs: dict[str, tuple[Image.Image, tuple[int, int], float]] = {}
+        self.palette = _palette()
+
+    def background(self) -> Image.Image:
+        """The picture every frame starts from: the background and the floor with its grid."""
+        cam = self.camera
+        image = Image.new("P", (cam.width, cam.height), BACKGROUND)
+        image.putpalette(self.palette)
+        if self.floor is not None:
+            draw = ImageDraw.Draw(image)
+            quad, grid = self.floor
+            draw.polygon([tuple(p) for p in cam.project(quad)[:, :2]], fill=FLOOR)
+            for a, b in grid:
+                pa, pb = cam.project(np.array([a, b]))[:, :2]
+                draw.line([tuple(pa), tuple(pb)], fill=GRID, width=1)
+        return image
+
+    def key(self, f: int) -> bytes:
+        """Where things are in frame ``f``, to an eighth of a pixel: the bodies' places and turns and the particles.
+        Frames with the same key are drawn as one (the contacts of its first frame shown: a body that falls asleep
+        drops its contacts from the list without moving)."""
+        run, cam = self.run, self.camera
+        reach = cam.scale * self.size  # pixels a unit turn can move a point
+        parts = [cam.project(run.body_positions[f])[:, :2], run.body_orientations[f] * reach,
+                 cam.project(run.particle_positions[f])[:, :2]]
+        return np.round(8.0 * np.concatenate([p.ravel() for p in parts])).astype(np.int64).tobytes()
+
+    def scene(self, f: int, base: Image.Image) -> Image.Image:
+        """Frame ``f`` without its caption, drawn over a copy of ``base`` (``background()``)."""
+        cam, m, run = self.camera, self.meshes, self.run
+        image = base.copy()
+        draw = ImageDraw.Draw(image)
+        if m.faces:
+            rotations = rotation_matrices(run.body_orientations[f])
+            world = (np.einsum("nij,nj->ni", rotations[m.vertex_body], m.vertices)
+                     + run.body_positions[f][m.vertex_body])
+            normals = np.einsum("nij,nj->ni", rotations[m.face_body], m.normals)
+            screen = cam.project(world)
+            light = np.clip(normals @ LIGHT, 0.0, 1.0)
+            shade = FIRST_SHADE + m.colour * SHADES + np.round((0.35 + 0.65 * light) * (SHADES - 1)).astype(int)
+            facing = normals @ cam.view[2] > 1e-9
+            order = np.argsort(screen[m.centre, 2], kind="stable")
+            xy = screen[:, :2].tolist()
+            for k in order[facing[order]].tolist():
+                draw.polygon([tuple(xy[i]) for i in m.faces[k]], fill=int(shade[k]), outline=EDGE)
+        self._bare(draw, f)
+        self._links(draw, f)
+        if run.particle_positions.shape[1]:
+            p = cam.project(run.particle_positions[f])
+            radius = 2 if len(p) > 100 else 3
+            for x, y, _ in p:
+                draw.ellipse([x - radius, y - radius, x + radius, y + radius], fill=PARTICLE)
+        for x, y, _ in cam.project(run.contacts(f)[:, 0]) if run.contact_counts[f] else []:
+            draw.ellipse([x - 2, y - 2, x + 2, y + 2], fill=CONTACT)
+        return image
+
+    def _bare(self, draw: ImageDraw.ImageDraw, f: int) -> None:
+        """Bodies without shapes: a dot at the centre of mass and the body's axes (red x, green y, blue z)."""
+        bare = self.meshes.bare
+        if not len(bare):
+            return
+        length = self.axis_length
+        centres = self.run.body_positions[f, bare]
+        axes = rotation_matrices(self.run.body_orientations[f, bare]) * length  # columns are the body's axes
+        for x, r in zip(centres, axes):
+            ends = self.camera.project(np.vstack([x, x + r.T]))[:, :2]
+            for k, colour in enumerate((AXIS_X, AXIS_Y, AXIS_Z)):
+                draw.line([tuple(ends[0]), tuple(ends[k + 1])], fill=colour, width=2)
+            draw.ellipse([ends[0][0] - 3, ends[0][1] - 3, ends[0][0] + 3, ends[0][1] + 3], fill=TEXT)
+
+    def _links(self, draw: ImageDraw.ImageDraw, f: int) -> None:
+        run = self.run
+        if not run.links:
+            return
+        segments = link_segments(run, f)
+        screen = self.camera.project(segments.reshape(-1, 3))[:, :2].reshape(-1, 2, 2)
+        for (kind, _, _), (a, b) in zip(run.links, screen):
+            colour = SPRING if kind == "spring" else JOINT
+            draw.line([tuple(a), tuple(b)], fill=colour, width=1 if kind == "spring" else 2)
+            if kind != "spring":
+                draw.ellipse([a[0] - 2, a[1] - 2, a[0] + 2, a[1] + 2], fill=JOINT)
+
+    def caption(self, image: Image.Image, title: str, label: str) -> Image.Image:
+        """Writes the scene's name on the left and the time on the right of the top band; returns the image. Each
+        character's glyph is rasterised once and pasted (text drawing would otherwise be a third of a preview's
+        time)."""
+        self._text(image, 8, title)
+        self._text(image, self.camera.width - 8 - self._width(label), label)
+        return image
+
+    def _glyph(self, ch: str) -> tuple[Image.Image, tuple[int, int], float]:
+        if ch not in self._glyphs:
+            mask = Image.new("L", (self.font_size * 2, self.font_size * 2), 0)
+            ImageDraw.Draw(mask).text((0, 0), ch, fill=255, font=self.font)
+            box = mask.getbbox() or (0, 0, 1, 1)
+            sharp = mask.crop(box).point(lambda v: 255 if v > 96 else 0).convert("1")  # a palette has no blending
+            self._glyphs[ch] = (sharp, (box[0], box[1]), float(self.font.getlength(ch)))
+        return self._glyphs[ch]
+
+    def _width(self, text: str) -> int:
+        return int(round(sum(self._glyph(ch)[2] for ch in text)))
+
+    def _text(self, image: Image.Image, x: float, text: str) -> None:
+        for ch in text:
+            mask, (dx, dy), advance = self._glyph(ch)
+            if ch != " ":
+                image.paste(TEXT, (int(round(x)) + dx, 5 + dy), mask)
+            x += advance
+
+
+def preview_frames(run: "Run", fps: float | None) -> list[int]:
+    """The frames a preview shows at ``fps`` (default: the run's own frame rate, at most 30 a second)."""
+    if run.frames == 0:
+        raise ValueError("invalid argument `run`: the run has no frames to preview")
+    frame_dt = float(np.median(np.diff(run.times))) if run.frames > 1 else 1.0
+    fps = fps or min(30.0, 1.0 / frame_dt)
+    if not (0.0 < fps <= 50.0):
+        raise ValueError(f"invalid argument `fps`: a preview shows between 0 and 50 frames a second, got {fps}")
+    stride = max(1, round(1.0 / (fps * frame_dt)))
+    frames = list(range(0, run.frames, stride))
+    if frames[-1] != run.frames - 1:
+        frames.append(run.frames - 1)
+    return frames
+
+
+def durations_ms(times: np.ndarray, last: float) -> list[int]:
+    """Display times (ms, multiples of the GIF's 10 ms) of frames shown at ``times`` (s), the last held ``last``
+    seconds: each frame lasts until the next one's time, rounded so that the rounding never accumulates."""
+    ends = np.append(times - times[0], times[-1] - times[0] + last)
+    ticks = np.round(ends * 100.0).astype(np.int64)  # centiseconds from the start
+    return [int(10 * max(1, d)) for d in np.diff(ticks)]
+
+
+def write_preview(run: "Run", path: Path, fps: float | None, size: float, title: str | None = None) -> Path:
+    """Writes the preview (see the module's docstring); ``size`` is the picture's longer side in inches at 128
+    pixels an inch (the default 5 gives 640 pixels); its shape follows the scene's."""
+    suffix = path.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise ValueError(f"invalid argument `path`: write a .gif or .mp4, got {path.name!r}")
+    if not (np.isfinite(size) and 1.0 <= size <= 40.0):
+        raise ValueError(f"invalid argument `size`: the longer side in inches, from 1 to 40, got {size}")
+    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
+        raise RuntimeError("an .mp4 preview needs ffmpeg on the PATH; write a .gif instead")
+    frames = preview_frames(run, fps)
+    renderer = Renderer(run, int(round(size * 128)))
+    title = title if title is not None else (run.name or "tumble")
+    times = run.times[frames]
+    # Runs of frames where the picture does not change become one frame, held until the picture changes.
+    groups: list[tuple[int, int, bytes]] = []  # first and last index into frames, what they show
+    for i, f in enumerate(frames):
+        key = renderer.key(f)
+        if groups and groups[-1][2] == key:
+            groups[-1] = (groups[-1][0], i, key)
+        else:
+            groups.append((i, i, key))
+    step = float(np.median(np.diff(times))) if len(times) > 1 else 1.0 / 30.0
+    starts = times[[g[0] for g in groups]]
+    durations = durations_ms(starts, step + float(times[-1] - times[groups[-1][0]]))
+    pictures = []
+    base = renderer.background()
+    for first, last, _ in groups:
+        a, b = times[first], times[last]
+        label = f"t = {a:.2f} s" if last == first else f"t = {a:.2f} to {b:.2f} s, at rest"
+        pictures.append(renderer.caption(renderer.scene(frames[first], base), title, label))
+    if suffix == ".gif":
+        pictures[0].save(path, save_all=True, append_images=pictures[1:], duration=durations, loop=0,
+                         optimize=False)
+        return path
+    _write_mp4(pictures, durations, path)
+    return path
+
+
+def _write_mp4(pictures: list[Image.Image], durations: list[int], path: Path) -> None:
+    """Pipes the frames to ffmpeg at 100 frames a second, each repeated for its duration."""
+    width, height = pictures[0].size
+    command = ["ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s",
+               f"{width}x{height}", "-r", "100", "-i", "-", "-pix_fmt", "yuv420p", "-vf", "fps=50", str(path)]
+    with subprocess.Popen(command, stdin=subprocess.PIPE) as ffmpeg:
+        assert ffmpeg.stdin is not None
+        for picture, ms in zip(pictures, durations):
+            ffmpeg.stdin.write(picture.convert("RGB").tobytes() * (ms // 10))
+        ffmpeg.stdin.close()
+        if ffmpeg.wait() != 0:
+            raise RuntimeError(f"ffmpeg failed writing {path}")
+
+
+__all__ = ["Camera", "frame_camera", "preview_frames", "durations_ms", "write_preview", "rotation_matrix"]
