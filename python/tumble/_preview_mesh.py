@@ -154,7 +154,8 @@ def scene_points(run: "Run", meshes: Meshes, samples: int = 60) -> np.ndarray:
     if len(meshes.vertices):
         still = ~meshes.moving[meshes.vertex_body]
         r = rotation_matrices(run.body_orientations[0])[meshes.vertex_body[still]]
-        points.append(np.einsum("nij,nj->ni", r, meshes.vertices[still]) + run.body_positions[0][meshes.vertex_body[still]])
+        points.append(np.einsum("nij,nj->ni", r, meshes.vertices[still])
+                      + run.body_positions[0][meshes.vertex_body[still]])
         mover = meshes.moving[meshes.vertex_body]
         for f in frames if mover.any() else []:
             r = rotation_matrices(run.body_orientations[f])[meshes.vertex_body[mover]]
