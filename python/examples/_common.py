@@ -10,15 +10,43 @@ import numpy as np
 import tumble
 
 
+def _seconds(text: str) -> float:
+    """A duration: a finite number of seconds above 0, else argparse's usage error."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
+    if not 0.0 < value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number of seconds above 0, got {text!r}")
+    return value
+
+
+def _count(text: str) -> int:
+    """A count: a whole number from 1 to 1000, else argparse's usage error."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if not 1 <= value <= 1000:
+        raise argparse.ArgumentTypeError(f"must be from 1 to 1000, got {text!r}")
+    return value
+
+
 def arguments(description: str, duration: float, **counts: tuple[int, str]) -> argparse.Namespace:
-    """The common options, and one integer option per keyword: name=(default, help)."""
-    p = argparse.ArgumentParser(description=description)
-    p.add_argument("--duration", type=float, default=duration, help=f"simulated seconds (default {duration})")
+    """The common options, and one integer option per keyword: name=(default, what it counts)."""
+    p = argparse.ArgumentParser(description=description.replace("\n", " "))
+    p.add_argument("--duration", type=_seconds, default=duration, metavar="SECONDS",
+                   help=f"How many seconds to simulate. The default is {duration:g}.")
     for name, (default, text) in counts.items():
-        p.add_argument(f"--{name}", type=int, default=default, help=f"{text} (default {default})")
-    p.add_argument("--out", type=Path, default=Path("tumble-out"), help="directory for the outputs")
-    p.add_argument("--no-gif", action="store_true", help="skip the GIF preview (the slowest output)")
-    return p.parse_args()
+        p.add_argument(f"--{name}", type=_count, default=default, metavar="N",
+                       help=f"How many {text}. The default is {default}.")
+    p.add_argument("--out", type=Path, default=Path("tumble-out"), metavar="DIR",
+                   help="The folder to write into; it is made if missing. The default is tumble-out.")
+    p.add_argument("--no-gif", action="store_true", help="Writes no GIF preview.")
+    args = p.parse_args()
+    if args.out.exists() and not args.out.is_dir():
+        p.error(f"argument --out: {str(args.out)!r} is a file, not a folder")
+    return args
 
 
 def run_and_write(world: tumble.World, name: str, args: argparse.Namespace, frame_interval: float = 1 / 60):
@@ -26,6 +54,7 @@ def run_and_write(world: tumble.World, name: str, args: argparse.Namespace, fram
     plan = world.plan()
     print(f"plan    {' -> '.join(plan['stages'])} ({plan['mode']} mode, {plan['state_len']} state variables)")
     run = world.run(args.duration, frame_interval, progress=True)
+    run.name = name
     print(run.report)
     args.out.mkdir(parents=True, exist_ok=True)
     written = [run.export_gltf(args.out / f"{name}.glb")]

@@ -8,7 +8,7 @@ from _common import arguments, run_and_write
 
 import tumble
 
-args = arguments(__doc__.split("\n\n")[0], count=(20, "how many dominoes"), duration=6.0)
+args = arguments(__doc__.split("\n\n")[0], count=(20, "dominoes"), duration=6.0)
 world = tumble.World(mode="fast", dt=1 / 240)
 world.add_ground(restitution=0.1, friction=0.6)
 half = (0.04, 0.2, 0.4)

@@ -9,7 +9,7 @@ from _common import arguments, run_and_write
 
 import tumble
 
-args = arguments(__doc__.split("\n\n")[0], layers=(10, "layers of the pyramid"), duration=10.0)
+args = arguments(__doc__.split("\n\n")[0], layers=(10, "layers the pyramid has"), duration=10.0)
 world = tumble.World(mode="fast", dt=1 / 240)
 world.add_ground(restitution=0.0, friction=0.6)
 for layer in range(args.layers):
@@ -19,5 +19,9 @@ for layer in range(args.layers):
                        restitution=0.0, friction=0.6)
 run = run_and_write(world, "pyramid", args, frame_interval=1 / 30)
 moved = np.linalg.norm(run.body_positions[:, 1:] - run.body_positions[0, 1:], axis=2).max()
+# A sleeping body's velocity is exactly zero: the pyramid is asleep from the first frame after which no cube moves.
+still = (run.body_velocities[:, 1:] == 0).all(axis=(1, 2)) & (run.body_angular_velocities[:, 1:] == 0).all(axis=(1, 2))
+awake = np.flatnonzero(~still)
+asleep = "never" if not still[-1] else f"from t = {run.times[awake[-1] + 1 if len(awake) else 0]:.2f} s"
 print(f"{len(run.body_positions[0]) - 1} cubes; the largest displacement of any cube: {moved:.2e} m; "
-      f"{run.report.sleepers} asleep at the end")
+      f"all asleep {asleep} ({run.report.sleepers} asleep at the end)")

@@ -1,5 +1,6 @@
 """A box thrown spinning onto the floor, where friction (0.6) and restitution (0.3) bring it to rest: fast mode,
-fixed steps of 1/240 s, the conic program with Coulomb friction per step, the box asleep once still.
+fixed steps of 1/240 s, the soft contact step with Coulomb friction, the box asleep once still. Prints its final
+speed, the energy it lost, whether it sleeps and the largest penetration.
 
     python python/examples/tumbling_box.py [--duration 4] [--out tumble-out] [--no-gif]
 """

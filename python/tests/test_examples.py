@@ -25,11 +25,30 @@ def run_example(name, tmp_path, *extra):
 def test_bouncing_ball_impacts_match_the_closed_form(tmp_path):
     stdout = run_example("bouncing_ball", tmp_path, "--duration", "3")
     rows = [line.split() for line in stdout.splitlines() if line.strip()[:1].isdigit() and len(line.split()) == 4]
-    assert len(rows) == 5, stdout
+    impacts, apexes = rows[:5], rows[5:]
+    assert len(impacts) == 5 and len(apexes) == 4, stdout
+    # The apexes are read off frames every 1/240 s: each within g (1/480)^2 / 2 = 2.1e-5 m below e^(2n) H.
+    for n, (_, z, exact, _) in enumerate(apexes, start=1):
+        assert abs(float(exact) - 0.8 ** (2 * n)) < 1e-12
+        assert -2.2e-5 <= float(z) - float(exact) <= 1e-9, apexes
+    rows = impacts
     # Each error is within n (1 + 1/e) 1e-10 s of the closed form (the bisection tolerance carried over n bounces).
     for n, (_, t, exact, err) in enumerate(rows, start=1):
         assert abs(float(t) - float(exact)) <= n * (1 + 1 / 0.8) * 1e-10 + 1e-12, rows
     assert (tmp_path / "bouncing-ball.glb").stat().st_size > 0 and (tmp_path / "bouncing-ball.png").exists()
+
+
+def test_the_pyramid_says_when_it_fell_asleep(tmp_path):
+    stdout = run_example("pyramid", tmp_path, "--duration", "2", "--layers", "4")
+    line = stdout.strip().splitlines()[-1]
+    assert line.startswith("10 cubes;") and "all asleep from t = " in line, line
+
+
+def test_example_arguments_are_checked(tmp_path):
+    for bad in (["--duration", "-1"], ["--count", "0"], ["--count", "x"]):
+        done = subprocess.run([sys.executable, str(EXAMPLES / "dominoes.py"), *bad, "--out", str(tmp_path)],
+                              capture_output=True, text=True, cwd=EXAMPLES, timeout=120)
+        assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
 
 
 @pytest.mark.parametrize("name", ["tumbling_box", "dominoes", "pyramid", "cloth_drape"])

@@ -19,7 +19,7 @@ class Progress:
         self._stream = stream if stream is not None else sys.stderr
         self._start = time.perf_counter()
         self._label = label
-        self._logged_quarter = -1
+        self._logged_quarter = 0  # the first line comes at a quarter of the run
         self._logged_at = self._start
         self._bar: Any = None
         terminal = terminal if terminal is not None else bool(getattr(self._stream, "isatty", lambda: False)())
