@@ -16,7 +16,8 @@ world.add_ground(restitution=0.3, friction=0.6)
 # orientation as a quaternion (w, x, y, z): a tilt of about 0.55 rad
 tilt = np.array([0.96, 0.2, 0.15, 0.1])
 world.add_body(tumble.Box((0.3, 0.2, 0.15)), density=600.0, position=(-1.5, 0, 1.5),
-               orientation=tilt / np.linalg.norm(tilt), velocity=(2.0, 0.3, 1.0), angular_velocity=(4.0, 6.0, 2.0), restitution=0.3, friction=0.6)
+               orientation=tilt / np.linalg.norm(tilt), velocity=(2.0, 0.3, 1.0), angular_velocity=(4.0, 6.0, 2.0),
+               restitution=0.3, friction=0.6)
 run = run_and_write(world, "tumbling-box", args)
 speed = np.linalg.norm(run.body_velocities[-1, 1])
 print(f"final speed {speed:.2e} m/s, energy change {100 * energy_change(run):+.1f}%, "
