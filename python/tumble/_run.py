@@ -182,8 +182,12 @@ class Run:
         return export(self, Path(path))
 
     def export_gltf(self, path: str | Path) -> Path:
-        """Writes the run as binary glTF 2.0 (``.glb``): one node per body with its colliders' meshes and its
-        translation and rotation animated over the frames (Blender and web viewers play it). Returns the path."""
+        """Writes the run as binary glTF 2.0 (``.glb``) that Blender and web viewers play: a node per body, particle,
+        spring and joint, their translation and rotation (and the links' length) keyed at every frame, under a root
+        node that turns tumble's z-up to glTF's y-up. Bodies with identical colliders share one mesh; each spring or
+        joint is a thin cylinder stretched between its ends, each joint's anchors small spheres; materials are plain
+        named colours (static bodies grey, moving ones a colour per distinct collider set, particles, springs and
+        joints one colour each). A run that diverged is written up to its last finite frame. Returns the path."""
         from ._gltf import export  # noqa: PLC0415
 
         return export(self, Path(path))
