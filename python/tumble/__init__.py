@@ -13,7 +13,9 @@ body's row); ``w.get_state()`` / ``w.set_state(state)`` take and put back the wh
 bit for bit) and ``w.reset()`` returns to the start; runs return a :class:`Run` with frames,
 energy, momenta, every accepted step size and a :class:`Report` of what the run cost. Bad arguments raise
 ``ValueError`` naming the argument; a step that cannot be completed raises :class:`SimulationError` (a
-``RuntimeError``) and leaves the world as it was before the call.
+``RuntimeError``) and leaves the world as it was before the call. The names of integrators, modes and solvers
+are typed (``IntegratorName``, ``ModeName``, ``SolverName``, ``LinearSolverName``), so a type checker flags a
+misspelt one.
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ from ._run import Run
 from ._batch import Batch, rollout
 from ._sweep import sweep
 from ._joints import Ball, Distance, Hinge, JointSpring, Motor, Slider, Weld
-from ._world import BodiesView, ParticlesView, World
+from ._world import BodiesView, IntegratorName, LinearSolverName, ModeName, ParticlesView, SolverName, World
 from . import scenes
 
 __all__ = [
@@ -74,5 +76,9 @@ __all__ = [
     "State",
     "SimulationError",
     "scenes",
+    "IntegratorName",
+    "ModeName",
+    "SolverName",
+    "LinearSolverName",
     "__version__",
 ]

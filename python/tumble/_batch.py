@@ -10,7 +10,7 @@ import numpy as np
 
 from ._progress import Progress, progress as _progress
 from ._run import Run
-from ._tumble import State, _rollout
+from ._tumble import State, World, _rollout
 
 # The per-frame arrays of a run, stacked (N, F, ...) over a batch.
 STACKED = (
@@ -57,7 +57,7 @@ class Batch:
 
 
 def rollout(
-    world,
+    world: World,
     states: Sequence[State],
     duration: float,
     frame_interval: float | None = None,

@@ -12,14 +12,14 @@ limits, motors or ropes yet.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Sequence, Tuple
+from typing import Any, Optional, Sequence, Tuple
 
 from ._tumble import BodyHandle
 
 Vec = Sequence[float]
 
 
-def _number(name: str, value) -> float:
+def _number(name: str, value: Any) -> float:
     """`value` as a float, or a ValueError naming the argument."""
     if isinstance(value, bool):
         raise ValueError(f"invalid argument `{name}`: expected a number, got {value!r}")
@@ -29,7 +29,7 @@ def _number(name: str, value) -> float:
         raise ValueError(f"invalid argument `{name}`: expected a number, got {value!r}") from None
 
 
-def _pair(name: str, value) -> Tuple[float, float]:
+def _pair(name: str, value: Any) -> Tuple[float, float]:
     """`value` as two floats, or a ValueError naming the argument."""
     try:
         first, second = value
@@ -74,7 +74,7 @@ class _Joint:
 
     _kind = ""
 
-    def _fields(self) -> dict:
+    def _fields(self) -> dict[str, Any]:
         anchor_a, anchor_b = self.anchor_a, self.anchor_b
         if self.world_point is not None:
             if self.a is not None and self.b is not None:
@@ -108,7 +108,7 @@ class _Axial(_Joint):
     motor: Optional[Motor] = None
     spring: Optional[JointSpring] = None
 
-    def _fields(self) -> dict:
+    def _fields(self) -> dict[str, Any]:
         f = super()._fields()
         if self.motor is not None and not isinstance(self.motor, Motor):
             raise ValueError(f"invalid argument `motor`: expected a tumble.Motor, got {self.motor!r}")
@@ -146,7 +146,7 @@ class Distance(_Joint):
     length: Optional[float] = None
     rope: bool = False
 
-    def _fields(self) -> dict:
+    def _fields(self) -> dict[str, Any]:
         f = super()._fields()
         if not isinstance(self.rope, bool):
             raise ValueError(f"invalid argument `rope`: expected True or False, got {self.rope!r}")

@@ -30,6 +30,8 @@ class Report:
     """
 
     __slots__ = ("_fields", "_text")
+    _fields: dict[str, Any]
+    _text: str
 
     def __init__(self, fields: dict[str, Any]) -> None:
         fields = dict(fields)
@@ -54,7 +56,7 @@ class Report:
     def __hash__(self) -> int:
         return hash(tuple(sorted((k, str(v)) for k, v in self._fields.items())))
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[type[Report], tuple[dict[str, Any]]]:
         return (Report, ({**self._fields, "_text": self._text},))
 
     def fields(self) -> list[str]:

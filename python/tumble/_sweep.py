@@ -8,14 +8,20 @@ from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Callable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Literal, Sequence, TypeVar
 
 from ._run import Run
 
+if TYPE_CHECKING:
+    from ._world import World
+
 BACKENDS = ("local", "ray", "dask")
+BackendName = Literal["local", "ray", "dask"]
+
+P = TypeVar("P")
 
 
-def _one(build: Callable[[Any], Any], param: Any, duration: float, frame_interval: float | None) -> Run:
+def _one(build: Callable[[P], World], param: P, duration: float, frame_interval: float | None) -> Run:
     """Builds one world and runs it (on whichever machine the backend chose)."""
     world = build(param)
     if not hasattr(world, "run") or not hasattr(world, "_to_bytes"):
@@ -24,11 +30,11 @@ def _one(build: Callable[[Any], Any], param: Any, duration: float, frame_interva
 
 
 def sweep(
-    build: Callable[[Any], Any],
-    params: Sequence[Any],
+    build: Callable[[P], World],
+    params: Sequence[P],
     duration: float,
     frame_interval: float | None = None,
-    backend: str = "local",
+    backend: BackendName = "local",
     client: Any = None,
     workers: int | None = None,
 ) -> list[Run]:
@@ -64,13 +70,14 @@ def sweep(
         client = client if client is not None else distributed.get_client()
         futures = client.map(_one, [build] * len(params), params, duration=duration, frame_interval=frame_interval,
                              pure=False)
-        return client.gather(futures)
+        runs: list[Run] = client.gather(futures)
+        return runs
     try:
         import ray  # noqa: PLC0415 - optional extra
     except ImportError as error:
         raise ImportError("backend='ray' needs Ray: pip install 'tumble[ray]'") from error
     if not ray.is_initialized():
         ray.init()
-    task = ray.remote(_one)
+    task: Any = ray.remote(_one)  # a RemoteFunction of _one (its parameter type left open)
     shipped = ray.put(build)  # the build function goes to the object store once, not with every task
     return ray.get([task.remote(shipped, p, duration, frame_interval) for p in params])

@@ -1,29 +1,60 @@
 """Type stubs of tumble's compiled module (the package ``tumble`` re-exports these)."""
 
-from typing import Any, Callable, Sequence
+from typing import Any, Callable, Literal, Self, Sequence
 
 import numpy as np
 import numpy.typing as npt
+
+from tumble._run import Run
 
 __version__: str
 
 Vec3 = Sequence[float] | npt.ArrayLike
 Quat = Sequence[float] | npt.ArrayLike
 
+# The names the compiled module accepts (the same lists as tumble._world's, which the package exports):
+# integrators as `Method::name` parses them (crates/integrate/src/method.rs), the contact modes, fast mode's contact
+# solvers and implicit Euler's linear solvers as `tumble::mode_from` and `IntegratorOptions::settings` take them
+# (src/options.rs).
+IntegratorName = Literal[
+    "euler",
+    "euler-variable",
+    "midpoint",
+    "rk4",
+    "ab4",
+    "am4",
+    "implicit-euler",
+    "dopri5",
+    "symplectic-euler",
+    "verlet",
+    "rodas4",
+    "radau5",
+    "dop853",
+]
+ModeName = Literal["accurate", "fast"]
+SolverName = Literal["soft", "exact"]
+LinearSolverName = Literal["direct", "iterative"]
+
 class SimulationError(RuntimeError):
     """A step could not be completed; the world is unchanged."""
+
+    run: Run  # set by ``World.run``: the frames recorded up to the failure
 
 class ParticleHandle:
     @property
     def index(self) -> int: ...
     @property
     def generation(self) -> int: ...
+    @property
+    def world(self) -> int: ...
 
 class BodyHandle:
     @property
     def index(self) -> int: ...
     @property
     def generation(self) -> int: ...
+    @property
+    def world(self) -> int: ...
 
 class State:
     """A world's whole state: read-only arrays (rows as in ``World.bodies`` and ``World.particles``), the time
@@ -47,6 +78,10 @@ class State:
     def has_memory(self) -> bool: ...
     def replace(self, **changes: float | npt.ArrayLike) -> "State": ...
 
+def _shape_from_json(text: str) -> Shape: ...
+def _handle(
+    kind: str, world: int, index: int, generation: int
+) -> ParticleHandle | BodyHandle | SpringHandle | LoadHandle | JointHandle: ...
 def _rollout(
     world: World,
     states: list[State],
@@ -61,25 +96,34 @@ class SpringHandle:
     def index(self) -> int: ...
     @property
     def generation(self) -> int: ...
+    @property
+    def world(self) -> int: ...
 
 class LoadHandle:
     @property
     def index(self) -> int: ...
     @property
     def generation(self) -> int: ...
+    @property
+    def world(self) -> int: ...
 
 class JointHandle:
     @property
     def index(self) -> int: ...
     @property
     def generation(self) -> int: ...
+    @property
+    def world(self) -> int: ...
 
 class Shape:
     """A collision and mass shape (base class)."""
     @property
     def kind(self) -> str: ...
+    def __reduce__(self) -> tuple[Callable[[str], Shape], tuple[str]]: ...
     def mass_properties(self, density: float) -> dict[str, Any]: ...
-    def triangle_mesh(self, subdivisions: int | None = None, extent: float | None = None) -> tuple[np.ndarray, np.ndarray]: ...
+    def triangle_mesh(
+        self, subdivisions: int | None = None, extent: float | None = None
+    ) -> tuple[np.ndarray, np.ndarray]: ...
 
 class Sphere(Shape):
     def __init__(self, radius: float) -> None: ...
@@ -106,41 +150,41 @@ class World:
     def __init__(
         self,
         gravity: Vec3 | None = None,
-        integrator: str | None = None,
+        integrator: IntegratorName | None = None,
         rtol: float | None = None,
         atol: float | None = None,
         dt: float | None = None,
         step_doubling: bool = False,
         tolerance: float | None = None,
-        mode: str = "accurate",
-        linear_solver: str | None = None,
+        mode: ModeName = "accurate",
+        linear_solver: LinearSolverName | None = None,
         newton: bool = False,
         max_steps: int | None = None,
         sleep: bool | None = None,
         threads: int | None = None,
         contact_tolerance: float | None = None,
-        solver: str | None = None,
+        solver: SolverName | None = None,
         substeps: int | None = None,
     ) -> None: ...
     def set_integrator(
         self,
-        integrator: str | None = None,
+        integrator: IntegratorName | None = None,
         rtol: float | None = None,
         atol: float | None = None,
         dt: float | None = None,
         step_doubling: bool = False,
         tolerance: float | None = None,
-        linear_solver: str | None = None,
+        linear_solver: LinearSolverName | None = None,
         newton: bool = False,
         max_steps: int | None = None,
     ) -> None: ...
     def set_mode(
         self,
-        mode: str,
+        mode: ModeName,
         dt: float | None = None,
         sleep: bool | None = None,
         contact_tolerance: float | None = None,
-        solver: str | None = None,
+        solver: SolverName | None = None,
         substeps: int | None = None,
     ) -> None: ...
     @property
@@ -148,8 +192,10 @@ class World:
     @threads.setter
     def threads(self, threads: int) -> None: ...
     @property
-    def mode(self) -> str: ...
-    def add_ground(self, height: float = 0.0, restitution: float | None = None, friction: float | None = None) -> BodyHandle: ...
+    def mode(self) -> ModeName: ...
+    def add_ground(
+        self, height: float = 0.0, restitution: float | None = None, friction: float | None = None
+    ) -> BodyHandle: ...
     def add_particle(
         self,
         mass: float | None = None,
@@ -214,7 +260,9 @@ class World:
         """Removes a joint."""
     @property
     def joint_count(self) -> int: ...
-    def set_particle_state(self, particle: ParticleHandle, position: Vec3 | None = None, velocity: Vec3 | None = None) -> None: ...
+    def set_particle_state(
+        self, particle: ParticleHandle, position: Vec3 | None = None, velocity: Vec3 | None = None
+    ) -> None: ...
     def set_body_state(
         self,
         body: BodyHandle,
@@ -246,7 +294,9 @@ class World:
     def momentum(self) -> np.ndarray: ...
     def angular_momentum(self) -> np.ndarray: ...
     def plan(self) -> dict[str, Any]: ...
-    def _run(self, duration: float, frame_interval: float | None = None, progress: Callable[[float], None] | None = None) -> dict[str, Any]: ...
+    def _run(
+        self, duration: float, frame_interval: float | None = None, progress: Callable[[float], None] | None = None
+    ) -> dict[str, Any]: ...
     def _report(self) -> dict[str, Any]: ...
     def _particle_positions(self) -> np.ndarray: ...
     def _particle_velocities(self) -> np.ndarray: ...
@@ -257,6 +307,6 @@ class World:
     def _links(self) -> list[tuple[str, tuple[str, int, list[float]], tuple[str, int, list[float]]]]: ...
     def _body_shapes(self) -> list[list[tuple[Shape, list[float], list[float]]]]: ...
     @classmethod
-    def _rust_scene(cls, name: str, **params: float) -> "World": ...
+    def _rust_scene(cls, name: str, **params: float) -> Self: ...
     @staticmethod
     def _check_scene(name: str, **params: float) -> None: ...

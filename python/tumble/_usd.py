@@ -7,15 +7,16 @@ transform is needed."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 if TYPE_CHECKING:
     from ._run import Run
+    from ._tumble import Shape
 
 
-def _pxr():
+def _pxr() -> tuple[Any, Any, Any, Any]:
     try:
         from pxr import Gf, Sdf, Usd, UsdGeom  # noqa: PLC0415
     except ImportError:
@@ -49,9 +50,9 @@ def export(run: "Run", path: Path) -> Path:
     # the distinct shapes' meshes, under an abstract class prim (never drawn itself; the colliders reference them)
     stage.CreateClassPrim("/Shapes")
 
-    meshes: dict = {}
+    meshes: dict[str, Any] = {}
 
-    def shape_mesh(shape, key) -> str:
+    def shape_mesh(shape: Shape, key: str) -> Any:
         """The path of `shape`'s mesh under /Shapes, written once for each distinct shape."""
         if key not in meshes:
             v, t = shape.triangle_mesh(24, 10.0)
@@ -63,13 +64,13 @@ def export(run: "Run", path: Path) -> Path:
             meshes[key] = mesh.GetPath()
         return meshes[key]
 
-    def animated(name: str, positions: np.ndarray, orientations: np.ndarray | None):
+    def animated(name: str, positions: np.ndarray, orientations: np.ndarray | None) -> Any:
         xform = UsdGeom.Xform.Define(stage, f"/World/{name}")
         translate = xform.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble)
         orient = xform.AddOrientOp(UsdGeom.XformOp.PrecisionDouble) if orientations is not None else None
         for k in range(len(run.times)):
             translate.Set(Gf.Vec3d(*map(float, positions[k])), Usd.TimeCode(k))
-            if orient is not None:
+            if orient is not None and orientations is not None:
                 w, x, y, z = map(float, orientations[k])
                 orient.Set(Gf.Quatd(w, x, y, z), Usd.TimeCode(k))
         return xform

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Any, Callable, Literal
 
 import numpy as np
 
@@ -14,6 +14,30 @@ from ._report import Report
 from ._run import Run
 from ._joints import Joint
 from ._tumble import BodyHandle, JointHandle, ParticleHandle, SimulationError, World as _World
+
+# The names that ``World``, ``set_integrator`` and ``set_mode`` accept, for type checkers (a misspelt name is an
+# error there, not only a ValueError at run time). The compiled module's stub (_tumble.pyi) has the same lists, taken
+# from the Rust library: the integrators from ``Method::name`` (crates/integrate/src/method.rs), the modes, fast
+# mode's contact solvers and implicit Euler's linear solvers from ``mode_from`` and ``IntegratorOptions::settings``
+# (src/options.rs).
+IntegratorName = Literal[
+    "euler",
+    "euler-variable",
+    "midpoint",
+    "rk4",
+    "ab4",
+    "am4",
+    "implicit-euler",
+    "dopri5",
+    "symplectic-euler",
+    "verlet",
+    "rodas4",
+    "radau5",
+    "dop853",
+]
+ModeName = Literal["accurate", "fast"]
+SolverName = Literal["soft", "exact"]
+LinearSolverName = Literal["direct", "iterative"]
 
 
 class ParticlesView:
@@ -34,7 +58,7 @@ class ParticlesView:
         return self._world._particle_velocities()
 
     @property
-    def handles(self) -> list:
+    def handles(self) -> list[ParticleHandle]:
         """The particles' handles, in row order."""
         return self._world.particle_handles()
 
@@ -75,7 +99,7 @@ class BodiesView:
         return self._world._body_angular_velocities()
 
     @property
-    def handles(self) -> list:
+    def handles(self) -> list[BodyHandle]:
         """The bodies' handles, in row order."""
         return self._world.body_handles()
 
@@ -95,28 +119,28 @@ class World(_World):
     tolerance=None, mode="accurate", linear_solver=None, newton=False, max_steps=None, sleep=None, threads=None,
     contact_tolerance=None, solver=None, substeps=None)``
 
-    ``integrator`` is one of "euler", "euler-variable", "midpoint", "rk4", "ab4", "am4", "implicit-euler",
-    "dopri5", "dop853", "symplectic-euler", "verlet", "rodas4", "radau5". Methods with an error estimate (dopri5,
-    dop853, rodas4, radau5, am4) control it to ``rtol``/``atol`` (default 1e-6/1e-9) unless only ``dt`` is given;
-    the others take fixed steps of ``dt`` (default 1/240 s); ``integrator`` defaults to "dopri5". ``step_doubling=True`` wraps a one-step method in the
-    chapter's step doubling with per-step error ``tolerance``. ``linear_solver="iterative"`` solves implicit Euler's
-    sparse systems by BiCGSTAB (for large cloths); ``newton=True`` iterates implicit Euler to convergence.
+    ``integrator`` is one of "euler", "euler-variable", "midpoint", "rk4", "ab4", "am4", "implicit-euler", "dopri5",
+    "dop853", "symplectic-euler", "verlet", "rodas4", "radau5" (``tumble.IntegratorName``). Methods with an error
+    estimate (dopri5, dop853, rodas4, radau5, am4) control it to ``rtol``/``atol`` (default 1e-6/1e-9) unless only
+    ``dt`` is given; the others take fixed steps of ``dt`` (default 1/240 s); ``integrator`` defaults to "dopri5".
+    ``step_doubling=True`` wraps a one-step method in the chapter's step doubling with per-step error ``tolerance``.
+    ``linear_solver="iterative"`` solves implicit Euler's sparse systems by BiCGSTAB (for large cloths); ``newton=True``
+    iterates implicit Euler to convergence.
 
-    Contact: ``mode="accurate"`` (the default): the integrator carries free flight under its error control;
-    frictionless collisions are located by bisection on its dense output and resolved by impulses (restitution);
-    while bodies touch (and at any impact with friction), convex contact steps with Coulomb friction carry them,
-    their size set by step doubling so that each step's error stays within ``contact_tolerance`` metres (default
-    1e-6 of the scene's size); the report gives their count and largest error estimate. ``mode="fast"`` steps at ``dt`` (default 1/240 s) with
+    Contact: ``mode="accurate"`` (the default): the integrator carries free flight under its error control; frictionless
+    collisions are located by bisection on its dense output and resolved by impulses (restitution); while bodies touch
+    (and at any impact with friction), convex contact steps with Coulomb friction carry them, their size set by step
+    doubling so that each step's error stays within ``contact_tolerance`` metres (default 1e-6 of the scene's size); the
+    report gives their count and largest error estimate. ``mode="fast"`` steps at ``dt`` (default 1/240 s) with
     contacts, Coulomb friction and restitution solved by ``solver="soft"`` (the default: Catto's soft step, in
     ``substeps`` substeps a step, default 8, iterative and warm-started, as fast as the game engines with a small
-    penetration under load) or ``solver="exact"`` (one conic program per island each step with clarabel: no
-    penetration, 30-50 times slower); ``step_doubling=True`` in fast mode also takes every step as two halves and
-    reports their largest difference as ``report.step_error`` (metres; the run itself is unchanged, the cost
-    tripled), and resting islands sleep (``sleep=False`` keeps them awake); it always steps by ``dt``: ``step`` and ``run`` durations must be
+    penetration under load) or ``solver="exact"`` (one conic program per island each step with clarabel: no penetration,
+    30-50 times slower); ``step_doubling=True`` in fast mode also takes every step as two halves and reports their
+    largest difference as ``report.step_error`` (metres; the run itself is unchanged, the cost tripled), and resting
+    islands sleep (``sleep=False`` keeps them awake); it always steps by ``dt``: ``step`` and ``run`` durations must be
     whole numbers of steps, and a frame is the state of the first step that reaches its time. An option that does not
-    apply to the mode (an integrator option or ``contact_tolerance`` in fast mode, ``sleep``, ``solver`` or ``substeps`` in
-    accurate mode, ``substeps`` with the exact solver) raises
-    ValueError naming it.
+    apply to the mode (an integrator option or ``contact_tolerance`` in fast mode, ``sleep``, ``solver`` or ``substeps``
+    in accurate mode, ``substeps`` with the exact solver) raises ValueError naming it.
     Arguments left as ``None`` take the library's defaults: particles of 1 kg, restitution and friction 0.5, spring
     stiffness 1 N/m, bodies of density 1000 kg/m^3 when given only a shape, frames every 1/60 s.
     ``threads`` sets how many threads the contact solves use (0, the default: one per core); results do not depend
@@ -125,14 +149,16 @@ class World(_World):
     static floor. Two surfaces combine to the larger restitution and the geometric mean of the frictions.
     """
 
-    def __new__(cls, *args, **kwargs):
-        try:
-            return super().__new__(cls, *args, **kwargs)
-        except (TypeError, OverflowError) as error:
-            better = renamed(error)
-            if better is None:
-                raise
-            raise better from error
+    if not TYPE_CHECKING:  # type checkers check calls against the compiled World's signature (in its stub)
+
+        def __new__(cls, *args, **kwargs):
+            try:
+                return super().__new__(cls, *args, **kwargs)
+            except (TypeError, OverflowError) as error:
+                better = renamed(error)
+                if better is None:
+                    raise
+                raise better from error
 
     @property
     def particles(self) -> ParticlesView:
@@ -165,11 +191,11 @@ class World(_World):
         copy._assign_from(self)
         return copy
 
-    def __deepcopy__(self, memo: dict) -> "World":
+    def __deepcopy__(self, memo: dict[int, Any]) -> "World":
         """The same as ``copy.copy``: a world shares nothing with its copy but its force callbacks."""
         return self.__copy__()
 
-    def save(self, path: str | os.PathLike) -> Path:
+    def save(self, path: str | os.PathLike[str]) -> Path:
         """Saves the world: readable JSON if ``path`` ends in ``.json`` (a scene a person can read and edit), else
         the versioned binary format. Every object and its state are kept to the bit, with the settings and the
         start ``reset`` returns to. The binary format (and ``pickle``, which uses it) also keeps the engine's memory
@@ -185,7 +211,7 @@ class World(_World):
         return path
 
     @classmethod
-    def load(cls, path: str | os.PathLike) -> "World":
+    def load(cls, path: str | os.PathLike[str]) -> "World":
         """Loads a world written by ``save`` (JSON if ``path`` ends in ``.json``, else binary). A truncated file,
         another version, an unknown field or a bad value raises ValueError naming it; nothing is half-built."""
         path = Path(path)
@@ -203,7 +229,7 @@ class World(_World):
         world._assign_from_json(text)
         return world
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[Callable[[type[World], bytes], World], tuple[type[World], bytes]]:
         """Pickles through the binary format (see ``save``)."""
         return (_from_bytes, (type(self), self._to_bytes()))
 
@@ -240,7 +266,7 @@ class World(_World):
         return Run.from_dict(data, self._body_shapes(), self._links())
 
 
-def _from_bytes(cls: type, data: bytes) -> World:
+def _from_bytes(cls: type[World], data: bytes) -> World:
     """Unpickles a world (``World.__reduce__``)."""
     world = cls()
     world._assign_from_bytes(data)

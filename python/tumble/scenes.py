@@ -4,8 +4,12 @@ library's ``tumble::scenes``, so the two give the same numbers; the contact scen
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from ._world import World
+
+if TYPE_CHECKING:
+    from ._tumble import ParticleHandle
 
 
 def cloth(
@@ -29,10 +33,10 @@ def cloth(
     m = mass / (n * n)
     ps = [w.add_particle(mass=m, position=(i * spacing, j * spacing, 1.0)) for j in range(n) for i in range(n)]
 
-    def at(i: int, j: int):
+    def at(i: int, j: int) -> ParticleHandle:
         return ps[j * n + i]
 
-    def spring(a, b) -> None:
+    def spring(a: ParticleHandle, b: ParticleHandle) -> None:
         w.add_spring(a, b, stiffness=stiffness, damping=damping)
 
     for j in range(n):
