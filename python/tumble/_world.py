@@ -15,6 +15,9 @@ from ._run import Run
 from ._joints import Joint
 from ._tumble import BodyHandle, JointHandle, ParticleHandle, SimulationError, World as _World
 
+if TYPE_CHECKING:
+    from ._viewer import Viewer
+
 # The names that ``World``, ``set_integrator`` and ``set_mode`` accept, for type checkers (a misspelt name is an
 # error there, not only a ValueError at run time). The compiled module's stub (_tumble.pyi) has the same lists, taken
 # from the Rust library: the integrators from ``Method::name`` (crates/integrate/src/method.rs), the modes, fast
@@ -264,6 +267,26 @@ class World(_World):
             if isinstance(shown, Progress):
                 shown.close()
         return Run.from_dict(data, self._body_shapes(), self._links())
+
+    def show(
+        self,
+        duration: float | None = None,
+        port: int = 8080,
+        block: bool = True,
+        frame_interval: float | None = None,
+        host: str = "127.0.0.1",
+    ) -> Viewer:
+        """Shows the world in the interactive 3-D viewer (``Run.show``; ``pip install "tumble[viewer]"``). With a
+        ``duration`` it runs that long (frames every ``frame_interval``) and shows the run; without, it shows the
+        world as it is now, with its current contacts, and leaves it unchanged. Returns the ``Viewer``."""
+        from ._viewer import check_arguments, snapshot  # noqa: PLC0415
+
+        check_arguments(port, block, host)  # before a run that a bad port would waste
+        if duration is None:
+            run = snapshot(self)
+        else:
+            run = self.run(duration, frame_interval)
+        return run.show(port, block, host)
 
 
 def _from_bytes(cls: type[World], data: bytes) -> World:
