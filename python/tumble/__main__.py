@@ -11,6 +11,7 @@ last lines say how long each took.
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import textwrap
 import time
 from pathlib import Path
@@ -88,6 +89,8 @@ def main(argv: list[str] | None = None) -> None:
     """Runs the command line (``argv`` defaults to the process's arguments)."""
     p = parser()
     args = p.parse_args(argv)
+    if args.view and importlib.util.find_spec("viser") is None:
+        p.error('--view needs the viewer extra: pip install "tumble[viewer]"')
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         p.error(f"argument --out: {str(out)!r} is a file, not a folder")
@@ -130,7 +133,7 @@ def main(argv: list[str] | None = None) -> None:
         line += f"; the preview is {100 * timings['preview'] / total:.0f}% of it"
     print(line)
     if args.view:
-        run.show()  # type: ignore[attr-defined]
+        run.show()  # prints http://127.0.0.1:8080 (the next free port if taken) and serves it until Ctrl-C
 
 
 def _precession(run: Run) -> None:

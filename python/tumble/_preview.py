@@ -59,7 +59,7 @@ class Camera:
     def project(self, points: np.ndarray) -> np.ndarray:
         """Pixel coordinates and depth (N, 3) of world points (N, 3); larger depth is nearer the viewer."""
         c = (np.asarray(points, dtype=float) - self.centre) @ self.view.T
-        out = np.empty_like(c)
+        out: np.ndarray = np.empty_like(c)
         out[:, 0] = self.width / 2 + self.scale * c[:, 0]
         out[:, 1] = TITLE_BAND + (self.height - TITLE_BAND) / 2 - self.scale * c[:, 1]
         out[:, 2] = c[:, 2]
