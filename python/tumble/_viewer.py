@@ -470,7 +470,8 @@ def snapshot(world: "World") -> "Run":
     empty = np.zeros(0)
     return Run(
         times=np.array([float(world.time)]),
-        particle_positions=frame(world.particles.positions, 3), particle_velocities=frame(world.particles.velocities, 3),
+        particle_positions=frame(world.particles.positions, 3),
+        particle_velocities=frame(world.particles.velocities, 3),
         body_positions=frame(world.bodies.positions, 3), body_orientations=frame(world.bodies.orientations, 4),
         body_velocities=frame(world.bodies.velocities, 3),
         body_angular_velocities=frame(world.bodies.angular_velocities, 3),
