@@ -75,6 +75,20 @@ def test_seek_poses_the_scene(viewer: Any, dominoes: tumble.Run) -> None:
         assert f"t = {run.times[k]:.3f} s" in viewer._title.content
 
 
+def test_the_plots_beside_the_scene_follow_what_the_run_has(viser: Any, dominoes: tumble.Run) -> None:
+    # contact: energy and penetration; joints: energy and the anchors' gap; neither: energy only
+    cases = [(dominoes, ["Energy (J)", "Largest penetration"]),
+             (tumble.scenes.chain().run(0.2), ["Energy (J)", "Joint gap"]),
+             (tumble.scenes.cloth().run(0.1), ["Energy (J)"])]
+    for run, expected in cases:
+        shown = run.show(port=0, block=False)
+        try:
+            # the unit follows the size (µm for the dominoes, nm for a chain's rounding-level gap)
+            assert [p if p.startswith("Energy") else p.split(" (")[0] for p in shown.plots] == expected, shown.plots
+        finally:
+            shown.stop()
+
+
 def test_play_advances_and_pause_holds(viewer: Any) -> None:
     viewer.seek(0)
     viewer.play()

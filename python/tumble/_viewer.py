@@ -7,8 +7,8 @@ collider, posed every frame from its body's pose; half-spaces are a large square
 bodies without colliders are small axes; particles a point cloud; springs (orange) and joints (purple) line
 segments; each frame's contacts red points with short normals. The GUI panel beside it: play/pause, a frame slider
 to scrub, playback speed, looping, the time, and plots of energy (kinetic, potential, total) and of the largest
-penetration (when the run has contacts). When the world has joints it reads out the run's largest joint error from
-the report; a run records no per-frame joint error, so there is no joint-error plot.
+penetration (when the run has contacts); with joints, the largest gap between the anchors of a ball, hinge or weld
+joint per frame (from the bodies' poses) and the run's largest joint error from the report.
 
 The static export is viser's own: the scene's messages recorded frame after frame and embedded with viser's client
 in one self-contained HTML file, which a browser plays from disk (``file://``, no server) with viser's playback bar
@@ -294,15 +294,18 @@ class Viewer:
         self._slider.on_update(lambda _: self._scrubbed())
         t = np.asarray(run.times, dtype=float)
         x_axis: dict[str, Any] = {"x": {"time": False}}
+        self.plots: list[str] = []  # the titles of the plots beside the scene, in order
         if run.frames >= 2:
             series = ({"label": "t (s)"}, {"label": "kinetic", "stroke": "#e74c3c", "width": 2},
                       {"label": "potential", "stroke": "#3498db", "width": 2},
                       {"label": "total", "stroke": "#222222", "width": 2})
+            self.plots.append("Energy (J)")
             with gui.add_folder("Energy (J)"):
                 energies = (run.kinetic_energy, run.potential_energy, run.energy)
                 gui.add_uplot((t, *energies), series, scales=x_axis, axes=_axes(*energies), aspect=1.6)
             if int(np.sum(run.contact_counts)):
                 unit, scale = _length_unit(float(np.nanmax(run.penetration)))
+                self.plots.append(f"Largest penetration ({unit})")
                 with gui.add_folder(f"Largest penetration ({unit})"):
                     depth = scale * np.asarray(run.penetration, dtype=float)
                     gui.add_uplot((t, depth), ({"label": "t (s)"}, {"label": "penetration", "stroke": "#c0392b",
@@ -313,11 +316,21 @@ class Viewer:
                              f"Largest penetration: {float(run.penetration[0]):.3g} m "
                              f"({int(run.contact_counts[0])} contacts)")
         if any(kind != "spring" for kind, _, _ in run.links):
+            from ._plots import joint_gaps  # noqa: PLC0415
+
+            gaps = joint_gaps(run)
+            if gaps is not None and run.frames >= 2:
+                unit, scale = _length_unit(max(float(np.nanmax(gaps)), 1e-300))
+                self.plots.append(f"Joint gap ({unit})")
+                with gui.add_folder(f"Joint gap ({unit})"):
+                    gap = scale * gaps
+                    gui.add_uplot((t, gap), ({"label": "t (s)"}, {"label": "ball, hinge, weld anchors apart",
+                                  "stroke": "#7b3fc8", "width": 2}), scales=x_axis, axes=_axes(gap), aspect=1.6)
             fields = run.report.as_dict()
             error, angle = fields.get("joint_error"), fields.get("joint_angle_error")
             text = "not reported" if error is None else f"{error:.3g} m" + (
                 "" if angle is None else f", {angle:.3g} rad")
-            gui.add_markdown(f"Joints: the run's largest joint error {text} (the report's; no per-frame record)")
+            gui.add_markdown(f"Joints: the run's largest joint error {text} (from the report)")
         self._name = name
 
     def _show(self, k: int) -> None:
