@@ -85,15 +85,18 @@ impl Model {
         }
     }
 
-    /// dp/dt into `dp` (the rates after the positions): all forces and torques.
-    fn force_part(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
+    /// dp/dt into `dp` (the rates after the positions): all forces and torques, or with `springs` false all but the
+    /// springs' and the particles' anchor pulls (fast mode's soft step evaluates those itself,
+    /// `engine/fast/soft_solve.rs`).
+    fn force_part(&mut self, t: f64, y: &[f64], dp: &mut [f64], springs: bool) -> Result<(), SystemError> {
         self.counters.evaluations += 1;
         let (l, q) = (self.layout, self.layout.positions());
         self.mark_force_stages();
         for (i, p) in self.particles.iter().enumerate() {
             let mut a = self.gravity;
-            if p.damping != 0.0 || p.stiffness != 0.0 {
-                a -= (get3(y, l.pv(i)) * p.damping + (get3(y, l.px(i)) - p.anchor) * p.stiffness) * p.inv_mass;
+            if p.damping != 0.0 || (springs && p.stiffness != 0.0) {
+                let pull = if springs { (get3(y, l.px(i)) - p.anchor) * p.stiffness } else { Vector3::zeros() };
+                a -= (get3(y, l.pv(i)) * p.damping + pull) * p.inv_mass;
             }
             set3(dp, l.pv(i) - q, &a);
         }
@@ -102,8 +105,9 @@ impl Model {
             set3(dp, l.bp(j) - q, &(self.gravity * b.mass - k.velocity * b.linear_damping));
             set3(dp, l.bl(j) - q, &(-k.omega * b.angular_damping));
         }
-        self.counters.spring_evaluations += self.springs.len();
-        for s in &self.springs {
+        let counted = if springs { &self.springs[..] } else { &[] };
+        self.counters.spring_evaluations += counted.len();
+        for s in counted {
             let (pa, va, arm_a) = self.end_state(&self.kin, y, s.a);
             let (pb, vb, arm_b) = self.end_state(&self.kin, y, s.b);
             let d = pa - pb;
@@ -180,6 +184,27 @@ impl Model {
     }
 }
 
+impl Model {
+    /// The right-hand side into `dy`, with the springs' forces or (`springs` false) without them.
+    fn rates(&mut self, t: f64, y: &[f64], dy: &mut [f64], springs: bool) -> Result<(), SystemError> {
+        self.update_kin(y);
+        let (dq, dp) = dy.split_at_mut(self.layout.positions());
+        self.position_part(y, dq);
+        self.force_part(t, y, dp, springs)?;
+        for &k in &self.frozen {
+            dy[k] = 0.0;
+        }
+        Ok(())
+    }
+
+    /// The right-hand side without the springs' forces and the particles' anchor pulls: fast mode's soft step
+    /// evaluates those at every substep (`engine/fast/soft_solve.rs`), the rest once a step.
+    #[cfg(feature = "contact")]
+    pub(crate) fn rates_without_springs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
+        self.rates(t, y, dy, false)
+    }
+}
+
 /// The object a spring end pushes on (fixed points push on nothing).
 fn end_on(e: End) -> Option<On> {
     match e {
@@ -195,14 +220,7 @@ impl OdeSystem for Model {
     }
 
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
-        self.update_kin(y);
-        let (dq, dp) = dy.split_at_mut(self.layout.positions());
-        self.position_part(y, dq);
-        self.force_part(t, y, dp)?;
-        for &k in &self.frozen {
-            dy[k] = 0.0;
-        }
-        Ok(())
+        self.rates(t, y, dy, true)
     }
 
     fn jacobian_structure(&self) -> JacobianStructure {
@@ -245,7 +263,7 @@ impl OdeSystem for Model {
 
     fn velocity_rate(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
         self.update_kin(y);
-        self.force_part(t, y, dp)?;
+        self.force_part(t, y, dp, true)?;
         let q = self.layout.positions();
         for &k in self.frozen.iter().filter(|k| **k >= q) {
             dp[k - q] = 0.0;

@@ -62,4 +62,6 @@ pub use lcp::SolverSettings;
 pub use projection::{position_correction, Correction};
 pub use resting::{contact_wrenches, resting_forces, RestingForces};
 pub use simultaneous::{collision_impulses, Impulses};
-pub use soft::{soft_step, soft_step_with_joints, SoftImpulse, SoftSettings, SoftStep};
+pub use soft::{
+    soft_step, soft_step_with_joints, soft_step_with_links, SoftImpulse, SoftLinks, SoftSettings, SoftSpring, SoftStep,
+};

@@ -1,17 +1,25 @@
 //! Fast mode, first stage: the applied forces at the step's start (gravity, damping, springs, loads, callbacks:
-//! the equations of motion's force part), and the actors as the contact solve sees them, sleeping ones fixed.
+//! the equations of motion's force part; without the springs for the soft step, which evaluates them at every
+//! substep), and the actors as the contact solve sees them, sleeping ones fixed.
 
 use super::{failure, FastEngine};
+use crate::mode::FastSolver;
 use crate::model::StateOptions;
 use crate::WorldError;
 use tumble_contact::BodyState;
 use tumble_integrate::{OdeError, OdeSystem};
 
 impl FastEngine {
-    /// Evaluates the equations of motion at the current state; returns the actors with those forces.
+    /// Evaluates the equations of motion at the current state; returns the actors with those forces. With the soft
+    /// solver the springs are left out: its substeps evaluate them (`soft_solve.rs`).
     pub(super) fn applied_forces(&mut self) -> Result<Vec<BodyState>, WorldError> {
         let t = self.time();
-        self.compiled.model.rhs(t, &self.y, &mut self.dy).map_err(|e| failure(t, e.to_string()))?;
+        let model = &mut self.compiled.model;
+        match self.settings.solver {
+            FastSolver::Soft(_) => model.rates_without_springs(t, &self.y, &mut self.dy),
+            FastSolver::Exact { .. } => model.rhs(t, &self.y, &mut self.dy),
+        }
+        .map_err(|e| failure(t, e.to_string()))?;
         if let Some(index) = self.dy.iter().position(|v| !v.is_finite()) {
             return Err(WorldError::Simulation(OdeError::NonFinite { t, what: "force", index }));
         }

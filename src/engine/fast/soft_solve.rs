@@ -2,16 +2,22 @@
 //! `soft_step`: substeps, soft contacts in hertz, Coulomb friction), each contact started from its impulses of the
 //! last step (matched by feature key; a contact new to a pair that touched takes the pair's mean), and the
 //! impulses kept for the next step. The substeps move the bodies themselves, so this stage also gives the poses.
+//! Joints, springs and the particles' anchor pulls go in as the soft step's links: the springs are evaluated at
+//! every substep (as forces evaluated once a step and spread over the substeps they were not symplectic: an
+//! undamped spring gained energy at any step, and the cloth drape diverged).
 
 use super::{failure, FastEngine};
 use crate::engine::contact_scene::{pair_runs, ContactKey, Found};
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
 use crate::model::joints::JointEnd;
+use crate::model::End;
 use crate::plan::Stage;
-use nalgebra::Point3;
+use nalgebra::{Point3, Vector3};
 use std::time::Instant;
-use tumble_contact::{soft_step_with_joints, BodyState, Contact, Joint, SoftImpulse, SoftSettings, SoftStep};
+use tumble_contact::{
+    soft_step_with_links, BodyState, Contact, Joint, SoftImpulse, SoftLinks, SoftSettings, SoftSpring, SoftStep,
+};
 
 /// Each contact's impulses from the last step: its own if it was there, else its pair's mean, else none.
 /// `previous` is sorted by key (so a pair's contacts are neighbours, summed in key order).
@@ -80,10 +86,12 @@ impl FastEngine {
             threads: self.threads,
             ..SoftSettings::default()
         };
-        let (actors, joints) = self.joints_at_start(states);
+        let (actors, joints, springs) = self.links_at_start(states);
         let actors = actors.as_deref().unwrap_or(states);
-        let out = soft_step_with_joints(actors, &contacts, &warm, &joints, &self.joint_warm, h, &settings)
+        let links = SoftLinks { joints: &joints, joint_warm: &self.joint_warm, springs: &springs };
+        let out = soft_step_with_links(actors, &contacts, &warm, &links, h, &settings)
             .map_err(|e| failure(self.time(), format!("contact solve: {e}")))?;
+        self.compiled.model.counters.spring_evaluations += springs.len() * settings.substeps;
         self.joint_warm.clone_from(&out.joint_impulses);
         if !joints.is_empty() {
             self.report.stages.mark(Stage::Joints);
@@ -101,29 +109,72 @@ impl FastEngine {
     }
 }
 
+/// The joints and springs where the bodies are at the step's start, for the soft step.
+type Links = (Option<Vec<BodyState>>, Vec<Joint>, Vec<SoftSpring>);
+
 impl FastEngine {
-    /// The joints where the bodies are at the step's start, for the soft step: a dynamic end is its actor, a fixed
-    /// end (the world, a static body) an extra fixed actor at its pose, appended to the actors (returned when any).
-    fn joints_at_start(&self, states: &[BodyState]) -> (Option<Vec<BodyState>>, Vec<Joint>) {
+    /// The joints, springs and anchor pulls where the bodies are at the step's start, for the soft step: a dynamic
+    /// end is its actor, a fixed end (the world, a static body, a fixed point, a particle's anchor) an extra fixed
+    /// actor at its pose, appended to the actors (returned when any). Springs that move nothing (both ends fixed or
+    /// asleep, or both on one body) are left out; the body kinematics are those of `applied_forces` (the step's
+    /// start).
+    fn links_at_start(&self, states: &[BodyState]) -> Links {
         let model = &self.compiled.model;
-        if model.joints.is_empty() {
-            return (None, Vec::new());
+        let anchored = model.particles.iter().any(|p| p.stiffness != 0.0);
+        if model.joints.is_empty() && model.springs.is_empty() && !anchored {
+            return (None, Vec::new(), Vec::new());
         }
         let mut actors = states.to_vec();
         let l = model.layout;
-        let mut index = |end: JointEnd| match end {
-            JointEnd::Body(j) => l.particles + j,
-            JointEnd::Fixed(p) => {
-                actors.push(BodyState::fixed(Point3::from(p.translation.vector)));
-                actors.len() - 1
-            }
+        let mut fixed = |p: Point3<f64>| {
+            actors.push(BodyState::fixed(p));
+            actors.len() - 1
         };
         let mut joints = Vec::with_capacity(model.joints.len());
         for cj in &model.joints {
             let (ea, eb) = (model.end_state_of(&self.y, cj.a), model.end_state_of(&self.y, cj.b));
+            let mut index = |end: JointEnd| match end {
+                JointEnd::Body(j) => l.particles + j,
+                JointEnd::Fixed(p) => fixed(Point3::from(p.translation.vector)),
+            };
             let (a, b) = (index(cj.a), index(cj.b));
             joints.push(Joint { a, b, frame: cj.frame(&ea, &eb), ..cj.joint });
         }
-        (Some(actors), joints)
+        let actor = |end: End| match end {
+            End::Particle(i) => Some(i),
+            End::Body(j, _) => Some(l.particles + j),
+            End::Point(_) => None,
+        };
+        let mut springs = Vec::with_capacity(model.springs.len());
+        for s in &model.springs {
+            let (a, b) = (actor(s.a), actor(s.b));
+            let moves = |x: Option<usize>| x.is_some_and(|x| states[x].is_dynamic());
+            if !(moves(a) || moves(b)) || (a.is_some() && a == b) {
+                continue;
+            }
+            let mut place = |end: End| match end {
+                End::Particle(i) => (i, Vector3::zeros()),
+                End::Body(j, local) => (l.particles + j, model.kin[j].rot * local),
+                End::Point(p) => (fixed(Point3::from(p)), Vector3::zeros()),
+            };
+            let ((a, ra), (b, rb)) = (place(s.a), place(s.b));
+            springs.push(SoftSpring { a, b, ra, rb, stiffness: s.k, damping: s.c, rest_length: s.l0 });
+        }
+        for (i, p) in model.particles.iter().enumerate() {
+            if p.stiffness != 0.0 && states[i].is_dynamic() {
+                let b = fixed(Point3::from(p.anchor));
+                let zero = Vector3::zeros();
+                springs.push(SoftSpring {
+                    a: i,
+                    b,
+                    ra: zero,
+                    rb: zero,
+                    stiffness: p.stiffness,
+                    damping: 0.0,
+                    rest_length: 0.0,
+                });
+            }
+        }
+        (Some(actors), joints, springs)
     }
 }

@@ -1,9 +1,9 @@
 //! One island of the soft step: its bodies and contact rows laid out for the solver, and the substep loop that reads
-//! as Box2D v3's stages: per substep, integrate velocities, warm start, a biased soft solve, integrate positions, a
-//! relax solve without bias; after the substeps, restitution. Rows are solved Gauss-Seidel in an order fixed by
-//! the input alone: a body pair's points together as a manifold, manifolds colour by colour (`colour.rs`), those of
-//! a colour sharing no moving body, so that they are swept eight at a time (`bundle.rs`) with the bits of one at a
-//! time.
+//! as Box2D v3's stages: per substep, integrate velocities (the springs' impulses first, `springs.rs`), warm start, a
+//! biased soft solve, integrate positions, a relax solve without bias; after the substeps, restitution. Rows are
+//! solved Gauss-Seidel in an order fixed by the input alone: a body pair's points together as a manifold, manifolds
+//! colour by colour (`colour.rs`), those of a colour sharing no moving body, so that they are swept eight at a time
+//! (`bundle.rs`) with the bits of one at a time.
 
 use super::bundle::{self, Arms, Bundle, FrictionBundle, Sweep, P, W};
 use super::colour::{colours, COLOURS};
@@ -12,6 +12,7 @@ use super::joints::{JointSet, JointSweep};
 use super::parallel::{self, Substeps};
 use super::row::{Mover, RowInfo};
 use super::softness::Softness;
+use super::springs::SpringSet;
 use super::{SoftImpulse, SoftSettings};
 use crate::body::BodyState;
 use crate::contact::tangents;
@@ -33,6 +34,8 @@ pub(crate) struct Island {
     converge: bool,
     /// Its joints (solved before the contacts in every stage).
     pub joints: JointSet,
+    /// Its springs (evaluated at the start of every substep).
+    pub springs: SpringSet,
 }
 
 /// Mass ratio above which an island's passes sweep until the impulses settle (a heavy body on a light one needs many
@@ -154,7 +157,17 @@ impl Island {
                 }
             }
         }
-        Island { movers, bundles, frictions, arms, infos, colours: by_colour, converge, joints: JointSet::empty() }
+        Island {
+            movers,
+            bundles,
+            frictions,
+            arms,
+            infos,
+            colours: by_colour,
+            converge,
+            joints: JointSet::empty(),
+            springs: SpringSet::empty(),
+        }
     }
 
     /// Each used point of the bundles: (bundle, lane, point).
@@ -176,7 +189,7 @@ impl Island {
         let stiff = Softness::new(2.0 * hertz, s.damping_ratio, hs);
         let rigid = Softness::new(s.joint_hertz.min(0.5 / hs), s.joint_damping_ratio, hs);
         let (biased_joints, relax_joints) = (JointSweep { hs, rigid: Some(rigid) }, JointSweep { hs, rigid: None });
-        if threads > 1 && !self.converge && self.joints.is_empty() {
+        if threads > 1 && !self.converge && self.joints.is_empty() && self.springs.is_empty() {
             let biased = Sweep { hs, soft: Some((&soft, &stiff)), max_push: s.max_push_out, friction: false };
             let relax = Sweep { soft: None, friction: true, ..biased };
             let island = Substeps {
@@ -192,6 +205,9 @@ impl Island {
             return;
         }
         for _ in 0..n {
+            if !self.springs.is_empty() {
+                self.springs.apply(&mut self.movers, hs);
+            }
             for m in &mut self.movers {
                 m.integrate_velocity(hs);
             }

@@ -1,11 +1,13 @@
 //! Fast mode's contact solver: Catto's soft step (Box2D v3, "Solver2D" 2024), in 3-D. The step of h is cut into
-//! substeps; each integrates the velocities, applies the impulses carried from the last substep (warm start), solves
+//! substeps; each integrates the velocities (the applied forces given once a step, springs evaluated where the
+//! substep starts, `springs.rs`), applies the impulses carried from the last substep (warm start), solves
 //! every contact once as a soft constraint (a spring and damper given in hertz and a damping ratio, so an overlap is
 //! pushed out smoothly and stiff stacks stay stable), moves the bodies, and solves again without the push (relax),
 //! friction included; restitution comes once after the substeps. Impulses are kept per contact across steps (the
-//! caller matches contacts by feature) and start the next step. Islands are independent; small ones are gathered
-//! into batches swept side by side (`batches`), and batches are solved on as many threads as asked, each in an order
-//! fixed by the contacts, so the answer is the same bit for bit on any thread count and as island by island.
+//! caller matches contacts by feature) and start the next step. Contacts, joints and springs join bodies into
+//! islands. Islands are independent; small ones are gathered into batches swept side by side (`batches`), and batches
+//! are solved on as many threads as asked, each in an order fixed by the contacts, so the answer is the same bit for
+//! bit on any thread count and as island by island.
 //!
 //! What it gives up against the exact cone program (`velocity_step`): a resting contact sinks until its spring
 //! carries the load (about g / (2 pi hertz)^2 per body weight), and an iteration count that bounds the work bounds
@@ -19,6 +21,7 @@ mod joints;
 mod parallel;
 mod row;
 mod softness;
+mod springs;
 mod wide;
 
 use crate::body::BodyState;
@@ -32,6 +35,8 @@ use island::Island;
 use joints::JointSet;
 use nalgebra::{UnitQuaternion, Vector3};
 use row::Mover;
+pub use springs::SoftSpring;
+use springs::SpringSet;
 
 /// Settings of the soft step.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -159,42 +164,41 @@ const COLOUR_THREADS: usize = 1000;
 /// Rows a batch of islands gathers before it is closed.
 const BATCH_ROWS: usize = 256;
 
-/// A group solved as one: contacts and joints (indices into the step's).
+/// A group solved as one: contacts, joints and springs (indices into the step's).
 #[derive(Clone, Debug, Default)]
 struct Group {
     contacts: Vec<usize>,
     joints: Vec<usize>,
+    springs: Vec<usize>,
 }
+
+/// An island: its contacts, joints and springs (indices into the step's).
+type Links = (Vec<usize>, Vec<usize>, Vec<usize>);
 
 /// The islands gathered into batches solved as one (in island order, up to `BATCH_ROWS` contacts each), and for
 /// each island whether it needs sweeps until it settles (`island::converges`; such an island is a batch of its
-/// own, as is an island with joints). Islands share no moving body, so a batch's colour order puts the rows of
-/// different islands side by side (a lone box on the floor no longer chains four solves on one body) while each
-/// island's rows keep the colours and order they have alone: the answer is the same bit for bit as island by
+/// own, as is an island with joints or springs). Islands share no moving body, so a batch's colour order puts the
+/// rows of different islands side by side (a lone box on the floor no longer chains four solves on one body) while
+/// each island's rows keep the colours and order they have alone: the answer is the same bit for bit as island by
 /// island.
-fn batches(
-    islands: Vec<(Vec<usize>, Vec<usize>)>,
-    bodies: &[BodyState],
-    contacts: &[Contact],
-    joints: &[Joint],
-) -> Vec<(Group, bool)> {
+fn batches(islands: Vec<Links>, bodies: &[BodyState], contacts: &[Contact], joints: &[Joint]) -> Vec<(Group, bool)> {
     let mut out: Vec<(Group, bool)> = Vec::new();
     let mut open: Vec<usize> = Vec::new();
-    for (island, linked) in islands {
+    for (island, linked, springs) in islands {
         let ends = island.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]);
         let ends = ends.chain(linked.iter().flat_map(|&j| [joints[j].a, joints[j].b]));
         let converge = island::converges(ends.map(|b| bodies[b].inv_mass));
-        if converge || !linked.is_empty() {
-            out.push((Group { contacts: island, joints: linked }, converge));
+        if converge || !linked.is_empty() || !springs.is_empty() {
+            out.push((Group { contacts: island, joints: linked, springs }, converge));
             continue;
         }
         open.extend(island);
         if open.len() >= BATCH_ROWS {
-            out.push((Group { contacts: std::mem::take(&mut open), joints: Vec::new() }, false));
+            out.push((Group { contacts: std::mem::take(&mut open), ..Group::default() }, false));
         }
     }
     if !open.is_empty() {
-        out.push((Group { contacts: open, joints: Vec::new() }, false));
+        out.push((Group { contacts: open, ..Group::default() }, false));
     }
     out
 }
@@ -270,6 +274,26 @@ fn check_joints(bodies: &[BodyState], joints: &[Joint], warm: &[JointImpulse]) -
     Ok(())
 }
 
+/// Checks each spring against the bodies: indices in range, two different bodies, one of them moving, every
+/// number finite, stiffness, damping and rest length not negative.
+fn check_springs(bodies: &[BodyState], springs: &[SoftSpring]) -> Result<(), ContactError> {
+    for (k, s) in springs.iter().enumerate() {
+        if s.a >= bodies.len() || s.b >= bodies.len() || s.a == s.b {
+            return Err(ContactError::invalid("springs", format!("spring {k} joins bodies {} and {}", s.a, s.b)));
+        }
+        if !(bodies[s.a].is_dynamic() || bodies[s.b].is_dynamic()) {
+            return Err(ContactError::invalid("springs", format!("spring {k} joins two bodies that do not move")));
+        }
+        if !s.is_valid() {
+            return Err(ContactError::invalid(
+                "springs",
+                format!("spring {k} has a non-finite or negative stiffness, damping, rest length or arm"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// A step of h for `bodies` with `contacts` (warm-started from `warm`) and `joints` (from `joint_warm`, each joint's
 /// impulses of the last step, or zero); bodies joined by neither move freely by the same substeps.
 pub fn soft_step_with_joints(
@@ -281,6 +305,31 @@ pub fn soft_step_with_joints(
     h: f64,
     settings: &SoftSettings,
 ) -> Result<SoftStep, ContactError> {
+    let links = SoftLinks { joints, joint_warm, springs: &[] };
+    soft_step_with_links(bodies, contacts, warm, &links, h, settings)
+}
+
+/// What joins bodies in a soft step besides contacts: joints (each started from its impulses of the last step in
+/// `joint_warm`, or zero) and springs (forces evaluated at every substep; a body's `force` and `torque` must not
+/// hold them as well).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SoftLinks<'a> {
+    pub joints: &'a [Joint],
+    pub joint_warm: &'a [JointImpulse],
+    pub springs: &'a [SoftSpring],
+}
+
+/// A step of h for `bodies` with `contacts` (warm-started from `warm`), joints and springs (`links`); bodies joined
+/// by none of them move freely by the same substeps.
+pub fn soft_step_with_links(
+    bodies: &[BodyState],
+    contacts: &[Contact],
+    warm: &[SoftImpulse],
+    links: &SoftLinks<'_>,
+    h: f64,
+    settings: &SoftSettings,
+) -> Result<SoftStep, ContactError> {
+    let SoftLinks { joints, joint_warm, springs } = *links;
     settings.check()?;
     if !(h.is_finite() && h > 0.0) {
         return Err(ContactError::invalid("dt", format!("must be finite and > 0, got {h}")));
@@ -293,6 +342,7 @@ pub fn soft_step_with_joints(
     }
     check_all(bodies, contacts)?;
     check_joints(bodies, joints, joint_warm)?;
+    check_springs(bodies, springs)?;
     let substeps = settings.substeps;
     let mut out = SoftStep {
         velocities: Vec::with_capacity(bodies.len()),
@@ -304,8 +354,16 @@ pub fn soft_step_with_joints(
         islands: 0,
         residual: 0.0,
     };
-    let pairs: Vec<(usize, usize)> = joints.iter().map(|j| (j.a, j.b)).collect();
-    let islands = joint_islands(bodies, contacts, &pairs);
+    let pairs: Vec<(usize, usize)> =
+        joints.iter().map(|j| (j.a, j.b)).chain(springs.iter().map(|s| (s.a, s.b))).collect();
+    // each island's links split into its joints and its springs (which follow the joints among the pairs)
+    let islands: Vec<Links> = joint_islands(bodies, contacts, &pairs)
+        .into_iter()
+        .map(|(island, linked)| {
+            let (js, ss): (Vec<usize>, Vec<usize>) = linked.into_iter().partition(|&k| k < joints.len());
+            (island, js, ss.into_iter().map(|k| k - joints.len()).collect())
+        })
+        .collect();
     out.islands = islands.len();
     let groups = batches(islands, bodies, contacts, joints);
     let solve = |(group, converge): &(Group, bool), threads: usize| -> Result<Solved, ContactError> {
@@ -314,10 +372,11 @@ pub fn soft_step_with_joints(
             if slots.len() < bodies.len() {
                 slots.resize(bodies.len(), usize::MAX);
             }
-            // the group's bodies in order of first appearance (contacts, then joints), each given its place
+            // the group's bodies in order of first appearance (contacts, joints, then springs), each given its place
             let mut members: Vec<usize> = Vec::new();
             let ends = group.contacts.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]);
-            for b in ends.chain(group.joints.iter().flat_map(|&k| [joints[k].a, joints[k].b])) {
+            let ends = ends.chain(group.joints.iter().flat_map(|&k| [joints[k].a, joints[k].b]));
+            for b in ends.chain(group.springs.iter().flat_map(|&k| [springs[k].a, springs[k].b])) {
                 if slots[b] == usize::MAX {
                     slots[b] = members.len();
                     members.push(b);
@@ -335,6 +394,14 @@ pub fn soft_step_with_joints(
                 });
                 island.joints = JointSet::new(local.collect(), group.joints.iter().map(|&k| joint_warm[k]).collect());
             }
+            if !group.springs.is_empty() {
+                let local = group.springs.iter().map(|&k| {
+                    let s = &springs[k];
+                    let placed = SoftSpring { a: slots[s.a], b: slots[s.b], ..*s };
+                    (placed, bodies[s.a].position.coords, bodies[s.b].position.coords)
+                });
+                island.springs = SpringSet::new(local);
+            }
             for &b in &members {
                 slots[b] = usize::MAX;
             }
@@ -350,10 +417,10 @@ pub fn soft_step_with_joints(
     // island on them
     let threads = if settings.threads == 0 { cores() } else { settings.threads };
     let whole = |(g, converge): &(Group, bool)| {
-        threads > 1 && g.contacts.len() >= COLOUR_THREADS && !converge && g.joints.is_empty()
+        threads > 1 && g.contacts.len() >= COLOUR_THREADS && !converge && g.joints.is_empty() && g.springs.is_empty()
     };
-    let rows = contacts.len() + joints.len();
-    let size = |(g, _): &(Group, bool)| g.contacts.len() + g.joints.len();
+    let rows = contacts.len() + joints.len() + springs.len();
+    let size = |(g, _): &(Group, bool)| g.contacts.len() + g.joints.len() + g.springs.len();
     let solved: Vec<Result<Solved, ContactError>> = if groups.iter().any(whole) {
         let rest: Vec<(Group, bool)> = groups.iter().filter(|g| !whole(g)).cloned().collect();
         let mut rest = in_parallel_by(&rest, size, (rows, PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1));
