@@ -65,11 +65,6 @@ class Camera:
         out[:, 2] = c[:, 2]
         return out
 
-    def scene_box(self, points: np.ndarray) -> tuple[float, float, float, float]:
-        """The pixel box (left, top, right, bottom) of points."""
-        p = self.project(points)
-        return float(p[:, 0].min()), float(p[:, 1].min()), float(p[:, 0].max()), float(p[:, 1].max())
-
 
 def frame_camera(points: np.ndarray, size: int, azimuth: float = -55.0, elevation: float = 22.0) -> Camera:
     """A camera looking at ``points`` (the scene's extent) from ``azimuth`` and ``elevation`` (degrees), z up,
@@ -153,10 +148,14 @@ class Renderer:
         return np.round(8.0 * np.concatenate([p.ravel() for p in parts])).astype(np.int64).tobytes()
 
     def scene(self, f: int, base: Image.Image) -> Image.Image:
-        """Frame ``f`` without its caption, drawn over a copy of ``base`` (``background()``)."""
+        """Frame ``f`` without its caption, drawn over a copy of ``base`` (``background()``). Faces, springs and
+        particles are drawn far to near (a painter's order by their middles' depth), so a cloth behind a ball is
+        hidden by it; joints, bodies without shapes and contacts are drawn last, over everything."""
         cam, m, run = self.camera, self.meshes, self.run
         image = base.copy()
         draw = ImageDraw.Draw(image)
+        depth: list[np.ndarray] = []
+        items: list[tuple[int, int]] = []  # (what, which): 0 a face, 1 a spring, 2 a particle
         if m.faces:
             rotations = rotation_matrices(run.body_orientations[f])
             world = (np.einsum("nij,nj->ni", rotations[m.vertex_body], m.vertices)
@@ -165,18 +164,34 @@ class Renderer:
             screen = cam.project(world)
             light = np.clip(normals @ LIGHT, 0.0, 1.0)
             shade = FIRST_SHADE + m.colour * SHADES + np.round((0.35 + 0.65 * light) * (SHADES - 1)).astype(int)
-            facing = normals @ cam.view[2] > 1e-9
-            order = np.argsort(screen[m.centre, 2], kind="stable")
+            faces = np.flatnonzero(normals @ cam.view[2] > 1e-9)
+            depth.append(screen[m.centre[faces], 2])
+            items.extend((0, int(k)) for k in faces)
             xy = screen[:, :2].tolist()
-            for k in order[facing[order]].tolist():
+        springs = [i for i, (kind, _, _) in enumerate(run.links) if kind == "spring"]
+        joints = [i for i, (kind, _, _) in enumerate(run.links) if kind != "spring"]
+        if run.links:
+            ends = cam.project(link_segments(run, f).reshape(-1, 3)).reshape(-1, 2, 3)
+            depth.append(ends[springs, :, 2].mean(axis=1))
+            items.extend((1, i) for i in springs)
+        particles = cam.project(run.particle_positions[f])
+        depth.append(particles[:, 2])
+        items.extend((2, i) for i in range(len(particles)))
+        radius = 2 if len(particles) > 100 else 3
+        for n in np.argsort(np.concatenate(depth), kind="stable").tolist():
+            what, k = items[n]
+            if what == 0:
                 draw.polygon([tuple(xy[i]) for i in m.faces[k]], fill=int(shade[k]), outline=EDGE)
-        self._bare(draw, f)
-        self._links(draw, f)
-        if run.particle_positions.shape[1]:
-            p = cam.project(run.particle_positions[f])
-            radius = 2 if len(p) > 100 else 3
-            for x, y, _ in p:
+            elif what == 1:
+                draw.line([tuple(ends[k, 0, :2]), tuple(ends[k, 1, :2])], fill=SPRING, width=1)
+            else:
+                x, y = particles[k, :2]
                 draw.ellipse([x - radius, y - radius, x + radius, y + radius], fill=PARTICLE)
+        for k in joints:
+            (ax, ay), (bx, by) = ends[k, 0, :2], ends[k, 1, :2]
+            draw.line([(ax, ay), (bx, by)], fill=JOINT, width=2)
+            draw.ellipse([ax - 2, ay - 2, ax + 2, ay + 2], fill=JOINT)
+        self._bare(draw, f)
         for x, y, _ in cam.project(run.contacts(f)[:, 0]) if run.contact_counts[f] else []:
             draw.ellipse([x - 2, y - 2, x + 2, y + 2], fill=CONTACT)
         return image
@@ -194,18 +209,6 @@ class Renderer:
             for k, colour in enumerate((AXIS_X, AXIS_Y, AXIS_Z)):
                 draw.line([tuple(ends[0]), tuple(ends[k + 1])], fill=colour, width=2)
             draw.ellipse([ends[0][0] - 3, ends[0][1] - 3, ends[0][0] + 3, ends[0][1] + 3], fill=TEXT)
-
-    def _links(self, draw: ImageDraw.ImageDraw, f: int) -> None:
-        run = self.run
-        if not run.links:
-            return
-        segments = link_segments(run, f)
-        screen = self.camera.project(segments.reshape(-1, 3))[:, :2].reshape(-1, 2, 2)
-        for (kind, _, _), (a, b) in zip(run.links, screen):
-            colour = SPRING if kind == "spring" else JOINT
-            draw.line([tuple(a), tuple(b)], fill=colour, width=1 if kind == "spring" else 2)
-            if kind != "spring":
-                draw.ellipse([a[0] - 2, a[1] - 2, a[0] + 2, a[1] + 2], fill=JOINT)
 
     def caption(self, image: Image.Image, title: str, label: str) -> Image.Image:
         """Writes the scene's name on the left and the time on the right of the top band; returns the image. Each
