@@ -42,7 +42,8 @@ from ._run import Run
 from ._batch import Batch, rollout
 from ._sweep import sweep
 from ._joints import Ball, Distance, Hinge, JointSpring, Motor, Slider, Weld
-from ._world import BodiesView, IntegratorName, LinearSolverName, ModeName, ParticlesView, SolverName, World
+from ._names import IntegratorName, LinearSolverName, ModeName, SolverName
+from ._world import BodiesView, ParticlesView, World
 from . import scenes
 
 __all__ = [

@@ -40,26 +40,28 @@ SCENES: dict[str, tuple[Callable[[], World], float, str]] = {
 }
 
 
-def _duration(text: str) -> float:
-    """A duration from the command line: a finite number of seconds above 0, else argparse's usage error."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of seconds, got {text!r}") from None
-    if not (0.0 < value < float("inf")):
-        raise argparse.ArgumentTypeError(f"must be a finite number of seconds above 0, got {text!r}")
-    return value
+def _number(what: str, low: float, high: float, low_included: bool) -> Callable[[str], float]:
+    """A parser of a number of ``what`` from ``low`` (included or not) to ``high`` (included; inf excluded), whose
+    failures are argparse's usage errors."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number of {what}, got {text!r}") from None
+        above = value >= low if low_included else value > low
+        if not (above and value <= high and value < float("inf")):
+            bounds = f"from {low:g} to {high:g}" if high < float("inf") else f"finite and above {low:g}"
+            raise argparse.ArgumentTypeError(f"must be {bounds} {what}, got {text!r}")
+        return value
+
+    return parse
 
 
-def _fps(text: str) -> float:
-    """A preview frame rate: a number from 1 to 50 (GIF players slow faster ones down)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of frames a second, got {text!r}") from None
-    if not (1.0 <= value <= 50.0):
-        raise argparse.ArgumentTypeError(f"must be from 1 to 50 frames a second, got {text!r}")
-    return value
+# Durations: a finite number of seconds above 0. Preview rates: 1 to 50 frames a second (GIF players slow faster
+# ones down).
+_duration = _number("seconds", 0.0, float("inf"), low_included=False)
+_fps = _number("frames a second", 1.0, 50.0, low_included=True)
 
 
 def parser() -> argparse.ArgumentParser:

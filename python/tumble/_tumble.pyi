@@ -1,39 +1,17 @@
 """Type stubs of tumble's compiled module (the package ``tumble`` re-exports these)."""
 
-from typing import Any, Callable, Literal, Self, Sequence
+from typing import Any, Callable, Self, Sequence
 
 import numpy as np
 import numpy.typing as npt
 
+from tumble._names import IntegratorName, LinearSolverName, ModeName, SolverName
 from tumble._run import Run
 
 __version__: str
 
 Vec3 = Sequence[float] | npt.ArrayLike
 Quat = Sequence[float] | npt.ArrayLike
-
-# The names the compiled module accepts (the same lists as tumble._world's, which the package exports):
-# integrators as `Method::name` parses them (crates/integrate/src/method.rs), the contact modes, fast mode's contact
-# solvers and implicit Euler's linear solvers as `tumble::mode_from` and `IntegratorOptions::settings` take them
-# (src/options.rs).
-IntegratorName = Literal[
-    "euler",
-    "euler-variable",
-    "midpoint",
-    "rk4",
-    "ab4",
-    "am4",
-    "implicit-euler",
-    "dopri5",
-    "symplectic-euler",
-    "verlet",
-    "rodas4",
-    "radau5",
-    "dop853",
-]
-ModeName = Literal["accurate", "fast"]
-SolverName = Literal["soft", "exact"]
-LinearSolverName = Literal["direct", "iterative"]
 
 class SimulationError(RuntimeError):
     """A step could not be completed; the world is unchanged."""

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Literal
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
@@ -17,31 +17,6 @@ from ._tumble import BodyHandle, JointHandle, ParticleHandle, SimulationError, W
 
 if TYPE_CHECKING:
     from ._viewer import Viewer
-
-# The names that ``World``, ``set_integrator`` and ``set_mode`` accept, for type checkers (a misspelt name is an
-# error there, not only a ValueError at run time). The compiled module's stub (_tumble.pyi) has the same lists, taken
-# from the Rust library: the integrators from ``Method::name`` (crates/integrate/src/method.rs), the modes, fast
-# mode's contact solvers and implicit Euler's linear solvers from ``mode_from`` and ``IntegratorOptions::settings``
-# (src/options.rs).
-IntegratorName = Literal[
-    "euler",
-    "euler-variable",
-    "midpoint",
-    "rk4",
-    "ab4",
-    "am4",
-    "implicit-euler",
-    "dopri5",
-    "symplectic-euler",
-    "verlet",
-    "rodas4",
-    "radau5",
-    "dop853",
-]
-ModeName = Literal["accurate", "fast"]
-SolverName = Literal["soft", "exact"]
-LinearSolverName = Literal["direct", "iterative"]
-
 
 class ParticlesView:
     """The particles' state as (P, 3) arrays, in the order of ``handles``. The arrays are read-only copies
