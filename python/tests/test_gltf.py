@@ -88,8 +88,8 @@ class Glb:
 
 @functools.cache
 def validate(path: Path) -> Glb:
-    """Checks a .glb as the Khronos validator would and returns it read back (its JSON and every accessor's data): the GLB
-    container; references in range; every buffer view inside the buffer and every accessor inside its view, aligned to
+    """Checks a .glb as the Khronos validator would and returns it read back (its JSON and every accessor's data):
+    the GLB container; references in range; every buffer view inside the buffer and every accessor inside its view, aligned to
     its component size (4 bytes here), its component type and type valid for its use, min/max present where required
     and equal to the data, no NaN or infinity in any of it; indices in range and no degenerate triangles; materials'
     factors in range; the node hierarchy a forest whose roots are the scene's nodes; animation inputs strictly
@@ -502,7 +502,9 @@ def gltf_crate(request: pytest.FixtureRequest) -> Path:
                                        "[workspace]\n")
     if not (folder / "src" / "main.rs").exists() or (folder / "src" / "main.rs").read_text() != CHECKER:
         (folder / "src" / "main.rs").write_text(CHECKER)
-    built = subprocess.run([cargo, "build", "--quiet"], cwd=folder, capture_output=True, text=True, timeout=900, check=False)
+    # its own target folder, whatever CARGO_TARGET_DIR says (CI sets it for the project's build)
+    built = subprocess.run([cargo, "build", "--quiet", "--target-dir", str(folder / "target")], cwd=folder,
+                           capture_output=True, text=True, timeout=900, check=False)
     if built.returncode:
         pytest.skip(f"the gltf crate could not be built here: {built.stderr[-500:]}")
     return folder / "target" / "debug" / "gltf-check"
