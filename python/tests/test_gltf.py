@@ -88,13 +88,13 @@ class Glb:
 
 @functools.cache
 def validate(path: Path) -> Glb:
-    """Checks a .glb as the Khronos validator would and returns it read back (its JSON and every accessor's data):
-    the GLB container; references in range; every buffer view inside the buffer and every accessor inside its view,
-    aligned to its component size (4 bytes here), its component type and type valid for its use, min/max present where required
+    """Checks a .glb as the Khronos validator would and returns it read back (its JSON and every accessor's data): the
+    GLB container; references in range; every buffer view inside the buffer and every accessor inside its view, aligned
+    to its component size (4 bytes here), its component type and type valid for its use, min/max present where required
     and equal to the data, no NaN or infinity in any of it; indices in range and no degenerate triangles; materials'
     factors in range; the node hierarchy a forest whose roots are the scene's nodes; animation inputs strictly
-    increasing with bounds, outputs as many, rotations unit quaternions, scales finite and non-zero; no unused
-    object and no empty array."""
+    increasing with bounds, outputs as many, rotations unit quaternions, scales finite and non-zero; no unused object
+    and no empty array."""
     doc, blob = parse_glb(path.read_bytes())
     pygltflib.GLTF2().load(str(path))  # and pygltflib reads it back
     assert doc["asset"]["version"] == "2.0"
