@@ -28,7 +28,7 @@ def test_the_help_is_whole_sentences_without_markup():
     from tumble.__main__ import SCENES, parser
 
     for action in parser()._actions:
-        if action.help and action.dest != "help":
+        if action.help:
             assert action.help[0].isupper() and action.help.rstrip().endswith("."), action.help
     listed = [line.split()[0] for line in text.split("scenes:\n")[1].splitlines() if line.strip()]
     assert listed == list(SCENES)

@@ -71,7 +71,8 @@ def parser() -> argparse.ArgumentParser:
     scenes_help = "\n".join(f"  {name:{width}}  {what}" for name, (_, _, what) in SCENES.items())
     p = argparse.ArgumentParser(
         prog="python -m tumble", description=textwrap.fill(doc.split("\n\n")[0].replace("\n", " "), 79),
-        epilog=f"scenes:\n{scenes_help}", formatter_class=argparse.RawDescriptionHelpFormatter)
+        epilog=f"scenes:\n{scenes_help}", formatter_class=argparse.RawDescriptionHelpFormatter, add_help=False)
+    p.add_argument("-h", "--help", action="help", help="Shows this help and exits.")
     p.add_argument("--scene", choices=list(SCENES), default="dominoes", metavar="NAME",
                    help="The scene to run (listed below). The default is dominoes.")
     p.add_argument("--duration", type=_duration, metavar="SECONDS",
