@@ -34,7 +34,8 @@ def _count(text: str) -> int:
 
 def arguments(description: str, duration: float, **counts: tuple[int, str]) -> argparse.Namespace:
     """The common options, and one integer option per keyword: name=(default, what it counts)."""
-    p = argparse.ArgumentParser(description=description.replace("\n", " "))
+    p = argparse.ArgumentParser(description=description.replace("\n", " "), add_help=False)
+    p.add_argument("-h", "--help", action="help", help="Shows this help and exits.")
     p.add_argument("--duration", type=_seconds, default=duration, metavar="SECONDS",
                    help=f"How many seconds to simulate. The default is {duration:g}.")
     for name, (default, text) in counts.items():
