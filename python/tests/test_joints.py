@@ -65,6 +65,27 @@ def test_bad_joints_raise_value_errors_naming_the_argument():
     assert w.joint_count == 0
 
 
+def test_a_joint_the_mode_cannot_hold_is_refused_where_they_meet():
+    # A softness is fast mode's: accurate mode (the default) refuses it when the joint is added, and a world holding
+    # one refuses to turn accurate (the error names the mode); fast mode's exact solver has no joint rows. Found by
+    # the fuzzer: the step used to refuse it, naming an argument the step does not have.
+    w = tumble.World()
+    a = w.add_body(mass=1.0, inertia=np.eye(3))
+    b = w.add_body(mass=1.0, inertia=np.eye(3), position=(1, 0, 0))
+    with pytest.raises(ValueError, match="`softness`"):
+        w.add_joint(tumble.Hinge(a, b, softness=(30.0, 1.0)))
+    assert w.joint_count == 0
+    w.set_mode("fast", dt=1 / 240)
+    w.add_joint(tumble.Hinge(a, b, softness=(30.0, 1.0)))
+    for args in [("accurate",), ("fast",)]:
+        kwargs = {"solver": "exact", "dt": 1 / 240} if args == ("fast",) else {}
+        with pytest.raises(ValueError, match="`mode`"):
+            w.set_mode(*args, **kwargs)
+        assert w.mode == "fast"
+    w.step(0.1)
+    assert w.joint_count == 1
+
+
 @pytest.mark.parametrize("name", ["pendulum", "chain", "newtons_cradle", "door", "ragdoll"])
 def test_the_jointed_scenes_run_with_their_joints_held(name):
     w = getattr(tumble.scenes, name)()

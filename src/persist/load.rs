@@ -212,6 +212,8 @@ impl World {
             };
             w.add_load(load).map_err(at("loads", path))?;
         }
+        // the mode before the joints, which must fit it (a soft joint only in fast mode)
+        w.set_mode(f.mode)?;
         for (k, j) in f.joints.iter().enumerate() {
             let path = format!("joints[{k}]");
             let end = |i: Option<usize>| i.map(|i| body("joints", &path, i)).transpose();
@@ -251,7 +253,6 @@ impl World {
                 joint.axis_b = axis;
             }
         }
-        w.set_mode(f.mode)?;
         if let Some(settings) = &f.integrator {
             match f.mode {
                 Mode::Accurate(_) => {

@@ -1,11 +1,13 @@
 //! Adding and removing joints: each joint is checked where it enters (ends that exist and differ, one of them
 //! moving, finite anchors, a non-zero axis, options only where the kind has them, limits in order) and gets its
-//! reference, the bodies' relative rotation as they are now.
+//! reference, the bodies' relative rotation as they are now. A joint the world's mode cannot hold is refused where
+//! it meets the mode: adding the joint, or setting the mode.
 
 use super::{unknown, World};
 use crate::error::WorldError;
 use crate::joint::{Joint, JointBuilder, JointHandle, JointType};
 use crate::limits;
+use crate::mode::{FastSolver, Mode, Persistent};
 use crate::spring::BodyHandle;
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -95,6 +97,7 @@ impl World {
     /// Adds a joint.
     pub fn add_joint(&mut self, joint: JointBuilder) -> Result<JointHandle, WorldError> {
         let j = self.check_joint(joint)?;
+        joint_fits_mode(&self.mode, &j.spec).map_err(|(name, why)| WorldError::invalid(name, why))?;
         self.retire_engine();
         Ok(self.joints.insert(j))
     }
@@ -114,5 +117,23 @@ impl World {
     /// The joints, with their handles.
     pub fn joints(&self) -> impl Iterator<Item = (JointHandle, &Joint)> {
         self.joints.iter()
+    }
+}
+
+/// Whether `mode` can hold a joint like `spec`: else the argument at fault (on the joint's side) and why.
+pub(crate) fn joint_fits_mode(mode: &Mode, spec: &JointBuilder) -> Result<(), (&'static str, &'static str)> {
+    match mode {
+        Mode::Fast(f) if matches!(f.solver, FastSolver::Exact { .. }) => {
+            Err(("joint", "fast mode's exact solver has no joint rows: use solver=\"soft\" (the default) for joints"))
+        }
+        Mode::Fast(_) => Ok(()),
+        Mode::Accurate(a) if a.persistent == Persistent::RestingForces => Err((
+            "joint",
+            "the chapter's resting forces know nothing of joints: use persistent contact steps (the default)",
+        )),
+        Mode::Accurate(_) if spec.softness.is_some() => {
+            Err(("softness", "a joint's softness applies to fast mode (accurate mode holds joints exactly)"))
+        }
+        Mode::Accurate(_) => Ok(()),
     }
 }
