@@ -84,6 +84,8 @@ def test_a_joint_the_mode_cannot_hold_is_refused_where_they_meet():
         assert w.mode == "fast"
     w.step(0.1)
     assert w.joint_count == 1
+    # a saved fast world with a soft joint loads (its mode is set before its joints are added)
+    assert tumble.World.from_json(w.to_json()).joint_count == 1
 
 
 @pytest.mark.parametrize("name", ["pendulum", "chain", "newtons_cradle", "door", "ragdoll"])
