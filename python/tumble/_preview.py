@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from ._geometry import link_segments, rotation_matrices, rotation_matrix
+from ._geometry import link_segments, rotation_matrices
 from ._preview_mesh import Meshes, floor_quad, gather_meshes, scene_points
 
 if TYPE_CHECKING:
@@ -308,10 +308,10 @@ def _write_mp4(pictures: list[Image.Image], durations: list[int], path: Path) ->
     with subprocess.Popen(command, stdin=subprocess.PIPE) as ffmpeg:
         assert ffmpeg.stdin is not None
         for picture, ms in zip(pictures, durations):
-            ffmpeg.stdin.write(picture.convert("RGB").tobytes() * (ms // 10))
+            data = picture.convert("RGB").tobytes()
+            for _ in range(ms // 10):  # frame by frame: a long still stretch is not one huge buffer
+                ffmpeg.stdin.write(data)
         ffmpeg.stdin.close()
         if ffmpeg.wait() != 0:
             raise RuntimeError(f"ffmpeg failed writing {path}")
 
-
-__all__ = ["Camera", "frame_camera", "preview_frames", "durations_ms", "write_preview", "rotation_matrix"]

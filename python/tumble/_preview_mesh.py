@@ -35,14 +35,6 @@ class Meshes:
     moving: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     bare: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
-    @property
-    def floor_height(self) -> float | None:
-        """The height of the first half-space facing up (its plane at the scene's origin), if any."""
-        for _, point, normal in self.planes:
-            if normal[2] > 0.3:
-                return float(point[2] + (normal[0] * point[0] + normal[1] * point[1]) / normal[2])
-        return None
-
 
 def feature_edges(v: np.ndarray, triangles: np.ndarray) -> set[tuple[int, int]]:
     """The mesh's edges that bound a face: on one triangle only, or between triangles that are not coplanar (a box's
