@@ -89,6 +89,14 @@ impl<'c> Budget<'c> {
     }
 }
 
+/// An integrator that ran out of the steps left names the call's whole budget.
+pub(crate) fn over_budget(e: OdeError, budget: &Budget) -> OdeError {
+    match e {
+        OdeError::TooManySteps { t, .. } => OdeError::TooManySteps { t, max_steps: budget.limit() },
+        e => e,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

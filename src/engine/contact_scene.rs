@@ -60,6 +60,13 @@ pub(crate) struct ContactKey {
     pub features: (u64, u64),
 }
 
+impl ContactKey {
+    /// Whether both colliders are among the first `colliders`.
+    pub fn fits(&self, colliders: usize) -> bool {
+        (self.colliders.0 as usize) < colliders && (self.colliders.1 as usize) < colliders
+    }
+}
+
 fn feature_code(f: Feature) -> u64 {
     match f {
         Feature::Vertex(i) => 1 << 32 | i as u64,
@@ -91,8 +98,6 @@ pub(crate) struct ContactScene {
     pub checks: usize,
     /// Actors that cannot move this step (static, or asleep): pairs of two are not tested.
     pub inert: Vec<bool>,
-    /// Manifolds kept across steps (fast mode's soft step), or none: every pair computed every time.
-    pub cache: Option<ManifoldCache>,
     /// Contacts the last call found: room made for as many (a growing list of contacts would copy them).
     found_last: usize,
     /// Pairs of actors a joint joins directly (sorted, lower index first): they never touch (a joint's bodies
@@ -152,7 +157,6 @@ impl ContactScene {
             broad: SortAndSweep::new(),
             checks: 0,
             inert,
-            cache: None,
             found_last: 0,
             joined: Vec::new(),
         })
@@ -232,19 +236,21 @@ impl ContactScene {
         let grown: Vec<f64> = margins.iter().map(|m| m + 0.5 * base).collect();
         let boxes = self.boxes(poses, &grown)?;
         let pairs = self.broad_pairs(&boxes)?;
-        Ok(self.pair_contacts(&pairs, poses, |a, b| grown[a] + grown[b]))
+        Ok(self.pair_contacts(&pairs, poses, |a, b| grown[a] + grown[b], None))
     }
 
     /// Fast mode's contacts of a step of h: the broad phase on boxes grown by how far each actor can move (`reach`)
     /// plus half of `base`, and each pair's manifold within how far the two can close on each other in the step:
     /// their relative speed plus both spins' reach, times h, plus `base`. Bodies moving together (a stack falling,
-    /// a row of boxes landing side by side) are not joined by contacts they cannot close.
+    /// a row of boxes landing side by side) are not joined by contacts they cannot close. Pairs that barely moved
+    /// reuse their manifolds of `cache`, if given.
     pub fn find_closing(
         &mut self,
         poses: &[Isometry3<f64>],
         states: &[tumble_contact::BodyState],
         h: f64,
         base: f64,
+        cache: Option<&mut ManifoldCache>,
     ) -> Result<Vec<Found>, String> {
         let (reach, spin) = self.reach_and_spin(states, h);
         let grown: Vec<f64> = reach.iter().map(|m| m + 0.5 * base).collect();
@@ -258,7 +264,7 @@ impl ContactScene {
             // never more than the two reaches (the old bound), so an unknown actor cannot widen it
             ((relative * h + spin[a] + spin[b]).min(reach[a] + reach[b])) + base
         };
-        Ok(self.pair_contacts(&pairs, poses, closing))
+        Ok(self.pair_contacts(&pairs, poses, closing, cache))
     }
 
     /// The pairs of colliders (first one moving) whose boxes, swept from `from` to `to` and grown by each actor's
@@ -289,15 +295,16 @@ impl ContactScene {
         Ok(pairs)
     }
 
-    /// The contacts of the collider pairs `pairs` at `poses`, each pair within `prediction(actor_a, actor_b)`.
+    /// The contacts of the collider pairs `pairs` at `poses`, each pair within `prediction(actor_a, actor_b)`;
+    /// pairs that barely moved reuse their manifolds of `cache`, if given, which keeps this call's.
     pub fn pair_contacts(
         &mut self,
         pairs: &[(usize, usize)],
         poses: &[Isometry3<f64>],
         prediction: impl Fn(usize, usize) -> f64,
+        mut cache: Option<&mut ManifoldCache>,
     ) -> Vec<Found> {
         let mut out = Vec::with_capacity(self.found_last + self.found_last / 8);
-        let mut cache = self.cache.take();
         for &(i, j) in pairs {
             let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
             let (ia, ib) = (self.index(ca.actor), self.index(cb.actor));
@@ -307,7 +314,7 @@ impl ContactScene {
                 checks += 1;
                 contacts(&ca.shape, &pa, &cb.shape, &pb, p)
             };
-            let found = match cache.as_mut() {
+            let found = match cache.as_deref_mut() {
                 Some(cache) => cache.contacts(
                     (i, j),
                     (&ca.shape, &pa, ca.radius),
@@ -357,12 +364,20 @@ impl ContactScene {
                 out.push(Found { contact, key, point_a: c.point_a, point_b: c.point_b });
             }
         }
-        if let Some(cache) = cache.as_mut() {
+        if let Some(cache) = cache {
             cache.finish();
         }
-        self.cache = cache;
         self.found_last = out.len();
         out
+    }
+
+    /// Gives every collider of actor `actor` (its index in the body arrays) `material`.
+    pub fn set_material(&mut self, actor: usize, material: Material) {
+        for c in 0..self.colliders.len() {
+            if self.index(self.colliders[c].actor) == actor {
+                self.colliders[c].material = material;
+            }
+        }
     }
 
     /// The shapes of a collider pair.

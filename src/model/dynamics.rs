@@ -1,20 +1,18 @@
 //! The equations of motion as an `OdeSystem`: particles m x'' = m g - d v - h (x - anchor) + F; rigid bodies
 //! x' = P / M, q' = 1/2 (0, w) q with w = R I_body^-1 R^T L, P' = F, L' = tau; forces from gravity, damping, springs,
 //! loads and callbacks. The kinematic part (q rates) and the force part (p rates) are separate, which is the split
-//! the symplectic methods use.
+//! the symplectic methods use. These are the plain equations of motion; an engine that adds forces of its own
+//! (accurate mode's joints and resting contacts) wraps them in its own ODE system.
 
 use crate::load::{TargetState, Wrench};
 use crate::model::layout::{add3, get3, get_quat, set3};
 use crate::model::{BodyKin, CompiledLoad, End, JacobianKind, Model, On};
 use crate::plan::Stage;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use tumble_integrate::{JacobianStructure, OdeSystem, Split, SystemError};
+use tumble_integrate::{JacobianStructure, Split, SystemError};
 
 /// Quaternions further than this from unit length are renormalised after a step.
 const NORM_DRIFT: f64 = 1e-12;
-/// Joint errors (m, rad) and speeds (m/s, rad/s) above this are projected away after a step.
-#[cfg(feature = "contact")]
-pub(crate) const JOINT_DRIFT: f64 = 1e-12;
 
 impl Model {
     /// A body's kinematics from the state (its quaternion normalised first).
@@ -51,8 +49,8 @@ impl Model {
         }
     }
 
-    /// dq/dt into `dq` (the first `layout.positions()` rates).
-    fn position_part(&mut self, y: &[f64], dq: &mut [f64]) {
+    /// dq/dt into `dq` (the first `layout.positions()` rates), from the kinematics of `update_kin`.
+    pub(crate) fn position_part(&mut self, y: &[f64], dq: &mut [f64]) {
         let l = self.layout;
         if l.bodies > 0 {
             self.stage_runs.mark(Stage::Rotation);
@@ -85,10 +83,10 @@ impl Model {
         }
     }
 
-    /// dp/dt into `dp` (the rates after the positions): all forces and torques, or with `springs` false all but the
-    /// springs' and the particles' anchor pulls (fast mode's soft step evaluates those itself,
-    /// `engine/fast/soft_solve.rs`).
-    fn force_part(&mut self, t: f64, y: &[f64], dp: &mut [f64], springs: bool) -> Result<(), SystemError> {
+    /// dp/dt into `dp` (the rates after the positions), from the kinematics of `update_kin`: all forces and torques,
+    /// or with `springs` false all but the springs' and the particles' anchor pulls (fast mode's soft step evaluates
+    /// those itself, `engine/fast/soft_solve.rs`).
+    pub(crate) fn force_part(&mut self, t: f64, y: &[f64], dp: &mut [f64], springs: bool) -> Result<(), SystemError> {
         self.counters.evaluations += 1;
         let (l, q) = (self.layout, self.layout.positions());
         self.mark_force_stages();
@@ -110,13 +108,7 @@ impl Model {
         for s in counted {
             let (pa, va, arm_a) = self.end_state(&self.kin, y, s.a);
             let (pb, vb, arm_b) = self.end_state(&self.kin, y, s.b);
-            let d = pa - pb;
-            let len = d.norm();
-            if len <= 1e-300 {
-                continue;
-            }
-            let n = d / len;
-            let f = -n * (s.k * (len - s.l0) + s.c * (va - vb).dot(&n));
+            let Some(f) = s.law.force(&pa, &va, &pb, &vb) else { continue };
             self.apply(dp, end_on(s.a), &f, arm_a);
             self.apply(dp, end_on(s.b), &-f, arm_b);
         }
@@ -147,12 +139,6 @@ impl Model {
                 }
             }
         }
-        #[cfg(feature = "contact")]
-        if self.joints_in_rhs {
-            self.add_joint_forces(y, dp);
-        }
-        #[cfg(feature = "contact")]
-        self.add_resting_forces(y, dp)?;
         Ok(())
     }
 
@@ -185,93 +171,18 @@ impl Model {
 }
 
 impl Model {
-    /// The right-hand side into `dy`, with the springs' forces or (`springs` false) without them.
-    fn rates(&mut self, t: f64, y: &[f64], dy: &mut [f64], springs: bool) -> Result<(), SystemError> {
+    /// The right-hand side into `dy` (kinematics updated to y), with the springs' forces or (`springs` false)
+    /// without them and the particles' anchor pulls: fast mode's soft step evaluates those at every substep
+    /// (`engine/fast/soft_solve.rs`), the rest once a step.
+    pub(crate) fn rates(&mut self, t: f64, y: &[f64], dy: &mut [f64], springs: bool) -> Result<(), SystemError> {
         self.update_kin(y);
         let (dq, dp) = dy.split_at_mut(self.layout.positions());
         self.position_part(y, dq);
-        self.force_part(t, y, dp, springs)?;
-        for &k in &self.frozen {
-            dy[k] = 0.0;
-        }
-        Ok(())
+        self.force_part(t, y, dp, springs)
     }
 
-    /// The right-hand side without the springs' forces and the particles' anchor pulls: fast mode's soft step
-    /// evaluates those at every substep (`engine/fast/soft_solve.rs`), the rest once a step.
-    #[cfg(feature = "contact")]
-    pub(crate) fn rates_without_springs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
-        self.rates(t, y, dy, false)
-    }
-}
-
-/// The object a spring end pushes on (fixed points push on nothing).
-fn end_on(e: End) -> Option<On> {
-    match e {
-        End::Particle(i) => Some(On::Particle(i)),
-        End::Body(j, _) => Some(On::Body(j)),
-        End::Point(_) => None,
-    }
-}
-
-impl OdeSystem for Model {
-    fn dim(&self) -> usize {
-        self.layout.dim()
-    }
-
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
-        self.rates(t, y, dy, true)
-    }
-
-    fn jacobian_structure(&self) -> JacobianStructure {
-        match self.jacobian {
-            JacobianKind::Analytic => JacobianStructure::Sparse(self.analytic_pattern()),
-            JacobianKind::Colored => JacobianStructure::SparseFiniteDifference(self.coupling_pattern()),
-        }
-    }
-
-    fn sparse_jacobian(&mut self, _t: f64, y: &[f64], values: &mut [f64]) -> Result<(), SystemError> {
-        let mut k = 0;
-        self.analytic_entries(Some(y), &mut |_, _, v| {
-            values[k] = v;
-            k += 1;
-        });
-        Ok(())
-    }
-
-    fn is_autonomous(&self) -> bool {
-        !self.loads.iter().any(|l| matches!(l, CompiledLoad::Callback { .. }))
-    }
-
-    fn split(&self) -> Option<Split> {
-        Some(Split {
-            positions: self.layout.positions(),
-            force_depends_on_velocity: self.velocity_dependent,
-            kinematic_identity: self.layout.bodies == 0,
-        })
-    }
-
-    fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
-        self.update_kin(y);
-        self.position_part(y, dq);
-        let q = dq.len();
-        for &k in self.frozen.iter().filter(|k| **k < q) {
-            dq[k] = 0.0;
-        }
-        Ok(())
-    }
-
-    fn velocity_rate(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
-        self.update_kin(y);
-        self.force_part(t, y, dp, true)?;
-        let q = self.layout.positions();
-        for &k in self.frozen.iter().filter(|k| **k >= q) {
-            dp[k - q] = 0.0;
-        }
-        Ok(())
-    }
-
-    fn project(&mut self, _t: f64, y: &mut [f64]) -> bool {
+    /// Puts every quaternion of y back on unit length if it drifted; returns whether any changed.
+    pub(crate) fn normalize_quaternions(&self, y: &mut [f64]) -> bool {
         let mut changed = false;
         for j in 0..self.layout.bodies {
             let o = self.layout.bq(j);
@@ -281,13 +192,47 @@ impl OdeSystem for Model {
                 changed = true;
             }
         }
-        #[cfg(feature = "contact")]
-        if self.joints_in_rhs && self.project_joints(y, JOINT_DRIFT) {
-            changed = true;
-        }
-        if changed {
-            self.counters.projections += 1;
-        }
         changed
+    }
+
+    /// How the integrators see the Jacobian: analytic sparse blocks, or a coupling pattern for coloured finite
+    /// differences.
+    pub(crate) fn jacobian_structure(&self) -> JacobianStructure {
+        match self.jacobian {
+            JacobianKind::Analytic => JacobianStructure::Sparse(self.analytic_pattern()),
+            JacobianKind::Colored => JacobianStructure::SparseFiniteDifference(self.coupling_pattern()),
+        }
+    }
+
+    /// The analytic Jacobian's values at y, in the order of its pattern.
+    pub(crate) fn jacobian_values(&self, y: &[f64], values: &mut [f64]) {
+        let mut k = 0;
+        self.analytic_entries(Some(y), &mut |_, _, v| {
+            values[k] = v;
+            k += 1;
+        });
+    }
+
+    /// Whether the forces ignore time (no callbacks).
+    pub(crate) fn is_autonomous(&self) -> bool {
+        !self.loads.iter().any(|l| matches!(l, CompiledLoad::Callback { .. }))
+    }
+
+    /// The (q, p) split of the state for the symplectic methods.
+    pub(crate) fn split(&self) -> Split {
+        Split {
+            positions: self.layout.positions(),
+            force_depends_on_velocity: self.velocity_dependent,
+            kinematic_identity: self.layout.bodies == 0,
+        }
+    }
+}
+
+/// The object a spring end pushes on (fixed points push on nothing).
+fn end_on(e: End) -> Option<On> {
+    match e {
+        End::Particle(i) => Some(On::Particle(i)),
+        End::Body(j, _) => Some(On::Body(j)),
+        End::Point(_) => None,
     }
 }

@@ -41,7 +41,7 @@ impl Model {
         for s in &self.springs {
             let (pa, _, _) = self.end_state(&kin, y, s.a);
             let (pb, _, _) = self.end_state(&kin, y, s.b);
-            u += 0.5 * s.k * ((pa - pb).norm() - s.l0).powi(2);
+            u += s.law.energy((pa - pb).norm());
         }
         u
     }

@@ -1,10 +1,7 @@
 //! Joints in the compiled model: each end resolved to a dynamic body's row or a fixed pose (the world, a static
-//! body), the joint's frame at a state, and accurate mode's two uses of the rows: the constraint forces inside the
-//! right-hand side (index-1: the accelerations keep every row's speed constant, K lambda = -(J a_free + J' v),
-//! K = J M^-1 J^T), and the projection after each accepted step that puts positions and velocities back on the
-//! joints (Gauss-Newton in the mass metric, then the velocity part), so that drift never builds up and the error
-//! control keeps its meaning. Springs on hinges and sliders are forces (-k C - c C'). Fast mode's soft step reads
-//! the same frames (`engine/fast/soft_solve.rs`).
+//! body), the joint's frame at a state, its rows there and their errors. The engines solve the rows their own way:
+//! accurate mode as forces in its equations of motion and a projection after each step
+//! (`engine/accurate/joint_forces.rs`), fast mode's soft step as rows of its substeps (`engine/fast/soft_solve.rs`).
 
 use crate::model::layout::{get3, get_quat};
 use crate::model::Model;
@@ -188,63 +185,4 @@ pub(crate) fn compile_joints(
             }
         })
         .collect()
-}
-
-impl Model {
-    /// The joints' rows for a velocity step of h from y (accurate mode's contact steps): holding rows J v = 0 at the
-    /// step's end (the position error is projected away after the step, `project_joints`: a velocity that pulls it
-    /// back would differ between a step and its two halves by the error itself, at any step size), limits and ropes
-    /// J v >= what closes them within the step, motors their speed within their force over h; springs are forces.
-    /// A dynamic end is its actor, a fixed end an extra fixed actor numbered from `first_extra` and returned.
-    pub(crate) fn bilateral_rows(
-        &self,
-        y: &[f64],
-        h: f64,
-        first_extra: usize,
-    ) -> (Vec<tumble_contact::BilateralRow>, Vec<tumble_contact::BodyState>) {
-        let l = self.layout;
-        let (mut out, mut extra) = (Vec::new(), Vec::new());
-        let mut scratch = Vec::new();
-        for cj in &self.joints {
-            let mut index = |end: JointEnd| match end {
-                JointEnd::Body(j) => l.particles + j,
-                JointEnd::Fixed(p) => {
-                    extra.push(tumble_contact::BodyState::fixed(nalgebra::Point3::from(p.translation.vector)));
-                    first_extra + extra.len() - 1
-                }
-            };
-            let (a, b) = (index(cj.a), index(cj.b));
-            let (ea, eb) = (self.end_state_of(y, cj.a), self.end_state_of(y, cj.b));
-            scratch.clear();
-            joint_rows(&cj.joint, &cj.frame(&ea, &eb), &ea.x, &eb.x, None, &mut scratch);
-            for r in &scratch {
-                use tumble_contact::BilateralKind;
-                let (kind, speed) = match r.kind {
-                    RowKind::Equality => (BilateralKind::Equal, 0.0),
-                    // a limit may close within the step, and holds at it (its overshoot is projected away)
-                    RowKind::Lower => {
-                        // only a limit the step can reach: one far from it would ask for a speed of its gap over h,
-                        // which grows without bound as the steps shrink and swamps the program's scale
-                        let closing = -(r.lin.dot(&(eb.v - ea.v)) + r.ang_a.dot(&ea.w) + r.ang_b.dot(&eb.w));
-                        if r.error > 2.0 * h * closing.max(0.0) {
-                            continue;
-                        }
-                        (BilateralKind::AtLeast, if r.error > 0.0 { -r.error / h } else { 0.0 })
-                    }
-                    RowKind::Motor { speed, max_force } => (BilateralKind::Motor { max_impulse: max_force * h }, speed),
-                    RowKind::Spring { .. } => continue,
-                };
-                out.push(tumble_contact::BilateralRow {
-                    a,
-                    b,
-                    lin: r.lin,
-                    ang_a: r.ang_a,
-                    ang_b: r.ang_b,
-                    speed,
-                    kind,
-                });
-            }
-        }
-        (out, extra)
-    }
 }

@@ -4,13 +4,8 @@
 #[cfg(feature = "contact")]
 mod actors;
 mod dynamics;
-#[cfg(feature = "contact")]
-pub(crate) use dynamics::JOINT_DRIFT;
 mod energy;
 mod jacobian;
-#[cfg(feature = "contact")]
-mod joint_forces;
-#[cfg(feature = "contact")]
 pub(crate) mod joints;
 pub(crate) mod layout;
 
@@ -26,6 +21,7 @@ use crate::plan::{Stage, StageCounts};
 use crate::spring::{Attachment, BodyHandle, ParticleHandle, Spring};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
+use tumble_contact::SpringLaw;
 
 #[derive(Clone)]
 pub(crate) struct ParticleProps {
@@ -55,13 +51,12 @@ pub(crate) enum End {
     Point(Vector3<f64>),
 }
 
+/// A spring between two resolved ends.
 #[derive(Clone)]
 pub(crate) struct CompiledSpring {
     pub a: End,
     pub b: End,
-    pub k: f64,
-    pub c: f64,
-    pub l0: f64,
+    pub law: SpringLaw,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -134,30 +129,25 @@ pub(crate) struct Model {
     /// The terms present (`stages()`, computed once).
     pub terms: Vec<Stage>,
     pub jacobian: JacobianKind,
-    /// Use the semidefinite spring blocks (see `world_jacobian.rs`).
+    /// Use the semidefinite spring blocks (see `jacobian.rs`).
     pub definite_springs: bool,
     pub velocity_dependent: bool,
-    /// Resting contacts whose forces the right-hand side adds (accurate mode).
-    #[cfg(feature = "contact")]
-    pub resting: Option<crate::engine::accurate::RestingSet>,
-    /// State components whose rates the right-hand side sets to zero (actors held still while the rest fly;
-    /// empty but in accurate mode's free flights).
-    pub frozen: Vec<usize>,
-    /// Joints, with their ends resolved.
-    #[cfg(feature = "contact")]
+    /// Joints, with their ends resolved (each engine solves them its own way).
     pub joints: Vec<joints::CompiledJoint>,
-    /// Whether the right-hand side adds the joints' constraint forces and `project` puts the state back on them
-    /// (accurate mode; fast mode's soft step solves them itself).
-    #[cfg(feature = "contact")]
-    pub joints_in_rhs: bool,
 }
 
-/// A compiled model with the handles of its rows: particles and dynamic bodies in state order.
+/// The handles of a state's rows: particles and dynamic bodies in state order.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Rows {
+    pub particles: Vec<ParticleHandle>,
+    pub bodies: Vec<BodyHandle>,
+}
+
+/// A compiled model with the handles of its rows.
 #[derive(Clone)]
 pub(crate) struct Compiled {
     pub model: Model,
-    pub particles: Vec<ParticleHandle>,
-    pub bodies: Vec<BodyHandle>,
+    pub rows: Rows,
 }
 
 pub(crate) fn compile(
@@ -211,7 +201,11 @@ pub(crate) fn compile(
         .collect();
     let compiled_springs: Vec<CompiledSpring> = springs
         .iter()
-        .map(|(_, s)| CompiledSpring { a: end(&s.a), b: end(&s.b), k: s.stiffness, c: s.damping, l0: s.rest_length })
+        .map(|(_, s)| CompiledSpring {
+            a: end(&s.a),
+            b: end(&s.b),
+            law: SpringLaw { stiffness: s.stiffness, damping: s.damping, rest_length: s.rest_length },
+        })
         .collect();
     let compiled_loads: Vec<CompiledLoad> = loads
         .iter()
@@ -227,7 +221,7 @@ pub(crate) fn compile(
     let velocity_dependent = has_callbacks
         || particle_props.iter().any(|p| p.damping > 0.0)
         || body_props.iter().any(|b| b.linear_damping > 0.0 || b.angular_damping > 0.0)
-        || compiled_springs.iter().any(|s| s.c > 0.0);
+        || compiled_springs.iter().any(|s| s.law.damping > 0.0);
     let mut model = Model {
         layout,
         gravity,
@@ -245,17 +239,10 @@ pub(crate) fn compile(
         jacobian: if layout.bodies > 0 || has_callbacks { JacobianKind::Colored } else { JacobianKind::Analytic },
         definite_springs: false,
         velocity_dependent,
-        #[cfg(feature = "contact")]
-        resting: None,
-        frozen: Vec::new(),
-        #[cfg(feature = "contact")]
         joints: joints::compile_joints(joints, bodies, &b_index),
-        #[cfg(feature = "contact")]
-        joints_in_rhs: false,
     };
-    let _ = joints;
     model.terms = model.stages();
-    Compiled { model, particles: particle_handles, bodies: body_handles }
+    Compiled { model, rows: Rows { particles: particle_handles, bodies: body_handles } }
 }
 
 impl Model {
@@ -283,7 +270,6 @@ impl Model {
     /// Whether each dynamic body is an end of a joint (empty without joints).
     #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub(crate) fn jointed_bodies(&self) -> Vec<bool> {
-        #[cfg(feature = "contact")]
         if !self.joints.is_empty() {
             let mut out = vec![false; self.bodies.len()];
             for j in &self.joints {
@@ -300,10 +286,7 @@ impl Model {
 
     /// Whether the model has joints.
     pub(crate) fn has_joints(&self) -> bool {
-        #[cfg(feature = "contact")]
-        return !self.joints.is_empty();
-        #[cfg(not(feature = "contact"))]
-        false
+        !self.joints.is_empty()
     }
 
     /// Whether any particle has damping or a restoring term, or any body damping.
@@ -322,10 +305,15 @@ impl Model {
     }
 }
 
-impl Compiled {
+impl Rows {
+    /// The layout of a state of these rows.
+    pub fn layout(&self) -> Layout {
+        Layout { particles: self.particles.len(), bodies: self.bodies.len() }
+    }
+
     /// The state vector of the arenas' current contents.
     pub fn pack(&self, particles: &Arena<Particle>, bodies: &Arena<RigidBody>) -> Vec<f64> {
-        let l = self.model.layout;
+        let l = self.layout();
         let mut y = vec![0.0; l.dim()];
         for (i, &h) in self.particles.iter().enumerate() {
             let p = particles.get(h).expect("live");
@@ -344,7 +332,7 @@ impl Compiled {
 
     /// Writes a state vector back into the arenas.
     pub fn unpack(&self, y: &[f64], particles: &mut Arena<Particle>, bodies: &mut Arena<RigidBody>) {
-        let l = self.model.layout;
+        let l = self.layout();
         for (i, &h) in self.particles.iter().enumerate() {
             let p = particles.get_mut(h).expect("live");
             p.position = get3(y, l.px(i));

@@ -11,7 +11,7 @@ mod file;
 mod load;
 mod save;
 
-use crate::engine::SavedMemory;
+use crate::engine::EngineMemory;
 
 use crate::error::WorldError;
 use crate::world::World;
@@ -27,12 +27,11 @@ struct SavedEngine {
     edited: bool,
     /// The engine's divergence limit, set from the state's scale where it was built.
     divergence_limit: f64,
-    memory: SavedMemory,
+    memory: EngineMemory,
 }
 
-/// The binary format's version (the scene inside it has the scene file's own, `VERSION`). 2: the memory of every
-/// engine (1 held fast mode's only); 3: joints (the scene's, and fast mode's joint impulses).
-const BINARY_VERSION: u32 = 3;
+/// The binary format's version (the scene inside it has the scene file's own, `VERSION`).
+const BINARY_VERSION: u32 = 4;
 
 fn decode_error(format: &str, e: impl std::fmt::Display) -> WorldError {
     WorldError::invalid("file", format!("not a readable {format} scene: {e}"))
@@ -69,7 +68,7 @@ impl World {
         self.engine.as_ref().map(|e| SavedEngine {
             edited: self.state_changed,
             divergence_limit: e.divergence_limit(),
-            memory: e.saved(),
+            memory: e.memory(),
         })
     }
 
@@ -82,7 +81,7 @@ impl World {
         }
         let engine = self.engine()?;
         engine.set_divergence_limit(divergence_limit);
-        engine.restore_saved(memory).map_err(refused)?;
+        engine.set_memory(memory).map_err(refused)?;
         if edited {
             // the scene holds the state set since; the engine applies it at the next step
             self.state_changed = true;
@@ -92,7 +91,7 @@ impl World {
         // are the engine's state unpacked, or were set and packed into it, quaternions normalized on the way), to
         // the rounding; a memory of another time or another motion is refused.
         let engine = self.engine.as_ref().expect("built above");
-        let packed = engine.compiled().pack(&self.particles, &self.bodies);
+        let packed = engine.rows().pack(&self.particles, &self.bodies);
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
         let same = engine.state().len() == packed.len()
             && engine.state().iter().zip(&packed).all(|(a, b)| close(*a, *b))

@@ -31,15 +31,15 @@ impl World {
     pub fn contacts(&self) -> Vec<ContactInfo> {
         #[cfg(feature = "contact")]
         if let (Some(e), false) = (&self.engine, self.state_changed) {
-            let compiled = e.compiled();
+            let rows = e.rows();
             let statics: Vec<crate::spring::BodyHandle> =
                 self.bodies.iter().filter(|(_, b)| b.is_static).map(|(h, _)| h).collect();
-            let (np, nb) = (compiled.particles.len(), compiled.bodies.len());
+            let (np, nb) = (rows.particles.len(), rows.bodies.len());
             let actor = |i: usize| {
                 if i < np {
-                    Target::Particle(compiled.particles[i])
+                    Target::Particle(rows.particles[i])
                 } else if i < np + nb {
-                    Target::Body(compiled.bodies[i - np])
+                    Target::Body(rows.bodies[i - np])
                 } else {
                     Target::Body(statics[i - np - nb])
                 }

@@ -51,7 +51,7 @@ pub struct World {
     pub(crate) springs: Arena<Spring>,
     pub(crate) loads: Arena<Load>,
     pub(crate) joints: Arena<crate::joint::Joint>,
-    pub(crate) engine: Option<Engine>,
+    pub(crate) engine: Option<Box<dyn Engine>>,
     pub(crate) state_changed: bool,
     /// The frames of the last run that failed, until taken.
     pub(crate) failed_run: Option<crate::run::Run>,
@@ -168,8 +168,7 @@ impl World {
                 "fast mode steps by semi-implicit Euler at its dt; choose the integrator in accurate mode",
             ));
         }
-        let compiled = self.compile();
-        settings.validate(&compiled.model)?;
+        settings.validate(&crate::engine::accurate::AccurateSystem::new(self.compile().model))?;
         self.settings = settings;
         self.retire_engine();
         Ok(())

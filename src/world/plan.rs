@@ -2,7 +2,6 @@
 //! the same per-engine lists for the compiled model), so that it names exactly what the steps do.
 
 use super::World;
-use crate::engine::Engine;
 use crate::mode::Mode;
 use crate::plan::{Plan, Stage};
 
@@ -12,7 +11,7 @@ impl World {
         let compiled = self.compile();
         let stages = match &self.engine {
             Some(engine) => engine.stages(),
-            None => Engine::planned(&self.mode, &compiled.model, &self.settings, self.has_contact(&compiled)),
+            None => crate::engine::planned(&self.mode, &compiled.model, &self.settings, self.has_contact(&compiled)),
         };
         let fast = matches!(self.mode, Mode::Fast(_));
         Plan {

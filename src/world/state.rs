@@ -122,10 +122,10 @@ impl World {
     /// Evaluates `f` on the current model and state.
     fn with_state<R>(&self, f: impl FnOnce(&Model, &[f64]) -> R) -> R {
         match &self.engine {
-            Some(e) if !self.state_changed => f(&e.compiled().model, e.state()),
+            Some(e) if !self.state_changed => f(e.model(), e.state()),
             _ => {
                 let c = self.compile();
-                let y = c.pack(&self.particles, &self.bodies);
+                let y = c.rows.pack(&self.particles, &self.bodies);
                 f(&c.model, &y)
             }
         }

@@ -47,7 +47,7 @@ impl World {
             compiled.model.layout,
             &self.particles,
             &self.bodies,
-            &compiled.bodies,
+            &compiled.rows.bodies,
         )?;
         // bodies a joint joins directly do not collide with each other
         use crate::model::joints::JointEnd;
@@ -68,9 +68,9 @@ impl World {
     }
 
     /// A new engine for the world as it is.
-    fn build_engine(&self) -> Result<Engine, WorldError> {
+    fn build_engine(&self) -> Result<Box<dyn Engine>, WorldError> {
         let compiled = self.compile();
-        let y = compiled.pack(&self.particles, &self.bodies);
+        let y = compiled.rows.pack(&self.particles, &self.bodies);
         // The divergence limit is relative to the state's own scale: its largest component, and the momenta that
         // gravity alone gives the bodies in a second (a kilometre-sized body's momentum is large from the start).
         let lift = 1.0 + self.gravity.norm();
@@ -84,16 +84,16 @@ impl World {
             gravity: self.gravity.norm(),
             threads: self.threads,
         };
-        Engine::build(spec, compiled, self.time, y)
+        crate::engine::build(spec, compiled, self.time, y)
     }
 
     /// The engine, built if the structure changed and given any state the user set.
-    pub(crate) fn engine(&mut self) -> Result<&mut Engine, WorldError> {
+    pub(crate) fn engine(&mut self) -> Result<&mut dyn Engine, WorldError> {
         let engine = match self.engine.take() {
             None => self.build_engine()?,
             Some(mut e) => {
                 if self.state_changed {
-                    let y = e.compiled().pack(&self.particles, &self.bodies);
+                    let y = e.rows().pack(&self.particles, &self.bodies);
                     if let Err(err) = e.set_state(self.time, &y) {
                         self.engine = Some(e);
                         return Err(err);
@@ -103,26 +103,13 @@ impl World {
             }
         };
         self.state_changed = false;
-        Ok(self.engine.insert(engine))
+        Ok(self.engine.insert(engine).as_mut())
     }
 
     /// Moves the engine's report into the totals and returns it.
     fn book_report(&mut self) -> WorldReport {
         let r = match &mut self.engine {
-            Some(e) => {
-                #[cfg_attr(not(feature = "contact"), allow(unused_mut))]
-                let mut r = e.take_report();
-                #[cfg(feature = "contact")]
-                {
-                    let model = &e.compiled().model;
-                    if model.joints_in_rhs && !model.joints.is_empty() {
-                        let y = e.state();
-                        let (rows, errors) = model.joint_errors(y);
-                        r.book_joints(rows, errors);
-                    }
-                }
-                r
-            }
+            Some(e) => e.take_report(),
             None => WorldReport::new(self.settings.method.name()),
         };
         self.totals.merge(&r);
@@ -132,7 +119,7 @@ impl World {
     /// Writes the engine's state into the particles and bodies.
     pub(crate) fn store_state(&mut self) {
         if let Some(e) = &self.engine {
-            e.compiled().unpack(e.state(), &mut self.particles, &mut self.bodies);
+            e.rows().unpack(e.state(), &mut self.particles, &mut self.bodies);
             self.time = e.time();
         }
     }
@@ -212,7 +199,7 @@ impl World {
             Some(interval) => frame_times(t0, t_end, span, interval),
             None => Vec::new(),
         };
-        let snapshot = e.snapshot();
+        let snapshot = e.memory();
         // One step budget for the whole call, across its chunks (fast mode's calls are bounded by their step
         // count, checked above), carrying the call's control.
         let limit = if e.counts_its_steps() { usize::MAX } else { max_steps };
@@ -251,7 +238,7 @@ impl World {
         let report = self.book_report();
         if let Err(err) = outcome {
             if let Some(e) = &mut self.engine {
-                e.restore(snapshot)?;
+                e.set_memory(snapshot).map_err(|why| engine_fault(t0, why))?;
             }
             self.failed_run = run.map(|mut run| {
                 run.report = report;
@@ -279,7 +266,7 @@ impl World {
         let sources: Vec<BodySource> = self
             .bodies
             .iter()
-            .map(|(h, b)| match c.bodies.iter().position(|&d| d == h) {
+            .map(|(h, b)| match c.rows.bodies.iter().position(|&d| d == h) {
                 Some(j) => BodySource::Dynamic(j),
                 None => BodySource::Static(b.position, b.orientation),
             })
@@ -288,6 +275,14 @@ impl World {
         let bodies: Vec<BodyHandle> = self.bodies.iter().map(|(h, _)| h).collect();
         Run::new(particles, bodies, sources, self.settings.method.name())
     }
+}
+
+/// An engine that cannot take back its own memory: a fault of the engine, said as a simulation error.
+pub(crate) fn engine_fault(t: f64, why: String) -> WorldError {
+    WorldError::Simulation(tumble_integrate::OdeError::System {
+        t,
+        message: format!("the engine could not take back its memory ({why}): an engine fault"),
+    })
 }
 
 /// Frame times from t0 every `interval` over `span`, the last one at `t_end` (the end of the advance).

@@ -5,7 +5,7 @@
 //! `particle_row` and `body_row` find a handle's row after removals.
 
 use super::{unknown, World};
-use crate::engine::Snapshot;
+use crate::engine::EngineMemory;
 use crate::error::{check_finite, WorldError};
 use crate::limits;
 use crate::report::WorldReport;
@@ -36,8 +36,8 @@ struct Memory {
     structure: u64,
     /// The engine's divergence limit (set from the state's scale where it was built).
     divergence_limit: f64,
-    /// Behind a mutex so that a state can cross threads (the snapshot holds `Send` integrator parts).
-    snapshot: Arc<Mutex<Snapshot>>,
+    /// Behind a mutex so that a state can cross threads (the memory holds `Send` integrator parts).
+    snapshot: Arc<Mutex<EngineMemory>>,
     read: Box<WorldState>,
 }
 
@@ -160,7 +160,7 @@ impl World {
             s.memory = Some(Memory {
                 structure: self.structure,
                 divergence_limit: e.divergence_limit(),
-                snapshot: Arc::new(Mutex::new(e.snapshot())),
+                snapshot: Arc::new(Mutex::new(e.memory())),
                 read: Box::new(s.clone()),
             });
         }
@@ -179,7 +179,8 @@ impl World {
                 let snapshot = m.snapshot.lock().unwrap_or_else(|e| e.into_inner()).clone();
                 let engine = self.engine()?;
                 engine.set_divergence_limit(m.divergence_limit);
-                engine.restore(snapshot)?;
+                let t = engine.time();
+                engine.set_memory(snapshot).map_err(|why| super::stepping::engine_fault(t, why))?;
                 self.state_changed = false;
                 self.store_state();
                 return Ok(());

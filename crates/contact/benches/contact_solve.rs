@@ -7,7 +7,9 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::hint::black_box;
-use tumble_contact::{resting_forces, velocity_step, BodyState, Contact, SolverSettings, StepSettings};
+use tumble_contact::{
+    resting_forces, velocity_step, BodyState, Contact, SolverSettings, StepSettings, VelocityProblem,
+};
 
 /// A 2D pyramid of boxes (half extents 0.5, 0.5, 0.25) with `base` boxes in the bottom row, on a static ground.
 /// Contacts sit at the corners of each overlap rectangle: four under a bottom box, eight under any other (four on
@@ -57,7 +59,7 @@ fn solve_times(c: &mut Criterion) {
         let (_, frictional) = pyramid(base, 0.5);
         let n = frictionless.len();
         let qp = resting_forces(&bodies, &frictionless, &SolverSettings::default()).unwrap();
-        let step = velocity_step(&bodies, &frictional, &StepSettings::new(1.0 / 60.0)).unwrap();
+        let step = velocity_step(&VelocityProblem::new(&bodies, &frictional), &StepSettings::new(1.0 / 60.0)).unwrap();
         println!(
             "{n} contacts ({} boxes): QP {} iterations, cone program {} iterations",
             bodies.len() - 1,
@@ -68,7 +70,11 @@ fn solve_times(c: &mut Criterion) {
             b.iter(|| black_box(resting_forces(&bodies, &frictionless, &SolverSettings::default()).unwrap()))
         });
         g.bench_with_input(BenchmarkId::new("friction_cone", n), &n, |b, _| {
-            b.iter(|| black_box(velocity_step(&bodies, &frictional, &StepSettings::new(1.0 / 60.0)).unwrap()))
+            b.iter(|| {
+                black_box(
+                    velocity_step(&VelocityProblem::new(&bodies, &frictional), &StepSettings::new(1.0 / 60.0)).unwrap(),
+                )
+            })
         });
     }
     g.finish();

@@ -85,6 +85,7 @@ impl Contact {
     }
 
     /// The rate of change of the normal.
+    #[cfg(feature = "clarabel")]
     pub(crate) fn normal_rate(&self, bodies: &[BodyState]) -> Vector3<f64> {
         let (a, b) = (&bodies[self.a], &bodies[self.b]);
         let n = self.normal.into_inner();

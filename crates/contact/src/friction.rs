@@ -6,7 +6,7 @@
 //!
 //! The convex model's known artefact: while sliding, the cone makes the contact separate at mu |v_t|, and the
 //! tangential velocity ends at (v*_t + mu v*_n) / (1 + mu^2) instead of Coulomb's v*_t + mu v*_n. The remedy
-//! (`velocity_step_lagged`, Drake's "lagged" approximation): the normal constraint stays J_n v + beta >= 0 and each
+//! (`VelocityProblem::lagged`, Drake's "lagged" approximation): the normal constraint stays J_n v + beta >= 0 and each
 //! contact's friction impulse is bounded by mu times a given normal impulse (the previous step's), which makes
 //! friction a norm term mu p_prev |J_t v| in the objective (an epigraph variable per contact and a cone
 //! (s, J_t v)); sliding then decelerates at exactly mu g and nothing hops.
@@ -17,6 +17,7 @@ use crate::error::ContactError;
 use crate::friction_island::{bias, solve_island, IslandSolution};
 use crate::impulse::BodyVelocity;
 use crate::lcp::SolverSettings;
+use crate::threads::in_parallel_by;
 use nalgebra::Vector3;
 
 /// Settings of one time step.
@@ -105,26 +106,6 @@ pub fn free_velocity(b: &BodyState, h: f64) -> BodyVelocity {
     }
 }
 
-/// Velocities after one step of `settings.dt`, with contact, friction (Anitescu's cone) and restitution.
-pub fn velocity_step(
-    bodies: &[BodyState],
-    contacts: &[Contact],
-    settings: &StepSettings,
-) -> Result<VelocityStep, ContactError> {
-    step(bodies, contacts, None, &[], settings)
-}
-
-/// Velocities after one step with friction lagged on `previous[i]`, a normal impulse for each contact (the last
-/// step's, or 0 for a new contact): contact i's friction impulse is at most mu_i previous[i].
-pub fn velocity_step_lagged(
-    bodies: &[BodyState],
-    contacts: &[Contact],
-    previous: &[f64],
-    settings: &StepSettings,
-) -> Result<VelocityStep, ContactError> {
-    velocity_step_lagged_with_joints(bodies, contacts, previous, &[], settings)
-}
-
 /// How a joint row of a velocity step holds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum BilateralKind {
@@ -149,39 +130,73 @@ pub struct BilateralRow {
     pub kind: BilateralKind,
 }
 
-/// `velocity_step_lagged` with joint rows held exactly in the same programs (bodies joined by a row share an
-/// island).
-pub fn velocity_step_lagged_with_joints(
-    bodies: &[BodyState],
-    contacts: &[Contact],
-    previous: &[f64],
-    bilateral: &[BilateralRow],
-    settings: &StepSettings,
-) -> Result<VelocityStep, ContactError> {
-    if previous.len() != contacts.len() {
-        return Err(ContactError::invalid(
-            "previous",
-            format!("needs one impulse per contact: {} for {} contacts", previous.len(), contacts.len()),
-        ));
+/// What one velocity step solves: the bodies, their contacts, how friction is bounded, and joint rows held exactly
+/// in the same programs (bodies joined by a row share an island).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct VelocityProblem<'a> {
+    pub bodies: &'a [BodyState],
+    pub contacts: &'a [Contact],
+    /// `None`: Anitescu's cone. `Some(normals)`: friction lagged, contact i's friction impulse at most mu_i
+    /// normals[i] (a normal impulse for each contact: the last step's, or 0 for a new contact).
+    pub lagged: Option<&'a [f64]>,
+    pub bilateral: &'a [BilateralRow],
+}
+
+impl<'a> VelocityProblem<'a> {
+    /// The bodies and their contacts, friction by the cone, no joint rows.
+    pub fn new(bodies: &'a [BodyState], contacts: &'a [Contact]) -> Self {
+        VelocityProblem { bodies, contacts, lagged: None, bilateral: &[] }
     }
-    if let Some(i) = previous.iter().position(|p| !(p.is_finite() && *p >= 0.0)) {
-        return Err(ContactError::invalid(
-            "previous",
-            format!("impulse {i} must be finite and >= 0, got {}", previous[i]),
-        ));
+
+    /// Friction lagged on these normal impulses, one per contact.
+    pub fn lagged(self, normals: &'a [f64]) -> Self {
+        VelocityProblem { lagged: Some(normals), ..self }
     }
-    for (k, r) in bilateral.iter().enumerate() {
-        let numbers = [r.lin, r.ang_a, r.ang_b].into_iter().flat_map(|v| [v.x, v.y, v.z]);
-        let bound = match r.kind {
-            BilateralKind::Motor { max_impulse } => max_impulse,
-            _ => 0.0,
-        };
-        let mut numbers = numbers.chain([r.speed]).chain([bound]);
-        if r.a >= bodies.len() || r.b >= bodies.len() || r.a == r.b || !numbers.all(f64::is_finite) || bound < 0.0 {
-            return Err(ContactError::invalid("bilateral", format!("row {k} is not a finite row between two bodies")));
+
+    /// Joint rows held in the same programs.
+    pub fn bilateral(self, rows: &'a [BilateralRow]) -> Self {
+        VelocityProblem { bilateral: rows, ..self }
+    }
+
+    fn check(&self) -> Result<(), ContactError> {
+        if let Some(lagged) = self.lagged {
+            if lagged.len() != self.contacts.len() {
+                return Err(ContactError::invalid(
+                    "lagged",
+                    format!("needs one impulse per contact: {} for {} contacts", lagged.len(), self.contacts.len()),
+                ));
+            }
+            if let Some(i) = lagged.iter().position(|p| !(p.is_finite() && *p >= 0.0)) {
+                return Err(ContactError::invalid(
+                    "lagged",
+                    format!("impulse {i} must be finite and >= 0, got {}", lagged[i]),
+                ));
+            }
         }
+        for (k, r) in self.bilateral.iter().enumerate() {
+            let numbers = [r.lin, r.ang_a, r.ang_b].into_iter().flat_map(|v| [v.x, v.y, v.z]);
+            let bound = match r.kind {
+                BilateralKind::Motor { max_impulse } => max_impulse,
+                _ => 0.0,
+            };
+            let mut numbers = numbers.chain([r.speed]).chain([bound]);
+            let bodies = self.bodies.len();
+            if r.a >= bodies || r.b >= bodies || r.a == r.b || !numbers.all(f64::is_finite) || bound < 0.0 {
+                return Err(ContactError::invalid(
+                    "bilateral",
+                    format!("row {k} is not a finite row between two bodies"),
+                ));
+            }
+        }
+        Ok(())
     }
-    step(bodies, contacts, Some(previous), bilateral, settings)
+}
+
+/// Velocities after one step of `settings.dt` with contact, friction and restitution (and joint rows), one conic
+/// program per island.
+pub fn velocity_step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<VelocityStep, ContactError> {
+    problem.check()?;
+    step(problem.bodies, problem.contacts, problem.lagged, problem.bilateral, settings)
 }
 
 fn step(
@@ -232,55 +247,6 @@ fn step(
         iterations += sol.iterations;
     }
     Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations, solver_calls, solver_work })
-}
-
-/// The machine's cores, asked once (the standard library reads the cgroup files on every call: a few per cent of a
-/// fast step's time when asked every step).
-pub(crate) fn cores() -> usize {
-    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-}
-
-/// Islands are independent (no body in two), so their programs are solved on up to as many threads as the machine
-/// has cores, each taking the largest remaining island first; a step of fewer than `least` contacts or one island
-/// stays on the calling thread (threads are started for each step: below that, starting them costs more than they
-/// save). Results come back in island order, so the answer does not depend on the thread count.
-/// Groups of any kind, `size` giving the work of one (the largest start first).
-pub(crate) fn in_parallel_by<G: Sync, T: Send>(
-    groups: &[G],
-    size: impl Fn(&G) -> usize + Sync,
-    (contacts, least): (usize, usize),
-    threads: usize,
-    solve: impl Fn(&G) -> Result<T, ContactError> + Sync,
-) -> Vec<Result<T, ContactError>> {
-    let threads = if threads == 0 { cores() } else { threads }.min(groups.len());
-    if threads < 2 || contacts < least {
-        return groups.iter().map(&solve).collect();
-    }
-    let mut order: Vec<usize> = (0..groups.len()).collect();
-    order.sort_by_key(|&g| std::cmp::Reverse(size(&groups[g])));
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut slots: Vec<Option<Result<T, ContactError>>> = (0..groups.len()).map(|_| None).collect();
-    let done: Vec<Vec<(usize, Result<T, ContactError>)>> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
-            .map(|_| {
-                scope.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(&g) = order.get(k) else { break };
-                        mine.push((g, solve(&groups[g])));
-                    }
-                    mine
-                })
-            })
-            .collect();
-        workers.into_iter().map(|w| w.join().expect("an island solve does not panic")).collect()
-    });
-    for (g, r) in done.into_iter().flatten() {
-        slots[g] = Some(r);
-    }
-    slots.into_iter().map(|r| r.expect("every island was solved")).collect()
 }
 
 /// The closed form for one particle touching something static, frictionless or with lagged friction: the normal

@@ -1,8 +1,10 @@
 //! tumble-contact: what happens when bodies touch. The chapter's classification of contacts by relative normal
 //! velocity, its impulse formula (and the particle form), simultaneous impulses under Newton's restitution law,
 //! Baraff's resting-contact forces as a QP, and beyond the chapter Coulomb friction as a velocity-level conic
-//! program; contacts are split into islands and every island is solved on its own with clarabel. Every function is
-//! pure: it returns impulses, forces and velocities and changes nothing, so a failure leaves every body as it was.
+//! program; contacts are split into islands and every island is solved on its own with clarabel (the `clarabel`
+//! feature, on by default; without it the soft step, the joint rows and their kernel and the spring law remain).
+//! Every function is pure: it returns impulses, forces and velocities and changes nothing, so a failure leaves
+//! every body as it was.
 //!
 //! Conventions: a contact's normal points from body A to body B; forces and impulses push B along it and A against
 //! it; the relative normal velocity n . (v_B - v_A) is positive when the bodies part.
@@ -29,39 +31,53 @@
 mod body;
 mod classify;
 mod contact;
+#[cfg(feature = "clarabel")]
 mod delassus;
 mod error;
+#[cfg(feature = "clarabel")]
 mod friction;
+#[cfg(feature = "clarabel")]
 mod friction_island;
 mod impulse;
 mod islands;
+#[cfg(feature = "clarabel")]
 mod jacobian;
 mod joint;
+#[cfg(feature = "clarabel")]
 mod lcp;
+#[cfg(feature = "clarabel")]
 mod polish;
+#[cfg(feature = "clarabel")]
 mod projection;
+#[cfg(feature = "clarabel")]
 mod resting;
+#[cfg(feature = "clarabel")]
 mod simultaneous;
 mod soft;
+mod spring;
+mod threads;
 
 pub use body::BodyState;
 pub use classify::{classify, velocity_tolerance, ContactClass};
 pub use contact::{Contact, NormalMotion};
 pub use error::ContactError;
+#[cfg(feature = "clarabel")]
 pub use friction::{
-    free_velocity, velocity_step, velocity_step_lagged, velocity_step_lagged_with_joints, BilateralKind, BilateralRow,
-    StepSettings, VelocityStep,
+    free_velocity, velocity_step, BilateralKind, BilateralRow, StepSettings, VelocityProblem, VelocityStep,
 };
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
 pub use islands::islands;
 pub use joint::{
-    across, joint_rows, Joint, JointFrame, JointImpulse, JointKind, JointMotor, JointRow, JointSpring, RowKind,
-    MAX_ROWS,
+    across, delassus, factor, joint_rows, BoundedSolve, Joint, JointFrame, JointImpulse, JointKind, JointMotor,
+    JointRow, JointSpring, RowKind, RowPart, MAX_ROWS,
 };
+#[cfg(feature = "clarabel")]
 pub use lcp::SolverSettings;
+#[cfg(feature = "clarabel")]
 pub use projection::{position_correction, Correction};
+#[cfg(feature = "clarabel")]
 pub use resting::{contact_wrenches, resting_forces, RestingForces};
+#[cfg(feature = "clarabel")]
 pub use simultaneous::{collision_impulses, Impulses};
-pub use soft::{
-    soft_step, soft_step_with_joints, soft_step_with_links, SoftImpulse, SoftLinks, SoftSettings, SoftSpring, SoftStep,
-};
+pub use soft::{soft_step, SoftImpulse, SoftProblem, SoftSettings, SoftSpring, SoftStep};
+pub use spring::{SpringLaw, COINCIDENT};

@@ -4,7 +4,7 @@
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
 use tumble_contact::{
     collision_impulses, resting_forces, velocity_step, BodyState, Contact, ContactError, NormalMotion, SolverSettings,
-    StepSettings,
+    StepSettings, VelocityProblem,
 };
 
 fn name(e: ContactError) -> &'static str {
@@ -27,7 +27,10 @@ fn refused(bodies: &[BodyState], contacts: &[Contact], expected: &str) {
     let s = SolverSettings::default();
     assert_eq!(name(resting_forces(bodies, contacts, &s).unwrap_err()), expected);
     assert_eq!(name(collision_impulses(bodies, contacts, &s).unwrap_err()), expected);
-    assert_eq!(name(velocity_step(bodies, contacts, &StepSettings::new(0.01)).unwrap_err()), expected);
+    assert_eq!(
+        name(velocity_step(&VelocityProblem::new(bodies, contacts), &StepSettings::new(0.01)).unwrap_err()),
+        expected
+    );
 }
 
 #[test]
@@ -88,7 +91,7 @@ fn bad_settings_are_refused() {
         (StepSettings { erp: 1.5, ..StepSettings::new(0.01) }, "erp"),
         (StepSettings { bounce_threshold: -1.0, ..StepSettings::new(0.01) }, "bounce_threshold"),
     ] {
-        assert_eq!(name(velocity_step(&bodies, &contacts, &bad).unwrap_err()), expected);
+        assert_eq!(name(velocity_step(&VelocityProblem::new(&bodies, &contacts), &bad).unwrap_err()), expected);
     }
 }
 
@@ -117,7 +120,7 @@ fn a_solver_that_cannot_deliver_is_an_error() {
         Contact::new(0, 2, Point3::origin(), Vector3::x_axis()).with_distance(deep),
         Contact::new(1, 2, Point3::origin(), -Vector3::x_axis()).with_distance(deep),
     ];
-    let err = velocity_step(&bodies, &contacts, &StepSettings::new(h)).unwrap_err();
+    let err = velocity_step(&VelocityProblem::new(&bodies, &contacts), &StepSettings::new(h)).unwrap_err();
     assert!(matches!(err, ContactError::Solver { .. }), "{err}");
     assert!(err.to_string().contains("Infeasible"), "{err}");
 }

@@ -5,7 +5,7 @@
 mod common;
 
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
-use tumble_contact::{islands, velocity_step, BodyState, Contact, StepSettings};
+use tumble_contact::{islands, velocity_step, BodyState, Contact, StepSettings, VelocityProblem};
 
 const G: f64 = 9.81;
 const H: f64 = 1.0 / 60.0;
@@ -26,7 +26,9 @@ fn particle_on_incline(theta: f64, mu: f64) -> (Vector3<f64>, f64, Vector3<f64>)
         ..BodyState::particle(m, Point3::origin(), Vector3::zeros())
     };
     let c = Contact::new(0, 1, Point3::origin(), incline_normal(theta)).with_friction(mu);
-    let out = velocity_step(&[BodyState::fixed(Point3::origin()), p], &[c], &StepSettings::new(H)).unwrap();
+    let out =
+        velocity_step(&VelocityProblem::new(&[BodyState::fixed(Point3::origin()), p], &[c]), &StepSettings::new(H))
+            .unwrap();
     (out.velocities[1].linear, out.normal_impulses[0], out.friction_impulses[0])
 }
 
@@ -87,7 +89,7 @@ fn resting_box(mu: f64, e: f64) -> (Vec<BodyState>, Vec<Contact>) {
 #[test]
 fn a_box_resting_on_the_ground_stays_put_and_its_impulses_carry_its_weight() {
     let (bodies, contacts) = resting_box(0.5, 0.0);
-    let out = velocity_step(&bodies, &contacts, &StepSettings::new(H)).unwrap();
+    let out = velocity_step(&VelocityProblem::new(&bodies, &contacts), &StepSettings::new(H)).unwrap();
     assert!(out.velocities[1].linear.norm() < 1e-9 && out.velocities[1].angular.norm() < 1e-9);
     let total: f64 = out.normal_impulses.iter().sum();
     // 1e-9 relative: the solver tolerance
@@ -109,16 +111,16 @@ fn a_ball_bounces_with_e_and_slow_or_distant_contacts_do_not() {
         |gap: f64| Contact::new(0, 1, Point3::origin(), Vector3::z_axis()).with_restitution(0.8).with_distance(gap);
     let s = StepSettings::new(H);
     // Closing at 3 m/s and touching: it leaves at 0.8 x 3 m/s, less what gravity takes over the rest of the step.
-    let out = velocity_step(&[ground, ball(-3.0, 0.1)], &[touch(0.0)], &s).unwrap();
+    let out = velocity_step(&VelocityProblem::new(&[ground, ball(-3.0, 0.1)], &[touch(0.0)]), &s).unwrap();
     assert!((out.velocities[1].linear.z - (2.4 - G * H)).abs() < 1e-8, "{}", out.velocities[1].linear.z);
     // Closing slower than the bounce threshold: it stops.
-    let out = velocity_step(&[ground, ball(-0.01, 0.1)], &[touch(0.0)], &s).unwrap();
+    let out = velocity_step(&VelocityProblem::new(&[ground, ball(-0.01, 0.1)], &[touch(0.0)]), &s).unwrap();
     assert!(out.velocities[1].linear.z.abs() < 1e-9);
     // 1 m away at 3 m/s: it will not reach the ground this step, so it just falls (v* = v - g h).
-    let out = velocity_step(&[ground, ball(-3.0, 1.1)], &[touch(1.0)], &s).unwrap();
+    let out = velocity_step(&VelocityProblem::new(&[ground, ball(-3.0, 1.1)], &[touch(1.0)]), &s).unwrap();
     assert!((out.velocities[1].linear.z - (-3.0 - G * H)).abs() < 1e-9 && out.normal_impulses[0] < 1e-9);
     // 5 mm into the ground at rest: pushed out at erp x depth / h.
-    let out = velocity_step(&[ground, ball(0.0, 0.095)], &[touch(-0.005)], &s).unwrap();
+    let out = velocity_step(&VelocityProblem::new(&[ground, ball(0.0, 0.095)], &[touch(-0.005)]), &s).unwrap();
     assert!((out.velocities[1].linear.z - 0.2 * 0.005 / H).abs() < 1e-9);
 }
 
@@ -133,7 +135,7 @@ fn friction_impulses_stay_inside_their_cones_on_random_scenes() {
         for c in &mut contacts {
             c.distance = 0.01 * (rnd() - 0.7);
         }
-        let out = velocity_step(&bodies, &contacts, &StepSettings::new(H)).unwrap();
+        let out = velocity_step(&VelocityProblem::new(&bodies, &contacts), &StepSettings::new(H)).unwrap();
         for (i, c) in contacts.iter().enumerate() {
             let (pn, pt) = (out.normal_impulses[i], out.friction_impulses[i]);
             // Coulomb's cone, to the solver's tolerance on impulses of order m g h
@@ -174,7 +176,6 @@ fn lagged_friction_slides_at_coulombs_rate_without_hopping() {
     // With the friction bound taken from the previous normal impulse (m g h cos theta on an incline), one step
     // gives Coulomb's v_t = v0 + g h (sin th - mu cos th) exactly, and no separating normal velocity: the remedy
     // for the convex model's gliding error. Stuck for tan th <= mu. Tolerance 1e-8 g h, as above.
-    use tumble_contact::velocity_step_lagged;
     let m = 2.0;
     for (theta, mu, v0) in [(0.5, 0.2, 0.0), (0.7, 0.5, 0.0), (0.2, 0.5, 3.0), (0.3, 0.4, 0.0)] {
         let (th, mu): (f64, f64) = (theta, mu);
@@ -184,9 +185,11 @@ fn lagged_friction_slides_at_coulombs_rate_without_hopping() {
         };
         let c = Contact::new(0, 1, Point3::origin(), incline_normal(th)).with_friction(mu);
         let previous = [m * G * H * th.cos()];
-        let out =
-            velocity_step_lagged(&[BodyState::fixed(Point3::origin()), p], &[c], &previous, &StepSettings::new(H))
-                .unwrap();
+        let out = velocity_step(
+            &VelocityProblem::new(&[BodyState::fixed(Point3::origin()), p], &[c]).lagged(&previous),
+            &StepSettings::new(H),
+        )
+        .unwrap();
         let v = out.velocities[1].linear;
         let coulomb = (v0 + G * H * (th.sin() - mu * th.cos())).max(0.0);
         assert!((v.dot(&downhill(th)) - coulomb).abs() < 1e-8 * G * H, "theta {th}, mu {mu}, v0 {v0}: {v}");
@@ -195,8 +198,8 @@ fn lagged_friction_slides_at_coulombs_rate_without_hopping() {
     // previous impulses must match the contacts
     let c = Contact::new(0, 1, Point3::origin(), Vector3::z_axis());
     let bodies = [BodyState::fixed(Point3::origin()), BodyState::particle(1.0, Point3::origin(), Vector3::zeros())];
-    assert!(velocity_step_lagged(&bodies, &[c], &[], &StepSettings::new(H)).is_err());
-    assert!(velocity_step_lagged(&bodies, &[c], &[-1.0], &StepSettings::new(H)).is_err());
+    assert!(velocity_step(&VelocityProblem::new(&bodies, &[c]).lagged(&[]), &StepSettings::new(H)).is_err());
+    assert!(velocity_step(&VelocityProblem::new(&bodies, &[c]).lagged(&[-1.0]), &StepSettings::new(H)).is_err());
 }
 
 #[test]
@@ -216,12 +219,12 @@ fn islands_solved_together_on_several_threads_match_each_solved_alone() {
         body.angular_velocity = Vector3::new(0.0, 0.0, rnd() - 0.5);
         let shift = Vector3::new(2.0 * k as f64, 0.0, 0.0);
         let cs: Vec<Contact> = cs.iter().map(|c| Contact { point: c.point + shift, ..*c }).collect();
-        alone.push(velocity_step(&[bodies[0], body], &cs, &StepSettings::new(H)).unwrap());
+        alone.push(velocity_step(&VelocityProblem::new(&[bodies[0], body], &cs), &StepSettings::new(H)).unwrap());
         let index = bodies.len();
         bodies.push(body);
         contacts.extend(cs.into_iter().map(|c| Contact { b: index, ..c }));
     }
-    let together = velocity_step(&bodies, &contacts, &StepSettings::new(H)).unwrap();
+    let together = velocity_step(&VelocityProblem::new(&bodies, &contacts), &StepSettings::new(H)).unwrap();
     assert_eq!(islands(&bodies, &contacts).len(), 12);
     for (k, one) in alone.iter().enumerate() {
         assert_eq!(together.velocities[k + 1], one.velocities[1], "box {k}");

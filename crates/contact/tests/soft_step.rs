@@ -8,8 +8,8 @@ mod common;
 
 use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};
 use tumble_contact::{
-    soft_step, soft_step_with_links, velocity_step_lagged, BodyState, Contact, SoftImpulse, SoftLinks, SoftSettings,
-    SoftSpring, StepSettings,
+    soft_step, velocity_step, BodyState, Contact, SoftImpulse, SoftProblem, SoftSettings, SoftSpring, SpringLaw,
+    StepSettings, VelocityProblem,
 };
 
 const G: f64 = 9.81;
@@ -46,7 +46,7 @@ fn run_cube(m: f64, v: Vector3<f64>, mu: f64, z0: f64, steps: usize) -> (f64, Ve
                     .with_distance(corner.z)
             })
             .collect();
-        let out = soft_step(&bodies, &contacts, &warm, H, &SoftSettings::default()).unwrap();
+        let out = soft_step(&SoftProblem::new(&bodies, &contacts, &warm), H, &SoftSettings::default()).unwrap();
         warm.clone_from(&out.impulses);
         sum = out.normal_impulses.iter().sum();
         residual = out.residual;
@@ -62,7 +62,9 @@ fn run_cube(m: f64, v: Vector3<f64>, mu: f64, z0: f64, steps: usize) -> (f64, Ve
 fn a_resting_box_carries_its_weight_like_the_exact_program() {
     let m = 1000.0;
     let (bodies, contacts) = cube_on_ground(m, Vector3::zeros(), 0.5);
-    let exact = velocity_step_lagged(&bodies, &contacts, &[m * G * H / 4.0; 4], &StepSettings::new(H)).unwrap();
+    let exact =
+        velocity_step(&VelocityProblem::new(&bodies, &contacts).lagged(&[m * G * H / 4.0; 4]), &StepSettings::new(H))
+            .unwrap();
     let exact_sum: f64 = exact.normal_impulses.iter().sum();
     // The exact program carries m g h to its solver tolerance (1e-8 relative).
     assert!((exact_sum - m * G * H).abs() < 1e-6 * m * G * H, "exact {exact_sum}");
@@ -92,7 +94,9 @@ fn a_sliding_box_decelerates_at_mu_g() {
     // bound, carried by the normal impulse m g h).
     let (m, mu, v) = (10.0, 0.5, 2.0);
     let (bodies, contacts) = cube_on_ground(m, Vector3::new(v, 0.0, 0.0), mu);
-    let exact = velocity_step_lagged(&bodies, &contacts, &[m * G * H / 4.0; 4], &StepSettings::new(H)).unwrap();
+    let exact =
+        velocity_step(&VelocityProblem::new(&bodies, &contacts).lagged(&[m * G * H / 4.0; 4]), &StepSettings::new(H))
+            .unwrap();
     // the soft step in a run: settled on the ground first (1 s at rest), then one step sliding at v
     let (_, _, z, _) = run_cube(m, Vector3::zeros(), mu, 0.5, 60);
     let (_, after, _, _) = run_cube(m, Vector3::new(v, 0.0, 0.0), mu, z, 1);
@@ -115,9 +119,7 @@ fn a_particle_lands_with_restitution_e() {
     let p = BodyState::particle(2.0, Point3::new(0.0, 0.0, 1e-3), Vector3::new(0.0, 0.0, -3.0));
     let c = Contact::new(0, 1, Point3::origin(), Vector3::z_axis()).with_restitution(0.5).with_distance(1e-3);
     let out = soft_step(
-        &[BodyState::fixed(Point3::origin()), p],
-        &[c],
-        &[SoftImpulse::default()],
+        &SoftProblem::new(&[BodyState::fixed(Point3::origin()), p], &[c], &[SoftImpulse::default()]),
         H,
         &SoftSettings::default(),
     )
@@ -172,8 +174,10 @@ fn islands_give_the_same_bits_on_any_thread_count() {
         }
     }
     let warm = vec![SoftImpulse::default(); contacts.len()];
-    let run =
-        |threads| soft_step(&bodies, &contacts, &warm, H, &SoftSettings { threads, ..Default::default() }).unwrap();
+    let run = |threads| {
+        soft_step(&SoftProblem::new(&bodies, &contacts, &warm), H, &SoftSettings { threads, ..Default::default() })
+            .unwrap()
+    };
     let one = run(1);
     for threads in [2, 3, 0] {
         assert_eq!(run(threads), one, "{threads} threads");
@@ -231,8 +235,10 @@ fn one_large_island_gives_the_same_bits_on_any_thread_count() {
         }
     }
     assert_eq!(contacts.len(), 1024 + 2 * 16 * 15 + 1);
-    let run =
-        |threads| soft_step(&bodies, &contacts, &warm, H, &SoftSettings { threads, ..Default::default() }).unwrap();
+    let run = |threads| {
+        soft_step(&SoftProblem::new(&bodies, &contacts, &warm), H, &SoftSettings { threads, ..Default::default() })
+            .unwrap()
+    };
     let one = run(1);
     assert_eq!(one.islands, 1);
     for threads in [2, 3, 4, 0] {
@@ -275,7 +281,7 @@ fn islands_solved_together_give_the_bits_each_gives_alone() {
         stacks.push((first_body..bodies.len(), first_contact..contacts.len()));
     }
     let settings = SoftSettings { threads: 1, ..Default::default() };
-    let together = soft_step(&bodies, &contacts, &warm, H, &settings).unwrap();
+    let together = soft_step(&SoftProblem::new(&bodies, &contacts, &warm), H, &settings).unwrap();
     assert!(together.islands == 150);
     for (s, (own_bodies, own_contacts)) in stacks.into_iter().enumerate() {
         // the floor, then the stack's boxes; contacts renumbered to match
@@ -285,7 +291,9 @@ fn islands_solved_together_give_the_bits_each_gives_alone() {
             std::iter::once(bodies[0]).chain(own_bodies.clone().map(|k| bodies[k])).collect();
         let alone_contacts: Vec<Contact> =
             contacts[own_contacts.clone()].iter().map(|c| Contact { a: local(c.a), b: local(c.b), ..*c }).collect();
-        let alone = soft_step(&alone_bodies, &alone_contacts, &warm[own_contacts.clone()], H, &settings).unwrap();
+        let alone =
+            soft_step(&SoftProblem::new(&alone_bodies, &alone_contacts, &warm[own_contacts.clone()]), H, &settings)
+                .unwrap();
         for k in own_bodies {
             let j = local(k);
             assert_eq!(alone.velocities[j], together.velocities[k], "stack {s}, body {k}");
@@ -309,10 +317,10 @@ fn a_spring_is_semi_implicit_euler_at_the_substep() {
     p.force = Vector3::new(0.0, 0.0, -m * G);
     let bodies = [BodyState::fixed(anchor), p];
     let zero = Vector3::zeros();
-    let spring = SoftSpring { a: 1, b: 0, ra: zero, rb: zero, stiffness: k, damping: c, rest_length: l0 };
+    let law = SpringLaw { stiffness: k, damping: c, rest_length: l0 };
+    let spring = SoftSpring { a: 1, b: 0, ra: zero, rb: zero, law };
     let settings = SoftSettings { threads: 1, ..Default::default() };
-    let links = SoftLinks { springs: &[spring], ..Default::default() };
-    let out = soft_step_with_links(&bodies, &[], &[], &links, H, &settings).unwrap();
+    let out = soft_step(&SoftProblem::new(&bodies, &[], &[]).springs(&[spring]), H, &settings).unwrap();
     let hs = H / settings.substeps as f64;
     let (mut x, mut v) = (p.position, p.velocity);
     for _ in 0..settings.substeps {
@@ -329,15 +337,15 @@ fn a_spring_is_semi_implicit_euler_at_the_substep() {
     assert_eq!(out.islands, 1, "the spring makes an island of its particle");
 
     // an undamped spring keeps its energy over 2,000 steps (spread once-a-step forces: 40 times it, then more)
-    let spring = SoftSpring { damping: 0.0, ..spring };
-    let links = SoftLinks { springs: &[spring], ..Default::default() };
+    let spring = SoftSpring { law: SpringLaw { damping: 0.0, ..law }, ..spring };
     let mut p = BodyState::particle(m, Point3::new(0.0, 0.0, 2.0 - l0 - 0.1), Vector3::zeros());
     let energy =
         |p: &BodyState| 0.5 * m * p.velocity.norm_squared() + 0.5 * k * ((anchor - p.position).norm() - l0).powi(2);
     let start = energy(&p);
     let mut worst = 0.0f64;
     for _ in 0..2000 {
-        let out = soft_step_with_links(&[BodyState::fixed(anchor), p], &[], &[], &links, H, &settings).unwrap();
+        let bodies = [BodyState::fixed(anchor), p];
+        let out = soft_step(&SoftProblem::new(&bodies, &[], &[]).springs(&[spring]), H, &settings).unwrap();
         p.position += out.displacements[1];
         p.velocity = out.velocities[1].linear;
         worst = worst.max((energy(&p) / start - 1.0).abs());

@@ -2,9 +2,10 @@
 //! the end of an accepted step, the step's dense output is bisected for the last time before any such contact
 //! interpenetrates, to the time tolerance.
 
-use super::Contacts;
+use super::contacts::Contacts;
+use super::system::AccurateSystem;
 use crate::engine::contact_scene::{ContactKey, Found};
-use crate::model::{actor_poses, Model};
+use crate::model::actor_poses;
 use crate::plan::Stage;
 use nalgebra::Isometry3;
 use std::collections::BTreeSet;
@@ -13,19 +14,19 @@ use tumble_integrate::{OdeError, StepView};
 /// Most halvings of a step's collision-time bisection (2^-100 of the step).
 const HALVINGS: usize = 100;
 
-impl Contacts {
+impl Contacts<'_> {
     /// The time of the first new collision in the step (contacts `found1` at its end; actor poses `poses0` at its
     /// start), or None.
     pub(super) fn collision_time(
         &mut self,
-        step: &mut StepView<'_, Model>,
+        step: &mut StepView<'_, AccurateSystem>,
         found1: &[Found],
         poses0: &[Isometry3<f64>],
     ) -> Result<Option<f64>, OdeError> {
         let (t0, t1) = (step.t0(), step.t1());
         let delta = self.settings.contact_distance;
         let statics = self.scene.static_poses.clone();
-        let resting = &self.resting_keys;
+        let resting = &self.memory.resting_keys;
         // In a pair that was already touching at the step's start (a contact within the contact distance), a contact
         // that is not resting (it was opening) collides only once it sinks past 1e-3 of the contact distance
         // (1e-10 m by default); in other pairs, as soon as it interpenetrates. Touching contacts sit at a gap of zero
@@ -47,7 +48,7 @@ impl Contacts {
         let touching0: BTreeSet<(u32, u32)> = if candidate.is_empty() {
             BTreeSet::new()
         } else {
-            let found0 = self.scene.pair_contacts(&candidate, poses0, |_, _| delta);
+            let found0 = self.scene.pair_contacts(&candidate, poses0, |_, _| delta, None);
             found0.iter().filter(|f| f.contact.distance <= delta).map(|f| f.key.colliders).collect()
         };
         // In a pair that has resting contacts, a contact parry names differently (it may renumber the features of
@@ -82,9 +83,9 @@ impl Contacts {
                 self.report.bisection_steps += 1;
                 self.report.stages.mark(Stage::Bisection);
                 let y = step.state_at(mid)?;
-                let poses = actor_poses(step.system().layout, &y, &statics);
-                let found = self.scene.pair_contacts(&fresh, &poses, |_, _| delta);
-                if found.iter().any(|f| hits(f, &self.resting_keys)) {
+                let poses = actor_poses(step.system().model.layout, &y, &statics);
+                let found = self.scene.pair_contacts(&fresh, &poses, |_, _| delta, None);
+                if found.iter().any(|f| hits(f, &self.memory.resting_keys)) {
                     hi = mid;
                 } else {
                     lo = mid;

@@ -1,6 +1,6 @@
 //! Drift of resting contacts in accurate mode: the QP forces keep a resting contact's gap still only up to the
 //! integrator's error, so a resting contact that sinks past the contact distance ends the step (an event), and the
-//! contact phase moves the bodies back to zero gap by the smallest position change (a position-level LCP).
+//! impact stage moves the bodies back to zero gap by the smallest position change (a position-level LCP).
 
 use super::failure;
 use crate::engine::contact_scene::{ContactKey, Found};

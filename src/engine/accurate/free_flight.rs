@@ -4,22 +4,23 @@
 //! contacts alone: a fast damped particle flying beside a settling pile made every contact step 4e-5 s (first-order
 //! contact steps following its smooth motion), 21 s of work for a quarter second.
 
-use super::Contacts;
+use super::contacts::Contacts;
+use super::integration::Integration;
+use super::system::AccurateSystem;
+use crate::engine::budget::{over_budget, Budget};
 use crate::engine::contact_scene::Found;
-use crate::engine::smooth::over_budget;
-use crate::engine::Budget;
 use crate::model::joints::JointEnd;
 use crate::model::layout::Layout;
 use crate::model::{End, Model};
-use tumble_integrate::{Integrator, OdeError};
+use tumble_integrate::OdeError;
 
-/// The integrator of the free actors, kept from step to step while the same actors are held (its proposed step
+/// The integration of the free actors, kept from step to step while the same actors are held (its proposed step
 /// carries over).
-#[derive(Clone)]
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct FreeFlight {
     /// The state components held still (those of the touching actors).
-    pub(super) frozen: Vec<usize>,
-    pub(super) integrator: Integrator<Model>,
+    pub frozen: Vec<usize>,
+    pub integration: Integration,
 }
 
 /// Which actors (particles, then dynamic bodies) take part in a step with the contacts `found`: those of a
@@ -85,14 +86,14 @@ pub(crate) fn copy_free(model: &Model, involved: &[bool], from: &[f64], to: &mut
     }
 }
 
-impl Contacts {
+impl Contacts<'_> {
     /// The state at t + h of the actors not `involved`, advanced from (t, y) by the integrator with the others held
     /// still (the other components of the answer are y's); `None` when every actor is involved. Its steps are
     /// charged to the call's `budget`; its counters go to the report.
     #[allow(clippy::too_many_arguments)]
     pub fn free_flight(
         &mut self,
-        model: &mut Model,
+        system: &mut AccurateSystem,
         free: &mut Option<FreeFlight>,
         involved: &[bool],
         t: f64,
@@ -104,30 +105,33 @@ impl Contacts {
             return Ok(None);
         }
         let frozen: Vec<usize> =
-            (0..involved.len()).filter(|a| involved[*a]).flat_map(|a| components(model.layout, a)).collect();
-        model.frozen = frozen;
+            (0..involved.len()).filter(|a| involved[*a]).flat_map(|a| components(system.model.layout, a)).collect();
+        system.frozen = frozen;
         let result = (|| {
             let settings = self.free_settings.clone();
             let flight = match free.take() {
-                Some(mut f) if f.frozen == model.frozen => {
-                    f.integrator.set_state(t, y)?;
+                Some(mut f) if f.frozen == system.frozen => {
+                    f.integration.live_mut().set_state(t, y)?;
                     f
                 }
-                _ => FreeFlight { frozen: model.frozen.clone(), integrator: Integrator::new(model, settings, t, y)? },
+                _ => {
+                    FreeFlight { frozen: system.frozen.clone(), integration: Integration::new(system, settings, t, y)? }
+                }
             };
             let flight = free.insert(flight);
-            flight.integrator.set_max_steps(budget.left());
-            let advanced = flight.integrator.advance_to(model, t + h, &[], |_, _, _| {});
-            let report = flight.integrator.take_report();
+            let integrator = flight.integration.live_mut();
+            integrator.set_max_steps(budget.left());
+            let advanced = integrator.advance_to(system, t + h, &[], |_, _, _| {});
+            let report = integrator.take_report();
             self.free_report.merge(&report);
             let charged = budget.charge(report.steps + report.rejected, t);
             advanced.map_err(|e| over_budget(e, budget))?;
             charged?;
             let mut out = y.to_vec();
-            copy_free(model, involved, flight.integrator.state(), &mut out);
+            copy_free(&system.model, involved, integrator.state(), &mut out);
             Ok(Some(out))
         })();
-        model.frozen.clear();
+        system.frozen.clear();
         result
     }
 }

@@ -1,148 +1,82 @@
 //! Accurate mode: the chapter's scheme for free flight and impacts, error-controlled convex steps while bodies touch.
 //!
-//! Free motion is carried by the integrator under its error control; after every accepted step the contacts are
-//! checked (`detect.rs`); a collision inside the step is located by bisection on the step's dense output
-//! (`collision_time.rs`), a pass through a thin body by a distance-bounded search (`pass_through.rs`); the step is
-//! cut at the event. At each event the contact phase (`contact_phase.rs`) looks at the contacts that close or
-//! touch. Frictionless collisions get Newton's impulses at the located time (so a bouncing ball's apexes stay
-//! exact); when a contact has friction, or contacts stay touching after the impulses, the world enters the
-//! touching phase (`touching.rs`): contact steps (`contact_step.rs`: semi-implicit Euler, every contact and its
-//! Coulomb friction one convex program per island, so a step always has an answer) whose size comes from an
-//! error estimate by step doubling, after Drake's CENIC. Impacts during that phase are contacts of the convex
+//! Free motion is carried by the integrator under its error control (`system.rs`: the model's equations of motion
+//! with the joints' forces, `joint_forces.rs`). A world whose colliders cannot touch is only that. Otherwise, after
+//! every accepted step the contacts are checked (`detect.rs`); a collision inside the step is located by bisection
+//! on the step's dense output (`collision_time.rs`), a pass through a thin body by a distance-bounded search
+//! (`pass_through.rs`); the step is cut at the event. At each event the impact stage (`impact.rs`) looks at the
+//! contacts that close or touch. Frictionless collisions get Newton's impulses at the located time (so a bouncing
+//! ball's apexes stay exact); when a contact has friction, or contacts stay touching after the impulses, the world
+//! enters the touching phase (`touching.rs`): convex steps (`convex_step.rs`: semi-implicit Euler, every contact
+//! and its Coulomb friction one convex program per island, so a step always has an answer) whose size comes from
+//! an error estimate by step doubling, after Drake's CENIC. Impacts during that phase are contacts of the convex
 //! program with Newton's restitution as their bound, located in time by the error control. When no pair is within
-//! reach of a step, the integrator takes over again. Why the split: the integrator's order carries free flight
-//! and exact bisection-located bounces cheaply, while the touching phase cannot cascade (no event ends a step
-//! there: a rocking corner, a settling stack or a Zeno bounce is a sequence of convex steps) and brings friction.
+//! reach of a step, the integrator takes over again. Why the split: the integrator's order carries free flight and
+//! exact bisection-located bounces cheaply, while the touching phase cannot cascade (no event ends a step there: a
+//! rocking corner, a settling stack or a Zeno bounce is a sequence of convex steps) and brings friction.
 //!
 //! With `Persistent::RestingForces` the chapter's own resting contact is used instead: contacts that stay touching
 //! get frictionless QP forces inside the right-hand side (`resting.rs`), with drift caught as an event
 //! (`drift.rs`).
 //!
-//! The advance reads as: contact phase; then repeatedly either take contact steps while touching, or integrate
-//! until an event, record it, contact phase.
+//! The advance reads as: impact stage; then repeatedly either take contact steps while touching, or integrate
+//! until an event, record it, impact stage. Everything the steps carry between calls is the engine's memory
+//! (`memory.rs`).
 
+#[cfg(feature = "contact")]
 mod collision_time;
-mod contact_phase;
-mod contact_step;
+#[cfg(feature = "contact")]
+mod contacts;
+#[cfg(feature = "contact")]
+mod convex_step;
+#[cfg(feature = "contact")]
 mod detect;
+#[cfg(feature = "contact")]
 mod drift;
+#[cfg(feature = "contact")]
 mod free_flight;
+#[cfg(feature = "contact")]
+mod impact;
+mod integration;
+mod joint_forces;
+mod memory;
+#[cfg(feature = "contact")]
 mod pass_through;
+#[cfg(feature = "contact")]
 mod resting;
-mod saved;
+mod system;
+#[cfg(feature = "contact")]
 mod touching;
 
-pub(crate) use resting::RestingSet;
-pub(crate) use saved::SavedAccurate;
+pub(crate) use memory::{engine_name, AccurateMemory};
+pub(crate) use system::AccurateSystem;
 
-use crate::engine::contact_scene::{ContactKey, ContactScene};
-use crate::engine::smooth::{attempts, mechanical_energy, over_budget, take_integrator_report};
-use crate::engine::Budget;
+use super::budget::{over_budget, Budget};
+use super::{Engine, EngineCore, EngineMemory};
 use crate::error::WorldError;
-use crate::mode::{AccurateSettings, Persistent};
+use crate::mode::AccurateSettings;
 use crate::model::{Compiled, Model};
 use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
-use std::collections::BTreeSet;
-use tumble_contact::SolverSettings;
+use integration::Integration;
 use tumble_integrate::{Integrator, OdeError, Settings};
 
 /// Events at one time without progress before the advance gives up (a contact phase that cannot settle).
+#[cfg(feature = "contact")]
 const STUCK: usize = 200;
-/// Accepted steps over which the mean step is watched: below the stall step, the advance gives up (contact forces
-/// the method cannot follow: a light body under one a million times heavier took steps of 5e-9 to 5e-7 s, 15 s of
-/// work per simulated millisecond).
-const STALL: usize = 2_000;
 
-/// The contact side of an accurate-mode engine: what it knows between steps.
-#[derive(Clone)]
-pub(crate) struct Contacts {
-    pub scene: ContactScene,
-    settings: AccurateSettings,
-    /// Relative normal speed below which contacts rest (resolved from the settings or the scene's size).
-    pub resting_speed: f64,
-    /// The contacts resting since the last contact phase (ordered: no hashing reaches the answers).
-    resting_keys: BTreeSet<ContactKey>,
-    solver: SolverSettings,
-    /// Contact counters since the last report.
-    pub report: WorldReport,
-    /// Largest penetration found at the last contact phase.
-    pub penetration: f64,
-    /// A mean step below this over `STALL` steps is a stall: 1e-5 of the scene's time scale sqrt(size / g), at most
-    /// 1e-5 s.
-    pub(crate) stall_step: f64,
-    /// The current window: its start time and the accepted steps in it.
-    window: (f64, usize),
-    /// Error allowed in one contact step (m).
-    tolerance: f64,
-    /// |g| (m/s^2), for the first contact step.
-    gravity: f64,
-    /// Largest contact step: 1/20 of the scene's time scale sqrt(size / g), at most 1/60 s.
-    max_step: f64,
-    /// The touching phase, while bodies touch.
-    touching: Option<touching::Touching>,
-    /// Threads of the contact solves.
-    pub(crate) threads: usize,
-    /// A state component past this is divergence.
-    divergence_limit: f64,
-    /// The lagged-friction fixed point is reached when no normal impulse moves by more than this fraction of the
-    /// largest: ten times the tolerance relative to the scene's size, within 1e-9 to 1e-3 (a friction bound off
-    /// by this fraction is a deceleration off by as much, so a tight tolerance needs a tight fixed point).
-    lagged_tolerance: f64,
-    /// Why clarabel last failed to answer a contact step (for the message if steps shrink to nothing).
-    last_solver_error: String,
-    /// The contact steps' convex solves weighted by island size (`VelocityStep::solver_work`), charged to budgets.
-    solve_work: usize,
-    /// The integrator's settings, for the actors that fly free while others touch (`free_flight.rs`).
-    free_settings: Settings,
-    /// The counters of those free flights since the last report.
-    free_report: tumble_integrate::Report,
-}
-
-/// Integration with event-driven contact.
+/// Accurate mode's engine: the integration of its equations of motion and, when colliders can touch, its contact
+/// stages.
 #[derive(Clone)]
 pub(crate) struct AccurateEngine {
-    compiled: Compiled,
-    integrator: Integrator<Model>,
+    core: EngineCore,
+    system: AccurateSystem,
     settings: Settings,
-    pub(crate) contacts: Contacts,
-}
-
-/// What a failed call puts back: the whole integrator (state, next step, controller, caches, histories), the
-/// resting set and what the contact phase knew.
-#[derive(Clone)]
-pub(crate) struct AccurateSnapshot {
-    integrator: Integrator<Model>,
-    resting: Option<RestingSet>,
-    resting_keys: BTreeSet<ContactKey>,
-    penetration: f64,
-    window: (f64, usize),
-    touching: Option<touching::Touching>,
-    scales: Scales,
-}
-
-/// The contact engine's scales, set from the scene's size where the engine was built (a world built, stepped
-/// and loaded elsewhere must keep the original's): resting speed, stall step, contact tolerance, largest contact
-/// step, the lagged-friction tolerance.
-#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Scales([f64; 5]);
-
-impl Contacts {
-    fn scales(&self) -> Scales {
-        Scales([self.resting_speed, self.stall_step, self.tolerance, self.max_step, self.lagged_tolerance])
-    }
-
-    fn set_scales(&mut self, s: Scales) {
-        [self.resting_speed, self.stall_step, self.tolerance, self.max_step, self.lagged_tolerance] = s.0;
-    }
-}
-
-impl Scales {
-    /// Each positive and finite (the resting speed may be zero).
-    fn valid(&self) -> bool {
-        self.0[0] >= 0.0 && self.0.iter().all(|x| x.is_finite()) && self.0[1..].iter().all(|&x| x > 0.0)
-    }
+    /// The colliders and the contact stages' settings; `None` when no two colliders can touch.
+    #[cfg(feature = "contact")]
+    contacts: Option<contacts::ContactRules>,
+    memory: AccurateMemory,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> OdeError {
@@ -150,10 +84,11 @@ pub(crate) fn failure(t: f64, message: String) -> OdeError {
 }
 
 impl AccurateEngine {
+    /// The engine of `compiled` from (t, y), with contact stages over `scene` if given.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
-        mut compiled: Compiled,
-        scene: ContactScene,
+        compiled: Compiled,
+        #[cfg(feature = "contact")] scene: Option<crate::engine::contact_scene::ContactScene>,
         settings: Settings,
         accurate: AccurateSettings,
         gravity: f64,
@@ -161,74 +96,62 @@ impl AccurateEngine {
         t: f64,
         y: Vec<f64>,
     ) -> Result<Self, WorldError> {
-        let integrator = Integrator::new(&mut compiled.model, settings.clone(), t, &y)?;
-        let size = scene.size(&y);
-        let time_scale = (size / gravity.max(1e-300)).sqrt();
-        let resting_speed = accurate.resting_speed.unwrap_or_else(|| tumble_contact::velocity_tolerance(size, gravity));
-        let contacts = Contacts {
-            scene,
-            settings: accurate,
-            resting_speed,
-            resting_keys: BTreeSet::new(),
-            solver: SolverSettings::default(),
-            report: WorldReport::new("accurate"),
-            penetration: 0.0,
-            stall_step: 1e-5 * time_scale.min(1.0),
-            window: (t, 0),
-            tolerance: accurate.contact_tolerance.unwrap_or(1e-6 * size),
-            gravity,
-            max_step: (0.05 * time_scale).min(1.0 / 60.0),
-            touching: None,
-            threads,
-            divergence_limit: settings.divergence_limit,
-            last_solver_error: String::new(),
-            solve_work: 0,
-            free_settings: settings.clone(),
-            free_report: tumble_integrate::Report::empty(settings.method.name()),
-            lagged_tolerance: (10.0 * accurate.contact_tolerance.unwrap_or(1e-6 * size) / size.max(1e-300))
-                .clamp(1e-9, 1e-3),
+        let _ = (&accurate, gravity);
+        let Compiled { model, rows } = compiled;
+        let mut system = AccurateSystem::new(model);
+        let integration =
+            if y.is_empty() { None } else { Some(Integration::new(&mut system, settings.clone(), t, &y)?) };
+        let method = settings.method.name();
+        #[cfg_attr(not(feature = "contact"), allow(unused_mut))]
+        let mut engine = AccurateEngine {
+            core: EngineCore::new(rows, settings.divergence_limit, threads, WorldReport::new(method)),
+            system,
+            settings,
+            #[cfg(feature = "contact")]
+            contacts: None,
+            memory: AccurateMemory { clock: t, integration, contact: None },
         };
-        Ok(AccurateEngine { compiled, integrator, settings, contacts })
+        #[cfg(feature = "contact")]
+        if let Some(scene) = scene {
+            engine.system.statics = scene.static_poses.clone();
+            let (rules, memory) = contacts::ContactRules::new(scene, accurate, &engine.settings, gravity, t, &y);
+            engine.contacts = Some(rules);
+            engine.memory.contact = Some(memory);
+            engine.core.report = WorldReport::new("accurate");
+        }
+        Ok(engine)
     }
 
-    /// The engine's own stages for a state of length `dim`.
-    pub fn planned(settings: &Settings, accurate: &AccurateSettings, dim: usize) -> Vec<Stage> {
-        let mut out = vec![Stage::CollisionDetection, Stage::Bisection, Stage::Impulses];
-        out.push(match accurate.persistent {
-            Persistent::ContactSteps => Stage::ContactConeProgram,
-            Persistent::RestingForces => Stage::RestingContact,
-        });
-        out.extend(crate::engine::SmoothEngine::planned(settings, dim));
+    /// The engine's own stages for a state of length `dim`, with or without contact stages.
+    pub fn planned(settings: &Settings, accurate: Option<&AccurateSettings>, dim: usize) -> Vec<Stage> {
+        let mut out = Vec::new();
+        if let Some(a) = accurate {
+            out.extend([Stage::CollisionDetection, Stage::Bisection, Stage::Impulses]);
+            out.push(match a.persistent {
+                crate::mode::Persistent::ContactSteps => Stage::ContactConeProgram,
+                crate::mode::Persistent::RestingForces => Stage::RestingContact,
+            });
+        }
+        if dim > 0 {
+            out.push(Stage::Integrate);
+            if settings.method.uses_jacobian() {
+                out.push(Stage::Jacobian);
+            }
+        }
         out
     }
 
-    pub fn own_stages(&self) -> Vec<Stage> {
-        Self::planned(&self.settings, &self.contacts.settings, self.compiled.model.layout.dim())
+    /// The accurate-mode settings of the contact stages, if the engine has them.
+    fn accurate_settings(&self) -> Option<&AccurateSettings> {
+        #[cfg(feature = "contact")]
+        return self.contacts.as_ref().map(|c| &c.settings);
+        #[cfg(not(feature = "contact"))]
+        None
     }
 
-    pub fn compiled(&self) -> &Compiled {
-        &self.compiled
-    }
-
-    pub fn model_mut(&mut self) -> &mut Model {
-        &mut self.compiled.model
-    }
-
-    pub fn time(&self) -> f64 {
-        self.integrator.time()
-    }
-
-    pub fn state(&self) -> &[f64] {
-        self.integrator.state()
-    }
-
-    pub fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
-        Ok(self.integrator.set_state(t, y)?)
-    }
-
-    /// Advances to `t_end` (pausing past `pause`), recording frames with the penetration of the last contact
-    /// phase and the events' times.
-    pub fn advance(
+    /// Integrates to `t_end` (pausing past `pause`) with no contact: the integrator's advance, or for an empty
+    /// state the clock alone.
+    fn integrate(
         &mut self,
         t_end: f64,
         pause: f64,
@@ -236,17 +159,69 @@ impl AccurateEngine {
         mut run: Option<&mut Run>,
         budget: &mut Budget<'_>,
     ) -> Result<usize, WorldError> {
-        let (model, integrator, contacts) = (&mut self.compiled.model, &mut self.integrator, &mut self.contacts);
+        let model = &mut self.system;
+        let Some(integration) = &mut self.memory.integration else {
+            // Nothing moves: every save is the same empty state.
+            if let Some(run) = run {
+                for &t in saves {
+                    run.record(&model.model, t, &[], 0.0, []);
+                }
+            }
+            self.memory.clock = t_end;
+            return Ok(saves.len());
+        };
+        let integrator = integration.live_mut();
         integrator.log_steps(run.is_some());
-        let energy = mechanical_energy(model, integrator.state());
+        integrator.set_max_steps(budget.left());
+        let before = attempts(integrator);
+        let energy = mechanical_energy(&model.model, integrator.state());
+        let delivered = integrator.advance_until(model, t_end, pause, saves, |m, t, y| {
+            if let Some(run) = run.as_deref_mut() {
+                run.record(&m.model, t, y, 0.0, []);
+            }
+        });
+        if let Some(run) = run {
+            for (t, h) in integrator.take_step_log() {
+                run.log_step(t, h);
+            }
+        }
+        self.core.report.energy_change += mechanical_energy(&model.model, integrator.state()) - energy;
+        let charged = budget.charge(attempts(integrator) - before, integrator.time());
+        let delivered = delivered.map_err(|e| over_budget(e, budget))?;
+        charged?;
+        Ok(delivered)
+    }
+
+    /// Advances to `t_end` (pausing past `pause`) with the contact stages, recording frames with the penetration
+    /// of the last impact stage and the events' times.
+    #[cfg(feature = "contact")]
+    fn advance_with_contacts(
+        &mut self,
+        t_end: f64,
+        pause: f64,
+        saves: &[f64],
+        mut run: Option<&mut Run>,
+        budget: &mut Budget<'_>,
+    ) -> Result<usize, WorldError> {
+        let AccurateEngine { core, system, contacts, memory, .. } = self;
+        let rules = contacts.as_mut().expect("the engine has contact stages");
+        let AccurateMemory { integration, contact, .. } = memory;
+        let (Some(integration), Some(contact)) = (integration.as_mut(), contact.as_mut()) else {
+            return Err(failure(0.0, "contact stages without an integration".into()).into());
+        };
+        let integrator = integration.live_mut();
+        let (threads, limit) = (core.threads, core.divergence_limit);
+        let mut stages = rules.stages(contact, &mut core.report, threads, limit);
+        integrator.log_steps(run.is_some());
+        let energy = mechanical_energy(&system.model, integrator.state());
         let result = (|| {
-            contacts.contact_phase(model, integrator)?;
+            stages.impact(system, integrator)?;
             let (mut done, mut stuck, mut last) = (0, 0, integrator.time());
             loop {
-                if contacts.touching.is_some() {
+                if stages.memory.touching.is_some() {
                     let (t, y) = (integrator.time(), integrator.state().to_vec());
-                    let end = contacts.touching_steps(
-                        model,
+                    let end = stages.touching_steps(
+                        system,
                         t,
                         y,
                         t_end,
@@ -265,19 +240,22 @@ impl AccurateEngine {
                 // The integrator's own budget restarts at every event: it gets what is left of the call's.
                 integrator.set_max_steps(budget.left());
                 let before = attempts(integrator);
-                let penetration = contacts.penetration;
+                let penetration = stages.memory.penetration;
+                // the resting contacts are lent to the equations of motion for the integration
+                system.resting = stages.memory.resting.take();
                 let adv = integrator.advance_with_events(
-                    model,
+                    system,
                     t_end,
                     pause,
                     &saves[done..],
                     |m, t, y| {
                         if let Some(run) = run.as_deref_mut() {
-                            run.record(m, t, y, penetration, []);
+                            run.record(&m.model, t, y, penetration, []);
                         }
                     },
-                    |step| contacts.detect(step),
+                    |step| stages.detect(step),
                 );
+                stages.memory.resting = system.resting.take();
                 if let Some(run) = run.as_deref_mut() {
                     for (t, h) in integrator.take_step_log() {
                         run.log_step(t, h);
@@ -296,74 +274,204 @@ impl AccurateEngine {
                 if stuck > STUCK {
                     return Err(failure(t, format!("{STUCK} contact events at one time: the contacts do not settle")));
                 }
-                contacts.contact_phase(model, integrator)?;
+                stages.impact(system, integrator)?;
             }
         })();
-        contacts.report.energy_change += mechanical_energy(model, integrator.state()) - energy;
+        stages.report.energy_change += mechanical_energy(&system.model, integrator.state()) - energy;
         Ok(result?)
     }
 
-    /// The contacts of the last contact step while bodies touch (none once they fly free).
-    pub fn last_contacts(&self) -> &[crate::engine::step_contacts::StepContact] {
-        self.contacts.touching.as_ref().map_or(&[], |t| &t.last)
-    }
-
-    pub fn divergence_limit(&self) -> f64 {
-        self.settings.divergence_limit
-    }
-
-    /// Sets the divergence limit of the integration, the contact steps and the free flights to come.
-    pub fn set_divergence_limit(&mut self, limit: f64) {
-        self.settings.divergence_limit = limit;
-        self.integrator.set_divergence_limit(limit);
-        self.contacts.divergence_limit = limit;
-        self.contacts.free_settings.divergence_limit = limit;
-    }
-
-    pub fn snapshot(&self) -> AccurateSnapshot {
-        AccurateSnapshot {
-            integrator: self.integrator.clone(),
-            resting: self.compiled.model.resting.clone(),
-            resting_keys: self.contacts.resting_keys.clone(),
-            penetration: self.contacts.penetration,
-            window: self.contacts.window,
-            touching: self.contacts.touching.clone(),
-            scales: self.contacts.scales(),
+    /// Puts `memory` in place after checking it against the engine: every integration made live (one read from a
+    /// file given to an integrator of this system and checked by it), the contact memory checked against the scene.
+    fn give_memory(&mut self, memory: AccurateMemory) -> Result<(), String> {
+        let AccurateMemory { clock, integration, contact } = memory;
+        let dim = self.system.model.layout.dim();
+        #[cfg(feature = "contact")]
+        let (scene, has_contacts) = (self.contacts.as_ref().map(|c| &c.scene), self.contacts.is_some());
+        #[cfg(not(feature = "contact"))]
+        let has_contacts = false;
+        if contact.is_some() != has_contacts {
+            return Err(format!(
+                "it is the memory of {}, which this world does not run",
+                memory::engine_name(&contact)
+            ));
         }
+        if !clock.is_finite() {
+            return Err("its time is not finite".into());
+        }
+        if integration.is_some() != (dim > 0) {
+            return Err("it has an integration where the world has nothing to integrate, or none where it has".into());
+        }
+        #[cfg(feature = "contact")]
+        if let (Some(c), Some(scene)) = (&contact, scene) {
+            c.check(scene.actors(), scene.colliders.len(), dim)?;
+        }
+        let current = self.memory.integration.as_ref().map(|i| i.live().clone());
+        let integration = match integration {
+            Some(i) => Some(i.into_live(|| current.ok_or_else(|| failure(clock, "no integrator".into())))?),
+            None => None,
+        };
+        #[cfg(feature = "contact")]
+        let contact = match (contact, &integration) {
+            (Some(c), Some(main)) => {
+                let (t, y) = (main.live().time(), main.live().state().to_vec());
+                let free_settings = &self.contacts.as_ref().expect("checked above").free_settings;
+                Some(c.into_live(&mut self.system, free_settings, t, &y)?)
+            }
+            (c, _) => c,
+        };
+        self.memory = AccurateMemory { clock, integration, contact };
+        Ok(())
+    }
+}
+
+/// Steps the integrator has taken or rejected since its report was last taken.
+fn attempts(i: &Integrator<AccurateSystem>) -> usize {
+    i.report().steps + i.report().rejected
+}
+
+/// The integrator's report since the last call, with the integrate and Jacobian stages booked from it.
+fn take_integrator_report(integrator: Option<&mut Integrator<AccurateSystem>>, method: &'static str) -> WorldReport {
+    let mut r = WorldReport::new(method);
+    if let Some(i) = integrator {
+        r.integrator = i.take_report();
+    }
+    r.stages.add(Stage::Integrate, r.integrator.steps);
+    r.stages.add(Stage::Jacobian, r.integrator.jacobians);
+    r
+}
+
+/// Kinetic energy and the potential energy of gravity and the springs in state y (J).
+pub(crate) fn mechanical_energy(model: &Model, y: &[f64]) -> f64 {
+    model.kinetic_energy(y) + model.potential_energy(y)
+}
+
+impl Engine for AccurateEngine {
+    fn core(&self) -> &EngineCore {
+        &self.core
     }
 
-    pub fn restore(&mut self, s: AccurateSnapshot) -> Result<(), WorldError> {
-        self.integrator = s.integrator;
-        self.integrator.take_report();
-        // (The run loop takes the report, with the resting set's counters, before it restores.)
-        self.compiled.model.resting = s.resting;
-        self.contacts.resting_keys = s.resting_keys;
-        self.contacts.penetration = s.penetration;
-        self.contacts.window = s.window;
-        self.contacts.touching = s.touching;
-        self.contacts.set_scales(s.scales);
+    fn core_mut(&mut self) -> &mut EngineCore {
+        &mut self.core
+    }
+
+    fn model(&self) -> &Model {
+        &self.system.model
+    }
+
+    fn model_mut(&mut self) -> &mut Model {
+        &mut self.system.model
+    }
+
+    fn time(&self) -> f64 {
+        self.memory.time()
+    }
+
+    fn state(&self) -> &[f64] {
+        self.memory.state()
+    }
+
+    fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
+        match &mut self.memory.integration {
+            Some(i) => i.live_mut().set_state(t, y)?,
+            None => self.memory.clock = t,
+        }
         Ok(())
     }
 
-    pub fn take_report(&mut self) -> WorldReport {
-        let mut r = take_integrator_report(Some(&mut self.integrator), self.settings.method.name());
-        let free = std::mem::replace(
-            &mut self.contacts.free_report,
-            tumble_integrate::Report::empty(self.settings.method.name()),
-        );
-        r.stages.add(Stage::Integrate, free.steps);
-        r.stages.add(Stage::Jacobian, free.jacobians);
-        r.integrator.merge(&free);
-        let c = std::mem::replace(&mut self.contacts.report, WorldReport::new("accurate"));
-        r.merge_contact(&c);
-        r.energy_change += c.energy_change;
-        r.stages += c.stages;
-        if let Some(set) = &mut self.compiled.model.resting {
-            let solves = std::mem::take(&mut set.solves);
+    fn advance(
+        &mut self,
+        t_end: f64,
+        pause: f64,
+        saves: &[f64],
+        run: Option<&mut Run>,
+        budget: &mut Budget<'_>,
+    ) -> Result<usize, WorldError> {
+        #[cfg(feature = "contact")]
+        if self.contacts.is_some() {
+            return self.advance_with_contacts(t_end, pause, saves, run, budget);
+        }
+        self.integrate(t_end, pause, saves, run, budget)
+    }
+
+    fn own_stages(&self) -> Vec<Stage> {
+        Self::planned(&self.settings, self.accurate_settings(), self.system.model.layout.dim())
+    }
+
+    fn memory(&self) -> EngineMemory {
+        EngineMemory::Accurate(Box::new(self.memory.clone()))
+    }
+
+    fn set_memory(&mut self, memory: EngineMemory) -> Result<(), String> {
+        match memory {
+            EngineMemory::Accurate(m) => self.give_memory(*m),
+            other => Err(format!("it is the memory of {}, which this world does not run", other.engine_name())),
+        }
+    }
+
+    /// Sets the divergence limit of the integration, the contact steps and the free flights to come.
+    fn set_divergence_limit(&mut self, limit: f64) {
+        self.core.divergence_limit = limit;
+        self.settings.divergence_limit = limit;
+        if let Some(i) = &mut self.memory.integration {
+            i.live_mut().set_divergence_limit(limit);
+        }
+        #[cfg(feature = "contact")]
+        if let Some(c) = &mut self.contacts {
+            c.free_settings.divergence_limit = limit;
+        }
+    }
+
+    #[cfg(feature = "contact")]
+    fn last_contacts(&self) -> &[crate::engine::last_contacts::LastContact] {
+        self.memory.contact.as_ref().and_then(|c| c.touching.as_ref()).map_or(&[], |t| &t.last)
+    }
+
+    #[cfg(feature = "contact")]
+    fn set_material(&mut self, actor: usize, material: crate::Material) {
+        if let Some(c) = &mut self.contacts {
+            c.scene.set_material(actor, material);
+        }
+    }
+
+    fn take_own_report(&mut self) -> WorldReport {
+        let method = self.settings.method.name();
+        let integrator = self.memory.integration.as_mut().map(|i| i.live_mut());
+        let mut r = take_integrator_report(integrator, method);
+        #[cfg(feature = "contact")]
+        if let Some(rules) = &mut self.contacts {
+            let free = std::mem::replace(&mut rules.free_report, tumble_integrate::Report::empty(method));
+            r.stages.add(Stage::Integrate, free.steps);
+            r.stages.add(Stage::Jacobian, free.jacobians);
+            r.integrator.merge(&free);
+            let c = std::mem::replace(&mut self.core.report, WorldReport::new("accurate"));
+            r.merge_contact(&c);
+            r.energy_change += c.energy_change;
+            r.stages += c.stages;
+            let solves = std::mem::take(&mut self.system.resting_solves);
             r.qp_solves += solves;
             r.stages.add(Stage::RestingContact, solves);
-            r.contact_seconds += std::mem::take(&mut set.seconds);
+            r.contact_seconds += std::mem::take(&mut self.system.resting_seconds);
+            self.book_joints(&mut r);
+            return r;
         }
+        r.energy_change = std::mem::take(&mut self.core.report.energy_change);
+        self.book_joints(&mut r);
         r
+    }
+
+    fn boxed_clone(&self) -> Box<dyn Engine> {
+        Box::new(self.clone())
+    }
+}
+
+impl AccurateEngine {
+    /// Books the joints' rows and errors at the current state (at the end of every call).
+    fn book_joints(&self, r: &mut WorldReport) {
+        let model = &self.system.model;
+        if !model.joints.is_empty() {
+            let (rows, errors) = model.joint_errors(self.state());
+            r.book_joints(rows, errors);
+        }
     }
 }

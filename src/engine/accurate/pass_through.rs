@@ -2,23 +2,25 @@
 //! fast body through a thin one, a hop that comes back). Pairs whose end distances leave room for a contact are
 //! searched along the step's dense output by a distance-bounded bisection (`tumble_collide::first_contact`).
 
-use super::{failure, Contacts};
+use super::contacts::Contacts;
+use super::failure;
+use super::system::AccurateSystem;
 use crate::engine::contact_scene::Found;
-use crate::model::{actor_poses, Model};
+use crate::model::actor_poses;
 use crate::plan::Stage;
 use nalgebra::Isometry3;
 use std::collections::BTreeSet;
 use tumble_collide::{distance, first_contact, ShapeError, ToiMethod, ToiOptions};
 use tumble_integrate::{OdeError, StepView};
 
-impl Contacts {
+impl Contacts<'_> {
     /// The earliest contact time among the collider `pairs` that are apart at both ends of the step (contacts
     /// `found1` at its end, poses `poses0`/`poses1` at its ends, `speeds` bounds per actor), or None; a grazing
     /// pair that exhausts the search gives the step's midpoint (the step is halved).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn pass_through(
         &mut self,
-        step: &mut StepView<'_, Model>,
+        step: &mut StepView<'_, AccurateSystem>,
         pairs: &[(usize, usize)],
         found1: &[Found],
         poses0: &[Isometry3<f64>],
@@ -50,7 +52,7 @@ impl Contacts {
                     trouble = Some(e);
                     ShapeError { name: "poses", reason: msg }
                 })?;
-                let p = actor_poses(step.system().layout, &y, &model_statics);
+                let p = actor_poses(step.system().model.layout, &y, &model_statics);
                 Ok((p[ia] * oa, p[ib] * ob))
             };
             let options = ToiOptions {

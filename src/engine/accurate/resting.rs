@@ -1,13 +1,14 @@
-//! Resting contacts inside the equations of motion (accurate mode): contacts attached to the bodies that carry
-//! them, and the right-hand-side stage that gives them the chapter's QP forces, so that resting bodies neither
-//! sink into nor accelerate away from what holds them.
+//! Resting contacts inside the equations of motion (accurate mode with `Persistent::RestingForces`): contacts
+//! attached to the bodies that carry them, and the right-hand-side stage that gives them the chapter's QP forces,
+//! so that resting bodies neither sink into nor accelerate away from what holds them.
 
+use super::system::AccurateSystem;
 use crate::engine::contact_scene::{ContactKey, Found};
+use crate::model::actor_poses;
 use crate::model::layout::add3;
-use crate::model::{actor_poses, Model};
 use nalgebra::{Isometry3, Point3, Vector3};
 use std::time::Instant;
-use tumble_contact::{contact_wrenches, resting_forces, Contact, NormalMotion, SolverSettings};
+use tumble_contact::{contact_wrenches, resting_forces, Contact, NormalMotion};
 use tumble_integrate::SystemError;
 
 /// A resting contact held in the frames of its two actors.
@@ -26,17 +27,19 @@ pub(crate) struct RestingContact {
     pub key: ContactKey,
 }
 
-/// The resting contacts of an accurate-mode world between two contact phases.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct RestingSet {
+/// The resting contacts of an accurate-mode world between two contact phases (part of the engine's memory).
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
+pub(crate) struct RestingContacts {
     pub contacts: Vec<RestingContact>,
-    pub statics: Vec<Isometry3<f64>>,
-    pub settings: SolverSettings,
     /// Contacts whose gap has opened past this no longer push (m).
     pub reach: f64,
-    /// QP solves and their wall time since the last report.
-    pub solves: usize,
-    pub seconds: f64,
+}
+
+impl RestingContacts {
+    /// Whether every contact names one of `actors` actors and `colliders` colliders, and the reach is finite.
+    pub fn fits(&self, actors: usize, colliders: usize) -> bool {
+        self.reach.is_finite() && self.contacts.iter().all(|c| c.a < actors && c.b < actors && c.key.fits(colliders))
+    }
 }
 
 impl RestingContact {
@@ -90,41 +93,36 @@ impl RestingContact {
     }
 }
 
-impl Model {
+impl AccurateSystem {
     /// Adds the resting-contact forces to the p rates (the last stage of the right-hand side).
-    pub(crate) fn add_resting_forces(&mut self, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
-        let Some(mut set) = self.resting.take() else { return Ok(()) };
-        let result = self.resting_stage(&mut set, y, dp);
-        self.resting = Some(set);
-        result
-    }
-
-    fn resting_stage(&self, set: &mut RestingSet, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
+    pub(super) fn add_resting_forces(&mut self, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
+        let Some(set) = &self.resting else { return Ok(()) };
         if set.contacts.is_empty() {
             return Ok(());
         }
         let clock = Instant::now();
-        let poses = actor_poses(self.layout, y, &set.statics);
-        let states = self.contact_states(y, dp, &set.statics, Default::default());
+        let model = &self.model;
+        let poses = actor_poses(model.layout, y, &self.statics);
+        let states = model.contact_states(y, dp, &self.statics, Default::default());
         let contacts: Vec<Contact> =
             set.contacts.iter().map(|r| r.place(&poses)).filter(|(_, gap)| *gap <= set.reach).map(|(c, _)| c).collect();
         if contacts.is_empty() {
             return Ok(());
         }
-        let out = resting_forces(&states, &contacts, &set.settings)
+        let out = resting_forces(&states, &contacts, &self.solver)
             .map_err(|e| SystemError::new(format!("resting contact: {e}")))?;
-        set.solves += out.solver_calls;
-        let (l, q) = (self.layout, self.layout.positions());
+        self.resting_solves += out.solver_calls;
+        let (l, q) = (model.layout, model.layout.positions());
         for (k, (force, torque)) in contact_wrenches(&states, &contacts, &out.forces).iter().enumerate() {
             if k < l.particles {
-                add3(dp, l.pv(k) - q, &(force * self.particles[k].inv_mass));
+                add3(dp, l.pv(k) - q, &(force * model.particles[k].inv_mass));
             } else if k < l.particles + l.bodies {
                 let j = k - l.particles;
                 add3(dp, l.bp(j) - q, force);
                 add3(dp, l.bl(j) - q, torque);
             }
         }
-        set.seconds += clock.elapsed().as_secs_f64();
+        self.resting_seconds += clock.elapsed().as_secs_f64();
         Ok(())
     }
 }

@@ -1,4 +1,4 @@
-//! Accurate mode while bodies touch: contact steps (`contact_step.rs`) under error control by step doubling, after
+//! Accurate mode while bodies touch: convex contact steps (`convex_step.rs`) under error control by step doubling, after
 //! Drake's CENIC (Kurtz and Castro, 2025). Each step of h is taken once whole and once as two halves (the first
 //! half on the whole step's contacts); their difference estimates the error of the halves, in metres: positions,
 //! body turns times the radius of gyration, and velocity differences times h (what they become a step later). A
@@ -10,11 +10,14 @@
 //! are states, not interpolations. Contacts that sank past the tolerance (linearised contacts of turning bodies
 //! sink a little) are lifted apart by a position projection before the step. The phase ends when no pair is within reach of a step: the integrator takes over.
 
-use super::contact_step::{actors_with_forces, StepOutcome};
+use super::contacts::Contacts;
+use super::convex_step::{actors_with_forces, ConvexStep};
 use super::drift::correct_drift;
+use super::failure;
 use super::free_flight::{copy_free, involved, FreeFlight};
-use super::{failure, Contacts};
+use super::system::AccurateSystem;
 use crate::engine::contact_scene::ContactKey;
+use crate::engine::last_contacts::LastContact;
 use crate::engine::state_error::state_difference;
 use crate::engine::Budget;
 use crate::model::layout::{get3, get_quat, set_quat};
@@ -24,9 +27,9 @@ use nalgebra::Quaternion;
 use std::collections::BTreeMap;
 use tumble_integrate::OdeError;
 
-/// What the touching phase carries from step to step.
-#[derive(Clone)]
-pub(crate) struct Touching {
+/// What the touching phase carries from step to step (part of the engine's memory).
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+pub(crate) struct TouchingPhase {
     /// Each contact's normal force of the last accepted step (the next step's first friction bound).
     pub lagged: BTreeMap<ContactKey, f64>,
     /// The step the error control proposes.
@@ -36,7 +39,18 @@ pub(crate) struct Touching {
     /// The integrator of the actors that touch nothing (`free_flight.rs`).
     pub free: Option<FreeFlight>,
     /// The contacts of the last accepted step, with the whole step's impulses.
-    pub last: Vec<crate::engine::step_contacts::StepContact>,
+    pub last: Vec<LastContact>,
+}
+
+impl TouchingPhase {
+    /// Whether it fits a scene of `actors` actors and `colliders` colliders and a state of length `dim`.
+    pub fn fits(&self, actors: usize, colliders: usize, dim: usize) -> bool {
+        self.h > 0.0
+            && self.h.is_finite()
+            && self.lagged.iter().all(|(k, f)| k.fits(colliders) && f.is_finite())
+            && self.last.iter().all(|c| c.a < actors && c.b < actors)
+            && self.free.as_ref().is_none_or(|f| f.frozen.iter().all(|&k| k < dim))
+    }
 }
 
 /// Steps tried (accepted or rejected) over which the touching phase's progress is watched.
@@ -52,13 +66,15 @@ pub(crate) struct TouchingEnd {
     pub touching: bool,
 }
 
-impl Contacts {
+impl Contacts<'_> {
     /// Enters the touching phase with a first step from the tolerance: the time to fall the tolerance, sqrt(2 tol
     /// / g), within the phase's step bounds.
     pub fn start_touching(&mut self) {
-        let h = (2.0 * self.tolerance / self.gravity.max(1e-300)).sqrt().clamp(self.min_step(0.0), self.max_step);
-        self.touching =
-            Some(Touching { lagged: BTreeMap::new(), h, window: (f64::NAN, 0), free: None, last: Vec::new() });
+        let h = (2.0 * self.scales.tolerance / self.gravity.max(1e-300))
+            .sqrt()
+            .clamp(self.min_step(0.0), self.scales.max_step);
+        self.memory.touching =
+            Some(TouchingPhase { lagged: BTreeMap::new(), h, window: (f64::NAN, 0), free: None, last: Vec::new() });
     }
 
     /// The smallest step: 16 ulps of the time, and no less than 1e-14 s.
@@ -73,7 +89,7 @@ impl Contacts {
     #[allow(clippy::too_many_arguments)]
     pub fn touching_steps(
         &mut self,
-        model: &mut Model,
+        system: &mut AccurateSystem,
         mut t: f64,
         mut y: Vec<f64>,
         t_end: f64,
@@ -85,13 +101,19 @@ impl Contacts {
         let statics = self.scene.static_poses.clone();
         let slack = 1e-12 * t_end.abs().max(1.0);
         let mut delivered = 0;
-        let Some(mut phase) = self.touching.take() else {
+        let Some(mut phase) = self.memory.touching.take() else {
             return Err(failure(t, "contact steps without a touching phase".into()));
         };
         let result = loop {
             while delivered < saves.len() && saves[delivered] <= t + slack {
                 if let Some(run) = run.as_deref_mut() {
-                    run.record(model, t, &y, self.penetration, phase.last.iter().map(|c| (c.point, c.normal)));
+                    run.record(
+                        &system.model,
+                        t,
+                        &y,
+                        self.memory.penetration,
+                        phase.last.iter().map(|c| (c.point, c.normal)),
+                    );
                 }
                 delivered += 1;
             }
@@ -107,25 +129,25 @@ impl Contacts {
             if let Err(e) = self.watch_touching(&mut phase, t) {
                 break Err(e);
             }
-            let mut states = actors_with_forces(model, &statics, t, &y)?;
-            let mut found = self.step_contacts(model, &states, &y, t, h)?;
+            let mut states = actors_with_forces(system, &statics, t, &y)?;
+            let mut found = self.contacts_in_reach(&system.model, &states, &y, t, h)?;
             if found.is_empty() {
                 break Ok(false);
             }
-            self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
-            if self.penetration > self.tolerance {
+            self.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
+            if self.memory.penetration > self.scales.tolerance {
                 // Linearised contacts of turning bodies sink a little each step; past the tolerance, the bodies are
                 // moved apart by the smallest position change (velocities untouched, so no energy but the lift's).
                 let sunk: Vec<_> = found.iter().filter(|f| f.contact.distance < 0.0).map(|f| f.contact).collect();
-                self.report.qp_solves += correct_drift(model, &mut y, &states, &sunk, &self.solver, t)?;
+                self.report.qp_solves += correct_drift(&system.model, &mut y, &states, &sunk, self.solver, t)?;
                 self.report.stages.mark(crate::plan::Stage::Impulses);
-                states = actors_with_forces(model, &statics, t, &y)?;
-                found = self.step_contacts(model, &states, &y, t, h)?;
+                states = actors_with_forces(system, &statics, t, &y)?;
+                found = self.contacts_in_reach(&system.model, &states, &y, t, h)?;
             }
-            self.report.max_penetration = self.report.max_penetration.max(self.penetration);
-            let work = self.solve_work;
-            let doubled = self.doubled_step(model, &statics, &states, &found, &phase.lagged, t, &y, h);
-            if let Err(e) = budget.charge((self.solve_work - work).saturating_sub(1), t) {
+            self.report.max_penetration = self.report.max_penetration.max(self.memory.penetration);
+            let work = *self.solve_work;
+            let doubled = self.doubled_step(system, &statics, &states, &found, &phase.lagged, t, &y, h);
+            if let Err(e) = budget.charge((*self.solve_work - work).saturating_sub(1), t) {
                 break Err(e);
             }
             let Some((mut whole, mut second, involved)) = doubled? else {
@@ -135,13 +157,13 @@ impl Contacts {
                 if phase.h < self.min_step(t) {
                     break Err(failure(
                         t,
-                        format!("contact steps fell to {:.1e} s: {}", phase.h, self.last_solver_error),
+                        format!("contact steps fell to {:.1e} s: {}", phase.h, *self.last_solver_error),
                     ));
                 }
                 continue;
             };
-            let error = state_difference(model, Some(&involved), &whole.y, &second.y, h);
-            let ratio = error / self.tolerance;
+            let error = state_difference(&system.model, Some(&involved), &whole.y, &second.y, h);
+            let ratio = error / self.scales.tolerance;
             if !ratio.is_finite() {
                 break Err(OdeError::NonFinite { t, what: "contact step", index: 0 });
             }
@@ -155,39 +177,40 @@ impl Contacts {
                         format!(
                             "contact steps fell to {:.1e} s with an error of {error:.1e} m against a tolerance of \
                              {:.1e} m: the contacts cannot be followed (raise contact_tolerance, or try fast mode)",
-                            phase.h, self.tolerance
+                            phase.h, self.scales.tolerance
                         ),
                     ));
                 }
                 continue;
             }
             // The actors that touch nothing follow the integrator over the accepted step.
-            let free = self.free_flight(model, &mut phase.free, &involved, t, &y, h, budget)?;
+            let free = self.free_flight(system, &mut phase.free, &involved, t, &y, h, budget)?;
             if let Some(free) = &free {
-                copy_free(model, &involved, free, &mut whole.y);
-                copy_free(model, &involved, free, &mut second.y);
+                copy_free(&system.model, &involved, free, &mut whole.y);
+                copy_free(&system.model, &involved, free, &mut second.y);
             }
             let mut next = second.y;
             if whole.pressing == second.pressing {
                 let mut better = next.clone();
-                extrapolate(model, &mut better, &whole.y);
+                extrapolate(&system.model, &mut better, &whole.y);
                 // Never a gain of energy over the step from the extrapolation, beyond the solves' own accuracy
                 // (velocities to 1e-4 of tol / h: an energy of that times the momenta) and rounding (1e-12 of the
                 // kinetic and potential energies' sizes, whose difference the total may be).
                 // The free actors' own change of energy (the same in both) is taken out: only the touching ones'
                 // is judged.
+                let model = &system.model;
                 let energy = |y: &[f64]| model.kinetic_energy(y) + model.potential_energy(y);
                 let (kinetic, potential) = (model.kinetic_energy(&y), model.potential_energy(&y));
                 let before = kinetic + potential;
                 let free_gain = free.as_deref().map_or(0.0, |f| energy(f) - before);
                 let slack = 1e-12 * (kinetic.abs() + potential.abs())
-                    + 1e-4 * self.tolerance / h * momenta(model, &involved, &next);
+                    + 1e-4 * self.scales.tolerance / h * momenta(model, &involved, &next);
                 if energy(&better) - free_gain <= before + slack {
                     next = better;
                 }
             }
             if let Some(free) = &free {
-                copy_free(model, &involved, free, &mut next);
+                copy_free(&system.model, &involved, free, &mut next);
             }
             if let Some(index) = next.iter().position(|v| !v.is_finite()) {
                 break Err(OdeError::NonFinite { t: t + h, what: "state after a contact step", index });
@@ -201,7 +224,7 @@ impl Contacts {
             (t, y) = (if h == stop - t { stop } else { t + h }, next);
             phase.lagged = second.forces;
             let impulses = found.iter().map(|f| whole.forces.get(&f.key).map_or(0.0, |force| force * h));
-            phase.last = crate::engine::step_contacts::from_found(&found, impulses, h);
+            phase.last = LastContact::from_found(&found, impulses, h);
             let r = &mut self.report;
             r.contact_steps += 1;
             r.contact_error = r.contact_error.max(error);
@@ -209,29 +232,29 @@ impl Contacts {
             if let Some(run) = run.as_deref_mut() {
                 run.log_step(t, h);
             }
-            let proposed = (h * grow).min(self.max_step);
+            let proposed = (h * grow).min(self.scales.max_step);
             phase.h = if clipped { proposed.max(phase.h) } else { proposed };
         };
         match result {
             Ok(touching) => {
                 if touching {
-                    self.touching = Some(phase);
+                    self.memory.touching = Some(phase);
                 }
                 Ok(TouchingEnd { t, y, delivered, touching })
             }
             Err(e) => {
-                self.touching = Some(phase);
+                self.memory.touching = Some(phase);
                 Err(e)
             }
         }
     }
 }
 
-impl Contacts {
+impl Contacts<'_> {
     /// Fails when `STALL_WINDOW` steps tried have advanced less than that many stall steps (1e-5 of the scene's
     /// time scale each): contact steps that crawl (bodies started deep inside each other, which the lifts cannot
     /// undo, took steps of 1e-7 s) end in a clear error instead of running for hours.
-    fn watch_touching(&self, phase: &mut Touching, t: f64) -> Result<(), OdeError> {
+    fn watch_touching(&self, phase: &mut TouchingPhase, t: f64) -> Result<(), OdeError> {
         let (start, tried) = phase.window;
         if tried == 0 || start.is_nan() {
             phase.window = (t, 1);
@@ -243,7 +266,7 @@ impl Contacts {
         }
         phase.window = (t, 1);
         let mean = (t - start) / STALL_WINDOW as f64;
-        if mean < self.stall_step {
+        if mean < self.scales.stall_step {
             return Err(failure(
                 t,
                 format!(
@@ -251,7 +274,7 @@ impl Contacts {
                      {:.1e} m deep: the steps cannot follow these contacts (bodies started inside each other?); try \
                      fast mode, or a looser contact_tolerance",
                     t - start,
-                    self.penetration
+                    self.memory.penetration
                 ),
             ));
         }
@@ -264,7 +287,7 @@ impl Contacts {
     #[allow(clippy::too_many_arguments)]
     fn doubled_step(
         &mut self,
-        model: &mut Model,
+        system: &mut AccurateSystem,
         statics: &[nalgebra::Isometry3<f64>],
         states: &[tumble_contact::BodyState],
         found: &[crate::engine::contact_scene::Found],
@@ -272,16 +295,19 @@ impl Contacts {
         t: f64,
         y: &[f64],
         h: f64,
-    ) -> Result<Option<(StepOutcome, StepOutcome, Vec<bool>)>, OdeError> {
-        let Some(whole) = self.contact_step(model, states, found, lagged, t, y, h)? else { return Ok(None) };
-        let Some(first) = self.contact_step(model, states, found, lagged, t, y, 0.5 * h)? else { return Ok(None) };
-        let mid = t + 0.5 * h;
-        let states = actors_with_forces(model, statics, mid, &first.y)?;
-        let later = self.step_contacts(model, &states, &first.y, mid, 0.5 * h)?;
-        let Some(second) = self.contact_step(model, &states, &later, &first.forces, mid, &first.y, 0.5 * h)? else {
+    ) -> Result<Option<(ConvexStep, ConvexStep, Vec<bool>)>, OdeError> {
+        let Some(whole) = self.convex_step(&system.model, states, found, lagged, t, y, h)? else { return Ok(None) };
+        let Some(first) = self.convex_step(&system.model, states, found, lagged, t, y, 0.5 * h)? else {
             return Ok(None);
         };
-        let involved = involved(model, &[found, &later]);
+        let mid = t + 0.5 * h;
+        let states = actors_with_forces(system, statics, mid, &first.y)?;
+        let later = self.contacts_in_reach(&system.model, &states, &first.y, mid, 0.5 * h)?;
+        let Some(second) = self.convex_step(&system.model, &states, &later, &first.forces, mid, &first.y, 0.5 * h)?
+        else {
+            return Ok(None);
+        };
+        let involved = involved(&system.model, &[found, &later]);
         Ok(Some((whole, second, involved)))
     }
 }

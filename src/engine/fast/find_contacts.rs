@@ -16,30 +16,34 @@ impl FastEngine {
     /// The contacts within reach in step h; `states` are renewed if an island woke.
     pub(super) fn find_contacts(&mut self, states: &mut Vec<BodyState>, h: f64) -> Result<Vec<Found>, WorldError> {
         let Some(scene) = &mut self.scene else { return Ok(Vec::new()) };
-        let t = self.origin + self.steps as f64 * self.settings.dt;
+        let t = self.memory.origin + self.memory.steps as f64 * self.settings.dt;
         let clock = Instant::now();
-        let dynamic = self.sleep.len();
+        let dynamic = self.memory.sleep.len();
         for a in 0..dynamic {
-            scene.inert[a] = self.sleep.asleep(a);
+            scene.inert[a] = self.memory.sleep.asleep(a);
         }
-        let poses = scene.poses(&self.y);
+        let poses = scene.poses(&self.memory.y);
         let checks = scene.checks;
-        let mut found = reduce(scene.find_closing(&poses, states, h, self.settings.margin).map_err(|e| failure(t, e))?);
-        if self.sleep.wake_touched(&found, dynamic) {
+        let cache = self.memory.manifolds.as_mut();
+        let mut found =
+            reduce(scene.find_closing(&poses, states, h, self.settings.margin, cache).map_err(|e| failure(t, e))?);
+        if self.memory.sleep.wake_touched(&found, dynamic) {
             // The woken actors' own contacts (with the floor under them, say) were left out as inert: find again.
             for a in 0..dynamic {
-                scene.inert[a] = self.sleep.asleep(a);
+                scene.inert[a] = self.memory.sleep.asleep(a);
             }
             *states = self.body_states();
             let scene = self.scene.as_mut().expect("checked above");
-            found = reduce(scene.find_closing(&poses, states, h, self.settings.margin).map_err(|e| failure(t, e))?);
+            let cache = self.memory.manifolds.as_mut();
+            found =
+                reduce(scene.find_closing(&poses, states, h, self.settings.margin, cache).map_err(|e| failure(t, e))?);
         }
         let scene = self.scene.as_mut().expect("checked above");
-        self.report.collision_checks += scene.checks - checks;
-        self.report.stages.mark(Stage::CollisionDetection);
-        self.report.collision_seconds += clock.elapsed().as_secs_f64();
+        self.core.report.collision_checks += scene.checks - checks;
+        self.core.report.stages.mark(Stage::CollisionDetection);
+        self.core.report.collision_seconds += clock.elapsed().as_secs_f64();
         found.retain(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic());
-        self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
+        self.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
         Ok(found)
     }
 }

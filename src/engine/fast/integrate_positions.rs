@@ -8,15 +8,15 @@ use tumble_contact::{BodyVelocity, SoftStep};
 impl FastEngine {
     /// Semi-implicit Euler: positions and orientations from the new velocities; momenta from them.
     pub(super) fn integrate_positions(&mut self, v: &[BodyVelocity], h: f64) {
-        let sleep = &self.sleep;
-        update_positions(&self.compiled.model, &mut self.y, v, h, |a| !sleep.asleep(a));
+        let sleep = &self.memory.sleep;
+        update_positions(&self.model, &mut self.memory.y, v, h, |a| !sleep.asleep(a));
     }
 }
 
 impl FastEngine {
     /// The soft step's poses and velocities.
     pub(super) fn apply_moves(&mut self, out: &SoftStep) {
-        let sleep = &self.sleep;
-        apply_moves(&self.compiled.model, &mut self.y, out, |a| !sleep.asleep(a));
+        let sleep = &self.memory.sleep;
+        apply_moves(&self.model, &mut self.memory.y, out, |a| !sleep.asleep(a));
     }
 }

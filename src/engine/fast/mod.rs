@@ -10,14 +10,17 @@ mod applied_forces;
 mod bounce_limiter;
 mod find_contacts;
 mod integrate_positions;
+mod memory;
 mod sleep;
 mod soft_solve;
 mod solve_velocities;
 mod warm_start;
 
-use crate::engine::contact_scene::{ContactKey, ContactScene};
-use crate::engine::step_contacts::StepContact;
-use crate::engine::Budget;
+pub(crate) use memory::FastMemory;
+
+use crate::engine::contact_scene::ContactScene;
+use crate::engine::last_contacts::LastContact;
+use crate::engine::{Budget, Engine, EngineCore, EngineMemory};
 use crate::error::WorldError;
 use crate::mode::{FastSettings, FastSolver};
 use crate::model::{Compiled, Model};
@@ -37,48 +40,16 @@ pub(crate) const FAST_SOFT: &str = "fast (semi-implicit Euler substeps, soft con
 /// Most steps one advance may take (a step budget: a huge span or a tiny step is an error, not a hang).
 const MAX_STEPS: f64 = 1e7;
 
-/// The state and memory of a fast-mode world.
+/// A fast-mode world's engine.
 #[derive(Clone)]
 pub(crate) struct FastEngine {
-    compiled: Compiled,
+    core: EngineCore,
+    model: Model,
     scene: Option<ContactScene>,
-    /// Time = origin + steps x dt, so that times are exact multiples of the step from where the engine started.
-    origin: f64,
-    steps: u64,
-    y: Vec<f64>,
     settings: FastSettings,
-    pub(crate) threads: usize,
-    /// A state component larger than this is divergence: the step fails instead of running on to overflow.
-    pub(crate) divergence_limit: f64,
-    /// Each contact's normal impulse of the last step (ordered: the warm start sums them in key order).
-    previous: BTreeMap<ContactKey, f64>,
-    /// The soft solver's impulses of the last step, by contact (sorted by key).
-    warm: Vec<(ContactKey, tumble_contact::SoftImpulse)>,
-    /// Each joint's row impulses of the last step.
-    joint_warm: Vec<tumble_contact::JointImpulse>,
-    sleep: Sleep,
+    memory: FastMemory,
+    /// The rates of the last force evaluation (scratch).
     dy: Vec<f64>,
-    /// What the steps since the last `take_report` cost.
-    report: WorldReport,
-    /// Largest penetration among the contacts of the last step.
-    penetration: f64,
-    /// The contacts of the last step, with their impulses.
-    last_contacts: Vec<StepContact>,
-}
-
-/// What a failed call puts back: time, state, lagged impulses, warm starts, sleep, kept manifolds.
-#[derive(serde::Serialize, serde::Deserialize, Clone)]
-pub(crate) struct FastSnapshot {
-    origin: f64,
-    steps: u64,
-    y: Vec<f64>,
-    previous: BTreeMap<ContactKey, f64>,
-    warm: Vec<(ContactKey, tumble_contact::SoftImpulse)>,
-    joint_warm: Vec<tumble_contact::JointImpulse>,
-    sleep: Sleep,
-    penetration: f64,
-    manifolds: Option<crate::engine::manifold_cache::ManifoldCache>,
-    last_contacts: Vec<StepContact>,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> WorldError {
@@ -95,30 +66,29 @@ impl FastEngine {
         threads: usize,
         divergence_limit: f64,
     ) -> Self {
-        let actors = compiled.model.layout.particles + compiled.model.layout.bodies;
-        let joints = compiled.model.joints.len();
-        let mut scene = scene;
-        if let (Some(scene), FastSolver::Soft(_)) = (scene.as_mut(), settings.solver) {
-            // the soft step reuses the manifolds of pairs that barely moved; the exact solver computes every one
-            scene.cache = Some(Default::default());
-        }
-        FastEngine {
-            dy: vec![0.0; y.len()],
-            sleep: Sleep::new(actors),
-            compiled,
-            scene,
+        let Compiled { model, rows } = compiled;
+        let actors = model.layout.particles + model.layout.bodies;
+        // the soft step reuses the manifolds of pairs that barely moved; the exact solver computes every one
+        let keeps_manifolds = scene.is_some() && matches!(settings.solver, FastSolver::Soft(_));
+        let memory = FastMemory {
             origin: t,
             steps: 0,
-            y,
-            settings,
-            threads,
-            divergence_limit,
             previous: BTreeMap::new(),
             warm: Vec::new(),
-            joint_warm: vec![Default::default(); joints],
-            report: WorldReport::new(method_name(&settings)),
+            joint_warm: vec![Default::default(); model.joints.len()],
+            sleep: Sleep::new(actors),
             penetration: 0.0,
+            manifolds: keeps_manifolds.then(Default::default),
             last_contacts: Vec::new(),
+            y,
+        };
+        FastEngine {
+            dy: vec![0.0; memory.y.len()],
+            core: EngineCore::new(rows, divergence_limit, threads, WorldReport::new(method_name(&settings))),
+            model,
+            scene,
+            settings,
+            memory,
         }
     }
 
@@ -142,92 +112,8 @@ impl FastEngine {
         out
     }
 
-    pub fn own_stages(&self) -> Vec<Stage> {
-        Self::planned(&self.settings, self.y.len(), self.scene.is_some(), self.compiled.model.has_joints())
-    }
-
-    pub fn compiled(&self) -> &Compiled {
-        &self.compiled
-    }
-
-    pub fn model_mut(&mut self) -> &mut Model {
-        &mut self.compiled.model
-    }
-
-    pub fn time(&self) -> f64 {
-        self.time_at(self.steps)
-    }
-
     fn time_at(&self, steps: u64) -> f64 {
-        self.origin + steps as f64 * self.settings.dt
-    }
-
-    pub fn state(&self) -> &[f64] {
-        &self.y
-    }
-
-    pub fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
-        self.y.copy_from_slice(y);
-        (self.origin, self.steps) = (t, 0);
-        Ok(())
-    }
-
-    /// The end of `span` from now in whole steps; a span that is not a whole number of steps (to 1e-6 of a step)
-    /// is an error naming `name`.
-    pub fn end_time(&self, span: f64, name: &'static str) -> Result<f64, WorldError> {
-        let dt = self.settings.dt;
-        let n = (span / dt).round();
-        if (span / dt - n).abs() > 1e-6 || n < 1.0 {
-            return Err(WorldError::invalid(
-                name,
-                format!("fast mode steps by dt = {dt} s, and {span} s is not a whole number of steps"),
-            ));
-        }
-        if n > MAX_STEPS {
-            return Err(WorldError::invalid(
-                name,
-                format!("{span} s is {n:e} steps of {dt} s, over the {MAX_STEPS:e} a call may take (split it into shorter calls)"),
-            ));
-        }
-        Ok(self.time_at(self.steps + n as u64))
-    }
-
-    /// Steps by dt until past `pause` (never beyond `t_end`); each step that reaches one or more of `saves`
-    /// records one frame (its state, at its time).
-    pub fn advance(
-        &mut self,
-        t_end: f64,
-        pause: f64,
-        saves: &[f64],
-        mut run: Option<&mut Run>,
-        budget: &mut Budget<'_>,
-    ) -> Result<usize, WorldError> {
-        let h = self.settings.dt;
-        let slack = 1e-9 * h;
-        let mut delivered = 0;
-        loop {
-            let t = self.time();
-            let reached = saves[delivered..].iter().take_while(|&&s| s <= t + slack).count();
-            if reached > 0 {
-                delivered += reached;
-                if let Some(run) = run.as_deref_mut() {
-                    let contacts = self.last_contacts.iter().map(|c| (c.point, c.normal));
-                    run.record(&self.compiled.model, t, &self.y, self.penetration, contacts);
-                }
-            }
-            if t >= pause.min(t_end) - slack {
-                return Ok(delivered);
-            }
-            if self.settings.step_doubling {
-                self.doubled_step(h)?;
-            } else {
-                self.step(h)?;
-            }
-            if let Some(run) = run.as_deref_mut() {
-                run.log_step(self.time(), h);
-            }
-            budget.charge(1, self.time())?;
-        }
+        self.memory.origin + steps as f64 * self.settings.dt
     }
 
     /// One step of size h, as its stages.
@@ -249,24 +135,23 @@ impl FastEngine {
             }
         };
         self.check_state(h)?;
-        let model = &self.compiled.model;
-        if !model.joints.is_empty() {
-            let (rows, errors) = model.joint_errors(&self.y);
-            self.report.book_joints(rows, errors);
+        if !self.model.joints.is_empty() {
+            let (rows, errors) = self.model.joint_errors(&self.memory.y);
+            self.core.report.book_joints(rows, errors);
         }
         self.update_sleep(&states, &velocities, &found, h);
-        self.steps += 1;
+        self.memory.steps += 1;
         let change = self.energy() - before;
-        self.report.energy_change += change;
-        self.report.energy_gain = Some(self.report.energy_gain.unwrap_or(0.0).max(change));
+        let r = &mut self.core.report;
+        r.energy_change += change;
+        r.energy_gain = Some(r.energy_gain.unwrap_or(0.0).max(change));
         self.book_step(h, clock);
         Ok(())
     }
 
     /// The mechanical energy of the state (kinetic, gravity's and the springs' potential; J).
     fn energy(&self) -> f64 {
-        let model = &self.compiled.model;
-        model.kinetic_energy(&self.y) + model.potential_energy(&self.y)
+        self.model.kinetic_energy(&self.memory.y) + self.model.potential_energy(&self.memory.y)
     }
 
     /// A step of h, and its error estimate: the same step taken as two halves from the same start (time, state,
@@ -274,46 +159,47 @@ impl FastEngine {
     /// whole step, as without the estimate, and the report keeps the whole step's counters (the halves' time is
     /// added to its wall time).
     fn doubled_step(&mut self, h: f64) -> Result<(), WorldError> {
-        let start = self.snapshot();
+        let start = self.memory.clone();
         self.step(h)?;
-        let whole = self.snapshot();
-        let report = self.report.clone();
+        let whole = std::mem::replace(&mut self.memory, start);
+        let report = self.core.report.clone();
         let clock = Instant::now();
-        self.restore(start)?;
         let (origin, dt) = (self.time(), self.settings.dt);
-        (self.origin, self.steps, self.settings.dt) = (origin, 0, 0.5 * h);
+        (self.memory.origin, self.memory.steps, self.settings.dt) = (origin, 0, 0.5 * h);
         let halves = self.step(0.5 * h).and_then(|_| self.step(0.5 * h));
-        let error = crate::engine::state_error::state_difference(&self.compiled.model, None, &whole.y, &self.y, h);
+        let error = crate::engine::state_error::state_difference(&self.model, None, &whole.y, &self.memory.y, h);
         self.settings.dt = dt;
-        self.restore(whole)?;
-        self.report = report;
+        self.memory = whole;
+        self.core.report = report;
         halves?;
-        self.report.integrator.wall_seconds += clock.elapsed().as_secs_f64();
-        self.report.step_error = Some(self.report.step_error.map_or(error, |e| e.max(error)));
+        self.core.report.integrator.wall_seconds += clock.elapsed().as_secs_f64();
+        self.core.report.step_error = Some(self.core.report.step_error.map_or(error, |e| e.max(error)));
         Ok(())
     }
 
     /// Fails the step if the new state is not finite or has diverged past the limit (one comparison a component;
     /// NaN fails it too).
     fn check_state(&self, h: f64) -> Result<(), WorldError> {
-        let limit = self.divergence_limit;
-        if self.y.iter().all(|v| v.abs() <= limit) {
+        let limit = self.core.divergence_limit;
+        let y = &self.memory.y;
+        if y.iter().all(|v| v.abs() <= limit) {
             return Ok(());
         }
-        let t = self.time_at(self.steps + 1);
-        let error = match self.y.iter().position(|v| !v.is_finite()) {
+        let t = self.time_at(self.memory.steps + 1);
+        let error = match y.iter().position(|v| !v.is_finite()) {
             Some(index) => OdeError::NonFinite { t, what: "state", index },
-            None => OdeError::Divergence { t, norm: self.y.iter().fold(0.0, |m, v| m.max(v.abs())), limit, h },
+            None => OdeError::Divergence { t, norm: y.iter().fold(0.0, |m, v| m.max(v.abs())), limit, h },
         };
         Err(WorldError::Simulation(error))
     }
 
     /// The report's share of a step.
     fn book_step(&mut self, h: f64, clock: Instant) {
-        self.report.sleepers = self.sleep.count();
-        self.report.max_penetration = self.report.max_penetration.max(self.penetration);
-        self.report.stages.mark(Stage::Integrate);
-        let r = &mut self.report.integrator;
+        let report = &mut self.core.report;
+        report.sleepers = self.memory.sleep.count();
+        report.max_penetration = report.max_penetration.max(self.memory.penetration);
+        report.stages.mark(Stage::Integrate);
+        let r = &mut report.integrator;
         r.steps += 1;
         r.rhs_evals += 1;
         r.min_step = r.min_step.min(h);
@@ -321,69 +207,153 @@ impl FastEngine {
         r.wall_seconds += clock.elapsed().as_secs_f64();
     }
 
-    pub fn snapshot(&self) -> FastSnapshot {
-        FastSnapshot {
-            origin: self.origin,
-            steps: self.steps,
-            y: self.y.clone(),
-            previous: self.previous.clone(),
-            warm: self.warm.clone(),
-            joint_warm: self.joint_warm.clone(),
-            sleep: self.sleep.clone(),
-            penetration: self.penetration,
-            manifolds: self.scene.as_ref().and_then(|s| s.cache.clone()),
-            last_contacts: self.last_contacts.clone(),
+    /// The sizes a memory must fit.
+    fn fit(&self) -> memory::Fit {
+        let l = self.model.layout;
+        let actors = l.particles + l.bodies;
+        memory::Fit {
+            dim: self.memory.y.len(),
+            actors,
+            all_actors: self.scene.as_ref().map_or(actors, |sc| sc.actors()),
+            colliders: self.scene.as_ref().map_or(0, |sc| sc.colliders.len()),
+            joints: self.model.joints.len(),
+            keeps_manifolds: self.scene.is_some() && matches!(self.settings.solver, FastSolver::Soft(_)),
         }
     }
+}
 
-    /// Whether a memory read from a file fits this engine (sizes and indices in range, the state finite): a file's
-    /// memory is checked before it is restored, so that a damaged one is an error, never a panic later.
-    fn check_memory(&self, s: &FastSnapshot) -> Result<(), String> {
-        let actors = self.compiled.model.layout.particles + self.compiled.model.layout.bodies;
-        let colliders = self.scene.as_ref().map_or(0, |sc| sc.colliders.len());
-        let all_actors = self.scene.as_ref().map_or(actors, |sc| sc.actors());
-        let keys_fit = |k: &ContactKey| (k.colliders.0 as usize) < colliders && (k.colliders.1 as usize) < colliders;
-        let checks = [
-            (s.y.len() == self.y.len(), "its state has another length"),
-            (s.y.iter().all(|v| v.is_finite()) && s.origin.is_finite(), "its state is not finite"),
-            (s.sleep.fits(actors), "its sleep does not fit the actors"),
-            (s.previous.keys().all(keys_fit) && s.warm.iter().all(|(k, _)| keys_fit(k)), "a contact names no collider"),
-            (s.warm.windows(2).all(|w| w[0].0 < w[1].0), "its warm starts are out of order"),
-            (s.joint_warm.len() == self.joint_warm.len(), "its joints are not the scene's"),
-            (s.joint_warm.iter().all(|j| j.0.iter().all(|p| p.is_finite())), "a joint's impulse is not finite"),
-            (s.manifolds.as_ref().is_none_or(|m| m.fits(colliders)), "its kept manifolds do not fit the colliders"),
-            (s.last_contacts.iter().all(|c| c.a < all_actors && c.b < all_actors), "a contact names no actor"),
-        ];
-        match checks.iter().find(|(ok, _)| !ok) {
-            Some((_, why)) => Err(why.to_string()),
-            None => Ok(()),
-        }
+impl Engine for FastEngine {
+    fn core(&self) -> &EngineCore {
+        &self.core
     }
 
-    pub fn restore(&mut self, s: FastSnapshot) -> Result<(), WorldError> {
-        (self.origin, self.steps, self.y, self.previous, self.warm, self.sleep, self.penetration) =
-            (s.origin, s.steps, s.y, s.previous, s.warm, s.sleep, s.penetration);
-        self.last_contacts = s.last_contacts;
-        self.joint_warm = s.joint_warm;
-        if let Some(scene) = self.scene.as_mut() {
-            scene.cache = s.manifolds;
-        }
+    fn core_mut(&mut self) -> &mut EngineCore {
+        &mut self.core
+    }
+
+    fn model(&self) -> &Model {
+        &self.model
+    }
+
+    fn model_mut(&mut self) -> &mut Model {
+        &mut self.model
+    }
+
+    fn time(&self) -> f64 {
+        self.time_at(self.memory.steps)
+    }
+
+    fn state(&self) -> &[f64] {
+        &self.memory.y
+    }
+
+    fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
+        self.memory.y.copy_from_slice(y);
+        (self.memory.origin, self.memory.steps) = (t, 0);
         Ok(())
     }
 
-    /// Gives back a memory read from a file, checked against the scene first; on an error nothing changes.
-    pub fn restore_saved(&mut self, s: FastSnapshot) -> Result<(), String> {
-        self.check_memory(&s)?;
-        self.restore(s).map_err(|err| err.to_string())
+    /// The end of `span` from now in whole steps; a span that is not a whole number of steps (to 1e-6 of a step)
+    /// is an error naming `name`.
+    fn end_time(&self, span: f64, name: &'static str) -> Result<f64, WorldError> {
+        let dt = self.settings.dt;
+        let n = (span / dt).round();
+        if (span / dt - n).abs() > 1e-6 || n < 1.0 {
+            return Err(WorldError::invalid(
+                name,
+                format!("fast mode steps by dt = {dt} s, and {span} s is not a whole number of steps"),
+            ));
+        }
+        if n > MAX_STEPS {
+            return Err(WorldError::invalid(
+                name,
+                format!("{span} s is {n:e} steps of {dt} s, over the {MAX_STEPS:e} a call may take (split it into shorter calls)"),
+            ));
+        }
+        Ok(self.time_at(self.memory.steps + n as u64))
     }
 
-    pub fn take_report(&mut self) -> WorldReport {
-        std::mem::replace(&mut self.report, WorldReport::new(method_name(&self.settings)))
+    fn counts_its_steps(&self) -> bool {
+        true
     }
 
-    /// The contacts of the last step, with their impulses.
-    pub fn last_contacts(&self) -> &[StepContact] {
-        &self.last_contacts
+    /// Steps by dt until past `pause` (never beyond `t_end`); each step that reaches one or more of `saves`
+    /// records one frame (its state, at its time).
+    fn advance(
+        &mut self,
+        t_end: f64,
+        pause: f64,
+        saves: &[f64],
+        mut run: Option<&mut Run>,
+        budget: &mut Budget<'_>,
+    ) -> Result<usize, WorldError> {
+        let h = self.settings.dt;
+        let slack = 1e-9 * h;
+        let mut delivered = 0;
+        loop {
+            let t = self.time();
+            let reached = saves[delivered..].iter().take_while(|&&s| s <= t + slack).count();
+            if reached > 0 {
+                delivered += reached;
+                if let Some(run) = run.as_deref_mut() {
+                    let contacts = self.memory.last_contacts.iter().map(|c| (c.point, c.normal));
+                    run.record(&self.model, t, &self.memory.y, self.memory.penetration, contacts);
+                }
+            }
+            if t >= pause.min(t_end) - slack {
+                return Ok(delivered);
+            }
+            if self.settings.step_doubling {
+                self.doubled_step(h)?;
+            } else {
+                self.step(h)?;
+            }
+            if let Some(run) = run.as_deref_mut() {
+                run.log_step(self.time(), h);
+            }
+            budget.charge(1, self.time())?;
+        }
+    }
+
+    fn own_stages(&self) -> Vec<Stage> {
+        Self::planned(&self.settings, self.memory.y.len(), self.scene.is_some(), self.model.has_joints())
+    }
+
+    fn memory(&self) -> EngineMemory {
+        EngineMemory::Fast(Box::new(self.memory.clone()))
+    }
+
+    fn set_memory(&mut self, memory: EngineMemory) -> Result<(), String> {
+        match memory {
+            EngineMemory::Fast(m) => {
+                m.check(self.fit())?;
+                self.memory = *m;
+                Ok(())
+            }
+            other => Err(format!("it is the memory of {}, which this world does not run", other.engine_name())),
+        }
+    }
+
+    fn set_divergence_limit(&mut self, limit: f64) {
+        self.core.divergence_limit = limit;
+    }
+
+    fn last_contacts(&self) -> &[LastContact] {
+        &self.memory.last_contacts
+    }
+
+    fn set_material(&mut self, actor: usize, material: crate::Material) {
+        if let Some(scene) = &mut self.scene {
+            scene.set_material(actor, material);
+        }
+    }
+
+    fn take_own_report(&mut self) -> WorldReport {
+        std::mem::replace(&mut self.core.report, WorldReport::new(method_name(&self.settings)))
+    }
+
+    fn boxed_clone(&self) -> Box<dyn Engine> {
+        Box::new(self.clone())
     }
 }
 

@@ -142,7 +142,7 @@ impl FastEngine {
     pub(super) fn update_sleep(&mut self, states: &[BodyState], v: &[BodyVelocity], found: &[Found], h: f64) {
         let (true, Some(scene)) = (self.settings.sleep, &self.scene) else { return };
         // jointed bodies do not sleep (sleep groups bodies by their contacts alone)
-        if !self.compiled.model.joints.is_empty() {
+        if !self.model.joints.is_empty() {
             return;
         }
         let moved: Vec<BodyState> = states
@@ -151,8 +151,8 @@ impl FastEngine {
             .map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s })
             .collect();
         let speeds = scene.reach(&moved, 1.0);
-        self.sleep.update(found, &speeds, &self.settings, h);
-        self.sleep.freeze(&mut self.y, &self.compiled.model);
-        self.report.stages.mark(Stage::Sleeping);
+        self.memory.sleep.update(found, &speeds, &self.settings, h);
+        self.memory.sleep.freeze(&mut self.memory.y, &self.model);
+        self.core.report.stages.mark(Stage::Sleeping);
     }
 }

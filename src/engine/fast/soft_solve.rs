@@ -8,6 +8,8 @@
 
 use super::{failure, FastEngine};
 use crate::engine::contact_scene::{pair_runs, ContactKey, Found};
+use crate::engine::last_contacts::LastContact;
+use crate::engine::Engine;
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
 use crate::model::joints::JointEnd;
@@ -16,7 +18,7 @@ use crate::plan::Stage;
 use nalgebra::{Point3, Vector3};
 use std::time::Instant;
 use tumble_contact::{
-    soft_step_with_links, BodyState, Contact, Joint, SoftImpulse, SoftLinks, SoftSettings, SoftSpring, SoftStep,
+    soft_step, BodyState, Contact, Joint, SoftImpulse, SoftProblem, SoftSettings, SoftSpring, SoftStep, SpringLaw,
 };
 
 /// Each contact's impulses from the last step: its own if it was there, else its pair's mean, else none.
@@ -75,7 +77,7 @@ impl FastEngine {
     ) -> Result<SoftStep, WorldError> {
         let clock = Instant::now();
         let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
-        let warm = warm_impulses(&self.warm, found);
+        let warm = warm_impulses(&self.memory.warm, found);
         let settings = SoftSettings {
             substeps: soft.substeps,
             iterations: soft.iterations,
@@ -83,28 +85,28 @@ impl FastEngine {
             damping_ratio: soft.damping_ratio,
             max_push_out: soft.max_push_out,
             bounce_threshold: self.settings.bounce_threshold,
-            threads: self.threads,
+            threads: self.core.threads,
             ..SoftSettings::default()
         };
         let (actors, joints, springs) = self.links_at_start(states);
         let actors = actors.as_deref().unwrap_or(states);
-        let links = SoftLinks { joints: &joints, joint_warm: &self.joint_warm, springs: &springs };
-        let out = soft_step_with_links(actors, &contacts, &warm, &links, h, &settings)
-            .map_err(|e| failure(self.time(), format!("contact solve: {e}")))?;
-        self.compiled.model.counters.spring_evaluations += springs.len() * settings.substeps;
-        self.joint_warm.clone_from(&out.joint_impulses);
+        let problem =
+            SoftProblem::new(actors, &contacts, &warm).joints(&joints, &self.memory.joint_warm).springs(&springs);
+        let out = soft_step(&problem, h, &settings).map_err(|e| failure(self.time(), format!("contact solve: {e}")))?;
+        self.model.counters.spring_evaluations += springs.len() * settings.substeps;
+        self.memory.joint_warm.clone_from(&out.joint_impulses);
         if !joints.is_empty() {
-            self.report.stages.mark(Stage::Joints);
+            self.core.report.stages.mark(Stage::Joints);
         }
-        self.warm = by_key(found, &out.impulses);
-        self.last_contacts = crate::engine::step_contacts::from_found(found, out.normal_impulses.iter().copied(), h);
+        self.memory.warm = by_key(found, &out.impulses);
+        self.memory.last_contacts = LastContact::from_found(found, out.normal_impulses.iter().copied(), h);
         if !found.is_empty() {
-            self.report.contact_residual = self.report.contact_residual.max(out.residual);
-            self.report.islands += out.islands;
-            self.report.stages.mark(Stage::ContactSoftStep);
+            self.core.report.contact_residual = self.core.report.contact_residual.max(out.residual);
+            self.core.report.islands += out.islands;
+            self.core.report.stages.mark(Stage::ContactSoftStep);
             self.count_impulses(states, &contacts, &out.normal_impulses);
         }
-        self.report.contact_seconds += clock.elapsed().as_secs_f64();
+        self.core.report.contact_seconds += clock.elapsed().as_secs_f64();
         Ok(out)
     }
 }
@@ -119,7 +121,7 @@ impl FastEngine {
     /// asleep, or both on one body) are left out; the body kinematics are those of `applied_forces` (the step's
     /// start).
     fn links_at_start(&self, states: &[BodyState]) -> Links {
-        let model = &self.compiled.model;
+        let model = &self.model;
         let anchored = model.particles.iter().any(|p| p.stiffness != 0.0);
         if model.joints.is_empty() && model.springs.is_empty() && !anchored {
             return (None, Vec::new(), Vec::new());
@@ -132,7 +134,7 @@ impl FastEngine {
         };
         let mut joints = Vec::with_capacity(model.joints.len());
         for cj in &model.joints {
-            let (ea, eb) = (model.end_state_of(&self.y, cj.a), model.end_state_of(&self.y, cj.b));
+            let (ea, eb) = (model.end_state_of(&self.memory.y, cj.a), model.end_state_of(&self.memory.y, cj.b));
             let mut index = |end: JointEnd| match end {
                 JointEnd::Body(j) => l.particles + j,
                 JointEnd::Fixed(p) => fixed(Point3::from(p.translation.vector)),
@@ -158,21 +160,14 @@ impl FastEngine {
                 End::Point(p) => (fixed(Point3::from(p)), Vector3::zeros()),
             };
             let ((a, ra), (b, rb)) = (place(s.a), place(s.b));
-            springs.push(SoftSpring { a, b, ra, rb, stiffness: s.k, damping: s.c, rest_length: s.l0 });
+            springs.push(SoftSpring { a, b, ra, rb, law: s.law });
         }
         for (i, p) in model.particles.iter().enumerate() {
             if p.stiffness != 0.0 && states[i].is_dynamic() {
                 let b = fixed(Point3::from(p.anchor));
                 let zero = Vector3::zeros();
-                springs.push(SoftSpring {
-                    a: i,
-                    b,
-                    ra: zero,
-                    rb: zero,
-                    stiffness: p.stiffness,
-                    damping: 0.0,
-                    rest_length: 0.0,
-                });
+                let law = SpringLaw { stiffness: p.stiffness, damping: 0.0, rest_length: 0.0 };
+                springs.push(SoftSpring { a: i, b, ra: zero, rb: zero, law });
             }
         }
         (Some(actors), joints, springs)

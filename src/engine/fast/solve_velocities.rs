@@ -7,12 +7,14 @@ use super::bounce_limiter::limit_bounce_energy;
 use super::warm_start::known_impulses;
 use super::{failure, FastEngine};
 use crate::engine::contact_scene::Found;
+use crate::engine::last_contacts::LastContact;
+use crate::engine::Engine;
 use crate::error::WorldError;
 use crate::mode::{FastFriction, FastSolver};
 use crate::plan::Stage;
 use std::time::Instant;
 use tumble_contact::{
-    free_velocity, islands, velocity_step, velocity_step_lagged, BodyState, BodyVelocity, Contact, StepSettings,
+    free_velocity, islands, velocity_step, BodyState, BodyVelocity, Contact, StepSettings, VelocityProblem,
     VelocityStep,
 };
 
@@ -29,8 +31,10 @@ impl Solver<'_> {
     /// The velocity step for `contacts`, friction bounded by `previous` normal impulses when lagged.
     pub fn solve(&mut self, contacts: &[Contact], previous: &[f64]) -> Result<VelocityStep, WorldError> {
         let out = match self.friction {
-            FastFriction::Lagged => velocity_step_lagged(self.states, contacts, previous, &self.settings),
-            FastFriction::Cone => velocity_step(self.states, contacts, &self.settings),
+            FastFriction::Lagged => {
+                velocity_step(&VelocityProblem::new(self.states, contacts).lagged(previous), &self.settings)
+            }
+            FastFriction::Cone => velocity_step(&VelocityProblem::new(self.states, contacts), &self.settings),
         }
         .map_err(|e| failure(self.t, format!("contact solve: {e}")))?;
         self.solves += out.solver_calls;
@@ -47,7 +51,7 @@ impl FastEngine {
         h: f64,
     ) -> Result<Vec<BodyVelocity>, WorldError> {
         if found.is_empty() {
-            self.previous.clear();
+            self.memory.previous.clear();
             return Ok(states.iter().map(|b| free_velocity(b, h)).collect());
         }
         let clock = Instant::now();
@@ -58,12 +62,12 @@ impl FastEngine {
         let mut settings = StepSettings {
             erp,
             bounce_threshold: self.settings.bounce_threshold,
-            threads: self.threads,
+            threads: self.core.threads,
             ..StepSettings::new(h)
         };
         settings.solver.iterative_refinement = false;
         let mut solver = Solver { states, settings, friction, t: self.time(), solves: 0 };
-        let known = known_impulses(&self.previous, found);
+        let known = known_impulses(&self.memory.previous, found);
         let mut previous: Vec<f64> = known.iter().map(|p| p.unwrap_or(0.0)).collect();
         let groups = islands(states, &contacts);
         if solver.friction == FastFriction::Lagged && known.iter().any(|p| p.is_none()) {
@@ -79,15 +83,15 @@ impl FastEngine {
             }
         }
         let mut out = solver.solve(&contacts, &previous)?;
-        let gravity = self.compiled.model.gravity;
+        let gravity = self.model.gravity;
         limit_bounce_energy(&mut solver, &contacts, &previous, &groups, gravity, &mut out)?;
-        self.report.islands += groups.len();
-        self.report.qp_solves += solver.solves;
-        self.report.stages.mark(Stage::ContactConeProgram);
+        self.core.report.islands += groups.len();
+        self.core.report.qp_solves += solver.solves;
+        self.core.report.stages.mark(Stage::ContactConeProgram);
         self.count_impulses(states, &contacts, &out.normal_impulses);
-        self.previous = found.iter().zip(&out.normal_impulses).map(|(f, &p)| (f.key, p)).collect();
-        self.last_contacts = crate::engine::step_contacts::from_found(found, out.normal_impulses.iter().copied(), h);
-        self.report.contact_seconds += clock.elapsed().as_secs_f64();
+        self.memory.previous = found.iter().zip(&out.normal_impulses).map(|(f, &p)| (f.key, p)).collect();
+        self.memory.last_contacts = LastContact::from_found(found, out.normal_impulses.iter().copied(), h);
+        self.core.report.contact_seconds += clock.elapsed().as_secs_f64();
         Ok(out.velocities)
     }
 }
@@ -98,9 +102,9 @@ impl FastEngine {
     pub(super) fn count_impulses(&mut self, states: &[BodyState], contacts: &[Contact], impulses: &[f64]) {
         for (c, p) in contacts.iter().zip(impulses) {
             if *p > 0.0 {
-                self.report.impulses += 1;
+                self.core.report.impulses += 1;
                 if c.relative_normal_velocity(states) < -self.settings.bounce_threshold {
-                    self.report.collisions += 1;
+                    self.core.report.collisions += 1;
                 }
             }
         }

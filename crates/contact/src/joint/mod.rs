@@ -9,8 +9,10 @@
 //! when the joint holds, and a one-sided row holds while C >= 0 with lambda >= 0.
 
 mod rows;
+mod solve;
 
 pub use rows::{joint_rows, JointRow, RowKind, MAX_ROWS};
+pub use solve::{delassus, factor, BoundedSolve, RowPart};
 
 use nalgebra::{UnitQuaternion, Vector3};
 

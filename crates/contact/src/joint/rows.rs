@@ -44,6 +44,14 @@ pub struct JointRow {
     pub curvature: f64,
 }
 
+impl JointRow {
+    /// The row's speed J v = lin . (v_B - v_A) + ang_a . w_A + ang_b . w_B.
+    #[inline]
+    pub fn speed(&self, va: &Vector3<f64>, wa: &Vector3<f64>, vb: &Vector3<f64>, wb: &Vector3<f64>) -> f64 {
+        self.lin.dot(&(vb - va)) + self.ang_a.dot(wa) + self.ang_b.dot(wb)
+    }
+}
+
 /// Velocities of A and B: (v_A, w_A, v_B, w_B).
 pub type PairVelocity = (Vector3<f64>, Vector3<f64>, Vector3<f64>, Vector3<f64>);
 

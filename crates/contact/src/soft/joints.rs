@@ -10,7 +10,7 @@
 
 use super::row::Mover;
 use super::softness::Softness;
-use crate::joint::{joint_rows, Joint, JointImpulse, JointRow, RowKind};
+use crate::joint::{delassus, factor, joint_rows, BoundedSolve, Joint, JointImpulse, JointRow, RowKind, RowPart};
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::TAU;
 
@@ -43,17 +43,6 @@ pub(crate) struct JointSet {
 
 /// Rounds of the active set: solves after a limit or motor was held at its bound.
 const ROUNDS: usize = 4;
-
-/// The Cholesky factor of K's rows and columns `at` (slightly regularised if singular: a redundant joint).
-fn factor_of(k: &nalgebra::DMatrix<f64>, at: &[usize]) -> Option<nalgebra::Cholesky<f64, nalgebra::Dyn>> {
-    if at.is_empty() {
-        return None;
-    }
-    let n = at.len();
-    let sub = nalgebra::DMatrix::from_fn(n, n, |i, j| k[(at[i], at[j])]);
-    let scale = sub.diagonal().amax();
-    sub.clone().cholesky().or_else(|| (sub + nalgebra::DMatrix::identity(n, n) * (1e-12 * scale)).cholesky())
-}
 
 /// Most rigid rows an island solves directly (a dense factorization a substep); past it they are swept one by one
 /// with the soft pull.
@@ -135,31 +124,22 @@ impl JointSet {
         if direct.is_empty() || direct.len() > DIRECT_ROWS {
             return;
         }
-        let n = direct.len();
-        let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
-        // each row's parts on its two bodies: (body, linear, angular, inverse inertia times angular)
-        let parts = |r: &Row| {
-            let j = &self.joints[r.joint].0;
-            [(j.a, -r.row.lin, r.row.ang_a, r.ia), (j.b, r.row.lin, r.row.ang_b, r.ib)]
+        // each row's parts on its two bodies, the inverse inertia times the angular part first
+        let part = |body: usize, lin: Vector3<f64>, ang: Vector3<f64>, weighted: Vector3<f64>| {
+            let inv_mass = self.inverse_mass(body);
+            RowPart { body: (inv_mass > 0.0).then_some(body), inv_mass, lin, ang: weighted, weighted: ang }
         };
-        for x in 0..n {
-            let px = parts(&self.rows[direct[x]]);
-            for y in x..n {
-                let py = parts(&self.rows[direct[y]]);
-                let mut sum = 0.0;
-                for (bx, lx, _, ix) in &px {
-                    for (by, ly, ay, _) in &py {
-                        if bx == by {
-                            sum += lx.dot(ly) * self.inverse_mass(*bx) + ix.dot(ay);
-                        }
-                    }
-                }
-                k[(x, y)] = sum;
-                k[(y, x)] = sum;
-            }
-        }
+        let parts: Vec<[RowPart; 2]> = direct
+            .iter()
+            .map(|&i| {
+                let (r, j) = (&self.rows[i], &self.joints[self.rows[i].joint].0);
+                [part(j.a, -r.row.lin, r.row.ang_a, r.ia), part(j.b, r.row.lin, r.row.ang_b, r.ib)]
+            })
+            .collect();
+        let k = delassus(&parts);
+        let n = direct.len();
         self.holding = (0..n).filter(|&x| self.rows[direct[x]].row.kind == RowKind::Equality).collect();
-        self.factor = factor_of(&k, &self.holding);
+        self.factor = factor(&k, &self.holding);
         self.direct = direct;
         self.kmat = k;
     }
@@ -196,7 +176,7 @@ impl JointSet {
             }
             let j = &self.joints[r.joint].0;
             let (a, b) = (&movers[j.a], &movers[j.b]);
-            let speed = r.row.lin.dot(&(b.v - a.v)) + r.row.ang_a.dot(&a.w) + r.row.ang_b.dot(&b.w);
+            let speed = r.row.speed(&a.v, &a.w, &b.v, &b.w);
             let acc = &mut self.impulses[r.joint].0[r.row.slot];
             let old = *acc;
             let c = r.row.error;
@@ -268,7 +248,7 @@ impl JointSet {
             let r = &self.rows[i];
             let j = &self.joints[r.joint].0;
             let (a, b) = (&movers[j.a], &movers[j.b]);
-            let speed = r.row.lin.dot(&(b.v - a.v)) + r.row.ang_a.dot(&a.w) + r.row.ang_b.dot(&b.w);
+            let speed = r.row.speed(&a.v, &a.w, &b.v, &b.w);
             let c = r.row.error;
             acc[x] = self.impulses[r.joint].0[r.row.slot];
             want[x] = match r.row.kind {
@@ -284,45 +264,18 @@ impl JointSet {
                 active.push(x);
             }
         }
-        let mut delta = vec![0.0; n];
-        let mut held: Vec<usize> = Vec::new();
-        for round in 0..ROUNDS {
-            let factor = if active == self.holding && held.is_empty() {
-                self.factor.clone()
-            } else {
-                factor_of(&self.kmat, &active)
-            };
-            let Some(factor) = factor else { break };
-            let rhs = nalgebra::DVector::from_iterator(
-                active.len(),
-                active.iter().map(|&x| want[x] - held.iter().map(|&h| self.kmat[(x, h)] * delta[h]).sum::<f64>()),
-            );
-            let solved = factor.solve(&rhs);
-            for (&x, &d) in active.iter().zip(solved.iter()) {
-                delta[x] = d;
-            }
-            // the bounds: a limit pushes only, a motor up to its force
-            let mut broke = Vec::new();
-            for &x in &active {
-                let bound = match self.rows[self.direct[x]].row.kind {
-                    RowKind::Lower => Some((0.0, f64::INFINITY)),
-                    RowKind::Motor { max_force, .. } => Some((-max_force * s.hs, max_force * s.hs)),
-                    _ => None,
-                };
-                if let Some((lo, hi)) = bound {
-                    let total = acc[x] + delta[x];
-                    if total < lo || total > hi {
-                        delta[x] = total.clamp(lo, hi) - acc[x];
-                        broke.push(x);
-                    }
-                }
-            }
-            if broke.is_empty() || round + 1 == ROUNDS {
-                break;
-            }
-            active.retain(|x| !broke.contains(x));
-            held.extend(broke);
-        }
+        // the bounds: a limit pushes only, a motor up to its force
+        let bounds: Vec<(f64, f64)> = self
+            .direct
+            .iter()
+            .map(|&i| match self.rows[i].row.kind {
+                RowKind::Lower => (0.0, f64::INFINITY),
+                RowKind::Motor { max_force, .. } => (-max_force * s.hs, max_force * s.hs),
+                _ => (f64::NEG_INFINITY, f64::INFINITY),
+            })
+            .collect();
+        let solve = BoundedSolve { k: &self.kmat, want: &want, bounds: &bounds, base: &acc, rounds: ROUNDS };
+        let delta = solve.solve(active, self.factor.as_ref().map(|f| (&self.holding[..], f)));
         let mut change = 0.0f64;
         for (x, &i) in self.direct.iter().enumerate() {
             let d = delta[x];
@@ -353,7 +306,7 @@ impl JointSet {
                 continue;
             }
             let (a, b) = (&movers[j.a], &movers[j.b]);
-            let speed = r.row.lin.dot(&(b.v - a.v)) + r.row.ang_a.dot(&a.w) + r.row.ang_b.dot(&b.w);
+            let speed = r.row.speed(&a.v, &a.w, &b.v, &b.w);
             worst = worst.max(speed.abs());
         }
         worst

@@ -27,10 +27,10 @@ mod wide;
 use crate::body::BodyState;
 use crate::contact::{check_all, Contact};
 use crate::error::ContactError;
-use crate::friction::{cores, in_parallel_by};
 use crate::impulse::BodyVelocity;
 use crate::islands::joint_islands;
 use crate::joint::{Joint, JointImpulse};
+use crate::threads::{cores, in_parallel_by};
 use island::Island;
 use joints::JointSet;
 use nalgebra::{UnitQuaternion, Vector3};
@@ -234,18 +234,6 @@ impl Solved {
     }
 }
 
-/// A step of h for `bodies` with `contacts`, each started from `warm[i]` (the same contact's impulses of the last
-/// step, or zero); bodies in no contact move freely by the same substeps.
-pub fn soft_step(
-    bodies: &[BodyState],
-    contacts: &[Contact],
-    warm: &[SoftImpulse],
-    h: f64,
-    settings: &SoftSettings,
-) -> Result<SoftStep, ContactError> {
-    soft_step_with_joints(bodies, contacts, warm, &[], &[], h, settings)
-}
-
 /// Checks each joint against the bodies: indices in range, two different bodies, one of them moving, every number
 /// finite.
 fn check_joints(bodies: &[BodyState], joints: &[Joint], warm: &[JointImpulse]) -> Result<(), ContactError> {
@@ -294,42 +282,40 @@ fn check_springs(bodies: &[BodyState], springs: &[SoftSpring]) -> Result<(), Con
     Ok(())
 }
 
-/// A step of h for `bodies` with `contacts` (warm-started from `warm`) and `joints` (from `joint_warm`, each joint's
-/// impulses of the last step, or zero); bodies joined by neither move freely by the same substeps.
-pub fn soft_step_with_joints(
-    bodies: &[BodyState],
-    contacts: &[Contact],
-    warm: &[SoftImpulse],
-    joints: &[Joint],
-    joint_warm: &[JointImpulse],
-    h: f64,
-    settings: &SoftSettings,
-) -> Result<SoftStep, ContactError> {
-    let links = SoftLinks { joints, joint_warm, springs: &[] };
-    soft_step_with_links(bodies, contacts, warm, &links, h, settings)
-}
-
-/// What joins bodies in a soft step besides contacts: joints (each started from its impulses of the last step in
-/// `joint_warm`, or zero) and springs (forces evaluated at every substep; a body's `force` and `torque` must not
-/// hold them as well).
+/// What one soft step solves: the bodies, their contacts (each started from `warm[i]`, the same contact's
+/// impulses of the last step, or zero), joints (each started from its impulses of the last step in `joint_warm`, or
+/// zero) and springs (forces evaluated at every substep; a body's `force` and `torque` must not hold them as well).
+/// Bodies joined by none of them move freely by the same substeps.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct SoftLinks<'a> {
+pub struct SoftProblem<'a> {
+    pub bodies: &'a [BodyState],
+    pub contacts: &'a [Contact],
+    pub warm: &'a [SoftImpulse],
     pub joints: &'a [Joint],
     pub joint_warm: &'a [JointImpulse],
     pub springs: &'a [SoftSpring],
 }
 
-/// A step of h for `bodies` with `contacts` (warm-started from `warm`), joints and springs (`links`); bodies joined
-/// by none of them move freely by the same substeps.
-pub fn soft_step_with_links(
-    bodies: &[BodyState],
-    contacts: &[Contact],
-    warm: &[SoftImpulse],
-    links: &SoftLinks<'_>,
-    h: f64,
-    settings: &SoftSettings,
-) -> Result<SoftStep, ContactError> {
-    let SoftLinks { joints, joint_warm, springs } = *links;
+impl<'a> SoftProblem<'a> {
+    /// The bodies and their contacts with their warm starts; no joints or springs.
+    pub fn new(bodies: &'a [BodyState], contacts: &'a [Contact], warm: &'a [SoftImpulse]) -> Self {
+        SoftProblem { bodies, contacts, warm, ..Default::default() }
+    }
+
+    /// Joints with their warm starts.
+    pub fn joints(self, joints: &'a [Joint], joint_warm: &'a [JointImpulse]) -> Self {
+        SoftProblem { joints, joint_warm, ..self }
+    }
+
+    /// Springs.
+    pub fn springs(self, springs: &'a [SoftSpring]) -> Self {
+        SoftProblem { springs, ..self }
+    }
+}
+
+/// A soft step of h.
+pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> Result<SoftStep, ContactError> {
+    let SoftProblem { bodies, contacts, warm, joints, joint_warm, springs } = *problem;
     settings.check()?;
     if !(h.is_finite() && h > 0.0) {
         return Err(ContactError::invalid("dt", format!("must be finite and > 0, got {h}")));

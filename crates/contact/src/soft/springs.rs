@@ -10,11 +10,11 @@
 //! (h / n)^2 k / m < 4, energy kept, and contacts and friction see its force a substep at a time.
 
 use super::row::Mover;
+use crate::spring::SpringLaw;
 use nalgebra::Vector3;
 
 /// A spring of the soft step between a point of body `a` and one of body `b` (either may be a fixed body: a fixed
-/// point is a static body there with zero arm). Its force on a is -n (stiffness (l - rest_length) + damping
-/// n . (v_a - v_b)) with n the unit vector from b's point to a's and l their distance; b feels the opposite.
+/// point is a static body there with zero arm), pulling as its law says.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SoftSpring {
     pub a: usize,
@@ -22,22 +22,13 @@ pub struct SoftSpring {
     /// The points' arms from the bodies' centres of mass at the step's start (world axes).
     pub ra: Vector3<f64>,
     pub rb: Vector3<f64>,
-    /// N/m, >= 0.
-    pub stiffness: f64,
-    /// N s/m, >= 0.
-    pub damping: f64,
-    /// m, >= 0.
-    pub rest_length: f64,
+    pub law: SpringLaw,
 }
 
 impl SoftSpring {
     /// Whether every number is finite and stiffness, damping and rest length are not negative.
     pub(crate) fn is_valid(&self) -> bool {
-        let arms = [self.ra, self.rb].into_iter().flat_map(|v| [v.x, v.y, v.z]);
-        arms.chain([self.stiffness, self.damping, self.rest_length]).all(f64::is_finite)
-            && self.stiffness >= 0.0
-            && self.damping >= 0.0
-            && self.rest_length >= 0.0
+        [self.ra, self.rb].into_iter().flat_map(|v| [v.x, v.y, v.z]).all(f64::is_finite) && self.law.is_valid()
     }
 }
 
@@ -91,13 +82,7 @@ impl SpringSet {
             };
             let (pa, va, ra) = end(ma, xa, &s.ra, *arm_a);
             let (pb, vb, rb) = end(mb, xb, &s.rb, *arm_b);
-            let d = pa - pb;
-            let len = d.norm();
-            if len <= 1e-300 {
-                continue;
-            }
-            let n = d / len;
-            let f = -n * (s.stiffness * (len - s.rest_length) + s.damping * (va - vb).dot(&n));
+            let Some(f) = s.law.force(&pa, &va, &pb, &vb) else { continue };
             let wa = &mut self.wrenches[s.a];
             wa.0 += f;
             if *arm_a {

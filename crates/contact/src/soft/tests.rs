@@ -51,9 +51,9 @@ fn the_portable_and_the_avx2_sweeps_give_the_same_bits() {
     }
     let settings = SoftSettings { threads: 1, ..Default::default() };
     bundle::PORTABLE.store(false, Ordering::Relaxed);
-    let fastest = soft_step(&bodies, &contacts, &warm, 1.0 / 60.0, &settings).unwrap();
+    let fastest = soft_step(&SoftProblem::new(&bodies, &contacts, &warm), 1.0 / 60.0, &settings).unwrap();
     bundle::PORTABLE.store(true, Ordering::Relaxed);
-    let portable = soft_step(&bodies, &contacts, &warm, 1.0 / 60.0, &settings).unwrap();
+    let portable = soft_step(&SoftProblem::new(&bodies, &contacts, &warm), 1.0 / 60.0, &settings).unwrap();
     bundle::PORTABLE.store(false, Ordering::Relaxed);
     assert_eq!(fastest, portable);
     assert_eq!(fastest.islands, 1);

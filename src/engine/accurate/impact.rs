@@ -1,4 +1,4 @@
-//! The contact phase of accurate mode, run at each event: find the touching contacts. When one of them has
+//! The impact stage of accurate mode, run at each event: find the touching contacts. When one of them has
 //! friction, or the world has joints, the touching phase takes over from here (its convex steps resolve the impact with friction and
 //! restitution). Otherwise apply impulses to those that close (all at once, restitution only where the closing
 //! speed exceeds the resting speed); contacts that then neither close nor open start the touching phase, or, with
@@ -6,9 +6,11 @@
 //! the resting set. Bounces slower than the resting speed are absorbed, so a bouncing ball comes to rest after
 //! finitely many bounces instead of an endless cascade.
 
+use super::contacts::Contacts;
 use super::drift::correct_drift;
-use super::resting::{RestingContact, RestingSet};
-use super::{failure, Contacts};
+use super::failure;
+use super::resting::{RestingContact, RestingContacts};
+use super::system::AccurateSystem;
 use crate::engine::contact_scene::Found;
 use crate::mode::Persistent;
 use crate::model::layout::set3;
@@ -18,17 +20,22 @@ use std::time::Instant;
 use tumble_contact::{collision_impulses, Contact};
 use tumble_integrate::{Integrator, OdeError};
 
-impl Contacts {
-    /// The contact phase at the integrator's current state: find, impulses, drift correction, resting set.
-    pub fn contact_phase(&mut self, model: &mut Model, integ: &mut Integrator<Model>) -> Result<(), OdeError> {
+impl Contacts<'_> {
+    /// The impact stage at the integrator's current state: find, impulses, drift correction, resting set.
+    pub fn impact(
+        &mut self,
+        system: &mut AccurateSystem,
+        integ: &mut Integrator<AccurateSystem>,
+    ) -> Result<(), OdeError> {
+        let model = &mut system.model;
         let t = integ.time();
         let mut y = integ.state().to_vec();
-        let mut active = self.touching(model, &y, t)?;
+        let mut active = self.touching_contacts(model, &y, t)?;
         let steps = self.settings.persistent == Persistent::ContactSteps;
         // with friction, or joints (which Newton's impulses know nothing of), the convex steps take the impact
         let joined = model.has_joints() && !active.is_empty();
         if steps && (joined || active.iter().any(|(f, _)| f.contact.friction > 0.0)) {
-            model.resting = None;
+            self.memory.resting = None;
             self.start_touching();
             return Ok(());
         }
@@ -48,9 +55,9 @@ impl Contacts {
         }
         // Only contacts that now neither close nor open rest; what bounced away (or was drifting apart) leaves,
         // and if it comes back slower than the resting speed, it is stopped then.
-        active.retain(|(_, v)| *v <= 1e-3 * self.resting_speed);
+        active.retain(|(_, v)| *v <= 1e-3 * self.scales.resting_speed);
         if steps {
-            model.resting = None;
+            self.memory.resting = None;
             if !active.is_empty() {
                 self.start_touching();
             }
@@ -63,17 +70,15 @@ impl Contacts {
         if active.iter().any(|(f, _)| f.contact.distance < -delta) {
             let states = contact_states(model, &y, &statics);
             let contacts: Vec<Contact> = active.iter().map(|(f, _)| f.contact).collect();
-            self.report.qp_solves += correct_drift(model, &mut y, &states, &contacts, &self.solver, t)?;
+            self.report.qp_solves += correct_drift(model, &mut y, &states, &contacts, self.solver, t)?;
         }
         if let Some(i) = y.iter().position(|v| !v.is_finite()) {
             return Err(OdeError::NonFinite { t, what: "state after the contact phase", index: i });
         }
         let poses = actor_poses(model.layout, &y, &statics);
         let contacts: Vec<RestingContact> = active.iter().map(|(f, _)| RestingContact::attach(f, &poses)).collect();
-        self.resting_keys = contacts.iter().map(|c| c.key).collect();
-        let previous = model.resting.take();
-        let (solves, seconds) = previous.map_or((0, 0.0), |p| (p.solves, p.seconds));
-        model.resting = Some(RestingSet { contacts, statics, settings: self.solver, reach: delta, solves, seconds });
+        self.memory.resting_keys = contacts.iter().map(|c| c.key).collect();
+        self.memory.resting = Some(RestingContacts { contacts, reach: delta });
         integ.set_state(t, &y)?;
         self.report.contact_seconds += clock.elapsed().as_secs_f64();
         Ok(())
@@ -82,7 +87,7 @@ impl Contacts {
     /// The contacts touching in state y that do not separate faster than the resting speed, with their relative
     /// normal velocities. The bisection stops up to `time_tolerance` before contact, when a pair may still be apart
     /// by as much as it closes in that time: contacts within that distance (plus the contact distance) count.
-    fn touching(&mut self, model: &mut Model, y: &[f64], t: f64) -> Result<Vec<(Found, f64)>, OdeError> {
+    fn touching_contacts(&mut self, model: &mut Model, y: &[f64], t: f64) -> Result<Vec<(Found, f64)>, OdeError> {
         let clock = Instant::now();
         let statics = self.scene.static_poses.clone();
         let states = contact_states(model, y, &statics);
@@ -92,9 +97,9 @@ impl Contacts {
         let found = self.scene.find(&poses, &closing, self.settings.contact_distance).map_err(|e| failure(t, e))?;
         self.report.collision_checks += self.scene.checks - checks;
         self.report.stages.mark(Stage::CollisionDetection);
-        self.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
-        self.report.max_penetration = self.report.max_penetration.max(self.penetration);
-        let v_rest = self.resting_speed;
+        self.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
+        self.report.max_penetration = self.report.max_penetration.max(self.memory.penetration);
+        let v_rest = self.scales.resting_speed;
         let active = found
             .into_iter()
             .map(|f| {
@@ -116,14 +121,14 @@ impl Contacts {
         t: f64,
     ) -> Result<(), OdeError> {
         let statics = &self.scene.static_poses;
-        let v_rest = self.resting_speed;
+        let v_rest = self.scales.resting_speed;
         let states = contact_states(model, y, statics);
         let contacts: Vec<Contact> = active
             .iter()
             .map(|(f, v)| Contact { restitution: if *v < -v_rest { f.contact.restitution } else { 0.0 }, ..f.contact })
             .collect();
         let out =
-            collision_impulses(&states, &contacts, &self.solver).map_err(|e| failure(t, format!("impulses: {e}")))?;
+            collision_impulses(&states, &contacts, self.solver).map_err(|e| failure(t, format!("impulses: {e}")))?;
         self.report.stages.mark(Stage::Impulses);
         self.report.qp_solves += out.solver_calls;
         self.report.collisions += active.iter().filter(|(_, v)| *v < -v_rest).count();

@@ -1,4 +1,4 @@
-//! One contact step of accurate mode: semi-implicit Euler in the velocities with every contact and its Coulomb
+//! One convex contact step of accurate mode: semi-implicit Euler in the velocities with every contact and its Coulomb
 //! friction as one convex program per island (tumble-contact's velocity step), so a step always has an answer.
 //! Contacts are speculative (pairs within the distance they can close in the step take part, with their gap as a
 //! bound), so nothing passes through and new contacts stop at their gap. Friction is lagged: each contact's
@@ -6,7 +6,10 @@
 //! impulse (a fixed point to `Contacts::lagged_tolerance`, at most `LAGGED_ITERATIONS` solves), so sliding decelerates at mu g without the convex
 //! cone's hop and the answer does not depend on the previous step's forces beyond the first guess.
 
-use super::{failure, Contacts};
+use super::contacts::Contacts;
+use super::failure;
+use super::joint_forces::{bilateral_rows, project_joints, JOINT_DRIFT};
+use super::system::AccurateSystem;
 use crate::engine::contact_scene::{ContactKey, Found};
 use crate::engine::manifold::reduce;
 use crate::engine::semi_implicit::update_positions;
@@ -14,14 +17,14 @@ use crate::model::{actor_poses, Model, StateOptions};
 use crate::plan::Stage;
 use std::collections::BTreeMap;
 use std::time::Instant;
-use tumble_contact::{free_velocity, velocity_step_lagged_with_joints, BodyState, Contact, ContactError, StepSettings};
+use tumble_contact::{free_velocity, velocity_step, BodyState, Contact, ContactError, StepSettings, VelocityProblem};
 use tumble_integrate::{OdeError, OdeSystem};
 
 /// Most solves of one step's lagged-friction fixed point.
 const LAGGED_ITERATIONS: usize = 3;
 
-/// What one contact step gives.
-pub(crate) struct StepOutcome {
+/// What one convex step gives.
+pub(crate) struct ConvexStep {
     /// The state after the step.
     pub y: Vec<f64>,
     /// Each contact's normal force over the step (impulse / h), by key.
@@ -33,24 +36,24 @@ pub(crate) struct StepOutcome {
 /// The actors at state y with the applied forces of the equations of motion (gyroscopic term cancelled: the step
 /// carries angular momentum), and the forces' finiteness checked.
 pub(crate) fn actors_with_forces(
-    model: &mut Model,
+    system: &mut AccurateSystem,
     statics: &[nalgebra::Isometry3<f64>],
     t: f64,
     y: &[f64],
 ) -> Result<Vec<BodyState>, OdeError> {
     let mut dy = vec![0.0; y.len()];
-    model.rhs(t, y, &mut dy).map_err(|e| failure(t, e.to_string()))?;
+    system.rhs(t, y, &mut dy).map_err(|e| failure(t, e.to_string()))?;
     if let Some(index) = dy.iter().position(|v| !v.is_finite()) {
         return Err(OdeError::NonFinite { t, what: "force", index });
     }
-    let q = model.layout.positions();
+    let (model, q) = (&system.model, system.model.layout.positions());
     Ok(model.contact_states(y, &dy[q..], statics, StateOptions { asleep: &[], cancel_gyroscopic: true }))
 }
 
-impl Contacts {
+impl Contacts<'_> {
     /// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed
     /// times h, plus what the applied forces add, plus the contact distance), at most four points a pair.
-    pub fn step_contacts(
+    pub fn contacts_in_reach(
         &mut self,
         model: &Model,
         states: &[BodyState],
@@ -82,7 +85,7 @@ impl Contacts {
     /// frictionless first pass). `None` when clarabel could not answer to its tolerance (the caller tries a
     /// smaller step; the reason is kept in `last_solver_error`).
     #[allow(clippy::too_many_arguments)]
-    pub fn contact_step(
+    pub fn convex_step(
         &mut self,
         model: &Model,
         states: &[BodyState],
@@ -91,12 +94,12 @@ impl Contacts {
         t: f64,
         y: &[f64],
         h: f64,
-    ) -> Result<Option<StepOutcome>, OdeError> {
+    ) -> Result<Option<ConvexStep>, OdeError> {
         let mut next = y.to_vec();
         if found.is_empty() && model.joints.is_empty() {
             let v: Vec<_> = states.iter().map(|b| free_velocity(b, h)).collect();
             update_positions(model, &mut next, &v, h, |_| true);
-            return Ok(Some(StepOutcome { y: next, forces: BTreeMap::new(), pressing: Vec::new() }));
+            return Ok(Some(ConvexStep { y: next, forces: BTreeMap::new(), pressing: Vec::new() }));
         }
         let clock = Instant::now();
         let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
@@ -105,17 +108,17 @@ impl Contacts {
         // contact over one step, which the error control keeps within the tolerance.
         let mut settings = StepSettings {
             erp: 0.0,
-            bounce_threshold: self.resting_speed,
+            bounce_threshold: self.scales.resting_speed,
             threads: self.threads,
             ..StepSettings::new(h)
         };
         // Answers are judged against the velocity that moves a body by the tolerance in the step (at least): a body
         // nearly at rest judged against g h alone made clarabel's retries fail at h = 1e-6 s. 1e-4 of that scale
         // is a position error of 1e-4 of the tolerance.
-        settings.velocity_scale = self.tolerance / h;
-        settings.solver = tumble_contact::SolverSettings { complementarity_tolerance: 1e-4, ..self.solver };
+        settings.velocity_scale = self.scales.tolerance / h;
+        settings.solver = tumble_contact::SolverSettings { complementarity_tolerance: 1e-4, ..*self.solver };
         // joints: their rows held exactly in the same programs, fixed ends as extra fixed actors
-        let (bilateral, extra) = model.bilateral_rows(y, h, states.len());
+        let (bilateral, extra) = bilateral_rows(model, y, h, states.len());
         let with_extra: Vec<BodyState>;
         let states = if extra.is_empty() {
             states
@@ -123,17 +126,19 @@ impl Contacts {
             with_extra = states.iter().copied().chain(extra).collect();
             &with_extra[..]
         };
-        let mut solve =
-            |bounds: &[f64]| match velocity_step_lagged_with_joints(states, &contacts, bounds, &bilateral, &settings) {
+        let mut solve = |bounds: &[f64]| {
+            let problem = VelocityProblem::new(states, &contacts).lagged(bounds).bilateral(&bilateral);
+            match velocity_step(&problem, &settings) {
                 Ok(out) => Ok(Some(out)),
                 Err(ContactError::InvalidArgument { name, reason }) => {
                     Err(failure(t, format!("contact step: invalid {name}: {reason}")))
                 }
                 Err(e) => {
-                    self.last_solver_error = e.to_string();
+                    *self.last_solver_error = e.to_string();
                     Ok(None)
                 }
-            };
+            }
+        };
         let mut bounds: Vec<f64> = found.iter().map(|f| lagged.get(&f.key).map_or(0.0, |p| p * h)).collect();
         let (mut solves, mut work) = (0, 0);
         let Some(mut out) = solve(&bounds)? else { return Ok(None) };
@@ -143,7 +148,7 @@ impl Contacts {
             let largest = out.normal_impulses.iter().fold(0.0f64, |m, p| m.max(*p));
             let moved = bounds.iter().zip(&out.normal_impulses).fold(0.0f64, |m, (b, p)| m.max((b - p).abs()));
             let frictional = contacts.iter().any(|c| c.friction > 0.0);
-            if !frictional || moved <= self.lagged_tolerance * largest {
+            if !frictional || moved <= self.scales.lagged_tolerance * largest {
                 break;
             }
             bounds.clone_from(&out.normal_impulses);
@@ -153,13 +158,13 @@ impl Contacts {
             work += out.solver_work;
         }
         self.report.qp_solves += solves;
-        self.solve_work += work;
+        *self.solve_work += work;
         self.report.stages.add(Stage::ContactConeProgram, solves.max(1));
         update_positions(model, &mut next, &out.velocities, h, |_| true);
-        model.project_joints(&mut next, crate::model::JOINT_DRIFT);
+        project_joints(model, &mut next, JOINT_DRIFT);
         let forces = found.iter().zip(&out.normal_impulses).map(|(f, p)| (f.key, p / h)).collect();
         let pressing = found.iter().zip(&out.normal_impulses).filter(|(_, p)| **p > 0.0).map(|(f, _)| f.key).collect();
         self.report.contact_seconds += clock.elapsed().as_secs_f64();
-        Ok(Some(StepOutcome { y: next, forces, pressing }))
+        Ok(Some(ConvexStep { y: next, forces, pressing }))
     }
 }

@@ -1,0 +1,211 @@
+//! Accurate mode's contact side: the colliders and the settings its stages work from (`ContactRules`, made with
+//! the engine), what they carry between calls (`ContactMemory`, part of the engine's memory, with the scales set
+//! from the scene's size where the engine was built), and the view a stage works through during an advance
+//! (`Contacts`: the rules, the memory and the report together).
+
+use super::resting::RestingContacts;
+use super::system::AccurateSystem;
+use super::touching::TouchingPhase;
+use crate::engine::contact_scene::{ContactKey, ContactScene};
+use crate::mode::AccurateSettings;
+use crate::report::WorldReport;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeSet;
+use tumble_contact::SolverSettings;
+use tumble_integrate::{Integrator, Report, Settings};
+
+/// The contact stages' scales, set from the scene's size where the engine was built (a world built, stepped and
+/// loaded elsewhere keeps the original's).
+#[derive(Serialize, Deserialize, Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ContactScales {
+    /// Relative normal speed below which contacts rest (m/s): the settings' or 1e-3 sqrt(2 g L) for the scene's size.
+    pub resting_speed: f64,
+    /// A mean step below this is a stall (s): 1e-5 of the scene's time scale sqrt(size / g), at most 1e-5 s.
+    pub stall_step: f64,
+    /// Error allowed in one contact step (m).
+    pub tolerance: f64,
+    /// Largest contact step (s): 1/20 of the scene's time scale, at most 1/60 s.
+    pub max_step: f64,
+    /// The lagged-friction fixed point is reached when no normal impulse moves by more than this fraction of the
+    /// largest: ten times the tolerance relative to the scene's size, within 1e-9 to 1e-3 (a friction bound off by
+    /// this fraction is a deceleration off by as much, so a tight tolerance needs a tight fixed point).
+    pub lagged_tolerance: f64,
+}
+
+impl ContactScales {
+    /// The scales of a scene of size `size` (m) under gravity `gravity` (m/s^2).
+    fn new(accurate: &AccurateSettings, size: f64, gravity: f64) -> ContactScales {
+        let time_scale = (size / gravity.max(1e-300)).sqrt();
+        let tolerance = accurate.contact_tolerance.unwrap_or(1e-6 * size);
+        ContactScales {
+            resting_speed: accurate.resting_speed.unwrap_or_else(|| tumble_contact::velocity_tolerance(size, gravity)),
+            stall_step: 1e-5 * time_scale.min(1.0),
+            tolerance,
+            max_step: (0.05 * time_scale).min(1.0 / 60.0),
+            lagged_tolerance: (10.0 * tolerance / size.max(1e-300)).clamp(1e-9, 1e-3),
+        }
+    }
+
+    /// Each positive and finite (the resting speed may be zero).
+    fn valid(&self) -> bool {
+        let s = [self.resting_speed, self.stall_step, self.tolerance, self.max_step, self.lagged_tolerance];
+        s[0] >= 0.0 && s.iter().all(|x| x.is_finite()) && s[1..].iter().all(|&x| x > 0.0)
+    }
+}
+
+/// What the contact stages carry between calls.
+#[derive(Serialize, Deserialize, Clone)]
+pub(crate) struct ContactMemory {
+    /// The resting contacts whose forces the equations of motion add (`Persistent::RestingForces`).
+    pub resting: Option<RestingContacts>,
+    /// The keys of the contacts resting since the last impact stage (ordered: no hashing reaches the answers).
+    pub resting_keys: BTreeSet<ContactKey>,
+    /// Largest penetration found at the last impact stage or contact step (m).
+    pub penetration: f64,
+    /// The stall window of the integration: its start time and the accepted steps in it.
+    pub window: (f64, usize),
+    /// The touching phase, while bodies touch.
+    pub touching: Option<TouchingPhase>,
+    pub scales: ContactScales,
+}
+
+impl ContactMemory {
+    /// Whether it fits a scene of `actors` actors and `colliders` colliders and a state of length `dim`.
+    pub fn check(&self, actors: usize, colliders: usize, dim: usize) -> Result<(), String> {
+        let touching_fits = self.touching.as_ref().is_none_or(|t| t.fits(actors, colliders, dim));
+        let checks = [
+            (
+                self.resting.as_ref().is_none_or(|r| r.fits(actors, colliders)),
+                "a resting contact names no actor or collider",
+            ),
+            (self.resting_keys.iter().all(|k| k.fits(colliders)), "a resting key names no collider"),
+            (touching_fits, "its touching phase does not fit the scene"),
+            (self.penetration.is_finite(), "its penetration is not finite"),
+            (self.scales.valid(), "its scales are not positive and finite"),
+        ];
+        match checks.iter().find(|(ok, _)| !ok) {
+            Some((_, why)) => Err(why.to_string()),
+            None => Ok(()),
+        }
+    }
+
+    /// With the free flight's integration made live: one read from a file is given to an integrator of `system`
+    /// with its touching actors held (built at (t, y) with `settings`), which checks it.
+    pub fn into_live(
+        mut self,
+        system: &mut AccurateSystem,
+        settings: &Settings,
+        t: f64,
+        y: &[f64],
+    ) -> Result<ContactMemory, String> {
+        let Some(free) = self.touching.as_mut().and_then(|t| t.free.take()) else { return Ok(self) };
+        let frozen = free.frozen;
+        let template = || {
+            system.frozen.clone_from(&frozen);
+            let built = Integrator::new(system, settings.clone(), t, y);
+            system.frozen.clear();
+            built
+        };
+        let integration = free.integration.into_live(template).map_err(|e| format!("its free flight's {e}"))?;
+        if let Some(touching) = self.touching.as_mut() {
+            touching.free = Some(super::free_flight::FreeFlight { frozen, integration });
+        }
+        Ok(self)
+    }
+}
+
+/// The colliders and the settings the contact stages work from, with their scratch counters.
+#[derive(Clone)]
+pub(crate) struct ContactRules {
+    pub scene: ContactScene,
+    pub settings: AccurateSettings,
+    /// clarabel's settings for impulses, resting forces and position corrections.
+    pub solver: SolverSettings,
+    /// |g| (m/s^2), for the first contact step.
+    pub gravity: f64,
+    /// The integrator's settings, for the actors that fly free while others touch (`free_flight.rs`).
+    pub free_settings: Settings,
+    /// Why clarabel last failed to answer a contact step (for the message if steps shrink to nothing).
+    pub last_solver_error: String,
+    /// The contact steps' convex solves weighted by island size (`VelocityStep::solver_work`), charged to budgets.
+    pub solve_work: usize,
+    /// The counters of the free flights since the last report.
+    pub free_report: Report,
+}
+
+impl ContactRules {
+    /// The rules of `scene` and the contact memory of a world starting at (t, y).
+    pub fn new(
+        scene: ContactScene,
+        settings: AccurateSettings,
+        integration: &Settings,
+        gravity: f64,
+        t: f64,
+        y: &[f64],
+    ) -> (ContactRules, ContactMemory) {
+        let scales = ContactScales::new(&settings, scene.size(y), gravity);
+        let memory = ContactMemory {
+            resting: None,
+            resting_keys: BTreeSet::new(),
+            penetration: 0.0,
+            window: (t, 0),
+            touching: None,
+            scales,
+        };
+        let rules = ContactRules {
+            scene,
+            settings,
+            solver: SolverSettings::default(),
+            gravity,
+            free_settings: integration.clone(),
+            last_solver_error: String::new(),
+            solve_work: 0,
+            free_report: Report::empty(integration.method.name()),
+        };
+        (rules, memory)
+    }
+
+    /// The view the stages of one advance work through.
+    pub fn stages<'a>(
+        &'a mut self,
+        memory: &'a mut ContactMemory,
+        report: &'a mut WorldReport,
+        threads: usize,
+        divergence_limit: f64,
+    ) -> Contacts<'a> {
+        Contacts {
+            scales: memory.scales,
+            scene: &mut self.scene,
+            settings: &self.settings,
+            solver: &self.solver,
+            gravity: self.gravity,
+            free_settings: &self.free_settings,
+            last_solver_error: &mut self.last_solver_error,
+            solve_work: &mut self.solve_work,
+            free_report: &mut self.free_report,
+            memory,
+            report,
+            threads,
+            divergence_limit,
+        }
+    }
+}
+
+/// What a contact stage works on during an advance: the colliders and settings, the contact memory, the engine's
+/// report, the thread count and the divergence limit.
+pub(crate) struct Contacts<'a> {
+    pub scene: &'a mut ContactScene,
+    pub settings: &'a AccurateSettings,
+    pub solver: &'a SolverSettings,
+    pub gravity: f64,
+    pub free_settings: &'a Settings,
+    pub last_solver_error: &'a mut String,
+    pub solve_work: &'a mut usize,
+    pub free_report: &'a mut Report,
+    pub memory: &'a mut ContactMemory,
+    /// The memory's scales (constant while the engine lives).
+    pub scales: ContactScales,
+    pub report: &'a mut WorldReport,
+    pub threads: usize,
+    pub divergence_limit: f64,
+}

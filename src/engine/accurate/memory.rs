@@ -1,0 +1,46 @@
+//! Accurate mode's memory: everything its steps carry from one call to the next (the integration, and with contact
+//! stages what they know: the resting contacts, the touching phase with its free flight, the scales set where the
+//! engine was built). It is one type: a copy is what a failed call puts back, serialized it is what a file holds,
+//! and given back it is checked here and by the engine (`AccurateEngine::set_memory`) before anything changes.
+
+use super::integration::Integration;
+use serde::{Deserialize, Serialize};
+
+#[cfg(feature = "contact")]
+pub(crate) use super::contacts::ContactMemory;
+
+/// Without the `contact` feature there is no contact memory (the type keeps the format the same in both builds).
+#[cfg(not(feature = "contact"))]
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(crate) enum ContactMemory {}
+
+/// Accurate mode's memory.
+#[derive(Clone, Serialize, Deserialize)]
+pub(crate) struct AccurateMemory {
+    /// The time of a world with nothing to integrate (an integration keeps its own).
+    pub clock: f64,
+    /// The integration of the equations of motion; `None` when the state is empty.
+    pub integration: Option<Integration>,
+    /// What the contact stages know; `None` when no two colliders can touch.
+    pub contact: Option<ContactMemory>,
+}
+
+impl AccurateMemory {
+    /// The current time.
+    pub fn time(&self) -> f64 {
+        self.integration.as_ref().map_or(self.clock, |i| i.live().time())
+    }
+
+    /// The current state.
+    pub fn state(&self) -> &[f64] {
+        self.integration.as_ref().map_or(&[], |i| i.live().state())
+    }
+}
+
+/// The name of the engine a memory with this contact part comes from.
+pub(crate) fn engine_name(contact: &Option<ContactMemory>) -> &'static str {
+    match contact {
+        None => "integration without contact",
+        Some(_) => "accurate mode's contact engine",
+    }
+}
