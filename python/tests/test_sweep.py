@@ -1,6 +1,6 @@
 """Parameter sweeps (issue 15): the local sweep equals the same worlds run one by one, and the sweeps on a real
 local Dask cluster and a local Ray instance equal the local sweep bit for bit. The Dask and Ray tests run when their
-extras are installed (``tumble[dask]``, ``tumble[ray]``; CI installs both)."""
+extras are installed (``pip install "./python[dask,ray]"``; CI installs both)."""
 
 import functools
 

@@ -1,6 +1,6 @@
 """Parameter sweeps: ``tumble.sweep(build, params, duration)`` builds a world from each parameter set and runs it,
 on this machine's cores (the default, nothing to install) or on a Ray or Dask cluster (``pip install
-tumble[ray]`` or ``tumble[dask]``). The results are the same bit for bit wherever they run: each world is built by
+"./python[ray]"`` or ``"./python[dask]"``). The results are the same bit for bit wherever they run: each world is built by
 the same function and stepped by the same deterministic code; worlds and runs travel between processes as tumble's
 saved format and arrays."""
 
@@ -10,6 +10,7 @@ import os
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, Callable, Literal, Sequence, TypeVar
 
+from ._install import install_hint
 from ._run import Run
 
 if TYPE_CHECKING:
@@ -55,7 +56,10 @@ def sweep(
         raise ValueError("invalid argument `client`: only the dask backend takes a client")
     if workers is not None and backend != "local":
         raise ValueError("invalid argument `workers`: only the local backend takes a worker count")
-    params = list(params)
+    try:
+        params = list(params)
+    except TypeError:
+        raise TypeError(f"invalid argument `params`: expected a sequence of parameter sets, got {params!r}") from None
     if backend == "local":
         count = workers if workers is not None else (os.cpu_count() or 1)
         if not isinstance(count, int) or count < 1:
@@ -66,7 +70,7 @@ def sweep(
         try:
             import distributed  # noqa: PLC0415 - optional extra
         except ImportError as error:
-            raise ImportError("backend='dask' needs Dask: pip install 'tumble[dask]'") from error
+            raise ImportError(f"backend='dask' needs Dask: {install_hint('dask')}") from error
         client = client if client is not None else distributed.get_client()
         futures = client.map(_one, [build] * len(params), params, duration=duration, frame_interval=frame_interval,
                              pure=False)
@@ -75,7 +79,7 @@ def sweep(
     try:
         import ray  # noqa: PLC0415 - optional extra
     except ImportError as error:
-        raise ImportError("backend='ray' needs Ray: pip install 'tumble[ray]'") from error
+        raise ImportError(f"backend='ray' needs Ray: {install_hint('ray')}") from error
     if not ray.is_initialized():
         ray.init()
     task: Any = ray.remote(_one)  # a RemoteFunction of _one (its parameter type left open)
