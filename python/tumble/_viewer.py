@@ -1,6 +1,6 @@
 """The interactive 3-D viewer of a run (``Run.show``, ``World.show``) and its static export (``Run.export_viewer``),
-built on viser (``pip install "./python[viewer]"`` from the clone): a web server in a background thread that drives viser's prebuilt
-three.js client from Python.
+built on viser (``pip install "./python[viewer]"`` from the clone): a web server in a background thread that drives
+viser's prebuilt three.js client from Python.
 
 The scene: each distinct collider shape is meshed once and drawn as one batched (instanced) mesh with an instance per
 collider, posed every frame from its body's pose; half-spaces are a large square with a grid under the scene;
