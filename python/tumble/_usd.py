@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ._install import install_hint
+from ._mesh import shape_mesh as mesh_of
 
 if TYPE_CHECKING:
     from ._run import Run
@@ -57,10 +58,9 @@ def export(run: "Run", path: Path) -> Path:
     def shape_mesh(shape: Shape, key: str) -> Any:
         """The path of `shape`'s mesh under /Shapes, written once for each distinct shape."""
         if key not in meshes:
-            v, t = shape.triangle_mesh(24, 10.0)
+            vertices, triangles = mesh_of(shape)  # in the shape's frame: the collider's prim places it
             mesh = UsdGeom.Mesh.Define(stage, f"/Shapes/shape_{len(meshes)}")
-            mesh.CreatePointsAttr([Gf.Vec3f(*map(float, p)) for p in np.asarray(v)])
-            triangles = np.asarray(t)
+            mesh.CreatePointsAttr([Gf.Vec3f(*map(float, p)) for p in vertices])
             mesh.CreateFaceVertexCountsAttr([3] * len(triangles))
             mesh.CreateFaceVertexIndicesAttr([int(i) for i in triangles.reshape(-1)])
             meshes[key] = mesh.GetPath()
