@@ -92,7 +92,8 @@ pub fn rows<const W: usize>(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<
     obj.extract::<Vec<[f64; W]>>().map_err(|_| invalid(name, format!("expected an (N, {W}) array, got {}", repr(obj))))
 }
 
-fn repr(obj: &Bound<'_, PyAny>) -> String {
+/// An object's repr for a message ("an object" when it has none).
+pub fn repr(obj: &Bound<'_, PyAny>) -> String {
     obj.repr().map(|r| r.to_string()).unwrap_or_else(|_| "an object".into())
 }
 

@@ -4,7 +4,7 @@
 
 use crate::args::{attachment, integrator_options, to_target};
 use crate::control::Control;
-use crate::convert::{array, invalid, mat3, opt_vec3, quat, vec3, world_error};
+use crate::convert::{array, invalid, mat3, opt_vec3, quat, repr, vec3, world_error};
 use crate::handles::{PyBodyHandle, PyLoadHandle, PyParticleHandle, PySpringHandle};
 use crate::report::run_arrays;
 use crate::shapes::PyShape;
@@ -192,7 +192,13 @@ impl PyWorld {
         let shape = shape.map(|s| s.shape.clone());
         let mut extra = Vec::new();
         if let Some(list) = colliders.filter(|c| !c.is_none()) {
-            for (k, item) in list.try_iter()?.enumerate() {
+            let entries = list.try_iter().map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(format!(
+                    "invalid argument `colliders`: expected a list of (shape, position[, orientation]), got {}",
+                    repr(list)
+                ))
+            })?;
+            for (k, item) in entries.enumerate() {
                 let item = item?;
                 let (s, p, q): (PyRef<'_, PyShape>, Bound<'_, PyAny>, Option<Bound<'_, PyAny>>) = item
                     .extract()

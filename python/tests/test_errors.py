@@ -96,3 +96,64 @@ def test_callback_exception_is_the_cause():
     assert isinstance(info.value.__cause__, KeyError)
     np.testing.assert_array_equal(w.particles.positions, before)
     assert w.time == pytest.approx(0.4)
+
+
+def wrong_type_calls():
+    """For each argument of the methods taking shapes, colliders and handles: (argument, call with an object of a
+    wrong type for it)."""
+    w = tumble.World(mode="fast")
+    p = w.add_particle()
+    b = w.add_body(tumble.Sphere(0.5), position=(0, 0, 2))
+    c = w.add_body(tumble.Box((0.5, 0.5, 0.5)), position=(2, 0, 2))
+    state = w.get_state()
+    bad = object()
+    calls = []
+    body_args = ["density", "mass", "inertia", "position", "orientation", "velocity", "angular_velocity",
+                 "restitution", "friction", "static", "linear_damping", "angular_damping", "colliders"]
+    calls.append(("shape", lambda: w.add_body(bad)))
+    for name in body_args:
+        calls.append((name, lambda name=name: w.add_body(tumble.Sphere(0.5), **{name: bad})))
+    calls.append(("colliders", lambda: w.add_body(tumble.Sphere(0.5), colliders=5)))
+    calls.append(("colliders", lambda: w.add_body(tumble.Sphere(0.5), colliders=[(tumble.Sphere(0.1), bad)])))
+    calls.append(("colliders", lambda: w.add_body(tumble.Sphere(0.5), colliders=[(bad, (0, 0, 0))])))
+    calls.append(("a", lambda: w.add_spring(bad, b)))
+    for name in ["b", "stiffness", "damping", "rest_length", "anchor_a", "anchor_b"]:
+        calls.append((name, lambda name=name: w.add_spring(p, **{"b": b, name: bad})))
+    calls.append(("world_point", lambda: w.add_spring(p, world_point=bad)))
+    calls.append(("body", lambda: w.set_body_state(bad)))
+    for name in ["position", "orientation", "velocity", "angular_velocity"]:
+        calls.append((name, lambda name=name: w.set_body_state(b, **{name: bad})))
+    calls.append(("particle", lambda: w.set_particle_state(bad)))
+    calls.append(("target", lambda: w.add_force(bad, (1, 0, 0))))
+    calls.append(("body", lambda: w.add_torque(bad, (1, 0, 0))))
+    calls.append(("handle", lambda: w.remove(bad)))
+    calls.append(("joint", lambda: w.add_joint(bad)))
+    calls.append(("joint", lambda: w.remove_joint(bad)))
+    for name in ["a", "b", "anchor_a", "anchor_b", "axis", "limits", "motor", "spring", "softness"]:
+        calls.append((name, lambda name=name: w.add_joint(tumble.Hinge(**{"a": b, "b": c, name: bad}))))
+    calls.append(("state", lambda: w.set_state(bad)))
+    calls.append(("world", lambda: tumble.rollout(bad, [state], 0.1)))
+    calls.append(("states", lambda: tumble.rollout(w, bad, 0.1)))
+    calls.append(("duration", lambda: tumble.rollout(w, [state], bad)))
+    calls.append(("path", lambda: w.save(bad)))
+    calls.append(("path", lambda: tumble.World.load(bad)))
+    calls.append(("params", lambda: tumble.sweep(tumble.scenes.dominoes, bad, 0.1)))
+    run = tumble.World().run(0.05)
+    for write in (run.save, run.to_csv, run.export_gltf, tumble.Run.load):
+        calls.append(("path", lambda write=write: write(bad)))
+    return w, calls
+
+
+def test_a_wrong_type_for_any_argument_names_it():
+    w, calls = wrong_type_calls()
+    unnamed = []
+    for name, call in calls:
+        try:
+            call()
+        except (TypeError, ValueError) as error:
+            if f"`{name}`" not in str(error):
+                unnamed.append(f"{name}: {type(error).__name__}: {error}")
+        else:
+            unnamed.append(f"{name}: no error")
+    assert not unnamed, "\n".join(unnamed)
+    assert len(w.bodies) == 2 and len(w.particles) == 1  # nothing was added by a refused call

@@ -2,6 +2,7 @@
 the plan's joint stage and the report's joint fields."""
 
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -99,3 +100,36 @@ def test_the_jointed_scenes_run_with_their_joints_held(name):
     assert w.report.joint_error < 1e-3
     assert w.report.joint_rows > 0
 
+
+
+def test_accurate_mode_takes_limits_motors_and_ropes_as_the_docs_say():
+    doc = " ".join(sys.modules[tumble.Hinge.__module__].__doc__.split())
+    assert "no limits" not in doc and "limits, motors" in doc
+    # a limit: a door thrown at 5 rad/s into its limit of 1 rad stops there
+    w = tumble.World(gravity=(0, 0, 0), rtol=1e-8)
+    door = w.add_body(tumble.Box(half_extents=(0.5, 0.025, 1.0)), mass=20.0, position=(0.5, 0, 1),
+                      angular_velocity=(0, 0, 5.0))
+    w.add_joint(tumble.Hinge(None, door, anchor_b=(-0.5, 0, 0), world_point=(0, 0, 1), axis=(0, 0, 1),
+                             limits=(-1.0, 1.0)))
+    run = w.run(2.0)
+    angle = 2 * np.arctan2(run.body_orientations[:, 0, 3], run.body_orientations[:, 0, 0])
+    assert angle.max() < 1.0 + 1e-2 and abs(angle[-1] - 1.0) < 1e-2
+    # a motor: the door driven at 2 rad/s reaches that speed
+    w = tumble.World(gravity=(0, 0, 0), rtol=1e-8)
+    door = w.add_body(tumble.Box(half_extents=(0.5, 0.025, 1.0)), mass=20.0, position=(0.5, 0, 1))
+    w.add_joint(tumble.Hinge(None, door, anchor_b=(-0.5, 0, 0), world_point=(0, 0, 1), axis=(0, 0, 1),
+                             motor=tumble.Motor(speed=2.0, max_torque=50.0)))
+    w.step(1.0)
+    assert abs(w.bodies.angular_velocities[0, 2] - 2.0) < 1e-6
+    # a rope: a ball 0.5 m beside its 1 m rope's end falls freely until it is taut, then hangs on it
+    w = tumble.World(rtol=1e-8)
+    bob = w.add_body(mass=1.0, inertia=np.eye(3) * 1e-3, position=(0.5, 0.0, 0.0))
+    w.add_joint(tumble.Distance(None, bob, world_point=(0, 0, 0), length=1.0, rope=True))
+    run = w.run(2.0, frame_interval=1e-2)
+    reach = np.linalg.norm(run.body_positions[:, 0], axis=1)
+    assert reach[5] < 0.99  # slack at first
+    assert reach.max() < 1.0 + 1e-6 and abs(reach[-1] - 1.0) < 1e-6
+    # softness is the one option accurate mode refuses, by name, as the docs say
+    assert "softness" in doc
+    with pytest.raises(ValueError, match="`softness`"):
+        w.add_joint(tumble.Ball(None, bob, world_point=(0, 0, 0), softness=(5.0, 1.0)))

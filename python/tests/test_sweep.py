@@ -1,6 +1,6 @@
 """Parameter sweeps (issue 15): the local sweep equals the same worlds run one by one, and the sweeps on a real
 local Dask cluster and a local Ray instance equal the local sweep bit for bit. The Dask and Ray tests run when their
-extras are installed (``tumble[dask]``, ``tumble[ray]``; CI installs both)."""
+extras are installed (``pip install "./python[dask,ray]"``; CI installs both)."""
 
 import functools
 
@@ -50,6 +50,28 @@ def test_a_dask_cluster_gives_the_local_sweep():
         with distributed.Client(cluster) as client:
             runs = tumble.sweep(build, PARAMS, 1.0, backend="dask", client=client)
     assert same(runs, one_by_one())
+
+
+def no_dask_client(distributed) -> bool:
+    try:
+        distributed.get_client()
+    except ValueError:  # "No global client found"
+        return True
+    return False
+
+
+def test_dask_without_a_client_starts_a_local_one_and_closes_it():
+    distributed = pytest.importorskip("distributed")
+    assert no_dask_client(distributed)
+    runs = tumble.sweep(build, PARAMS, 1.0, backend="dask")
+    assert same(runs, one_by_one())
+    assert no_dask_client(distributed)  # the client it started is closed
+    # a client the user started is the one used, and is left running
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=2, dashboard_address=None) as client:
+        with distributed.get_task_stream(client=client) as tasks:
+            assert same(tumble.sweep(build, PARAMS[:2], 1.0, backend="dask"), one_by_one()[:2])
+        assert len(tasks.data) == 2  # both runs were tasks on the user's cluster
+        assert client.status == "running" and distributed.get_client() is client
 
 
 def test_a_ray_instance_gives_the_local_sweep():

@@ -20,6 +20,7 @@ from typing import Callable
 import numpy as np
 
 from . import scenes
+from ._install import install_hint
 from ._run import Run
 from ._world import World
 
@@ -84,7 +85,7 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--no-gif", action="store_true", help="Writes no GIF preview.")
     p.add_argument("--view", action="store_true",
                    help="Opens the run in the interactive viewer afterwards (needs the viewer extra: "
-                        "pip install 'tumble[viewer]'); Ctrl-C ends it.")
+                        f"{install_hint('viewer')}); Ctrl-C ends it.")
     return p
 
 
@@ -93,7 +94,7 @@ def main(argv: list[str] | None = None) -> None:
     p = parser()
     args = p.parse_args(argv)
     if args.view and importlib.util.find_spec("viser") is None:
-        p.error('--view needs the viewer extra: pip install "tumble[viewer]"')
+        p.error(f"--view needs the viewer extra: {install_hint('viewer')}")
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         p.error(f"argument --out: {str(out)!r} is a file, not a folder")

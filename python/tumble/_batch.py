@@ -8,6 +8,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from ._errors import named_arguments
 from ._progress import Progress, progress as _progress
 from ._run import Run
 from ._tumble import State, World, _rollout
@@ -72,13 +73,18 @@ def rollout(
     a copy that fails raises SimulationError naming it. ``progress=True`` shows the fraction of copies done; Ctrl-C
     stops the batch. Force callbacks are shared by the copies and called from several threads (holding the
     interpreter lock): they must not keep state."""
-    states = list(states)
+    if not isinstance(world, World):
+        raise TypeError(f"invalid argument `world`: expected a tumble.World, got {type(world).__name__}")
+    try:
+        states = list(states)
+    except TypeError:
+        raise TypeError(f"invalid argument `states`: expected a sequence of tumble.State, got {states!r}") from None
     for k, s in enumerate(states):
         if not isinstance(s, State):
             raise ValueError(f"invalid argument `states`: states[{k}] is {type(s).__name__}, not a tumble.State")
     shown = Progress("rollout") if progress is True else _progress(progress)
     try:
-        data = _rollout(world, states, duration, frame_interval, threads, shown)
+        data = named_arguments(_rollout)(world, states, duration, frame_interval, threads, shown)
     finally:
         if isinstance(shown, Progress):
             shown.close()

@@ -6,7 +6,9 @@ helpers put the name in the message, as every other bad argument has it, and tur
 from __future__ import annotations
 
 import functools
+import os
 import re
+from pathlib import Path
 from typing import Any, Callable, TypeVar
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -41,3 +43,10 @@ def named_arguments(function: F) -> F:
             raise better from error
 
     return wrapper  # type: ignore[return-value]
+
+
+def as_path(value: Any, name: str = "path") -> Path:
+    """``value`` (a str or os.PathLike) as a Path, or a TypeError naming the argument."""
+    if not isinstance(value, (str, os.PathLike)):
+        raise TypeError(f"invalid argument `{name}`: expected a str or os.PathLike path, got {type(value).__name__}")
+    return Path(value)

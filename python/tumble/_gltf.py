@@ -26,7 +26,7 @@ import numpy as np
 import numpy.typing as npt
 import pygltflib as g
 
-from ._geometry import rotation_matrix
+from ._mesh import MARKER, body_mesh, shape_mesh
 
 if TYPE_CHECKING:
     from ._run import Run
@@ -189,8 +189,7 @@ def kept_frames(run: Run) -> np.ndarray:
 def _sphere(radius: float) -> tuple[np.ndarray, np.ndarray]:
     from ._tumble import Sphere  # noqa: PLC0415
 
-    v, t = Sphere(radius).triangle_mesh(12)
-    return np.asarray(v), np.asarray(t)
+    return shape_mesh(Sphere(radius), MARKER)
 
 
 def _scene_size(run: Run, frame: int) -> float:
@@ -205,14 +204,7 @@ def _scene_size(run: Run, frame: int) -> float:
 def _collider_mesh(w: Writer, colliders: list[Any], material: int, size: float, name: str) -> int:
     """A mesh of a body's colliders placed in its frame (a small sphere for a body with none), named ``name``."""
     if colliders:
-        vertices, triangles, base = [], [], 0
-        for shape, offset, orientation in colliders:
-            v, t = shape.triangle_mesh(24, 10.0)
-            v = np.asarray(v) @ rotation_matrix(np.asarray(orientation, dtype=float)).T + np.asarray(offset)
-            vertices.append(v)
-            triangles.append(np.asarray(t) + base)
-            base += len(v)
-        geometry = w.geometry(np.concatenate(vertices), np.concatenate(triangles))
+        geometry = w.geometry(*body_mesh(colliders))
     else:  # a body without colliders: a small sphere marks its centre of mass
         geometry = w.geometry(*_sphere(0.02 * size))
     return w.mesh(f"{name}: {' + '.join(s.kind for s, _, _ in colliders) or 'marker'}", geometry, material)

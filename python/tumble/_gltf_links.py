@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ._geometry import rotation_matrices
+from ._mesh import LINK, shape_mesh
 
 if TYPE_CHECKING:
     from ._gltf import Writer
@@ -124,5 +125,4 @@ def _cylinder(radius: float) -> tuple[np.ndarray, np.ndarray]:
     """A cylinder of ``radius`` and unit length along z, centred on the origin, with eight sides."""
     from ._tumble import Cylinder  # noqa: PLC0415
 
-    v, t = Cylinder(0.5, radius).triangle_mesh(8)
-    return np.asarray(v), np.asarray(t)
+    return shape_mesh(Cylinder(0.5, radius), LINK)

@@ -5,8 +5,10 @@ argument) and fixes the joint's reference: the bodies' relative rotation when it
 
 Anchors are in each body's frame (relative to its centre of mass); ``None`` for a body means the world, and its
 anchor is then ``world_point``. A hinge's or slider's ``axis`` is in the first body's frame (world axes when it is
-the world). Fast mode takes every kind and option; accurate mode holds joints exactly as constraints but has no
-limits, motors or ropes yet.
+the world). Both modes take every kind, limits, motors, joint springs and ropes: a limit or a taut rope pushes only
+when reached, a motor drives its speed with at most its force. Fast mode solves the joints with its contacts at each
+substep; accurate mode holds them exactly as constraints inside the equations of motion. ``softness`` (a joint made
+a soft row) is fast mode's only: accurate mode refuses it (``ValueError`` naming ``softness``).
 """
 
 from __future__ import annotations

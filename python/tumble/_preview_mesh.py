@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ._geometry import link_segments, rotation_matrices, rotation_matrix
+from ._mesh import PREVIEW, collider_mesh, half_space_plane
 
 if TYPE_CHECKING:
     from ._run import Run
@@ -102,15 +103,14 @@ def gather_meshes(run: "Run") -> Meshes:
     for b in range(bodies):
         colour = 1 + b % (COLOURS - 1) if moving[b] else 0
         for shape, offset, orientation in run.shapes[b] if b < len(run.shapes) else []:
-            r = rotation_matrix(np.asarray(orientation, dtype=float))
             if shape.kind == "half-space":
+                middle, normal = half_space_plane(shape)
+                r = rotation_matrix(np.asarray(orientation, dtype=float))
                 rb = rotation_matrix(run.body_orientations[0, b])
-                normal = rb @ r @ np.array([0.0, 0.0, 1.0])
-                point = run.body_positions[0, b] + rb @ np.asarray(offset, dtype=float)
-                out.planes.append((b, point, normal))
+                point = run.body_positions[0, b] + rb @ (np.asarray(offset, dtype=float) + r @ middle)
+                out.planes.append((b, point, rb @ r @ normal))
                 continue
-            v, t = shape.triangle_mesh(8)
-            v = np.asarray(v, dtype=float) @ r.T + np.asarray(offset, dtype=float)
+            v, t = collider_mesh(shape, offset, orientation, PREVIEW)
             faces = polygon_faces(v, np.asarray(t, dtype=np.int64))
             middle = np.array([v[f].mean(axis=0) for f in faces])
             for k, f in enumerate(faces):

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ._errors import as_path
 from ._report import Report
 
 if TYPE_CHECKING:
@@ -104,7 +105,7 @@ class Run:
     def save(self, path: str | Path) -> Path:
         """Saves the whole run as a compressed ``.npz``: every array, the report, the handles and the bodies'
         shapes (``Run.load`` reads it back equal). Returns the path."""
-        path = Path(path)
+        path = as_path(path)
 
         def handles(hs: list[ParticleHandle] | list[BodyHandle]) -> np.ndarray:
             return np.array([[h.world, h.index, h.generation] for h in hs], dtype=np.uint64).reshape(-1, 3)
@@ -124,7 +125,7 @@ class Run:
         from ._geometry import normal_links  # noqa: PLC0415
         from ._tumble import _handle, _shape_from_json  # noqa: PLC0415
 
-        with np.load(Path(path), allow_pickle=False) as data:
+        with np.load(as_path(path), allow_pickle=False) as data:
             arrays = {name: data[name] for name in ARRAYS}
             def handles(kind: str, a: np.ndarray) -> list[Any]:
                 return [_handle(kind, int(w), int(i), int(g)) for w, i, g in a]
@@ -141,7 +142,7 @@ class Run:
     def to_csv(self, path: str | Path) -> Path:
         """Writes the per-frame scalars as CSV, a row a frame: time, kinetic, potential and total energy, momentum
         and angular momentum (x, y, z each) and the largest penetration. Returns the path."""
-        path = Path(path)
+        path = as_path(path)
         with path.open("w", newline="") as out:
             w = csv.writer(out)
             w.writerow(["time", "kinetic_energy", "potential_energy", "energy", "momentum_x", "momentum_y",
@@ -170,16 +171,16 @@ class Run:
         ``size`` is the longer side in inches at 128 pixels an inch. Returns the path."""
         from ._preview import write_preview  # noqa: PLC0415
 
-        return write_preview(self, Path(path), fps, size, title)
+        return write_preview(self, as_path(path), fps, size, title)
 
     def export_usd(self, path: str | Path) -> Path:
         """Writes the run as USD (``.usda`` text, ``.usdc`` binary) through usd-core (``pip install
-        "tumble[usd]"``): one prim per body with its colliders' meshes (each distinct shape written once and
+        "./python[usd]"``): one prim per body with its colliders' meshes (each distinct shape written once and
         referenced), translation and orientation time-sampled at every frame, the stage in metres with z up.
         Houdini, Omniverse and Blender read it. Returns the path."""
         from ._usd import export  # noqa: PLC0415
 
-        return export(self, Path(path))
+        return export(self, as_path(path))
 
     def export_gltf(self, path: str | Path) -> Path:
         """Writes the run as binary glTF 2.0 (``.glb``) that Blender and web viewers play: a node per body, particle,
@@ -190,11 +191,11 @@ class Run:
         joints one colour each). A run that diverged is written up to its last finite frame. Returns the path."""
         from ._gltf import export  # noqa: PLC0415
 
-        return export(self, Path(path))
+        return export(self, as_path(path))
 
     def show(self, port: int = 8080, block: bool = True, host: str = "127.0.0.1") -> Viewer:
         """Shows the run in an interactive 3-D viewer in the browser at ``http://127.0.0.1:8080`` (viser: ``pip
-        install "tumble[viewer]"``): the bodies' colliders, particles, springs and joints, each frame's contacts;
+        install "./python[viewer]"``): the bodies' colliders, particles, springs and joints, each frame's contacts;
         play, pause, scrub and playback speed, with energy and penetration plotted beside the scene. ``port`` 0
         takes a free port (a taken one, the next free one: ``Viewer.url`` says which); ``host="0.0.0.0"`` serves
         other machines too. With ``block`` it prints the address and serves until Ctrl-C; without, it returns the
@@ -209,4 +210,4 @@ class Run:
         scrubbing and speed; no plots (viser records the scene only). Returns the path."""
         from ._viewer import export  # noqa: PLC0415
 
-        return export(self, Path(path))
+        return export(self, as_path(path))

@@ -1,4 +1,4 @@
-"""USD export of a run through usd-core (``pip install "tumble[usd]"``): one Xform prim per body carrying its
+"""USD export of a run through usd-core (``pip install "./python[usd]"``): one Xform prim per body carrying its
 colliders as meshes (each identical shape written once, under the abstract class prim /Shapes, and referenced), one
 per particle carrying a small sphere, with translation and orientation time-sampled at every frame (time codes are
 frames, at the run's frame rate). The stage states metres and z up, tumble's own units and axes, so no root
@@ -11,6 +11,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ._install import install_hint
+from ._mesh import shape_mesh as mesh_of
+
 if TYPE_CHECKING:
     from ._run import Run
     from ._tumble import Shape
@@ -20,7 +23,7 @@ def _pxr() -> tuple[Any, Any, Any, Any]:
     try:
         from pxr import Gf, Sdf, Usd, UsdGeom  # noqa: PLC0415
     except ImportError:
-        raise ImportError('USD export needs usd-core: pip install "tumble[usd]"') from None
+        raise ImportError(f"USD export needs usd-core: {install_hint('usd')}") from None
     return Gf, Sdf, Usd, UsdGeom
 
 
@@ -55,10 +58,9 @@ def export(run: "Run", path: Path) -> Path:
     def shape_mesh(shape: Shape, key: str) -> Any:
         """The path of `shape`'s mesh under /Shapes, written once for each distinct shape."""
         if key not in meshes:
-            v, t = shape.triangle_mesh(24, 10.0)
+            vertices, triangles = mesh_of(shape)  # in the shape's frame: the collider's prim places it
             mesh = UsdGeom.Mesh.Define(stage, f"/Shapes/shape_{len(meshes)}")
-            mesh.CreatePointsAttr([Gf.Vec3f(*map(float, p)) for p in np.asarray(v)])
-            triangles = np.asarray(t)
+            mesh.CreatePointsAttr([Gf.Vec3f(*map(float, p)) for p in vertices])
             mesh.CreateFaceVertexCountsAttr([3] * len(triangles))
             mesh.CreateFaceVertexIndicesAttr([int(i) for i in triangles.reshape(-1)])
             meshes[key] = mesh.GetPath()

@@ -1,6 +1,6 @@
 """The interactive 3-D viewer of a run (``Run.show``, ``World.show``) and its static export (``Run.export_viewer``),
-built on viser (``pip install "tumble[viewer]"``): a web server in a background thread that drives viser's prebuilt
-three.js client from Python.
+built on viser (``pip install "./python[viewer]"`` from the clone): a web server in a background thread that drives
+viser's prebuilt three.js client from Python.
 
 The scene: each distinct collider shape is meshed once and drawn as one batched (instanced) mesh with an instance per
 collider, posed every frame from its body's pose; half-spaces are a large square with a grid under the scene;
@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ._geometry import normal_links
+from ._install import install_hint
 from ._viewer_scene import Scene
 
 if TYPE_CHECKING:
@@ -37,7 +38,7 @@ def _viser() -> Any:
     try:
         import viser  # noqa: PLC0415
     except ImportError:
-        raise ImportError('the viewer needs viser: pip install "tumble[viewer]"') from None
+        raise ImportError(f"the viewer needs viser: {install_hint('viewer')}") from None
     return viser
 
 

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ._geometry import rotation_matrices
+from ._mesh import half_space_plane, shape_mesh
 
 if TYPE_CHECKING:
     from ._run import Run
@@ -68,7 +69,7 @@ class Scene:
                     continue
                 key = shape.__reduce__()[1][0]
                 groups.setdefault(key, (shape, []))[1].append((b, offset, orientation))
-        meshes = {key: tuple(np.asarray(a) for a in shape.triangle_mesh()) for key, (shape, _) in groups.items()}
+        meshes = {key: shape_mesh(shape) for key, (shape, _) in groups.items()}
         for key, (_, members) in groups.items():
             extent = float(np.linalg.norm(meshes[key][0], axis=1).max(initial=0.0))
             for b, offset, _ in members:
@@ -119,15 +120,12 @@ class Scene:
     def _plane(self, scene: Any, i: int, b: int, shape: Any, offset: Any, orientation: Any) -> None:
         """A half-space as an opaque square with a grid, under the scene (static: posed at the first frame)."""
         run = self.run
-        # its boundary plane in the collider's frame, from the library's square of it (a triangle faces outwards)
-        vertices, triangles = shape.triangle_mesh(None, 1.0)
-        v = np.asarray(vertices, dtype=float)
-        a, c, d = v[np.asarray(triangles, dtype=np.int64)[0]]
-        normal = np.cross(c - a, d - a)
+        # its boundary plane in the collider's frame, facing out of the solid side
+        middle, normal = half_space_plane(shape)
         rotation = rotation_matrices(quat_mul(run.body_orientations[0, b], orientation))
-        n = rotation @ (normal / np.linalg.norm(normal))
+        n = rotation @ normal
         point = (run.body_positions[0, b] + rotation_matrices(run.body_orientations[0, b]) @ np.asarray(offset, float)
-                 + rotation @ v.mean(axis=0))
+                 + rotation @ middle)
         # the square's centre: the scene's centre projected onto the plane
         center = self.center - float(np.dot(self.center - point, n)) * n
         width = 3.0 * self.size + 2.0 * float(np.linalg.norm(center - point))

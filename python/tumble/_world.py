@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
-from ._errors import named_arguments, renamed
+from ._errors import as_path, named_arguments, renamed
 from ._progress import Progress, progress as _progress
 from ._report import Report
 from ._run import Run
@@ -181,7 +181,7 @@ class World(_World):
         touching phase): a loaded world continues bit for bit as this one, in both modes. From JSON a loaded world
         starts its engine afresh from the saved state. A world with force callbacks cannot be saved
         (ValueError naming ``loads``). Returns the path."""
-        path = Path(path)
+        path = as_path(path)
         if path.suffix.lower() == ".json":
             path.write_text(self.to_json())
         else:
@@ -192,7 +192,7 @@ class World(_World):
     def load(cls, path: str | os.PathLike[str]) -> "World":
         """Loads a world written by ``save`` (JSON if ``path`` ends in ``.json``, else binary). A truncated file,
         another version, an unknown field or a bad value raises ValueError naming it; nothing is half-built."""
-        path = Path(path)
+        path = as_path(path)
         world = cls()
         if path.suffix.lower() == ".json":
             world._assign_from_json(path.read_text())
@@ -251,7 +251,7 @@ class World(_World):
         frame_interval: float | None = None,
         host: str = "127.0.0.1",
     ) -> Viewer:
-        """Shows the world in the interactive 3-D viewer (``Run.show``; ``pip install "tumble[viewer]"``). With a
+        """Shows the world in the interactive 3-D viewer (``Run.show``; ``pip install "./python[viewer]"``). With a
         ``duration`` it runs that long (frames every ``frame_interval``) and shows the run; without, it shows the
         world as it is now, with its current contacts, and leaves it unchanged. Returns the ``Viewer``."""
         from ._viewer import check_arguments, snapshot  # noqa: PLC0415
