@@ -1,7 +1,7 @@
 //! The contacts of an engine's last step, kept for `World::contacts`: each pair's point, normal and gap where the
 //! step found them (its start) and the normal impulse the step's solve gave it.
 
-use crate::engine::contact_scene::Found;
+use crate::engine::found_contact::FoundContact;
 use nalgebra::{Point3, Vector3};
 
 /// A contact of the last step, between two actors (particles, then dynamic bodies, then static bodies).
@@ -19,7 +19,7 @@ pub(crate) struct LastContact {
 
 impl LastContact {
     /// The contacts `found` with their impulses over the step of length `step`.
-    pub fn from_found(found: &[Found], impulses: impl Iterator<Item = f64>, step: f64) -> Vec<LastContact> {
+    pub fn from_found(found: &[FoundContact], impulses: impl Iterator<Item = f64>, step: f64) -> Vec<LastContact> {
         found
             .iter()
             .zip(impulses)

@@ -9,14 +9,16 @@
 pub(crate) mod accurate;
 mod budget;
 #[cfg(feature = "contact")]
-pub(crate) mod contact_scene;
+pub(crate) mod collider_set;
+#[cfg(feature = "contact")]
+mod contact_reduction;
 mod core;
 #[cfg(feature = "contact")]
 pub(crate) mod fast;
 #[cfg(feature = "contact")]
-pub(crate) mod last_contacts;
+pub(crate) mod found_contact;
 #[cfg(feature = "contact")]
-mod manifold;
+pub(crate) mod last_contacts;
 #[cfg(feature = "contact")]
 mod manifold_cache;
 mod memory;
@@ -48,7 +50,7 @@ pub(crate) struct EngineSpec {
     pub settings: Settings,
     /// The colliders, when two of them can touch.
     #[cfg(feature = "contact")]
-    pub scene: Option<contact_scene::ContactScene>,
+    pub scene: Option<collider_set::ColliderSet>,
     /// |g|, for accurate mode's resting speed and first contact step.
     pub gravity: f64,
     /// Threads for the contact solves (0: one per core).

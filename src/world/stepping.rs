@@ -42,8 +42,8 @@ impl World {
     }
 
     #[cfg(feature = "contact")]
-    fn contact_scene(&self, compiled: &Compiled) -> Option<crate::engine::contact_scene::ContactScene> {
-        let mut scene = crate::engine::contact_scene::ContactScene::build(
+    fn contact_scene(&self, compiled: &Compiled) -> Option<crate::engine::collider_set::ColliderSet> {
+        let mut scene = crate::engine::collider_set::ColliderSet::build(
             compiled.model.layout,
             &self.particles,
             &self.bodies,

@@ -4,7 +4,7 @@
 
 use super::contacts::Contacts;
 use super::system::AccurateSystem;
-use crate::engine::contact_scene::{ContactKey, Found};
+use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::model::actor_poses;
 use crate::plan::Stage;
 use nalgebra::Isometry3;
@@ -20,7 +20,7 @@ impl Contacts<'_> {
     pub(super) fn collision_time(
         &mut self,
         step: &mut StepView<'_, AccurateSystem>,
-        found1: &[Found],
+        found1: &[FoundContact],
         poses0: &[Isometry3<f64>],
     ) -> Result<Option<f64>, OdeError> {
         let (t0, t1) = (step.t0(), step.t1());
@@ -34,7 +34,7 @@ impl Contacts<'_> {
         // heavy one would otherwise raise an event at every step. The collision time of such a contact is off by
         // at most that depth over the closing speed (3e-11 s for the bouncing ball).
         // The collider pairs of the contacts that satisfy `pick`, each once.
-        let pairs_where = |pick: &dyn Fn(&Found) -> bool| -> Vec<(usize, usize)> {
+        let pairs_where = |pick: &dyn Fn(&FoundContact) -> bool| -> Vec<(usize, usize)> {
             let mut p: Vec<(usize, usize)> = found1
                 .iter()
                 .filter(|f| pick(f))
@@ -54,7 +54,7 @@ impl Contacts<'_> {
         // In a pair that has resting contacts, a contact parry names differently (it may renumber the features of
         // one geometric contact from step to step) is not a new collision unless it sinks as deep as a drift does.
         let resting_pairs: BTreeSet<(u32, u32)> = resting.iter().map(|k| k.colliders).collect();
-        let hits = |f: &Found, resting: &BTreeSet<ContactKey>| {
+        let hits = |f: &FoundContact, resting: &BTreeSet<ContactKey>| {
             let depth = if resting_pairs.contains(&f.key.colliders) {
                 -delta
             } else if touching0.contains(&f.key.colliders) {

@@ -6,7 +6,8 @@
 use super::resting::RestingContacts;
 use super::system::AccurateSystem;
 use super::touching::TouchingPhase;
-use crate::engine::contact_scene::{ContactKey, ContactScene};
+use crate::engine::collider_set::ColliderSet;
+use crate::engine::found_contact::ContactKey;
 use crate::mode::AccurateSettings;
 use crate::report::WorldReport;
 use serde::{Deserialize, Serialize};
@@ -117,7 +118,7 @@ impl ContactMemory {
 /// The colliders and the settings the contact stages work from, with their scratch counters.
 #[derive(Clone)]
 pub(crate) struct ContactRules {
-    pub scene: ContactScene,
+    pub scene: ColliderSet,
     pub settings: AccurateSettings,
     /// clarabel's settings for impulses, resting forces and position corrections.
     pub solver: SolverSettings,
@@ -136,7 +137,7 @@ pub(crate) struct ContactRules {
 impl ContactRules {
     /// The rules of `scene` and the contact memory of a world starting at (t, y).
     pub fn new(
-        scene: ContactScene,
+        scene: ColliderSet,
         settings: AccurateSettings,
         integration: &Settings,
         gravity: f64,
@@ -194,7 +195,7 @@ impl ContactRules {
 /// What a contact stage works on during an advance: the colliders and settings, the contact memory, the engine's
 /// report, the thread count and the divergence limit.
 pub(crate) struct Contacts<'a> {
-    pub scene: &'a mut ContactScene,
+    pub scene: &'a mut ColliderSet,
     pub settings: &'a AccurateSettings,
     pub solver: &'a SolverSettings,
     pub gravity: f64,

@@ -10,8 +10,8 @@ use super::contacts::Contacts;
 use super::failure;
 use super::joint_forces::{bilateral_rows, project_joints, JOINT_DRIFT};
 use super::system::AccurateSystem;
-use crate::engine::contact_scene::{ContactKey, Found};
-use crate::engine::manifold::reduce;
+use crate::engine::contact_reduction::reduce;
+use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::engine::semi_implicit::update_positions;
 use crate::model::{actor_poses, Model, StateOptions};
 use crate::plan::Stage;
@@ -60,7 +60,7 @@ impl Contacts<'_> {
         y: &[f64],
         t: f64,
         h: f64,
-    ) -> Result<Vec<Found>, OdeError> {
+    ) -> Result<Vec<FoundContact>, OdeError> {
         let clock = Instant::now();
         let statics = self.scene.static_poses.clone();
         let poses = actor_poses(model.layout, y, &statics);
@@ -70,7 +70,7 @@ impl Contacts<'_> {
         }
         let checks = self.scene.checks;
         let found = self.scene.find(&poses, &reach, self.settings.contact_distance).map_err(|e| failure(t, e))?;
-        let found: Vec<Found> = reduce(found)
+        let found: Vec<FoundContact> = reduce(found)
             .into_iter()
             .filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic())
             .collect();
@@ -89,7 +89,7 @@ impl Contacts<'_> {
         &mut self,
         model: &Model,
         states: &[BodyState],
-        found: &[Found],
+        found: &[FoundContact],
         lagged: &BTreeMap<ContactKey, f64>,
         t: f64,
         y: &[f64],

@@ -3,7 +3,7 @@
 //! impact stage moves the bodies back to zero gap by the smallest position change (a position-level LCP).
 
 use super::failure;
-use crate::engine::contact_scene::{ContactKey, Found};
+use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::model::layout::{get3, get_quat, set3, set_quat};
 use crate::model::Model;
 use nalgebra::UnitQuaternion;
@@ -12,7 +12,7 @@ use tumble_contact::{position_correction, BodyState, BodyVelocity, Contact, Solv
 use tumble_integrate::OdeError;
 
 /// Whether a resting contact among `found` has sunk past the contact distance `delta`.
-pub(super) fn drifted(found: &[Found], resting: &BTreeSet<ContactKey>, delta: f64) -> bool {
+pub(super) fn drifted(found: &[FoundContact], resting: &BTreeSet<ContactKey>, delta: f64) -> bool {
     found.iter().any(|f| resting.contains(&f.key) && f.contact.distance < -delta)
 }
 

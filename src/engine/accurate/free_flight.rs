@@ -8,7 +8,7 @@ use super::contacts::Contacts;
 use super::integration::Integration;
 use super::system::AccurateSystem;
 use crate::engine::budget::{over_budget, Budget};
-use crate::engine::contact_scene::Found;
+use crate::engine::found_contact::FoundContact;
 use crate::model::joints::JointEnd;
 use crate::model::layout::Layout;
 use crate::model::{End, Model};
@@ -25,7 +25,7 @@ pub(crate) struct FreeFlight {
 
 /// Which actors (particles, then dynamic bodies) take part in a step with the contacts `found`: those of a
 /// contact, and those joined to them by springs, transitively.
-pub(crate) fn involved(model: &Model, found: &[&[Found]]) -> Vec<bool> {
+pub(crate) fn involved(model: &Model, found: &[&[FoundContact]]) -> Vec<bool> {
     let l = model.layout;
     let n = l.particles + l.bodies;
     let mut out = vec![false; n];

@@ -11,7 +11,7 @@ use super::drift::correct_drift;
 use super::failure;
 use super::resting::{RestingContact, RestingContacts};
 use super::system::AccurateSystem;
-use crate::engine::contact_scene::Found;
+use crate::engine::found_contact::FoundContact;
 use crate::mode::Persistent;
 use crate::model::layout::set3;
 use crate::model::{actor_poses, Model};
@@ -87,7 +87,12 @@ impl Contacts<'_> {
     /// The contacts touching in state y that do not separate faster than the resting speed, with their relative
     /// normal velocities. The bisection stops up to `time_tolerance` before contact, when a pair may still be apart
     /// by as much as it closes in that time: contacts within that distance (plus the contact distance) count.
-    fn touching_contacts(&mut self, model: &mut Model, y: &[f64], t: f64) -> Result<Vec<(Found, f64)>, OdeError> {
+    fn touching_contacts(
+        &mut self,
+        model: &mut Model,
+        y: &[f64],
+        t: f64,
+    ) -> Result<Vec<(FoundContact, f64)>, OdeError> {
         let clock = Instant::now();
         let statics = self.scene.static_poses.clone();
         let states = contact_states(model, y, &statics);
@@ -117,7 +122,7 @@ impl Contacts<'_> {
         &mut self,
         model: &mut Model,
         y: &mut [f64],
-        active: &mut [(Found, f64)],
+        active: &mut [(FoundContact, f64)],
         t: f64,
     ) -> Result<(), OdeError> {
         let statics = &self.scene.static_poses;

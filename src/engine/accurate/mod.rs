@@ -88,7 +88,7 @@ impl AccurateEngine {
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         compiled: Compiled,
-        #[cfg(feature = "contact")] scene: Option<crate::engine::contact_scene::ContactScene>,
+        #[cfg(feature = "contact")] scene: Option<crate::engine::collider_set::ColliderSet>,
         settings: Settings,
         accurate: AccurateSettings,
         gravity: f64,

@@ -5,7 +5,7 @@
 use super::contacts::Contacts;
 use super::failure;
 use super::system::AccurateSystem;
-use crate::engine::contact_scene::Found;
+use crate::engine::found_contact::FoundContact;
 use crate::model::actor_poses;
 use crate::plan::Stage;
 use nalgebra::Isometry3;
@@ -22,7 +22,7 @@ impl Contacts<'_> {
         &mut self,
         step: &mut StepView<'_, AccurateSystem>,
         pairs: &[(usize, usize)],
-        found1: &[Found],
+        found1: &[FoundContact],
         poses0: &[Isometry3<f64>],
         poses1: &[Isometry3<f64>],
         speeds: &[(f64, f64)],

@@ -3,7 +3,7 @@
 //! so that resting bodies neither sink into nor accelerate away from what holds them.
 
 use super::system::AccurateSystem;
-use crate::engine::contact_scene::{ContactKey, Found};
+use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::model::actor_poses;
 use crate::model::layout::add3;
 use nalgebra::{Isometry3, Point3, Vector3};
@@ -44,7 +44,7 @@ impl RestingContacts {
 
 impl RestingContact {
     /// Attaches a contact found at `poses` to its actors.
-    pub fn attach(f: &Found, poses: &[Isometry3<f64>]) -> Self {
+    pub fn attach(f: &FoundContact, poses: &[Isometry3<f64>]) -> Self {
         let c = &f.contact;
         let (pa, pb) = (&poses[c.a], &poses[c.b]);
         let owner = if c.normal_motion == NormalMotion::WithA { pa } else { pb };

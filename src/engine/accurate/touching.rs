@@ -16,7 +16,7 @@ use super::drift::correct_drift;
 use super::failure;
 use super::free_flight::{copy_free, involved, FreeFlight};
 use super::system::AccurateSystem;
-use crate::engine::contact_scene::ContactKey;
+use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;
 use crate::engine::state_error::state_difference;
 use crate::engine::Budget;
@@ -290,7 +290,7 @@ impl Contacts<'_> {
         system: &mut AccurateSystem,
         statics: &[nalgebra::Isometry3<f64>],
         states: &[tumble_contact::BodyState],
-        found: &[crate::engine::contact_scene::Found],
+        found: &[crate::engine::found_contact::FoundContact],
         lagged: &BTreeMap<ContactKey, f64>,
         t: f64,
         y: &[f64],

@@ -4,7 +4,7 @@
 //! given back it is checked here first.
 
 use super::sleep::Sleep;
-use crate::engine::contact_scene::ContactKey;
+use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;
 use crate::engine::manifold_cache::ManifoldCache;
 use std::collections::BTreeMap;

@@ -1,24 +1,25 @@
-//! Fast mode: time stepping at a fixed step. One step is a list of stages, one file each: the applied forces at
-//! the step's start (`applied_forces.rs`), contacts found with a margin (`find_contacts.rs`), the contact solve:
-//! either the soft step, which gives velocities and poses from its substeps (`soft_solve.rs`, the default), or the
-//! exact solver's velocities from one conic program per island (`solve_velocities.rs`, with `warm_start.rs` and
-//! `bounce_limiter.rs`) and positions from them (`integrate_positions.rs`); then sleep (`sleep.rs`) and the report.
+//! Fast mode: time stepping at a fixed step. One step is a list of stages (`step.rs`), one file each: the applied
+//! forces at the step's start (`applied_forces.rs`), contacts found with a margin (`find_contacts.rs`), the contact
+//! solve: either the soft step, which gives velocities and poses from its substeps (`soft_solve.rs`, the default),
+//! or the exact solver's velocities from one conic program per island (`solve_velocities.rs`, with `warm_start.rs`
+//! and `bounce_limiter.rs`) and positions from them; then sleep (`sleep.rs`) and the report. What the steps carry
+//! from one to the next is the engine's memory (`memory.rs`).
 //! The engine always steps by its `dt`: an advance ends at a whole number of steps, and frames are the states at the
 //! steps that reach them.
 
 mod applied_forces;
 mod bounce_limiter;
 mod find_contacts;
-mod integrate_positions;
 mod memory;
 mod sleep;
 mod soft_solve;
 mod solve_velocities;
+mod step;
 mod warm_start;
 
 pub(crate) use memory::FastMemory;
 
-use crate::engine::contact_scene::ContactScene;
+use crate::engine::collider_set::ColliderSet;
 use crate::engine::last_contacts::LastContact;
 use crate::engine::{Budget, Engine, EngineCore, EngineMemory};
 use crate::error::WorldError;
@@ -30,6 +31,7 @@ use crate::run::Run;
 use sleep::Sleep;
 use std::collections::BTreeMap;
 use std::time::Instant;
+use step::StepContext;
 use tumble_integrate::OdeError;
 
 /// The method name fast mode reports.
@@ -45,7 +47,7 @@ const MAX_STEPS: f64 = 1e7;
 pub(crate) struct FastEngine {
     core: EngineCore,
     model: Model,
-    scene: Option<ContactScene>,
+    scene: Option<ColliderSet>,
     settings: FastSettings,
     memory: FastMemory,
     /// The rates of the last force evaluation (scratch).
@@ -59,7 +61,7 @@ pub(crate) fn failure(t: f64, message: String) -> WorldError {
 impl FastEngine {
     pub fn new(
         compiled: Compiled,
-        scene: Option<ContactScene>,
+        scene: Option<ColliderSet>,
         t: f64,
         y: Vec<f64>,
         settings: FastSettings,
@@ -116,42 +118,26 @@ impl FastEngine {
         self.memory.origin + steps as f64 * self.settings.dt
     }
 
-    /// One step of size h, as its stages.
-    fn step(&mut self, h: f64) -> Result<(), WorldError> {
-        let clock = Instant::now();
-        let before = self.energy();
-        let mut states = self.applied_forces()?;
-        let found = self.find_contacts(&mut states, h)?;
-        let velocities = match self.settings.solver {
-            FastSolver::Soft(soft) => {
-                let out = self.soft_solve(&states, &found, h, soft)?;
-                self.apply_moves(&out);
-                out.velocities
-            }
-            FastSolver::Exact { .. } => {
-                let velocities = self.solve_velocities(&states, &found, h)?;
-                self.integrate_positions(&velocities, h);
-                velocities
-            }
-        };
-        self.check_state(h)?;
-        if !self.model.joints.is_empty() {
-            let (rows, errors) = self.model.joint_errors(&self.memory.y);
-            self.core.report.book_joints(rows, errors);
+    /// The step's context: the engine's parts for one step from now.
+    fn context(&mut self) -> StepContext<'_> {
+        let (t, t_next) = (self.time(), self.time_at(self.memory.steps + 1));
+        StepContext {
+            model: &mut self.model,
+            scene: self.scene.as_mut(),
+            settings: &self.settings,
+            memory: &mut self.memory,
+            dy: &mut self.dy,
+            report: &mut self.core.report,
+            threads: self.core.threads,
+            divergence_limit: self.core.divergence_limit,
+            t,
+            t_next,
         }
-        self.update_sleep(&states, &velocities, &found, h);
-        self.memory.steps += 1;
-        let change = self.energy() - before;
-        let r = &mut self.core.report;
-        r.energy_change += change;
-        r.energy_gain = Some(r.energy_gain.unwrap_or(0.0).max(change));
-        self.book_step(h, clock);
-        Ok(())
     }
 
-    /// The mechanical energy of the state (kinetic, gravity's and the springs' potential; J).
-    fn energy(&self) -> f64 {
-        self.model.kinetic_energy(&self.memory.y) + self.model.potential_energy(&self.memory.y)
+    /// One step of size h (`step.rs`).
+    fn step(&mut self, h: f64) -> Result<(), WorldError> {
+        step::step(&mut self.context(), h)
     }
 
     /// A step of h, and its error estimate: the same step taken as two halves from the same start (time, state,
@@ -175,36 +161,6 @@ impl FastEngine {
         self.core.report.integrator.wall_seconds += clock.elapsed().as_secs_f64();
         self.core.report.step_error = Some(self.core.report.step_error.map_or(error, |e| e.max(error)));
         Ok(())
-    }
-
-    /// Fails the step if the new state is not finite or has diverged past the limit (one comparison a component;
-    /// NaN fails it too).
-    fn check_state(&self, h: f64) -> Result<(), WorldError> {
-        let limit = self.core.divergence_limit;
-        let y = &self.memory.y;
-        if y.iter().all(|v| v.abs() <= limit) {
-            return Ok(());
-        }
-        let t = self.time_at(self.memory.steps + 1);
-        let error = match y.iter().position(|v| !v.is_finite()) {
-            Some(index) => OdeError::NonFinite { t, what: "state", index },
-            None => OdeError::Divergence { t, norm: y.iter().fold(0.0, |m, v| m.max(v.abs())), limit, h },
-        };
-        Err(WorldError::Simulation(error))
-    }
-
-    /// The report's share of a step.
-    fn book_step(&mut self, h: f64, clock: Instant) {
-        let report = &mut self.core.report;
-        report.sleepers = self.memory.sleep.count();
-        report.max_penetration = report.max_penetration.max(self.memory.penetration);
-        report.stages.mark(Stage::Integrate);
-        let r = &mut report.integrator;
-        r.steps += 1;
-        r.rhs_evals += 1;
-        r.min_step = r.min_step.min(h);
-        r.max_step = r.max_step.max(h);
-        r.wall_seconds += clock.elapsed().as_secs_f64();
     }
 
     /// The sizes a memory must fit.

@@ -2,8 +2,8 @@
 //! sleep time is still; a group of actors in contact sleeps when all its members are still, and is skipped (held
 //! fixed, momenta zero) until an awake actor touches one of them, which wakes the whole group.
 
-use super::FastEngine;
-use crate::engine::contact_scene::Found;
+use super::step::StepContext;
+use crate::engine::found_contact::FoundContact;
 use crate::mode::FastSettings;
 use crate::model::layout::set3;
 use crate::model::Model;
@@ -19,7 +19,7 @@ pub(crate) struct Sleep {
 }
 
 /// Groups of dynamic actors (indices below `n`) joined by contacts, as a root per actor.
-fn groups(found: &[Found], n: usize) -> Vec<usize> {
+fn groups(found: &[FoundContact], n: usize) -> Vec<usize> {
     let mut parent: Vec<usize> = (0..n).collect();
     fn root(parent: &mut [usize], mut x: usize) -> usize {
         while parent[x] != x {
@@ -69,7 +69,7 @@ impl Sleep {
     }
 
     /// Wakes every group in which an awake actor touches a sleeping one; returns whether any woke.
-    pub fn wake_touched(&mut self, found: &[Found], n: usize) -> bool {
+    pub fn wake_touched(&mut self, found: &[FoundContact], n: usize) -> bool {
         if !self.asleep.iter().any(|&s| s) {
             return false;
         }
@@ -97,7 +97,7 @@ impl Sleep {
     /// Books a step of length h: `speeds[i]` bounds how fast any point of actor i moves. Groups whose awake members
     /// have all been still for the sleep time fall asleep.
     #[allow(clippy::needless_range_loop)]
-    pub fn update(&mut self, found: &[Found], speeds: &[f64], s: &FastSettings, h: f64) {
+    pub fn update(&mut self, found: &[FoundContact], speeds: &[f64], s: &FastSettings, h: f64) {
         let n = self.asleep.len();
         for i in 0..n {
             if !self.asleep[i] {
@@ -136,23 +136,27 @@ impl Sleep {
     }
 }
 
-impl FastEngine {
-    /// Fifth stage: books how long each actor has been still (at the velocities the step ended with) and puts
-    /// still islands to sleep, their momenta zeroed.
-    pub(super) fn update_sleep(&mut self, states: &[BodyState], v: &[BodyVelocity], found: &[Found], h: f64) {
-        let (true, Some(scene)) = (self.settings.sleep, &self.scene) else { return };
-        // jointed bodies do not sleep (sleep groups bodies by their contacts alone)
-        if !self.model.joints.is_empty() {
-            return;
-        }
-        let moved: Vec<BodyState> = states
-            .iter()
-            .zip(v)
-            .map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s })
-            .collect();
-        let speeds = scene.reach(&moved, 1.0);
-        self.memory.sleep.update(found, &speeds, &self.settings, h);
-        self.memory.sleep.freeze(&mut self.memory.y, &self.model);
-        self.core.report.stages.mark(Stage::Sleeping);
+/// Fifth stage: books how long each actor has been still (at the velocities the step ended with) and puts
+/// still islands to sleep, their momenta zeroed.
+pub(super) fn update_sleep(
+    cx: &mut StepContext<'_>,
+    states: &[BodyState],
+    v: &[BodyVelocity],
+    found: &[FoundContact],
+    h: f64,
+) {
+    let (true, Some(scene)) = (cx.settings.sleep, cx.scene.as_deref()) else { return };
+    // jointed bodies do not sleep (sleep groups bodies by their contacts alone)
+    if !cx.model.joints.is_empty() {
+        return;
     }
+    let moved: Vec<BodyState> = states
+        .iter()
+        .zip(v)
+        .map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s })
+        .collect();
+    let speeds = scene.reach(&moved, 1.0);
+    cx.memory.sleep.update(found, &speeds, &cx.settings, h);
+    cx.memory.sleep.freeze(&mut cx.memory.y, &cx.model);
+    cx.report.stages.mark(Stage::Sleeping);
 }

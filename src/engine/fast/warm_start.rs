@@ -3,11 +3,11 @@
 //! last step, from the pair's last total shared among its contacts now; a contact of a pair that has just met has
 //! none (its island gets a first pass). Sums run in key order, so the answer never depends on hashing.
 
-use crate::engine::contact_scene::{ContactKey, Found};
+use crate::engine::found_contact::{ContactKey, FoundContact};
 use std::collections::BTreeMap;
 
 /// Each contact's known impulse from the last step, if any.
-pub(super) fn known_impulses(previous: &BTreeMap<ContactKey, f64>, found: &[Found]) -> Vec<Option<f64>> {
+pub(super) fn known_impulses(previous: &BTreeMap<ContactKey, f64>, found: &[FoundContact]) -> Vec<Option<f64>> {
     let mut last_pair: BTreeMap<(u32, u32), f64> = BTreeMap::new();
     for (key, p) in previous {
         *last_pair.entry(key.colliders).or_default() += p;

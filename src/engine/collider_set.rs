@@ -1,17 +1,18 @@
-//! The collision side of a compiled world: every collider with the actor that carries it (a particle with a
-//! radius, a dynamic body, a static body), their poses in a state, and contact finding: sort-and-sweep over the
-//! colliders' boxes, then parry's contact geometry for each overlapping pair that can touch, turned into contacts
-//! for tumble-contact (body indices, point, normal from A to B, gap, combined material).
+//! The colliders of a compiled world: every collider with the actor that carries it (a particle with a radius, a
+//! dynamic body, a static body), their poses in a state, and contact finding: sort-and-sweep over the colliders'
+//! boxes, then parry's contact geometry for each overlapping pair that can touch, turned into contacts for
+//! tumble-contact (body indices, point, normal from A to B, gap, combined material; `found_contact.rs`).
 
 use crate::body::RigidBody;
 use crate::collider::{Collider, Material};
+use crate::engine::found_contact::{feature_code, ContactKey, FoundContact};
 use crate::engine::manifold_cache::ManifoldCache;
 use crate::handle::Arena;
 use crate::model::layout::Layout;
 use crate::particle::Particle;
 use crate::spring::BodyHandle;
 use nalgebra::{Isometry3, Point3, Vector3};
-use tumble_collide::{contacts, Aabb, ContactKind, Feature, Shape, SortAndSweep};
+use tumble_collide::{contacts, Aabb, ContactKind, Shape, SortAndSweep};
 
 /// Who carries a collider: actors are numbered particles first, then dynamic bodies, then static bodies, which is
 /// the order of the body arrays handed to tumble-contact.
@@ -36,60 +37,9 @@ pub(crate) struct SceneCollider {
     pub radius: f64,
 }
 
-/// The runs of `items` that share a collider pair (`pair` of each), if the pairs come in order, as the scene gives
-/// them (each pair's contacts together, pairs sorted); `None` otherwise.
-pub(crate) fn pair_runs<T>(items: &[T], pair: impl Fn(&T) -> (u32, u32)) -> Option<Vec<std::ops::Range<usize>>> {
-    if !items.windows(2).all(|w| pair(&w[0]) <= pair(&w[1])) {
-        return None;
-    }
-    let mut runs = Vec::new();
-    let mut start = 0;
-    for end in 1..=items.len() {
-        if end == items.len() || pair(&items[end]) != pair(&items[start]) {
-            runs.push(start..end);
-            start = end;
-        }
-    }
-    Some(runs)
-}
-
-/// Identifies a contact from one step to the next (for friction lagged on the previous normal impulse).
-#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub(crate) struct ContactKey {
-    pub colliders: (u32, u32),
-    pub features: (u64, u64),
-}
-
-impl ContactKey {
-    /// Whether both colliders are among the first `colliders`.
-    pub fn fits(&self, colliders: usize) -> bool {
-        (self.colliders.0 as usize) < colliders && (self.colliders.1 as usize) < colliders
-    }
-}
-
-fn feature_code(f: Feature) -> u64 {
-    match f {
-        Feature::Vertex(i) => 1 << 32 | i as u64,
-        Feature::Edge(i) => 2 << 32 | i as u64,
-        Feature::Face(i) => 3 << 32 | i as u64,
-        Feature::Curved => 4 << 32,
-        Feature::Unknown => 5 << 32,
-    }
-}
-
-/// A contact found in a state, ready for tumble-contact.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Found {
-    pub contact: tumble_contact::Contact,
-    pub key: ContactKey,
-    /// The contact's points on A's and B's surfaces (world).
-    pub point_a: Point3<f64>,
-    pub point_b: Point3<f64>,
-}
-
 /// The colliders of a world and a broad phase that persists from call to call.
 #[derive(Clone)]
-pub(crate) struct ContactScene {
+pub(crate) struct ColliderSet {
     pub colliders: Vec<SceneCollider>,
     pub static_poses: Vec<Isometry3<f64>>,
     pub layout: Layout,
@@ -111,7 +61,7 @@ fn collider_entry(actor: Actor, c: &Collider, material: Material) -> SceneCollid
     SceneCollider { actor, shape: c.shape.clone(), offset: c.offset, material, reach, radius }
 }
 
-impl ContactScene {
+impl ColliderSet {
     /// The scene of these particles and bodies (`dynamic` lists the dynamic bodies in state order), or `None`
     /// when no two colliders could ever touch (no shapes, or nothing that moves has one).
     pub fn build(
@@ -119,7 +69,7 @@ impl ContactScene {
         particles: &Arena<Particle>,
         bodies: &Arena<RigidBody>,
         dynamic: &[BodyHandle],
-    ) -> Option<ContactScene> {
+    ) -> Option<ColliderSet> {
         let mut colliders = Vec::new();
         for (i, (_, p)) in particles.iter().enumerate() {
             if p.radius > 0.0 {
@@ -150,7 +100,7 @@ impl ContactScene {
         }
         let actors = layout.particles + layout.bodies + static_poses.len();
         let inert = (0..actors).map(|a| a >= layout.particles + layout.bodies).collect();
-        Some(ContactScene {
+        Some(ColliderSet {
             colliders,
             static_poses,
             layout,
@@ -232,7 +182,7 @@ impl ContactScene {
 
     /// The contacts at `poses` closer than their pair's prediction distance (the sum of the two actors'
     /// `margins`, plus `base`): broad phase on boxes grown by the margins, then parry's manifolds.
-    pub fn find(&mut self, poses: &[Isometry3<f64>], margins: &[f64], base: f64) -> Result<Vec<Found>, String> {
+    pub fn find(&mut self, poses: &[Isometry3<f64>], margins: &[f64], base: f64) -> Result<Vec<FoundContact>, String> {
         let grown: Vec<f64> = margins.iter().map(|m| m + 0.5 * base).collect();
         let boxes = self.boxes(poses, &grown)?;
         let pairs = self.broad_pairs(&boxes)?;
@@ -251,7 +201,7 @@ impl ContactScene {
         h: f64,
         base: f64,
         cache: Option<&mut ManifoldCache>,
-    ) -> Result<Vec<Found>, String> {
+    ) -> Result<Vec<FoundContact>, String> {
         let (reach, spin) = self.reach_and_spin(states, h);
         let grown: Vec<f64> = reach.iter().map(|m| m + 0.5 * base).collect();
         let boxes = self.boxes(poses, &grown)?;
@@ -303,7 +253,7 @@ impl ContactScene {
         poses: &[Isometry3<f64>],
         prediction: impl Fn(usize, usize) -> f64,
         mut cache: Option<&mut ManifoldCache>,
-    ) -> Vec<Found> {
+    ) -> Vec<FoundContact> {
         let mut out = Vec::with_capacity(self.found_last + self.found_last / 8);
         for &(i, j) in pairs {
             let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
@@ -361,7 +311,7 @@ impl ContactScene {
                     colliders: (i as u32, j as u32),
                     features: (feature_code(c.feature_a), feature_code(c.feature_b)),
                 };
-                out.push(Found { contact, key, point_a: c.point_a, point_b: c.point_b });
+                out.push(FoundContact { contact, key, point_a: c.point_a, point_b: c.point_b });
             }
         }
         if let Some(cache) = cache {

@@ -2,7 +2,7 @@
 //! per collider pair, chosen to keep the deepest point and the largest support area (the quadrilateral of greatest
 //! area among the manifold's points, greedily).
 
-use crate::engine::contact_scene::{pair_runs, Found};
+use crate::engine::found_contact::{pair_runs, FoundContact};
 use nalgebra::{Point3, Vector3};
 use std::collections::BTreeMap;
 
@@ -12,7 +12,7 @@ pub(crate) const MAX_POINTS: usize = 4;
 /// Keeps, per collider pair, the deepest contact, the one farthest from it, the one spanning the largest triangle
 /// with those two, and the one adding the most area outside that triangle (in the order found otherwise). A box
 /// on a face keeps its four corners; the rows of the conic program drop from up to eight per pair to four.
-pub(crate) fn reduce(found: Vec<Found>) -> Vec<Found> {
+pub(crate) fn reduce(found: Vec<FoundContact>) -> Vec<FoundContact> {
     // The scene gives each pair's contacts together, pairs in order: then the groups are runs, found without a map.
     let groups: Vec<Vec<usize>> = match pair_runs(&found, |f| f.key.colliders) {
         Some(runs) => runs.into_iter().filter(|r| r.len() > MAX_POINTS).map(|r| r.collect()).collect(),

@@ -1,0 +1,107 @@
+//! One step of fast mode as a list of stages, one file each, run in order on the step's context (the engine's
+//! parts, borrowed for the step): the applied forces at the step's start (`applied_forces.rs`), the contacts found
+//! with a margin (`find_contacts.rs`), the contact solve, either the soft step, which gives velocities and poses
+//! from its substeps (`soft_solve.rs`, the default), or the exact solver's velocities from one conic program per
+//! island (`solve_velocities.rs`) and positions from them by semi-implicit Euler; then the state's check, the
+//! joints' errors, sleep (`sleep.rs`) and the report.
+
+use super::applied_forces::applied_forces;
+use super::find_contacts::find_contacts;
+use super::memory::FastMemory;
+use super::sleep::update_sleep;
+use super::soft_solve::soft_solve;
+use super::solve_velocities::solve_velocities;
+use crate::engine::collider_set::ColliderSet;
+use crate::engine::semi_implicit::{apply_moves, update_positions};
+use crate::error::WorldError;
+use crate::mode::{FastSettings, FastSolver};
+use crate::model::Model;
+use crate::plan::Stage;
+use crate::report::WorldReport;
+use std::time::Instant;
+use tumble_integrate::OdeError;
+
+/// What a stage works on: the engine's parts for one step of `h` from time `t`.
+pub(super) struct StepContext<'a> {
+    pub model: &'a mut Model,
+    pub scene: Option<&'a mut ColliderSet>,
+    pub settings: &'a FastSettings,
+    pub memory: &'a mut FastMemory,
+    /// The rates of the step's force evaluation (scratch kept by the engine).
+    pub dy: &'a mut Vec<f64>,
+    pub report: &'a mut WorldReport,
+    pub threads: usize,
+    /// A state component past this is divergence.
+    pub divergence_limit: f64,
+    /// The step's start and end times.
+    pub t: f64,
+    pub t_next: f64,
+}
+
+/// One step of size h, as its stages.
+pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<(), WorldError> {
+    let clock = Instant::now();
+    let before = energy(cx.model, &cx.memory.y);
+    let mut states = applied_forces(cx)?;
+    let found = find_contacts(cx, &mut states, h)?;
+    let velocities = match cx.settings.solver {
+        FastSolver::Soft(soft) => {
+            let out = soft_solve(cx, &states, &found, h, soft)?;
+            let sleep = &cx.memory.sleep;
+            apply_moves(cx.model, &mut cx.memory.y, &out, |a| !sleep.asleep(a));
+            out.velocities
+        }
+        FastSolver::Exact { .. } => {
+            let velocities = solve_velocities(cx, &states, &found, h)?;
+            let sleep = &cx.memory.sleep;
+            update_positions(cx.model, &mut cx.memory.y, &velocities, h, |a| !sleep.asleep(a));
+            velocities
+        }
+    };
+    check_state(cx, h)?;
+    if !cx.model.joints.is_empty() {
+        let (rows, errors) = cx.model.joint_errors(&cx.memory.y);
+        cx.report.book_joints(rows, errors);
+    }
+    update_sleep(cx, &states, &velocities, &found, h);
+    cx.memory.steps += 1;
+    let change = energy(cx.model, &cx.memory.y) - before;
+    cx.report.energy_change += change;
+    cx.report.energy_gain = Some(cx.report.energy_gain.unwrap_or(0.0).max(change));
+    book_step(cx, h, clock);
+    Ok(())
+}
+
+/// The mechanical energy of state y (kinetic, gravity's and the springs' potential; J).
+pub(super) fn energy(model: &Model, y: &[f64]) -> f64 {
+    model.kinetic_energy(y) + model.potential_energy(y)
+}
+
+/// Fails the step if the new state is not finite or has diverged past the limit (one comparison a component; NaN
+/// fails it too).
+fn check_state(cx: &StepContext<'_>, h: f64) -> Result<(), WorldError> {
+    let (limit, y) = (cx.divergence_limit, &cx.memory.y);
+    if y.iter().all(|v| v.abs() <= limit) {
+        return Ok(());
+    }
+    let t = cx.t_next;
+    let error = match y.iter().position(|v| !v.is_finite()) {
+        Some(index) => OdeError::NonFinite { t, what: "state", index },
+        None => OdeError::Divergence { t, norm: y.iter().fold(0.0, |m, v| m.max(v.abs())), limit, h },
+    };
+    Err(WorldError::Simulation(error))
+}
+
+/// The report's share of a step.
+fn book_step(cx: &mut StepContext<'_>, h: f64, clock: Instant) {
+    let report = &mut *cx.report;
+    report.sleepers = cx.memory.sleep.count();
+    report.max_penetration = report.max_penetration.max(cx.memory.penetration);
+    report.stages.mark(Stage::Integrate);
+    let r = &mut report.integrator;
+    r.steps += 1;
+    r.rhs_evals += 1;
+    r.min_step = r.min_step.min(h);
+    r.max_step = r.max_step.max(h);
+    r.wall_seconds += clock.elapsed().as_secs_f64();
+}
