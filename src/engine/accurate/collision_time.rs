@@ -2,7 +2,7 @@
 //! the end of an accepted step, the step's dense output is bisected for the last time before any such contact
 //! interpenetrates, to the time tolerance.
 
-use super::contacts::Contacts;
+use super::contact_stages::ContactStages;
 use super::system::AccurateSystem;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::model::actor_poses;
@@ -14,85 +14,83 @@ use tumble_integrate::{OdeError, StepView};
 /// Most halvings of a step's collision-time bisection (2^-100 of the step).
 const HALVINGS: usize = 100;
 
-impl Contacts<'_> {
-    /// The time of the first new collision in the step (contacts `found1` at its end; actor poses `poses0` at its
-    /// start), or None.
-    pub(super) fn collision_time(
-        &mut self,
-        step: &mut StepView<'_, AccurateSystem>,
-        found1: &[FoundContact],
-        poses0: &[Isometry3<f64>],
-    ) -> Result<Option<f64>, OdeError> {
-        let (t0, t1) = (step.t0(), step.t1());
-        let delta = self.settings.contact_distance;
-        let statics = self.scene.static_poses.clone();
-        let resting = &self.memory.resting_keys;
-        // In a pair that was already touching at the step's start (a contact within the contact distance), a contact
-        // that is not resting (it was opening) collides only once it sinks past 1e-3 of the contact distance
-        // (1e-10 m by default); in other pairs, as soon as it interpenetrates. Touching contacts sit at a gap of zero
-        // give or take rounding (+-4e-13 m seen; parry may also renumber their features), so a light body under a
-        // heavy one would otherwise raise an event at every step. The collision time of such a contact is off by
-        // at most that depth over the closing speed (3e-11 s for the bouncing ball).
-        // The collider pairs of the contacts that satisfy `pick`, each once.
-        let pairs_where = |pick: &dyn Fn(&FoundContact) -> bool| -> Vec<(usize, usize)> {
-            let mut p: Vec<(usize, usize)> = found1
-                .iter()
-                .filter(|f| pick(f))
-                .map(|f| (f.key.colliders.0 as usize, f.key.colliders.1 as usize))
-                .collect();
-            p.sort_unstable();
-            p.dedup();
-            p
-        };
-        let candidate = pairs_where(&|f| !resting.contains(&f.key) && f.contact.distance < 0.0);
-        let touching0: BTreeSet<(u32, u32)> = if candidate.is_empty() {
-            BTreeSet::new()
+/// The time of the first new collision in the step (contacts `found1` at its end; actor poses `poses0` at its
+/// start), or None.
+pub(super) fn collision_time(
+    cx: &mut ContactStages<'_>,
+    step: &mut StepView<'_, AccurateSystem>,
+    found1: &[FoundContact],
+    poses0: &[Isometry3<f64>],
+) -> Result<Option<f64>, OdeError> {
+    let (t0, t1) = (step.t0(), step.t1());
+    let delta = cx.settings.contact_distance;
+    let statics = cx.scene.static_poses.clone();
+    let resting = &cx.memory.resting_keys;
+    // In a pair that was already touching at the step's start (a contact within the contact distance), a contact
+    // that is not resting (it was opening) collides only once it sinks past 1e-3 of the contact distance
+    // (1e-10 m by default); in other pairs, as soon as it interpenetrates. Touching contacts sit at a gap of zero
+    // give or take rounding (+-4e-13 m seen; parry may also renumber their features), so a light body under a
+    // heavy one would otherwise raise an event at every step. The collision time of such a contact is off by
+    // at most that depth over the closing speed (3e-11 s for the bouncing ball).
+    // The collider pairs of the contacts that satisfy `pick`, each once.
+    let pairs_where = |pick: &dyn Fn(&FoundContact) -> bool| -> Vec<(usize, usize)> {
+        let mut p: Vec<(usize, usize)> = found1
+            .iter()
+            .filter(|f| pick(f))
+            .map(|f| (f.key.colliders.0 as usize, f.key.colliders.1 as usize))
+            .collect();
+        p.sort_unstable();
+        p.dedup();
+        p
+    };
+    let candidate = pairs_where(&|f| !resting.contains(&f.key) && f.contact.distance < 0.0);
+    let touching0: BTreeSet<(u32, u32)> = if candidate.is_empty() {
+        BTreeSet::new()
+    } else {
+        let found0 = cx.scene.pair_contacts(&candidate, poses0, |_, _| delta, None);
+        found0.iter().filter(|f| f.contact.distance <= delta).map(|f| f.key.colliders).collect()
+    };
+    // In a pair that has resting contacts, a contact parry names differently (it may renumber the features of
+    // one geometric contact from step to step) is not a new collision unless it sinks as deep as a drift does.
+    let resting_pairs: BTreeSet<(u32, u32)> = resting.iter().map(|k| k.colliders).collect();
+    let hits = |f: &FoundContact, resting: &BTreeSet<ContactKey>| {
+        let depth = if resting_pairs.contains(&f.key.colliders) {
+            -delta
+        } else if touching0.contains(&f.key.colliders) {
+            -1e-3 * delta
         } else {
-            let found0 = self.scene.pair_contacts(&candidate, poses0, |_, _| delta, None);
-            found0.iter().filter(|f| f.contact.distance <= delta).map(|f| f.key.colliders).collect()
+            0.0
         };
-        // In a pair that has resting contacts, a contact parry names differently (it may renumber the features of
-        // one geometric contact from step to step) is not a new collision unless it sinks as deep as a drift does.
-        let resting_pairs: BTreeSet<(u32, u32)> = resting.iter().map(|k| k.colliders).collect();
-        let hits = |f: &FoundContact, resting: &BTreeSet<ContactKey>| {
-            let depth = if resting_pairs.contains(&f.key.colliders) {
-                -delta
-            } else if touching0.contains(&f.key.colliders) {
-                -1e-3 * delta
-            } else {
-                0.0
-            };
-            !resting.contains(&f.key) && f.contact.distance < depth
-        };
-        let fresh = pairs_where(&|f| hits(f, resting));
-        let mut event: Option<f64> = None;
-        if !fresh.is_empty() {
-            // The chapter's bisection: the last time before any new contact interpenetrates. It goes on past the
-            // tolerance until the time has moved off the step's start: a flight shorter than the tolerance (a tiny
-            // bounce) would otherwise stop at t0 again and again. At most `HALVINGS` halvings: a contact that is
-            // already in at the step's start (a body placed inside another) would otherwise be halved toward t0 down
-            // to the last bit, a thousand fresh sub-steps for methods without dense output, at every step.
-            let (mut lo, mut hi) = (t0, t1);
-            let mut halvings = 0;
-            while (hi - lo > self.settings.time_tolerance || lo <= t0) && halvings < HALVINGS {
-                halvings += 1;
-                let mid = 0.5 * (lo + hi);
-                if mid <= lo || mid >= hi {
-                    break;
-                }
-                self.report.bisection_steps += 1;
-                self.report.stages.mark(Stage::Bisection);
-                let y = step.state_at(mid)?;
-                let poses = actor_poses(step.system().model.layout, &y, &statics);
-                let found = self.scene.pair_contacts(&fresh, &poses, |_, _| delta, None);
-                if found.iter().any(|f| hits(f, &self.memory.resting_keys)) {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
+        !resting.contains(&f.key) && f.contact.distance < depth
+    };
+    let fresh = pairs_where(&|f| hits(f, resting));
+    let mut event: Option<f64> = None;
+    if !fresh.is_empty() {
+        // The chapter's bisection: the last time before any new contact interpenetrates. It goes on past the
+        // tolerance until the time has moved off the step's start: a flight shorter than the tolerance (a tiny
+        // bounce) would otherwise stop at t0 again and again. At most `HALVINGS` halvings: a contact that is
+        // already in at the step's start (a body placed inside another) would otherwise be halved toward t0 down
+        // to the last bit, a thousand fresh sub-steps for methods without dense output, at every step.
+        let (mut lo, mut hi) = (t0, t1);
+        let mut halvings = 0;
+        while (hi - lo > cx.settings.time_tolerance || lo <= t0) && halvings < HALVINGS {
+            halvings += 1;
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
             }
-            event = Some(lo);
+            cx.report.bisection_steps += 1;
+            cx.report.stages.mark(Stage::Bisection);
+            let y = step.state_at(mid)?;
+            let poses = actor_poses(step.system().model.layout, &y, &statics);
+            let found = cx.scene.pair_contacts(&fresh, &poses, |_, _| delta, None);
+            if found.iter().any(|f| hits(f, &cx.memory.resting_keys)) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
         }
-        Ok(event)
+        event = Some(lo);
     }
+    Ok(event)
 }

@@ -6,7 +6,7 @@
 //! impulse (a fixed point to `Contacts::lagged_tolerance`, at most `LAGGED_ITERATIONS` solves), so sliding decelerates at mu g without the convex
 //! cone's hop and the answer does not depend on the previous step's forces beyond the first guess.
 
-use super::contacts::Contacts;
+use super::contact_stages::ContactStages;
 use super::failure;
 use super::joint_forces::{bilateral_rows, project_joints, JOINT_DRIFT};
 use super::system::AccurateSystem;
@@ -50,121 +50,119 @@ pub(crate) fn actors_with_forces(
     Ok(model.contact_states(y, &dy[q..], statics, StateOptions { asleep: &[], cancel_gyroscopic: true }))
 }
 
-impl Contacts<'_> {
-    /// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed
-    /// times h, plus what the applied forces add, plus the contact distance), at most four points a pair.
-    pub fn contacts_in_reach(
-        &mut self,
-        model: &Model,
-        states: &[BodyState],
-        y: &[f64],
-        t: f64,
-        h: f64,
-    ) -> Result<Vec<FoundContact>, OdeError> {
-        let clock = Instant::now();
-        let statics = self.scene.static_poses.clone();
-        let poses = actor_poses(model.layout, y, &statics);
-        let mut reach = self.scene.reach(states, h);
-        for (r, s) in reach.iter_mut().zip(states) {
-            *r += s.force.norm() * s.inv_mass * h * h;
-        }
-        let checks = self.scene.checks;
-        let found = self.scene.find(&poses, &reach, self.settings.contact_distance).map_err(|e| failure(t, e))?;
-        let found: Vec<FoundContact> = reduce(found)
-            .into_iter()
-            .filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic())
-            .collect();
-        self.report.collision_checks += self.scene.checks - checks;
-        self.report.stages.mark(Stage::CollisionDetection);
-        self.report.collision_seconds += clock.elapsed().as_secs_f64();
-        Ok(found)
+/// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed
+/// times h, plus what the applied forces add, plus the contact distance), at most four points a pair.
+pub fn contacts_in_reach(
+    cx: &mut ContactStages<'_>,
+    model: &Model,
+    states: &[BodyState],
+    y: &[f64],
+    t: f64,
+    h: f64,
+) -> Result<Vec<FoundContact>, OdeError> {
+    let clock = Instant::now();
+    let statics = cx.scene.static_poses.clone();
+    let poses = actor_poses(model.layout, y, &statics);
+    let mut reach = cx.scene.reach(states, h);
+    for (r, s) in reach.iter_mut().zip(states) {
+        *r += s.force.norm() * s.inv_mass * h * h;
     }
+    let checks = cx.scene.checks;
+    let found = cx.scene.find(&poses, &reach, cx.settings.contact_distance).map_err(|e| failure(t, e))?;
+    let found: Vec<FoundContact> = reduce(found)
+        .into_iter()
+        .filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic())
+        .collect();
+    cx.report.collision_checks += cx.scene.checks - checks;
+    cx.report.stages.mark(Stage::CollisionDetection);
+    cx.report.collision_seconds += clock.elapsed().as_secs_f64();
+    Ok(found)
+}
 
-    /// One step of h from (t, y) with the actors `states` (from `actors_with_forces` at y) and the contacts
-    /// `found`; `lagged` holds normal forces the friction bound starts from (contacts without one get a
-    /// frictionless first pass). `None` when clarabel could not answer to its tolerance (the caller tries a
-    /// smaller step; the reason is kept in `last_solver_error`).
-    #[allow(clippy::too_many_arguments)]
-    pub fn convex_step(
-        &mut self,
-        model: &Model,
-        states: &[BodyState],
-        found: &[FoundContact],
-        lagged: &BTreeMap<ContactKey, f64>,
-        t: f64,
-        y: &[f64],
-        h: f64,
-    ) -> Result<Option<ConvexStep>, OdeError> {
-        let mut next = y.to_vec();
-        if found.is_empty() && model.joints.is_empty() {
-            let v: Vec<_> = states.iter().map(|b| free_velocity(b, h)).collect();
-            update_positions(model, &mut next, &v, h, |_| true);
-            return Ok(Some(ConvexStep { y: next, forces: BTreeMap::new(), pressing: Vec::new() }));
-        }
-        let clock = Instant::now();
-        let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
-        // No Baumgarte push-out: its velocity (erp d / h) stays after the step and at small steps is large (0.2 m/s
-        // for a micrometre at h = 1e-6 s), a gain of energy. Penetration comes only from linearising a turning
-        // contact over one step, which the error control keeps within the tolerance.
-        let mut settings = StepSettings {
-            erp: 0.0,
-            bounce_threshold: self.scales.resting_speed,
-            threads: self.threads,
-            ..StepSettings::new(h)
-        };
-        // Answers are judged against the velocity that moves a body by the tolerance in the step (at least): a body
-        // nearly at rest judged against g h alone made clarabel's retries fail at h = 1e-6 s. 1e-4 of that scale
-        // is a position error of 1e-4 of the tolerance.
-        settings.velocity_scale = self.scales.tolerance / h;
-        settings.solver = tumble_contact::SolverSettings { complementarity_tolerance: 1e-4, ..*self.solver };
-        // joints: their rows held exactly in the same programs, fixed ends as extra fixed actors
-        let (bilateral, extra) = bilateral_rows(model, y, h, states.len());
-        let with_extra: Vec<BodyState>;
-        let states = if extra.is_empty() {
-            states
-        } else {
-            with_extra = states.iter().copied().chain(extra).collect();
-            &with_extra[..]
-        };
-        let mut solve = |bounds: &[f64]| {
-            let problem = VelocityProblem::new(states, &contacts).lagged(bounds).bilateral(&bilateral);
-            match velocity_step(&problem, &settings) {
-                Ok(out) => Ok(Some(out)),
-                Err(ContactError::InvalidArgument { name, reason }) => {
-                    Err(failure(t, format!("contact step: invalid {name}: {reason}")))
-                }
-                Err(e) => {
-                    *self.last_solver_error = e.to_string();
-                    Ok(None)
-                }
+/// One step of h from (t, y) with the actors `states` (from `actors_with_forces` at y) and the contacts
+/// `found`; `lagged` holds normal forces the friction bound starts from (contacts without one get a
+/// frictionless first pass). `None` when clarabel could not answer to its tolerance (the caller tries a
+/// smaller step; the reason is kept in `last_solver_error`).
+#[allow(clippy::too_many_arguments)]
+pub fn convex_step(
+    cx: &mut ContactStages<'_>,
+    model: &Model,
+    states: &[BodyState],
+    found: &[FoundContact],
+    lagged: &BTreeMap<ContactKey, f64>,
+    t: f64,
+    y: &[f64],
+    h: f64,
+) -> Result<Option<ConvexStep>, OdeError> {
+    let mut next = y.to_vec();
+    if found.is_empty() && model.joints.is_empty() {
+        let v: Vec<_> = states.iter().map(|b| free_velocity(b, h)).collect();
+        update_positions(model, &mut next, &v, h, |_| true);
+        return Ok(Some(ConvexStep { y: next, forces: BTreeMap::new(), pressing: Vec::new() }));
+    }
+    let clock = Instant::now();
+    let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
+    // No Baumgarte push-out: its velocity (erp d / h) stays after the step and at small steps is large (0.2 m/s
+    // for a micrometre at h = 1e-6 s), a gain of energy. Penetration comes only from linearising a turning
+    // contact over one step, which the error control keeps within the tolerance.
+    let mut settings = StepSettings {
+        erp: 0.0,
+        bounce_threshold: cx.scales.resting_speed,
+        threads: cx.threads,
+        ..StepSettings::new(h)
+    };
+    // Answers are judged against the velocity that moves a body by the tolerance in the step (at least): a body
+    // nearly at rest judged against g h alone made clarabel's retries fail at h = 1e-6 s. 1e-4 of that scale
+    // is a position error of 1e-4 of the tolerance.
+    settings.velocity_scale = cx.scales.tolerance / h;
+    settings.solver = tumble_contact::SolverSettings { complementarity_tolerance: 1e-4, ..*cx.solver };
+    // joints: their rows held exactly in the same programs, fixed ends as extra fixed actors
+    let (bilateral, extra) = bilateral_rows(model, y, h, states.len());
+    let with_extra: Vec<BodyState>;
+    let states = if extra.is_empty() {
+        states
+    } else {
+        with_extra = states.iter().copied().chain(extra).collect();
+        &with_extra[..]
+    };
+    let mut solve = |bounds: &[f64]| {
+        let problem = VelocityProblem::new(states, &contacts).lagged(bounds).bilateral(&bilateral);
+        match velocity_step(&problem, &settings) {
+            Ok(out) => Ok(Some(out)),
+            Err(ContactError::InvalidArgument { name, reason }) => {
+                Err(failure(t, format!("contact step: invalid {name}: {reason}")))
             }
-        };
-        let mut bounds: Vec<f64> = found.iter().map(|f| lagged.get(&f.key).map_or(0.0, |p| p * h)).collect();
-        let (mut solves, mut work) = (0, 0);
-        let Some(mut out) = solve(&bounds)? else { return Ok(None) };
+            Err(e) => {
+                *cx.last_solver_error = e.to_string();
+                Ok(None)
+            }
+        }
+    };
+    let mut bounds: Vec<f64> = found.iter().map(|f| lagged.get(&f.key).map_or(0.0, |p| p * h)).collect();
+    let (mut solves, mut work) = (0, 0);
+    let Some(mut out) = solve(&bounds)? else { return Ok(None) };
+    solves += out.solver_calls;
+    work += out.solver_work;
+    for _ in 1..LAGGED_ITERATIONS {
+        let largest = out.normal_impulses.iter().fold(0.0f64, |m, p| m.max(*p));
+        let moved = bounds.iter().zip(&out.normal_impulses).fold(0.0f64, |m, (b, p)| m.max((b - p).abs()));
+        let frictional = contacts.iter().any(|c| c.friction > 0.0);
+        if !frictional || moved <= cx.scales.lagged_tolerance * largest {
+            break;
+        }
+        bounds.clone_from(&out.normal_impulses);
+        let Some(next) = solve(&bounds)? else { return Ok(None) };
+        out = next;
         solves += out.solver_calls;
         work += out.solver_work;
-        for _ in 1..LAGGED_ITERATIONS {
-            let largest = out.normal_impulses.iter().fold(0.0f64, |m, p| m.max(*p));
-            let moved = bounds.iter().zip(&out.normal_impulses).fold(0.0f64, |m, (b, p)| m.max((b - p).abs()));
-            let frictional = contacts.iter().any(|c| c.friction > 0.0);
-            if !frictional || moved <= self.scales.lagged_tolerance * largest {
-                break;
-            }
-            bounds.clone_from(&out.normal_impulses);
-            let Some(next) = solve(&bounds)? else { return Ok(None) };
-            out = next;
-            solves += out.solver_calls;
-            work += out.solver_work;
-        }
-        self.report.qp_solves += solves;
-        *self.solve_work += work;
-        self.report.stages.add(Stage::ContactConeProgram, solves.max(1));
-        update_positions(model, &mut next, &out.velocities, h, |_| true);
-        project_joints(model, &mut next, JOINT_DRIFT);
-        let forces = found.iter().zip(&out.normal_impulses).map(|(f, p)| (f.key, p / h)).collect();
-        let pressing = found.iter().zip(&out.normal_impulses).filter(|(_, p)| **p > 0.0).map(|(f, _)| f.key).collect();
-        self.report.contact_seconds += clock.elapsed().as_secs_f64();
-        Ok(Some(ConvexStep { y: next, forces, pressing }))
     }
+    cx.report.qp_solves += solves;
+    *cx.solve_work += work;
+    cx.report.stages.add(Stage::ContactConeProgram, solves.max(1));
+    update_positions(model, &mut next, &out.velocities, h, |_| true);
+    project_joints(model, &mut next, JOINT_DRIFT);
+    let forces = found.iter().zip(&out.normal_impulses).map(|(f, p)| (f.key, p / h)).collect();
+    let pressing = found.iter().zip(&out.normal_impulses).filter(|(_, p)| **p > 0.0).map(|(f, _)| f.key).collect();
+    cx.report.contact_seconds += clock.elapsed().as_secs_f64();
+    Ok(Some(ConvexStep { y: next, forces, pressing }))
 }

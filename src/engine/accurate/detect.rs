@@ -3,8 +3,10 @@
 //! (`collision_time.rs`), passes through (`pass_through.rs`) and drift of a resting contact (`drift.rs`); the
 //! earliest of these is where the step is cut.
 
-use super::contacts::Contacts;
+use super::collision_time::collision_time;
+use super::contact_stages::ContactStages;
 use super::drift::drifted;
+use super::pass_through::pass_through;
 use super::system::AccurateSystem;
 use crate::model::layout::get3;
 use crate::model::{actor_poses, Model};
@@ -26,96 +28,100 @@ fn earliest(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     }
 }
 
-impl Contacts<'_> {
-    /// Looks at an accepted step for a collision, a pass through a thin body or drift of a resting contact;
-    /// returns the time to stop at.
-    pub fn detect(&mut self, step: &mut StepView<'_, AccurateSystem>) -> Result<Option<f64>, OdeError> {
-        self.watch_for_stall(step.t0(), step.t1())?;
-        let clock = Instant::now();
-        let result = self.detect_stages(step);
-        self.report.collision_seconds += clock.elapsed().as_secs_f64();
-        result
-    }
+/// Looks at an accepted step for a collision, a pass through a thin body or drift of a resting contact;
+/// returns the time to stop at.
+pub fn detect(cx: &mut ContactStages<'_>, step: &mut StepView<'_, AccurateSystem>) -> Result<Option<f64>, OdeError> {
+    watch_for_stall(cx, step.t0(), step.t1())?;
+    let clock = Instant::now();
+    let result = detect_stages(cx, step);
+    cx.report.collision_seconds += clock.elapsed().as_secs_f64();
+    result
+}
 
-    /// Fails when `STALL` accepted steps have taken less than `STALL` stall steps of time: the forces (with
-    /// `Persistent::RestingForces`, the resting-contact forces) have made the method crawl, and the call would
-    /// otherwise run for hours.
-    fn watch_for_stall(&mut self, t0: f64, t1: f64) -> Result<(), OdeError> {
-        let (start, steps) = self.memory.window;
-        let start = if steps == 0 { t0 } else { start };
-        if steps + 1 < STALL {
-            self.memory.window = (start, steps + 1);
-            return Ok(());
-        }
-        self.memory.window = (t1, 0);
-        let mean = (t1 - start) / STALL as f64;
-        if mean < self.scales.stall_step {
-            return Err(super::failure(
-                t1,
-                format!(
-                    "{} steps took {:.1e} s, a mean step of {mean:.1e} s: the motion is too stiff for this method \
-                     at its tolerances (try fast mode, looser tolerances, or an implicit method if this one is \
-                     explicit)",
-                    STALL,
-                    t1 - start
-                ),
-            ));
-        }
-        Ok(())
+/// Fails when `STALL` accepted steps have taken less than `STALL` stall steps of time: the forces (with
+/// `Persistent::RestingForces`, the resting-contact forces) have made the method crawl, and the call would
+/// otherwise run for hours.
+fn watch_for_stall(cx: &mut ContactStages<'_>, t0: f64, t1: f64) -> Result<(), OdeError> {
+    let (start, steps) = cx.memory.window;
+    let start = if steps == 0 { t0 } else { start };
+    if steps + 1 < STALL {
+        cx.memory.window = (start, steps + 1);
+        return Ok(());
     }
+    cx.memory.window = (t1, 0);
+    let mean = (t1 - start) / STALL as f64;
+    if mean < cx.scales.stall_step {
+        return Err(super::failure(
+            t1,
+            format!(
+                "{} steps took {:.1e} s, a mean step of {mean:.1e} s: the motion is too stiff for this method \
+                 at its tolerances (try fast mode, looser tolerances, or an implicit method if this one is \
+                 explicit)",
+                STALL,
+                t1 - start
+            ),
+        ));
+    }
+    Ok(())
+}
 
-    fn detect_stages(&mut self, step: &mut StepView<'_, AccurateSystem>) -> Result<Option<f64>, OdeError> {
-        let (t0, t1) = (step.t0(), step.t1());
-        let h = t1 - t0;
-        let delta = self.settings.contact_distance;
-        let statics = self.scene.static_poses.clone();
-        let model = &step.system().model;
-        let poses0 = actor_poses(model.layout, step.y0(), &statics);
-        let poses1 = actor_poses(model.layout, step.y1(), &statics);
-        let speeds = self.speeds(model, step.y0(), step.y1(), &statics);
-        // Boxes swept between the ends, grown by how far a curved path can bulge from its chord.
-        let margins: Vec<f64> = speeds.iter().map(|(s, bulge)| bulge * h + delta + 1e-12 * s).collect();
-        let checks = self.scene.checks;
-        self.report.stages.mark(Stage::CollisionDetection);
-        let pairs = self.scene.swept_pairs(&poses0, &poses1, &margins).map_err(|e| super::failure(t0, e))?;
-        if pairs.is_empty() {
-            return Ok(None);
-        }
-        let found1 = self.scene.pair_contacts(&pairs, &poses1, |_, _| delta, None);
-        // A resting contact that sank past the contact distance has drifted; any other contact that interpenetrates
-        // at all is a collision.
-        let drift = drifted(&found1, &self.memory.resting_keys, delta);
-        let collision = self.collision_time(step, &found1, &poses0)?;
-        let pass = self.pass_through(step, &pairs, &found1, &poses0, &poses1, &speeds)?;
-        self.report.collision_checks += self.scene.checks - checks;
-        Ok(earliest(earliest(collision, pass), drift.then_some(t1)))
+fn detect_stages(cx: &mut ContactStages<'_>, step: &mut StepView<'_, AccurateSystem>) -> Result<Option<f64>, OdeError> {
+    let (t0, t1) = (step.t0(), step.t1());
+    let h = t1 - t0;
+    let delta = cx.settings.contact_distance;
+    let statics = cx.scene.static_poses.clone();
+    let model = &step.system().model;
+    let poses0 = actor_poses(model.layout, step.y0(), &statics);
+    let poses1 = actor_poses(model.layout, step.y1(), &statics);
+    let speeds = speeds(cx, model, step.y0(), step.y1(), &statics);
+    // Boxes swept between the ends, grown by how far a curved path can bulge from its chord.
+    let margins: Vec<f64> = speeds.iter().map(|(s, bulge)| bulge * h + delta + 1e-12 * s).collect();
+    let checks = cx.scene.checks;
+    cx.report.stages.mark(Stage::CollisionDetection);
+    let pairs = cx.scene.swept_pairs(&poses0, &poses1, &margins).map_err(|e| super::failure(t0, e))?;
+    if pairs.is_empty() {
+        return Ok(None);
     }
+    let found1 = cx.scene.pair_contacts(&pairs, &poses1, |_, _| delta, None);
+    // A resting contact that sank past the contact distance has drifted; any other contact that interpenetrates
+    // at all is a collision.
+    let drift = drifted(&found1, &cx.memory.resting_keys, delta);
+    let collision = collision_time(cx, step, &found1, &poses0)?;
+    let pass = pass_through(cx, step, &pairs, &found1, &poses0, &poses1, &speeds)?;
+    cx.report.collision_checks += cx.scene.checks - checks;
+    Ok(earliest(earliest(collision, pass), drift.then_some(t1)))
+}
 
-    /// Per actor: a bound on the speed of its points over the step (the larger of the two ends, +10% for the
-    /// interpolant), and how fast its velocity changes (|v1 - v0| / 4, the bulge of its path per unit time).
-    #[allow(clippy::needless_range_loop)]
-    fn speeds(&self, model: &Model, y0: &[f64], y1: &[f64], statics: &[Isometry3<f64>]) -> Vec<(f64, f64)> {
-        let l = model.layout;
-        let mut radius = vec![0.0f64; self.scene.actors()];
-        for c in &self.scene.colliders {
-            let a = self.scene.index(c.actor);
-            radius[a] = radius[a].max(if c.reach.is_finite() { c.reach } else { 0.0 });
-        }
-        let mut out = vec![(0.0, 0.0); l.particles + l.bodies + statics.len()];
-        for i in 0..l.particles {
-            let (v0, v1) = (get3(y0, l.pv(i)), get3(y1, l.pv(i)));
-            out[i] = (1.1 * v0.norm().max(v1.norm()), 0.25 * (v1 - v0).norm());
-        }
-        for j in 0..l.bodies {
-            let a = l.particles + j;
-            let (k0, k1) = (model.body_kin(y0, j), model.body_kin(y1, j));
-            let s0 = k0.velocity.norm() + k0.omega.norm() * radius[a];
-            let s1 = k1.velocity.norm() + k1.omega.norm() * radius[a];
-            let change = (k1.velocity - k0.velocity).norm()
-                + (k1.omega - k0.omega).norm() * radius[a]
-                + 0.5 * k0.omega.norm().max(k1.omega.norm()).powi(2) * radius[a];
-            out[a] = (1.1 * s0.max(s1), 0.25 * change);
-        }
-        out
+/// Per actor: a bound on the speed of its points over the step (the larger of the two ends, +10% for the
+/// interpolant), and how fast its velocity changes (|v1 - v0| / 4, the bulge of its path per unit time).
+#[allow(clippy::needless_range_loop)]
+fn speeds(
+    cx: &ContactStages<'_>,
+    model: &Model,
+    y0: &[f64],
+    y1: &[f64],
+    statics: &[Isometry3<f64>],
+) -> Vec<(f64, f64)> {
+    let l = model.layout;
+    let mut radius = vec![0.0f64; cx.scene.actors()];
+    for c in &cx.scene.colliders {
+        let a = cx.scene.index(c.actor);
+        radius[a] = radius[a].max(if c.reach.is_finite() { c.reach } else { 0.0 });
     }
+    let mut out = vec![(0.0, 0.0); l.particles + l.bodies + statics.len()];
+    for i in 0..l.particles {
+        let (v0, v1) = (get3(y0, l.pv(i)), get3(y1, l.pv(i)));
+        out[i] = (1.1 * v0.norm().max(v1.norm()), 0.25 * (v1 - v0).norm());
+    }
+    for j in 0..l.bodies {
+        let a = l.particles + j;
+        let (k0, k1) = (model.body_kin(y0, j), model.body_kin(y1, j));
+        let s0 = k0.velocity.norm() + k0.omega.norm() * radius[a];
+        let s1 = k1.velocity.norm() + k1.omega.norm() * radius[a];
+        let change = (k1.velocity - k0.velocity).norm()
+            + (k1.omega - k0.omega).norm() * radius[a]
+            + 0.5 * k0.omega.norm().max(k1.omega.norm()).powi(2) * radius[a];
+        out[a] = (1.1 * s0.max(s1), 0.25 * change);
+    }
+    out
 }

@@ -4,7 +4,7 @@
 //! contacts alone: a fast damped particle flying beside a settling pile made every contact step 4e-5 s (first-order
 //! contact steps following its smooth motion), 21 s of work for a quarter second.
 
-use super::contacts::Contacts;
+use super::contact_stages::ContactStages;
 use super::integration::Integration;
 use super::system::AccurateSystem;
 use crate::engine::budget::{over_budget, Budget};
@@ -86,52 +86,48 @@ pub(crate) fn copy_free(model: &Model, involved: &[bool], from: &[f64], to: &mut
     }
 }
 
-impl Contacts<'_> {
-    /// The state at t + h of the actors not `involved`, advanced from (t, y) by the integrator with the others held
-    /// still (the other components of the answer are y's); `None` when every actor is involved. Its steps are
-    /// charged to the call's `budget`; its counters go to the report.
-    #[allow(clippy::too_many_arguments)]
-    pub fn free_flight(
-        &mut self,
-        system: &mut AccurateSystem,
-        free: &mut Option<FreeFlight>,
-        involved: &[bool],
-        t: f64,
-        y: &[f64],
-        h: f64,
-        budget: &mut Budget<'_>,
-    ) -> Result<Option<Vec<f64>>, OdeError> {
-        if involved.iter().all(|i| *i) {
-            return Ok(None);
-        }
-        let frozen: Vec<usize> =
-            (0..involved.len()).filter(|a| involved[*a]).flat_map(|a| components(system.model.layout, a)).collect();
-        system.frozen = frozen;
-        let result = (|| {
-            let settings = self.free_settings.clone();
-            let flight = match free.take() {
-                Some(mut f) if f.frozen == system.frozen => {
-                    f.integration.live_mut().set_state(t, y)?;
-                    f
-                }
-                _ => {
-                    FreeFlight { frozen: system.frozen.clone(), integration: Integration::new(system, settings, t, y)? }
-                }
-            };
-            let flight = free.insert(flight);
-            let integrator = flight.integration.live_mut();
-            integrator.set_max_steps(budget.left());
-            let advanced = integrator.advance_to(system, t + h, &[], |_, _, _| {});
-            let report = integrator.take_report();
-            self.free_report.merge(&report);
-            let charged = budget.charge(report.steps + report.rejected, t);
-            advanced.map_err(|e| over_budget(e, budget))?;
-            charged?;
-            let mut out = y.to_vec();
-            copy_free(&system.model, involved, integrator.state(), &mut out);
-            Ok(Some(out))
-        })();
-        system.frozen.clear();
-        result
+/// The state at t + h of the actors not `involved`, advanced from (t, y) by the integrator with the others held
+/// still (the other components of the answer are y's); `None` when every actor is involved. Its steps are
+/// charged to the call's `budget`; its counters go to the report.
+#[allow(clippy::too_many_arguments)]
+pub fn free_flight(
+    cx: &mut ContactStages<'_>,
+    system: &mut AccurateSystem,
+    free: &mut Option<FreeFlight>,
+    involved: &[bool],
+    t: f64,
+    y: &[f64],
+    h: f64,
+    budget: &mut Budget<'_>,
+) -> Result<Option<Vec<f64>>, OdeError> {
+    if involved.iter().all(|i| *i) {
+        return Ok(None);
     }
+    let frozen: Vec<usize> =
+        (0..involved.len()).filter(|a| involved[*a]).flat_map(|a| components(system.model.layout, a)).collect();
+    system.frozen = frozen;
+    let result = (|| {
+        let settings = cx.free_settings.clone();
+        let flight = match free.take() {
+            Some(mut f) if f.frozen == system.frozen => {
+                f.integration.live_mut().set_state(t, y)?;
+                f
+            }
+            _ => FreeFlight { frozen: system.frozen.clone(), integration: Integration::new(system, settings, t, y)? },
+        };
+        let flight = free.insert(flight);
+        let integrator = flight.integration.live_mut();
+        integrator.set_max_steps(budget.left());
+        let advanced = integrator.advance_to(system, t + h, &[], |_, _, _| {});
+        let report = integrator.take_report();
+        cx.free_report.merge(&report);
+        let charged = budget.charge(report.steps + report.rejected, t);
+        advanced.map_err(|e| over_budget(e, budget))?;
+        charged?;
+        let mut out = y.to_vec();
+        copy_free(&system.model, involved, integrator.state(), &mut out);
+        Ok(Some(out))
+    })();
+    system.frozen.clear();
+    result
 }

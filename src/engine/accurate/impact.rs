@@ -6,11 +6,12 @@
 //! the resting set. Bounces slower than the resting speed are absorbed, so a bouncing ball comes to rest after
 //! finitely many bounces instead of an endless cascade.
 
-use super::contacts::Contacts;
+use super::contact_stages::ContactStages;
 use super::drift::correct_drift;
 use super::failure;
 use super::resting::{RestingContact, RestingContacts};
 use super::system::AccurateSystem;
+use super::touching::start_touching;
 use crate::engine::found_contact::FoundContact;
 use crate::mode::Persistent;
 use crate::model::layout::set3;
@@ -20,131 +21,128 @@ use std::time::Instant;
 use tumble_contact::{collision_impulses, Contact};
 use tumble_integrate::{Integrator, OdeError};
 
-impl Contacts<'_> {
-    /// The impact stage at the integrator's current state: find, impulses, drift correction, resting set.
-    pub fn impact(
-        &mut self,
-        system: &mut AccurateSystem,
-        integ: &mut Integrator<AccurateSystem>,
-    ) -> Result<(), OdeError> {
-        let model = &mut system.model;
-        let t = integ.time();
-        let mut y = integ.state().to_vec();
-        let mut active = self.touching_contacts(model, &y, t)?;
-        let steps = self.settings.persistent == Persistent::ContactSteps;
-        // with friction, or joints (which Newton's impulses know nothing of), the convex steps take the impact
-        let joined = model.has_joints() && !active.is_empty();
-        if steps && (joined || active.iter().any(|(f, _)| f.contact.friction > 0.0)) {
-            self.memory.resting = None;
-            self.start_touching();
-            return Ok(());
+/// The impact stage at the integrator's current state: find, impulses, drift correction, resting set.
+pub fn impact(
+    cx: &mut ContactStages<'_>,
+    system: &mut AccurateSystem,
+    integ: &mut Integrator<AccurateSystem>,
+) -> Result<(), OdeError> {
+    let model = &mut system.model;
+    let t = integ.time();
+    let mut y = integ.state().to_vec();
+    let mut active = touching_contacts(cx, model, &y, t)?;
+    let steps = cx.settings.persistent == Persistent::ContactSteps;
+    // with friction, or joints (which Newton's impulses know nothing of), the convex steps take the impact
+    let joined = model.has_joints() && !active.is_empty();
+    if steps && (joined || active.iter().any(|(f, _)| f.contact.friction > 0.0)) {
+        cx.memory.resting = None;
+        start_touching(cx);
+        return Ok(());
+    }
+    if let Some((f, _)) = active.iter().find(|(f, _)| f.contact.friction > 0.0) {
+        return Err(failure(
+            t,
+            format!(
+                "a contact with friction {} at resting forces, which are frictionless (use \
+                 Persistent::ContactSteps, or friction 0)",
+                f.contact.friction
+            ),
+        ));
+    }
+    let clock = Instant::now();
+    if active.iter().any(|(_, v)| *v < 0.0) {
+        apply_impulses(cx, model, &mut y, &mut active, t)?;
+    }
+    // Only contacts that now neither close nor open rest; what bounced away (or was drifting apart) leaves,
+    // and if it comes back slower than the resting speed, it is stopped then.
+    active.retain(|(_, v)| *v <= 1e-3 * cx.scales.resting_speed);
+    if steps {
+        cx.memory.resting = None;
+        if !active.is_empty() {
+            start_touching(cx);
         }
-        if let Some((f, _)) = active.iter().find(|(f, _)| f.contact.friction > 0.0) {
-            return Err(failure(
-                t,
-                format!(
-                    "a contact with friction {} at resting forces, which are frictionless (use \
-                     Persistent::ContactSteps, or friction 0)",
-                    f.contact.friction
-                ),
-            ));
-        }
-        let clock = Instant::now();
-        if active.iter().any(|(_, v)| *v < 0.0) {
-            self.apply_impulses(model, &mut y, &mut active, t)?;
-        }
-        // Only contacts that now neither close nor open rest; what bounced away (or was drifting apart) leaves,
-        // and if it comes back slower than the resting speed, it is stopped then.
-        active.retain(|(_, v)| *v <= 1e-3 * self.scales.resting_speed);
-        if steps {
-            self.memory.resting = None;
-            if !active.is_empty() {
-                self.start_touching();
-            }
-            integ.set_state(t, &y)?;
-            self.report.contact_seconds += clock.elapsed().as_secs_f64();
-            return Ok(());
-        }
-        let statics = self.scene.static_poses.clone();
-        let delta = self.settings.contact_distance;
-        if active.iter().any(|(f, _)| f.contact.distance < -delta) {
-            let states = contact_states(model, &y, &statics);
-            let contacts: Vec<Contact> = active.iter().map(|(f, _)| f.contact).collect();
-            self.report.qp_solves += correct_drift(model, &mut y, &states, &contacts, self.solver, t)?;
-        }
-        if let Some(i) = y.iter().position(|v| !v.is_finite()) {
-            return Err(OdeError::NonFinite { t, what: "state after the contact phase", index: i });
-        }
-        let poses = actor_poses(model.layout, &y, &statics);
-        let contacts: Vec<RestingContact> = active.iter().map(|(f, _)| RestingContact::attach(f, &poses)).collect();
-        self.memory.resting_keys = contacts.iter().map(|c| c.key).collect();
-        self.memory.resting = Some(RestingContacts { contacts, reach: delta });
         integ.set_state(t, &y)?;
-        self.report.contact_seconds += clock.elapsed().as_secs_f64();
-        Ok(())
+        cx.report.contact_seconds += clock.elapsed().as_secs_f64();
+        return Ok(());
     }
+    let statics = cx.scene.static_poses.clone();
+    let delta = cx.settings.contact_distance;
+    if active.iter().any(|(f, _)| f.contact.distance < -delta) {
+        let states = contact_states(model, &y, &statics);
+        let contacts: Vec<Contact> = active.iter().map(|(f, _)| f.contact).collect();
+        cx.report.qp_solves += correct_drift(model, &mut y, &states, &contacts, cx.solver, t)?;
+    }
+    if let Some(i) = y.iter().position(|v| !v.is_finite()) {
+        return Err(OdeError::NonFinite { t, what: "state after the contact phase", index: i });
+    }
+    let poses = actor_poses(model.layout, &y, &statics);
+    let contacts: Vec<RestingContact> = active.iter().map(|(f, _)| RestingContact::attach(f, &poses)).collect();
+    cx.memory.resting_keys = contacts.iter().map(|c| c.key).collect();
+    cx.memory.resting = Some(RestingContacts { contacts, reach: delta });
+    integ.set_state(t, &y)?;
+    cx.report.contact_seconds += clock.elapsed().as_secs_f64();
+    Ok(())
+}
 
-    /// The contacts touching in state y that do not separate faster than the resting speed, with their relative
-    /// normal velocities. The bisection stops up to `time_tolerance` before contact, when a pair may still be apart
-    /// by as much as it closes in that time: contacts within that distance (plus the contact distance) count.
-    fn touching_contacts(
-        &mut self,
-        model: &mut Model,
-        y: &[f64],
-        t: f64,
-    ) -> Result<Vec<(FoundContact, f64)>, OdeError> {
-        let clock = Instant::now();
-        let statics = self.scene.static_poses.clone();
-        let states = contact_states(model, y, &statics);
-        let poses = actor_poses(model.layout, y, &statics);
-        let closing = self.scene.reach(&states, 2.0 * self.settings.time_tolerance);
-        let checks = self.scene.checks;
-        let found = self.scene.find(&poses, &closing, self.settings.contact_distance).map_err(|e| failure(t, e))?;
-        self.report.collision_checks += self.scene.checks - checks;
-        self.report.stages.mark(Stage::CollisionDetection);
-        self.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
-        self.report.max_penetration = self.report.max_penetration.max(self.memory.penetration);
-        let v_rest = self.scales.resting_speed;
-        let active = found
-            .into_iter()
-            .map(|f| {
-                let v = f.contact.relative_normal_velocity(&states);
-                (f, v)
-            })
-            .filter(|(_, v)| *v <= v_rest)
-            .collect();
-        self.report.collision_seconds += clock.elapsed().as_secs_f64();
-        Ok(active)
-    }
+/// The contacts touching in state y that do not separate faster than the resting speed, with their relative
+/// normal velocities. The bisection stops up to `time_tolerance` before contact, when a pair may still be apart
+/// by as much as it closes in that time: contacts within that distance (plus the contact distance) count.
+fn touching_contacts(
+    cx: &mut ContactStages<'_>,
+    model: &mut Model,
+    y: &[f64],
+    t: f64,
+) -> Result<Vec<(FoundContact, f64)>, OdeError> {
+    let clock = Instant::now();
+    let statics = cx.scene.static_poses.clone();
+    let states = contact_states(model, y, &statics);
+    let poses = actor_poses(model.layout, y, &statics);
+    let closing = cx.scene.reach(&states, 2.0 * cx.settings.time_tolerance);
+    let checks = cx.scene.checks;
+    let found = cx.scene.find(&poses, &closing, cx.settings.contact_distance).map_err(|e| failure(t, e))?;
+    cx.report.collision_checks += cx.scene.checks - checks;
+    cx.report.stages.mark(Stage::CollisionDetection);
+    cx.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
+    cx.report.max_penetration = cx.report.max_penetration.max(cx.memory.penetration);
+    let v_rest = cx.scales.resting_speed;
+    let active = found
+        .into_iter()
+        .map(|f| {
+            let v = f.contact.relative_normal_velocity(&states);
+            (f, v)
+        })
+        .filter(|(_, v)| *v <= v_rest)
+        .collect();
+    cx.report.collision_seconds += clock.elapsed().as_secs_f64();
+    Ok(active)
+}
 
-    /// Newton's law at every active contact at once; the relative normal velocities are updated.
-    fn apply_impulses(
-        &mut self,
-        model: &mut Model,
-        y: &mut [f64],
-        active: &mut [(FoundContact, f64)],
-        t: f64,
-    ) -> Result<(), OdeError> {
-        let statics = &self.scene.static_poses;
-        let v_rest = self.scales.resting_speed;
-        let states = contact_states(model, y, statics);
-        let contacts: Vec<Contact> = active
-            .iter()
-            .map(|(f, v)| Contact { restitution: if *v < -v_rest { f.contact.restitution } else { 0.0 }, ..f.contact })
-            .collect();
-        let out =
-            collision_impulses(&states, &contacts, self.solver).map_err(|e| failure(t, format!("impulses: {e}")))?;
-        self.report.stages.mark(Stage::Impulses);
-        self.report.qp_solves += out.solver_calls;
-        self.report.collisions += active.iter().filter(|(_, v)| *v < -v_rest).count();
-        self.report.impulses += out.magnitudes.iter().filter(|&&j| j > 0.0).count();
-        write_velocities(model, y, &out.velocities);
-        let states = contact_states(model, y, statics);
-        for (f, v) in active.iter_mut() {
-            *v = f.contact.relative_normal_velocity(&states);
-        }
-        Ok(())
+/// Newton's law at every active contact at once; the relative normal velocities are updated.
+fn apply_impulses(
+    cx: &mut ContactStages<'_>,
+    model: &mut Model,
+    y: &mut [f64],
+    active: &mut [(FoundContact, f64)],
+    t: f64,
+) -> Result<(), OdeError> {
+    let statics = &cx.scene.static_poses;
+    let v_rest = cx.scales.resting_speed;
+    let states = contact_states(model, y, statics);
+    let contacts: Vec<Contact> = active
+        .iter()
+        .map(|(f, v)| Contact { restitution: if *v < -v_rest { f.contact.restitution } else { 0.0 }, ..f.contact })
+        .collect();
+    let out = collision_impulses(&states, &contacts, cx.solver).map_err(|e| failure(t, format!("impulses: {e}")))?;
+    cx.report.stages.mark(Stage::Impulses);
+    cx.report.qp_solves += out.solver_calls;
+    cx.report.collisions += active.iter().filter(|(_, v)| *v < -v_rest).count();
+    cx.report.impulses += out.magnitudes.iter().filter(|&&j| j > 0.0).count();
+    write_velocities(model, y, &out.velocities);
+    let states = contact_states(model, y, statics);
+    for (f, v) in active.iter_mut() {
+        *v = f.contact.relative_normal_velocity(&states);
     }
+    Ok(())
 }
 
 /// The actors in state y without applied forces (the kinematics updated to y first).

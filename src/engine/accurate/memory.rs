@@ -7,7 +7,7 @@ use super::integration::Integration;
 use serde::{Deserialize, Serialize};
 
 #[cfg(feature = "contact")]
-pub(crate) use super::contacts::ContactMemory;
+pub(crate) use super::contact_memory::ContactMemory;
 
 /// Without the `contact` feature there is no contact memory (the type keeps the format the same in both builds).
 #[cfg(not(feature = "contact"))]

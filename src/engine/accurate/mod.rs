@@ -26,7 +26,9 @@
 #[cfg(feature = "contact")]
 mod collision_time;
 #[cfg(feature = "contact")]
-mod contacts;
+mod contact_memory;
+#[cfg(feature = "contact")]
+mod contact_stages;
 #[cfg(feature = "contact")]
 mod convex_step;
 #[cfg(feature = "contact")]
@@ -75,7 +77,7 @@ pub(crate) struct AccurateEngine {
     settings: Settings,
     /// The colliders and the contact stages' settings; `None` when no two colliders can touch.
     #[cfg(feature = "contact")]
-    contacts: Option<contacts::ContactRules>,
+    contacts: Option<contact_stages::ContactRules>,
     memory: AccurateMemory,
 }
 
@@ -114,7 +116,7 @@ impl AccurateEngine {
         #[cfg(feature = "contact")]
         if let Some(scene) = scene {
             engine.system.statics = scene.static_poses.clone();
-            let (rules, memory) = contacts::ContactRules::new(scene, accurate, &engine.settings, gravity, t, &y);
+            let (rules, memory) = contact_stages::ContactRules::new(scene, accurate, &engine.settings, gravity, t, &y);
             engine.contacts = Some(rules);
             engine.memory.contact = Some(memory);
             engine.core.report = WorldReport::new("accurate");
@@ -215,12 +217,13 @@ impl AccurateEngine {
         integrator.log_steps(run.is_some());
         let energy = mechanical_energy(&system.model, integrator.state());
         let result = (|| {
-            stages.impact(system, integrator)?;
+            impact::impact(&mut stages, system, integrator)?;
             let (mut done, mut stuck, mut last) = (0, 0, integrator.time());
             loop {
                 if stages.memory.touching.is_some() {
                     let (t, y) = (integrator.time(), integrator.state().to_vec());
-                    let end = stages.touching_steps(
+                    let end = touching::touching_steps(
+                        &mut stages,
                         system,
                         t,
                         y,
@@ -253,7 +256,7 @@ impl AccurateEngine {
                             run.record(&m.model, t, y, penetration, []);
                         }
                     },
-                    |step| stages.detect(step),
+                    |step| detect::detect(&mut stages, step),
                 );
                 stages.memory.resting = system.resting.take();
                 if let Some(run) = run.as_deref_mut() {
@@ -274,7 +277,7 @@ impl AccurateEngine {
                 if stuck > STUCK {
                     return Err(failure(t, format!("{STUCK} contact events at one time: the contacts do not settle")));
                 }
-                stages.impact(system, integrator)?;
+                impact::impact(&mut stages, system, integrator)?;
             }
         })();
         stages.report.energy_change += mechanical_energy(&system.model, integrator.state()) - energy;

@@ -2,13 +2,12 @@
 //! attached to the bodies that carry them, and the right-hand-side stage that gives them the chapter's QP forces,
 //! so that resting bodies neither sink into nor accelerate away from what holds them.
 
-use super::system::AccurateSystem;
 use crate::engine::found_contact::{ContactKey, FoundContact};
-use crate::model::actor_poses;
 use crate::model::layout::add3;
+use crate::model::{actor_poses, Model};
 use nalgebra::{Isometry3, Point3, Vector3};
 use std::time::Instant;
-use tumble_contact::{contact_wrenches, resting_forces, Contact, NormalMotion};
+use tumble_contact::{contact_wrenches, resting_forces, Contact, NormalMotion, SolverSettings};
 use tumble_integrate::SystemError;
 
 /// A resting contact held in the frames of its two actors.
@@ -93,36 +92,39 @@ impl RestingContact {
     }
 }
 
-impl AccurateSystem {
-    /// Adds the resting-contact forces to the p rates (the last stage of the right-hand side).
-    pub(super) fn add_resting_forces(&mut self, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
-        let Some(set) = &self.resting else { return Ok(()) };
-        if set.contacts.is_empty() {
-            return Ok(());
-        }
-        let clock = Instant::now();
-        let model = &self.model;
-        let poses = actor_poses(model.layout, y, &self.statics);
-        let states = model.contact_states(y, dp, &self.statics, Default::default());
-        let contacts: Vec<Contact> =
-            set.contacts.iter().map(|r| r.place(&poses)).filter(|(_, gap)| *gap <= set.reach).map(|(c, _)| c).collect();
-        if contacts.is_empty() {
-            return Ok(());
-        }
-        let out = resting_forces(&states, &contacts, &self.solver)
-            .map_err(|e| SystemError::new(format!("resting contact: {e}")))?;
-        self.resting_solves += out.solver_calls;
-        let (l, q) = (model.layout, model.layout.positions());
-        for (k, (force, torque)) in contact_wrenches(&states, &contacts, &out.forces).iter().enumerate() {
-            if k < l.particles {
-                add3(dp, l.pv(k) - q, &(force * model.particles[k].inv_mass));
-            } else if k < l.particles + l.bodies {
-                let j = k - l.particles;
-                add3(dp, l.bp(j) - q, force);
-                add3(dp, l.bl(j) - q, torque);
-            }
-        }
-        self.resting_seconds += clock.elapsed().as_secs_f64();
-        Ok(())
+/// Adds the forces of the resting contacts `set` at state y to the p rates `dp` (the last stage of the right-hand
+/// side): the chapter's QP over the contacts still within reach, with the static actors at `statics`. Returns the
+/// solver calls and the seconds they took.
+pub(super) fn add_resting_forces(
+    model: &Model,
+    set: &RestingContacts,
+    statics: &[Isometry3<f64>],
+    solver: &SolverSettings,
+    y: &[f64],
+    dp: &mut [f64],
+) -> Result<(usize, f64), SystemError> {
+    if set.contacts.is_empty() {
+        return Ok((0, 0.0));
     }
+    let clock = Instant::now();
+    let poses = actor_poses(model.layout, y, statics);
+    let states = model.contact_states(y, dp, statics, Default::default());
+    let contacts: Vec<Contact> =
+        set.contacts.iter().map(|r| r.place(&poses)).filter(|(_, gap)| *gap <= set.reach).map(|(c, _)| c).collect();
+    if contacts.is_empty() {
+        return Ok((0, 0.0));
+    }
+    let out =
+        resting_forces(&states, &contacts, solver).map_err(|e| SystemError::new(format!("resting contact: {e}")))?;
+    let (l, q) = (model.layout, model.layout.positions());
+    for (k, (force, torque)) in contact_wrenches(&states, &contacts, &out.forces).iter().enumerate() {
+        if k < l.particles {
+            add3(dp, l.pv(k) - q, &(force * model.particles[k].inv_mass));
+        } else if k < l.particles + l.bodies {
+            let j = k - l.particles;
+            add3(dp, l.bp(j) - q, force);
+            add3(dp, l.bl(j) - q, torque);
+        }
+    }
+    Ok((out.solver_calls, clock.elapsed().as_secs_f64()))
 }

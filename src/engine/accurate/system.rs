@@ -55,7 +55,12 @@ impl AccurateSystem {
     fn add_forces(&mut self, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
         add_joint_forces(&self.model, y, dp);
         #[cfg(feature = "contact")]
-        self.add_resting_forces(y, dp)?;
+        if let Some(set) = &self.resting {
+            let (solves, seconds) =
+                super::resting::add_resting_forces(&self.model, set, &self.statics, &self.solver, y, dp)?;
+            self.resting_solves += solves;
+            self.resting_seconds += seconds;
+        }
         Ok(())
     }
 }

@@ -10,10 +10,12 @@
 //! are states, not interpolations. Contacts that sank past the tolerance (linearised contacts of turning bodies
 //! sink a little) are lifted apart by a position projection before the step. The phase ends when no pair is within reach of a step: the integrator takes over.
 
-use super::contacts::Contacts;
+use super::contact_stages::ContactStages;
 use super::convex_step::{actors_with_forces, ConvexStep};
+use super::convex_step::{contacts_in_reach, convex_step};
 use super::drift::correct_drift;
 use super::failure;
+use super::free_flight::free_flight;
 use super::free_flight::{copy_free, involved, FreeFlight};
 use super::system::AccurateSystem;
 use crate::engine::found_contact::ContactKey;
@@ -66,250 +68,234 @@ pub(crate) struct TouchingEnd {
     pub touching: bool,
 }
 
-impl Contacts<'_> {
-    /// Enters the touching phase with a first step from the tolerance: the time to fall the tolerance, sqrt(2 tol
-    /// / g), within the phase's step bounds.
-    pub fn start_touching(&mut self) {
-        let h = (2.0 * self.scales.tolerance / self.gravity.max(1e-300))
-            .sqrt()
-            .clamp(self.min_step(0.0), self.scales.max_step);
-        self.memory.touching =
-            Some(TouchingPhase { lagged: BTreeMap::new(), h, window: (f64::NAN, 0), free: None, last: Vec::new() });
-    }
+/// Enters the touching phase with a first step from the tolerance: the time to fall the tolerance, sqrt(2 tol
+/// / g), within the phase's step bounds.
+pub fn start_touching(cx: &mut ContactStages<'_>) {
+    let h = (2.0 * cx.scales.tolerance / cx.gravity.max(1e-300)).sqrt().clamp(min_step(0.0), cx.scales.max_step);
+    cx.memory.touching =
+        Some(TouchingPhase { lagged: BTreeMap::new(), h, window: (f64::NAN, 0), free: None, last: Vec::new() });
+}
 
-    /// The smallest step: 16 ulps of the time, and no less than 1e-14 s.
-    fn min_step(&self, t: f64) -> f64 {
-        (16.0 * f64::EPSILON * t.abs()).max(1e-14)
-    }
+/// The smallest step: 16 ulps of the time, and no less than 1e-14 s.
+fn min_step(t: f64) -> f64 {
+    (16.0 * f64::EPSILON * t.abs()).max(1e-14)
+}
 
-    /// Advances from (t, y) by error-controlled contact steps until `t_end` (pausing past `pause`) or until no
-    /// pair is within reach; each save time reached records a frame. Each step tried is charged to the call's
-    /// `budget`, a contact step counting each convex program it solved by its size (one unit for every eight
-    /// contacts of the island, `VelocityStep::solver_work`).
-    #[allow(clippy::too_many_arguments)]
-    pub fn touching_steps(
-        &mut self,
-        system: &mut AccurateSystem,
-        mut t: f64,
-        mut y: Vec<f64>,
-        t_end: f64,
-        pause: f64,
-        saves: &[f64],
-        mut run: Option<&mut Run>,
-        budget: &mut Budget<'_>,
-    ) -> Result<TouchingEnd, OdeError> {
-        let statics = self.scene.static_poses.clone();
-        let slack = 1e-12 * t_end.abs().max(1.0);
-        let mut delivered = 0;
-        let Some(mut phase) = self.memory.touching.take() else {
-            return Err(failure(t, "contact steps without a touching phase".into()));
-        };
-        let result = loop {
-            while delivered < saves.len() && saves[delivered] <= t + slack {
-                if let Some(run) = run.as_deref_mut() {
-                    run.record(
-                        &system.model,
-                        t,
-                        &y,
-                        self.memory.penetration,
-                        phase.last.iter().map(|c| (c.point, c.normal)),
-                    );
-                }
-                delivered += 1;
-            }
-            if t >= pause.min(t_end) - slack {
-                break Ok(true);
-            }
-            let stop = saves.get(delivered).map_or(t_end, |s| s.min(t_end));
-            let h = phase.h.min(stop - t);
-            let clipped = h < phase.h;
-            if let Err(e) = budget.charge(1, t) {
-                break Err(e);
-            }
-            if let Err(e) = self.watch_touching(&mut phase, t) {
-                break Err(e);
-            }
-            let mut states = actors_with_forces(system, &statics, t, &y)?;
-            let mut found = self.contacts_in_reach(&system.model, &states, &y, t, h)?;
-            if found.is_empty() {
-                break Ok(false);
-            }
-            self.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
-            if self.memory.penetration > self.scales.tolerance {
-                // Linearised contacts of turning bodies sink a little each step; past the tolerance, the bodies are
-                // moved apart by the smallest position change (velocities untouched, so no energy but the lift's).
-                let sunk: Vec<_> = found.iter().filter(|f| f.contact.distance < 0.0).map(|f| f.contact).collect();
-                self.report.qp_solves += correct_drift(&system.model, &mut y, &states, &sunk, self.solver, t)?;
-                self.report.stages.mark(crate::plan::Stage::Impulses);
-                states = actors_with_forces(system, &statics, t, &y)?;
-                found = self.contacts_in_reach(&system.model, &states, &y, t, h)?;
-            }
-            self.report.max_penetration = self.report.max_penetration.max(self.memory.penetration);
-            let work = *self.solve_work;
-            let doubled = self.doubled_step(system, &statics, &states, &found, &phase.lagged, t, &y, h);
-            if let Err(e) = budget.charge((*self.solve_work - work).saturating_sub(1), t) {
-                break Err(e);
-            }
-            let Some((mut whole, mut second, involved)) = doubled? else {
-                // clarabel could not answer to its tolerance: a smaller step changes the problem
-                self.report.contact_rejected += 1;
-                phase.h = 0.25 * h;
-                if phase.h < self.min_step(t) {
-                    break Err(failure(
-                        t,
-                        format!("contact steps fell to {:.1e} s: {}", phase.h, *self.last_solver_error),
-                    ));
-                }
-                continue;
-            };
-            let error = state_difference(&system.model, Some(&involved), &whole.y, &second.y, h);
-            let ratio = error / self.scales.tolerance;
-            if !ratio.is_finite() {
-                break Err(OdeError::NonFinite { t, what: "contact step", index: 0 });
-            }
-            let grow = (0.9 / ratio.max(1e-300).sqrt()).clamp(0.2, 2.0);
-            if ratio > 1.0 {
-                self.report.contact_rejected += 1;
-                phase.h = h * grow.min(0.5);
-                if phase.h < self.min_step(t) {
-                    break Err(failure(
-                        t,
-                        format!(
-                            "contact steps fell to {:.1e} s with an error of {error:.1e} m against a tolerance of \
-                             {:.1e} m: the contacts cannot be followed (raise contact_tolerance, or try fast mode)",
-                            phase.h, self.scales.tolerance
-                        ),
-                    ));
-                }
-                continue;
-            }
-            // The actors that touch nothing follow the integrator over the accepted step.
-            let free = self.free_flight(system, &mut phase.free, &involved, t, &y, h, budget)?;
-            if let Some(free) = &free {
-                copy_free(&system.model, &involved, free, &mut whole.y);
-                copy_free(&system.model, &involved, free, &mut second.y);
-            }
-            let mut next = second.y;
-            if whole.pressing == second.pressing {
-                let mut better = next.clone();
-                extrapolate(&system.model, &mut better, &whole.y);
-                // Never a gain of energy over the step from the extrapolation, beyond the solves' own accuracy
-                // (velocities to 1e-4 of tol / h: an energy of that times the momenta) and rounding (1e-12 of the
-                // kinetic and potential energies' sizes, whose difference the total may be).
-                // The free actors' own change of energy (the same in both) is taken out: only the touching ones'
-                // is judged.
-                let model = &system.model;
-                let energy = |y: &[f64]| model.kinetic_energy(y) + model.potential_energy(y);
-                let (kinetic, potential) = (model.kinetic_energy(&y), model.potential_energy(&y));
-                let before = kinetic + potential;
-                let free_gain = free.as_deref().map_or(0.0, |f| energy(f) - before);
-                let slack = 1e-12 * (kinetic.abs() + potential.abs())
-                    + 1e-4 * self.scales.tolerance / h * momenta(model, &involved, &next);
-                if energy(&better) - free_gain <= before + slack {
-                    next = better;
-                }
-            }
-            if let Some(free) = &free {
-                copy_free(&system.model, &involved, free, &mut next);
-            }
-            if let Some(index) = next.iter().position(|v| !v.is_finite()) {
-                break Err(OdeError::NonFinite { t: t + h, what: "state after a contact step", index });
-            }
-            let norm = next.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            if norm > self.divergence_limit {
-                break Err(OdeError::Divergence { t: t + h, norm, limit: self.divergence_limit, h });
-            }
-            // A step cut to reach a frame or the end lands on it exactly: t + (stop - t) can fall an ulp short,
-            // and an advance that ends an ulp before its end would be asked to go on from there forever.
-            (t, y) = (if h == stop - t { stop } else { t + h }, next);
-            phase.lagged = second.forces;
-            let impulses = found.iter().map(|f| whole.forces.get(&f.key).map_or(0.0, |force| force * h));
-            phase.last = LastContact::from_found(&found, impulses, h);
-            let r = &mut self.report;
-            r.contact_steps += 1;
-            r.contact_error = r.contact_error.max(error);
-            r.contact_min_step = r.contact_min_step.min(h);
+/// Advances from (t, y) by error-controlled contact steps until `t_end` (pausing past `pause`) or until no
+/// pair is within reach; each save time reached records a frame. Each step tried is charged to the call's
+/// `budget`, a contact step counting each convex program it solved by its size (one unit for every eight
+/// contacts of the island, `VelocityStep::solver_work`).
+#[allow(clippy::too_many_arguments)]
+pub fn touching_steps(
+    cx: &mut ContactStages<'_>,
+    system: &mut AccurateSystem,
+    mut t: f64,
+    mut y: Vec<f64>,
+    t_end: f64,
+    pause: f64,
+    saves: &[f64],
+    mut run: Option<&mut Run>,
+    budget: &mut Budget<'_>,
+) -> Result<TouchingEnd, OdeError> {
+    let statics = cx.scene.static_poses.clone();
+    let slack = 1e-12 * t_end.abs().max(1.0);
+    let mut delivered = 0;
+    let Some(mut phase) = cx.memory.touching.take() else {
+        return Err(failure(t, "contact steps without a touching phase".into()));
+    };
+    let result = loop {
+        while delivered < saves.len() && saves[delivered] <= t + slack {
             if let Some(run) = run.as_deref_mut() {
-                run.log_step(t, h);
+                run.record(&system.model, t, &y, cx.memory.penetration, phase.last.iter().map(|c| (c.point, c.normal)));
             }
-            let proposed = (h * grow).min(self.scales.max_step);
-            phase.h = if clipped { proposed.max(phase.h) } else { proposed };
+            delivered += 1;
+        }
+        if t >= pause.min(t_end) - slack {
+            break Ok(true);
+        }
+        let stop = saves.get(delivered).map_or(t_end, |s| s.min(t_end));
+        let h = phase.h.min(stop - t);
+        let clipped = h < phase.h;
+        if let Err(e) = budget.charge(1, t) {
+            break Err(e);
+        }
+        if let Err(e) = watch_touching(cx, &mut phase, t) {
+            break Err(e);
+        }
+        let mut states = actors_with_forces(system, &statics, t, &y)?;
+        let mut found = contacts_in_reach(cx, &system.model, &states, &y, t, h)?;
+        if found.is_empty() {
+            break Ok(false);
+        }
+        cx.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
+        if cx.memory.penetration > cx.scales.tolerance {
+            // Linearised contacts of turning bodies sink a little each step; past the tolerance, the bodies are
+            // moved apart by the smallest position change (velocities untouched, so no energy but the lift's).
+            let sunk: Vec<_> = found.iter().filter(|f| f.contact.distance < 0.0).map(|f| f.contact).collect();
+            cx.report.qp_solves += correct_drift(&system.model, &mut y, &states, &sunk, cx.solver, t)?;
+            cx.report.stages.mark(crate::plan::Stage::Impulses);
+            states = actors_with_forces(system, &statics, t, &y)?;
+            found = contacts_in_reach(cx, &system.model, &states, &y, t, h)?;
+        }
+        cx.report.max_penetration = cx.report.max_penetration.max(cx.memory.penetration);
+        let work = *cx.solve_work;
+        let doubled = doubled_step(cx, system, &statics, &states, &found, &phase.lagged, t, &y, h);
+        if let Err(e) = budget.charge((*cx.solve_work - work).saturating_sub(1), t) {
+            break Err(e);
+        }
+        let Some((mut whole, mut second, involved)) = doubled? else {
+            // clarabel could not answer to its tolerance: a smaller step changes the problem
+            cx.report.contact_rejected += 1;
+            phase.h = 0.25 * h;
+            if phase.h < min_step(t) {
+                break Err(failure(t, format!("contact steps fell to {:.1e} s: {}", phase.h, *cx.last_solver_error)));
+            }
+            continue;
         };
-        match result {
-            Ok(touching) => {
-                if touching {
-                    self.memory.touching = Some(phase);
-                }
-                Ok(TouchingEnd { t, y, delivered, touching })
+        let error = state_difference(&system.model, Some(&involved), &whole.y, &second.y, h);
+        let ratio = error / cx.scales.tolerance;
+        if !ratio.is_finite() {
+            break Err(OdeError::NonFinite { t, what: "contact step", index: 0 });
+        }
+        let grow = (0.9 / ratio.max(1e-300).sqrt()).clamp(0.2, 2.0);
+        if ratio > 1.0 {
+            cx.report.contact_rejected += 1;
+            phase.h = h * grow.min(0.5);
+            if phase.h < min_step(t) {
+                break Err(failure(
+                    t,
+                    format!(
+                        "contact steps fell to {:.1e} s with an error of {error:.1e} m against a tolerance of \
+                         {:.1e} m: the contacts cannot be followed (raise contact_tolerance, or try fast mode)",
+                        phase.h, cx.scales.tolerance
+                    ),
+                ));
             }
-            Err(e) => {
-                self.memory.touching = Some(phase);
-                Err(e)
+            continue;
+        }
+        // The actors that touch nothing follow the integrator over the accepted step.
+        let free = free_flight(cx, system, &mut phase.free, &involved, t, &y, h, budget)?;
+        if let Some(free) = &free {
+            copy_free(&system.model, &involved, free, &mut whole.y);
+            copy_free(&system.model, &involved, free, &mut second.y);
+        }
+        let mut next = second.y;
+        if whole.pressing == second.pressing {
+            let mut better = next.clone();
+            extrapolate(&system.model, &mut better, &whole.y);
+            // Never a gain of energy over the step from the extrapolation, beyond the solves' own accuracy
+            // (velocities to 1e-4 of tol / h: an energy of that times the momenta) and rounding (1e-12 of the
+            // kinetic and potential energies' sizes, whose difference the total may be).
+            // The free actors' own change of energy (the same in both) is taken out: only the touching ones'
+            // is judged.
+            let model = &system.model;
+            let energy = |y: &[f64]| model.kinetic_energy(y) + model.potential_energy(y);
+            let (kinetic, potential) = (model.kinetic_energy(&y), model.potential_energy(&y));
+            let before = kinetic + potential;
+            let free_gain = free.as_deref().map_or(0.0, |f| energy(f) - before);
+            let slack = 1e-12 * (kinetic.abs() + potential.abs())
+                + 1e-4 * cx.scales.tolerance / h * momenta(model, &involved, &next);
+            if energy(&better) - free_gain <= before + slack {
+                next = better;
             }
+        }
+        if let Some(free) = &free {
+            copy_free(&system.model, &involved, free, &mut next);
+        }
+        if let Some(index) = next.iter().position(|v| !v.is_finite()) {
+            break Err(OdeError::NonFinite { t: t + h, what: "state after a contact step", index });
+        }
+        let norm = next.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if norm > cx.divergence_limit {
+            break Err(OdeError::Divergence { t: t + h, norm, limit: cx.divergence_limit, h });
+        }
+        // A step cut to reach a frame or the end lands on it exactly: t + (stop - t) can fall an ulp short,
+        // and an advance that ends an ulp before its end would be asked to go on from there forever.
+        (t, y) = (if h == stop - t { stop } else { t + h }, next);
+        phase.lagged = second.forces;
+        let impulses = found.iter().map(|f| whole.forces.get(&f.key).map_or(0.0, |force| force * h));
+        phase.last = LastContact::from_found(&found, impulses, h);
+        let r = &mut cx.report;
+        r.contact_steps += 1;
+        r.contact_error = r.contact_error.max(error);
+        r.contact_min_step = r.contact_min_step.min(h);
+        if let Some(run) = run.as_deref_mut() {
+            run.log_step(t, h);
+        }
+        let proposed = (h * grow).min(cx.scales.max_step);
+        phase.h = if clipped { proposed.max(phase.h) } else { proposed };
+    };
+    match result {
+        Ok(touching) => {
+            if touching {
+                cx.memory.touching = Some(phase);
+            }
+            Ok(TouchingEnd { t, y, delivered, touching })
+        }
+        Err(e) => {
+            cx.memory.touching = Some(phase);
+            Err(e)
         }
     }
 }
 
-impl Contacts<'_> {
-    /// Fails when `STALL_WINDOW` steps tried have advanced less than that many stall steps (1e-5 of the scene's
-    /// time scale each): contact steps that crawl (bodies started deep inside each other, which the lifts cannot
-    /// undo, took steps of 1e-7 s) end in a clear error instead of running for hours.
-    fn watch_touching(&self, phase: &mut TouchingPhase, t: f64) -> Result<(), OdeError> {
-        let (start, tried) = phase.window;
-        if tried == 0 || start.is_nan() {
-            phase.window = (t, 1);
-            return Ok(());
-        }
-        if tried < STALL_WINDOW {
-            phase.window = (start, tried + 1);
-            return Ok(());
-        }
+/// Fails when `STALL_WINDOW` steps tried have advanced less than that many stall steps (1e-5 of the scene's
+/// time scale each): contact steps that crawl (bodies started deep inside each other, which the lifts cannot
+/// undo, took steps of 1e-7 s) end in a clear error instead of running for hours.
+fn watch_touching(cx: &ContactStages<'_>, phase: &mut TouchingPhase, t: f64) -> Result<(), OdeError> {
+    let (start, tried) = phase.window;
+    if tried == 0 || start.is_nan() {
         phase.window = (t, 1);
-        let mean = (t - start) / STALL_WINDOW as f64;
-        if mean < self.scales.stall_step {
-            return Err(failure(
-                t,
-                format!(
-                    "{STALL_WINDOW} contact steps advanced {:.1e} s (a mean step of {mean:.1e} s) with contacts up to \
-                     {:.1e} m deep: the steps cannot follow these contacts (bodies started inside each other?); try \
-                     fast mode, or a looser contact_tolerance",
-                    t - start,
-                    self.memory.penetration
-                ),
-            ));
-        }
-        Ok(())
+        return Ok(());
     }
+    if tried < STALL_WINDOW {
+        phase.window = (start, tried + 1);
+        return Ok(());
+    }
+    phase.window = (t, 1);
+    let mean = (t - start) / STALL_WINDOW as f64;
+    if mean < cx.scales.stall_step {
+        return Err(failure(
+            t,
+            format!(
+                "{STALL_WINDOW} contact steps advanced {:.1e} s (a mean step of {mean:.1e} s) with contacts up to \
+                 {:.1e} m deep: the steps cannot follow these contacts (bodies started inside each other?); try \
+                 fast mode, or a looser contact_tolerance",
+                t - start,
+                cx.memory.penetration
+            ),
+        ));
+    }
+    Ok(())
+}
 
-    /// One step of h taken whole and as two halves (the first half on the whole step's contacts, the second on its
-    /// own), with the actors their contacts involve (`free_flight::involved`); `None` if clarabel could not answer
-    /// one of them.
-    #[allow(clippy::too_many_arguments)]
-    fn doubled_step(
-        &mut self,
-        system: &mut AccurateSystem,
-        statics: &[nalgebra::Isometry3<f64>],
-        states: &[tumble_contact::BodyState],
-        found: &[crate::engine::found_contact::FoundContact],
-        lagged: &BTreeMap<ContactKey, f64>,
-        t: f64,
-        y: &[f64],
-        h: f64,
-    ) -> Result<Option<(ConvexStep, ConvexStep, Vec<bool>)>, OdeError> {
-        let Some(whole) = self.convex_step(&system.model, states, found, lagged, t, y, h)? else { return Ok(None) };
-        let Some(first) = self.convex_step(&system.model, states, found, lagged, t, y, 0.5 * h)? else {
-            return Ok(None);
-        };
-        let mid = t + 0.5 * h;
-        let states = actors_with_forces(system, statics, mid, &first.y)?;
-        let later = self.contacts_in_reach(&system.model, &states, &first.y, mid, 0.5 * h)?;
-        let Some(second) = self.convex_step(&system.model, &states, &later, &first.forces, mid, &first.y, 0.5 * h)?
-        else {
-            return Ok(None);
-        };
-        let involved = involved(&system.model, &[found, &later]);
-        Ok(Some((whole, second, involved)))
-    }
+/// One step of h taken whole and as two halves (the first half on the whole step's contacts, the second on its
+/// own), with the actors their contacts involve (`free_flight::involved`); `None` if clarabel could not answer
+/// one of them.
+#[allow(clippy::too_many_arguments)]
+fn doubled_step(
+    cx: &mut ContactStages<'_>,
+    system: &mut AccurateSystem,
+    statics: &[nalgebra::Isometry3<f64>],
+    states: &[tumble_contact::BodyState],
+    found: &[crate::engine::found_contact::FoundContact],
+    lagged: &BTreeMap<ContactKey, f64>,
+    t: f64,
+    y: &[f64],
+    h: f64,
+) -> Result<Option<(ConvexStep, ConvexStep, Vec<bool>)>, OdeError> {
+    let Some(whole) = convex_step(cx, &system.model, states, found, lagged, t, y, h)? else { return Ok(None) };
+    let Some(first) = convex_step(cx, &system.model, states, found, lagged, t, y, 0.5 * h)? else {
+        return Ok(None);
+    };
+    let mid = t + 0.5 * h;
+    let states = actors_with_forces(system, statics, mid, &first.y)?;
+    let later = contacts_in_reach(cx, &system.model, &states, &first.y, mid, 0.5 * h)?;
+    let Some(second) = convex_step(cx, &system.model, &states, &later, &first.forces, mid, &first.y, 0.5 * h)? else {
+        return Ok(None);
+    };
+    let involved = involved(&system.model, &[found, &later]);
+    Ok(Some((whole, second, involved)))
 }
 
 /// The sum of the `involved` actors' momentum magnitudes in state y (kg m/s).

@@ -1,19 +1,14 @@
-//! Accurate mode's contact side: the colliders and the settings its stages work from (`ContactRules`, made with
-//! the engine), what they carry between calls (`ContactMemory`, part of the engine's memory, with the scales set
-//! from the scene's size where the engine was built), and the view a stage works through during an advance
-//! (`Contacts`: the rules, the memory and the report together).
+//! What accurate mode's contact stages carry between calls (`ContactMemory`, part of the engine's memory), with the
+//! scales set from the scene's size where the engine was built (`ContactScales`).
 
 use super::resting::RestingContacts;
 use super::system::AccurateSystem;
 use super::touching::TouchingPhase;
-use crate::engine::collider_set::ColliderSet;
 use crate::engine::found_contact::ContactKey;
 use crate::mode::AccurateSettings;
-use crate::report::WorldReport;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
-use tumble_contact::SolverSettings;
-use tumble_integrate::{Integrator, Report, Settings};
+use tumble_integrate::{Integrator, Settings};
 
 /// The contact stages' scales, set from the scene's size where the engine was built (a world built, stepped and
 /// loaded elsewhere keeps the original's).
@@ -35,7 +30,7 @@ pub(crate) struct ContactScales {
 
 impl ContactScales {
     /// The scales of a scene of size `size` (m) under gravity `gravity` (m/s^2).
-    fn new(accurate: &AccurateSettings, size: f64, gravity: f64) -> ContactScales {
+    pub fn new(accurate: &AccurateSettings, size: f64, gravity: f64) -> ContactScales {
         let time_scale = (size / gravity.max(1e-300)).sqrt();
         let tolerance = accurate.contact_tolerance.unwrap_or(1e-6 * size);
         ContactScales {
@@ -113,100 +108,4 @@ impl ContactMemory {
         }
         Ok(self)
     }
-}
-
-/// The colliders and the settings the contact stages work from, with their scratch counters.
-#[derive(Clone)]
-pub(crate) struct ContactRules {
-    pub scene: ColliderSet,
-    pub settings: AccurateSettings,
-    /// clarabel's settings for impulses, resting forces and position corrections.
-    pub solver: SolverSettings,
-    /// |g| (m/s^2), for the first contact step.
-    pub gravity: f64,
-    /// The integrator's settings, for the actors that fly free while others touch (`free_flight.rs`).
-    pub free_settings: Settings,
-    /// Why clarabel last failed to answer a contact step (for the message if steps shrink to nothing).
-    pub last_solver_error: String,
-    /// The contact steps' convex solves weighted by island size (`VelocityStep::solver_work`), charged to budgets.
-    pub solve_work: usize,
-    /// The counters of the free flights since the last report.
-    pub free_report: Report,
-}
-
-impl ContactRules {
-    /// The rules of `scene` and the contact memory of a world starting at (t, y).
-    pub fn new(
-        scene: ColliderSet,
-        settings: AccurateSettings,
-        integration: &Settings,
-        gravity: f64,
-        t: f64,
-        y: &[f64],
-    ) -> (ContactRules, ContactMemory) {
-        let scales = ContactScales::new(&settings, scene.size(y), gravity);
-        let memory = ContactMemory {
-            resting: None,
-            resting_keys: BTreeSet::new(),
-            penetration: 0.0,
-            window: (t, 0),
-            touching: None,
-            scales,
-        };
-        let rules = ContactRules {
-            scene,
-            settings,
-            solver: SolverSettings::default(),
-            gravity,
-            free_settings: integration.clone(),
-            last_solver_error: String::new(),
-            solve_work: 0,
-            free_report: Report::empty(integration.method.name()),
-        };
-        (rules, memory)
-    }
-
-    /// The view the stages of one advance work through.
-    pub fn stages<'a>(
-        &'a mut self,
-        memory: &'a mut ContactMemory,
-        report: &'a mut WorldReport,
-        threads: usize,
-        divergence_limit: f64,
-    ) -> Contacts<'a> {
-        Contacts {
-            scales: memory.scales,
-            scene: &mut self.scene,
-            settings: &self.settings,
-            solver: &self.solver,
-            gravity: self.gravity,
-            free_settings: &self.free_settings,
-            last_solver_error: &mut self.last_solver_error,
-            solve_work: &mut self.solve_work,
-            free_report: &mut self.free_report,
-            memory,
-            report,
-            threads,
-            divergence_limit,
-        }
-    }
-}
-
-/// What a contact stage works on during an advance: the colliders and settings, the contact memory, the engine's
-/// report, the thread count and the divergence limit.
-pub(crate) struct Contacts<'a> {
-    pub scene: &'a mut ColliderSet,
-    pub settings: &'a AccurateSettings,
-    pub solver: &'a SolverSettings,
-    pub gravity: f64,
-    pub free_settings: &'a Settings,
-    pub last_solver_error: &'a mut String,
-    pub solve_work: &'a mut usize,
-    pub free_report: &'a mut Report,
-    pub memory: &'a mut ContactMemory,
-    /// The memory's scales (constant while the engine lives).
-    pub scales: ContactScales,
-    pub report: &'a mut WorldReport,
-    pub threads: usize,
-    pub divergence_limit: f64,
 }
