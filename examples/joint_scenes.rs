@@ -1,4 +1,4 @@
-//! The joint scenes of the peer comparison (`benches/peers/compare_joints.py`), in tumble's fast mode (default) or
+//! The joint scenes of the peer comparison (`benches/peers/compare.py --joints`), in tumble's fast mode (default) or
 //! accurate mode (`accurate`), one markdown row each; the same definitions as the peers' (z up, g = 9.81):
 //! a chain of 20 capsules (half height 0.04 m, radius 0.01 m, 1 kg) on ball joints from a fixed point at
 //! (0, 0, 2.5), each link 0.1 m, with a 10 kg ball of radius 0.1 m at its end, dt 1/60: hanging at rest for 5 s

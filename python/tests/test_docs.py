@@ -1,7 +1,9 @@
 """The first hour: the READMEs and the pages under docs/ point only to files a clone has, the README stays a short
 front door, and the documentation speaks of the project as it is (no issue numbers, no team folders)."""
 
+import os
 import re
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -88,3 +90,44 @@ def test_every_page_under_docs_is_checked():
     if not (ROOT / "docs").is_dir():
         pytest.skip("the repository's documentation is not next to these tests")
     assert {"docs/API.md", "docs/DESIGN.md"} <= set(PAGES)
+
+
+# Output folders the programs write (ignored by git): a reference to a file in one names an output, not a source.
+OUTPUTS = ("wp/", "out/", "tumble-out/", "DIR/")
+
+
+def test_file_references_in_the_sources_name_files_of_the_clone():
+    """A file named in backticks in a source, stub, manifest or page (`joint_forces.rs`,
+    `benches/peers/compare.py`) is a file of the repository: by its path from the root or from the naming file's
+    folder, or by its name alone; outputs the programs write are left out. Dead references (a file renamed or
+    removed since) fail here."""
+    if not (ROOT / ".git").exists():
+        pytest.skip("not in a clone of the repository")
+    tracked = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True, check=True).stdout
+    files = tracked.split()
+    names = {Path(f).name for f in files}
+    paths = set(files)
+    dead = []
+    for f in files:
+        if not f.endswith((".rs", ".py", ".pyi", ".md", ".toml")):
+            continue
+        text = (ROOT / f).read_text(errors="ignore")
+        for ref in re.findall(r"`([\w./-]+\.(?:rs|py|pyi|md|toml))`", text):
+            if ref.startswith(OUTPUTS) or ref in paths or Path(ref).name in names:
+                continue
+            if str(Path(os.path.normpath(Path(f).parent / ref))) in paths:
+                continue
+            dead.append((f, ref))
+    assert not dead, dead
+
+
+def test_the_top_level_holds_the_layout_and_nothing_stray():
+    """The repository's top level is the workspace's layout (and its CI, docs and tool settings): debug output or a
+    peer's log committed by mistake fails here."""
+    if not (ROOT / ".git").exists():
+        pytest.skip("not in a clone of the repository")
+    tracked = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True, check=True).stdout
+    top = {f.split("/")[0] for f in tracked.split()}
+    layout = {"Cargo.toml", "Cargo.lock", "src", "crates", "python", "tests", "benches", "examples", "README.md"}
+    settings = {"docs", ".ci", ".gitignore", "rustfmt.toml"}
+    assert top - layout - settings == set(), top - layout - settings

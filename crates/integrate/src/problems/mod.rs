@@ -1,6 +1,6 @@
 //! Reference problems for convergence, stability and work-precision studies, with their published reference
-//! values or closed forms (see `shared/reference/ode-problems.md`): closed-form ones, non-stiff orbits and
-//! populations, and the stiff test set (Van der Pol, ROBER, HIRES, OREGO).
+//! values (the Bari/Hairer IVP test set, computed by RADAU5 at rtol = atol = 1.1e-18) or closed forms: closed-form
+//! ones, non-stiff orbits and populations, and the stiff test set (Van der Pol, ROBER, HIRES, OREGO).
 
 mod closed_form;
 mod nonstiff;
