@@ -233,6 +233,10 @@ impl RigidBodyBuilder {
         check_finite("orientation", self.orientation.coords.iter())?;
         limits::vector("velocity", &self.velocity, limits::SPEED, "m/s")?;
         limits::vector("angular_velocity", &self.angular_velocity, limits::SPEED, "rad/s")?;
+        if self.is_static {
+            still("velocity", &self.velocity)?;
+            still("angular_velocity", &self.angular_velocity)?;
+        }
         limits::non_negative("linear_damping", self.linear_damping, limits::STIFFNESS, "N s/m")?;
         limits::non_negative("angular_damping", self.angular_damping, limits::STIFFNESS, "N m s")?;
         let material = Material { restitution: self.restitution, friction: self.friction };
@@ -342,5 +346,17 @@ fn check_inertia(i: &Matrix3<f64>) -> Result<Matrix3<f64>, WorldError> {
     match sym.try_inverse() {
         Some(inv) if inv.iter().all(|v| v.is_finite()) => Ok(inv),
         _ => Err(WorldError::invalid("inertia", "is singular")),
+    }
+}
+
+/// A static body does not move: a velocity given to one is an error naming it (an option that does not apply).
+pub(crate) fn still(name: &'static str, v: &Vector3<f64>) -> Result<(), WorldError> {
+    if *v == Vector3::zeros() {
+        Ok(())
+    } else {
+        Err(WorldError::invalid(
+            name,
+            format!("a static body does not move, so it takes no {name} (got {v:?}); make it dynamic to move it"),
+        ))
     }
 }

@@ -67,6 +67,35 @@ impl IntegratorOptions {
         out
     }
 
+    /// Every number given is one the settings can use: tolerances finite and not negative, the step and the
+    /// per-step error finite and positive (each error names the keyword).
+    fn check_numbers(&self) -> Result<(), WorldError> {
+        for (name, v) in [("rtol", self.rtol), ("atol", self.atol)] {
+            if let Some(v) = v {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(WorldError::invalid(name, format!("must be finite and >= 0, got {v}")));
+                }
+            }
+        }
+        if let Some(dt) = self.dt {
+            crate::limits::positive("dt", dt, crate::limits::TIME, "s")?;
+        }
+        if let Some(t) = self.tolerance {
+            crate::limits::positive("tolerance", t, 1e100, "")?;
+        }
+        Ok(())
+    }
+
+    /// An error naming rtol or atol if either is given to a control that has no use for them (`what`).
+    fn no_tolerances(&self, what: &str) -> Result<(), WorldError> {
+        match (self.rtol.is_some(), self.atol.is_some()) {
+            (false, false) => Ok(()),
+            (rtol, _) => {
+                Err(WorldError::invalid(if rtol { "rtol" } else { "atol" }, format!("does not apply to {what}")))
+            }
+        }
+    }
+
     /// The settings: step doubling if asked (one-step methods only), the variable-step Euler by its tolerance,
     /// adaptive methods by rtol/atol (dt is then the first step) unless only dt is given, else fixed steps of dt.
     pub fn settings(&self) -> Result<Settings, WorldError> {
@@ -74,13 +103,19 @@ impl IntegratorOptions {
             Some(name) => name.parse()?,
             None => DEFAULT_METHOD,
         };
+        self.check_numbers()?;
         let (rtol, atol, dt) = (self.rtol, self.atol, self.dt);
         let mut s = if self.step_doubling {
             if !method.is_one_step() {
                 return Err(WorldError::invalid("step_doubling", format!("needs a one-step method, not {method}")));
             }
+            self.no_tolerances("step doubling, whose per-step error is `tolerance`")?;
             Settings::step_doubling(method, self.tolerance.unwrap_or(DEFAULT_TOLERANCE), dt.unwrap_or(1e-3))
         } else if method == Method::EulerVariable {
+            self.no_tolerances("euler-variable, whose per-step error is `tolerance`")?;
+            if dt.is_some() {
+                return Err(WorldError::invalid("dt", "euler-variable chooses its own steps from `tolerance`"));
+            }
             Settings::euler_variable(self.tolerance.unwrap_or(DEFAULT_TOLERANCE))
         } else if method.has_error_estimate() && (dt.is_none() || rtol.is_some() || atol.is_some()) {
             let s = Settings::tolerances(method, rtol.unwrap_or(DEFAULT_RTOL), atol.unwrap_or(DEFAULT_ATOL));

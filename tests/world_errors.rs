@@ -111,3 +111,52 @@ fn failed_step_leaves_the_world_unchanged() {
     assert!(matches!(err, WorldError::Simulation(_)));
     assert_eq!(w.particle(p).unwrap(), &before);
 }
+
+#[test]
+fn a_static_body_takes_no_velocity_and_the_world_is_left_as_it_was() {
+    // an option that does not apply is an error: a static body does not move
+    let mut w = World::new();
+    let v = Vector3::new(1.0, 0.0, 0.0);
+    let fixed = || RigidBodyBuilder::fixed(Some(Shape::sphere(0.5).unwrap()));
+    assert_eq!(name(w.add_body(fixed().velocity(v)).unwrap_err()), "velocity");
+    assert_eq!(name(w.add_body(fixed().angular_velocity(v)).unwrap_err()), "angular_velocity");
+    assert_eq!(w.body_count(), 0);
+    let h = w.add_body(fixed().position(Vector3::new(0.0, 0.0, 1.0))).unwrap();
+    let q = nalgebra::UnitQuaternion::identity();
+    let (here, there, zero) = (Vector3::new(0.0, 0.0, 1.0), Vector3::new(0.0, 0.0, 2.0), Vector3::zeros());
+    assert_eq!(name(w.set_body_state(h, there, q, v, zero).unwrap_err()), "velocity");
+    assert_eq!(name(w.set_body_state(h, there, q, zero, v).unwrap_err()), "angular_velocity");
+    assert_eq!(w.body(h).unwrap().position(), here, "a refused call moves nothing");
+    // with zero velocities it is moved to the pose
+    w.set_body_state(h, there, q, zero, zero).unwrap();
+    assert_eq!(w.body(h).unwrap().position(), there);
+}
+
+#[test]
+fn integrator_keywords_are_checked_by_name() {
+    use tumble::{IntegratorOptions, WorldOptions};
+    let build = |integrator: IntegratorOptions| WorldOptions { integrator, ..Default::default() }.build();
+    let named = |o: IntegratorOptions| name(build(o).err().expect("refused"));
+    let o = IntegratorOptions::default;
+    // tolerances: finite and not negative, wherever they apply
+    for bad in [f64::NAN, -1.0, f64::INFINITY] {
+        assert_eq!(named(IntegratorOptions { rtol: Some(bad), ..o() }), "rtol", "rtol {bad}");
+        assert_eq!(named(IntegratorOptions { atol: Some(bad), ..o() }), "atol", "atol {bad}");
+    }
+    // step doubling and euler-variable control their step by `tolerance`: rtol and atol do not apply to them
+    let doubling = || IntegratorOptions { step_doubling: true, integrator: Some("rk4".into()), ..o() };
+    assert_eq!(named(IntegratorOptions { rtol: Some(1e-6), ..doubling() }), "rtol");
+    assert_eq!(named(IntegratorOptions { atol: Some(1e-6), ..doubling() }), "atol");
+    assert_eq!(named(IntegratorOptions { rtol: Some(f64::NAN), ..doubling() }), "rtol");
+    let variable = || IntegratorOptions { integrator: Some("euler-variable".into()), ..o() };
+    assert_eq!(named(IntegratorOptions { atol: Some(1e-9), ..variable() }), "atol");
+    assert_eq!(named(IntegratorOptions { dt: Some(1e-3), ..variable() }), "dt");
+    // the step is named `dt` whatever the settings call it (an adaptive method's first step)
+    for bad in [f64::INFINITY, f64::NAN, 0.0, -1e-3] {
+        assert_eq!(named(IntegratorOptions { dt: Some(bad), ..o() }), "dt", "dt {bad}");
+        assert_eq!(named(IntegratorOptions { dt: Some(bad), integrator: Some("rk4".into()), ..o() }), "dt");
+    }
+    assert_eq!(named(IntegratorOptions { tolerance: Some(f64::NAN), ..doubling() }), "tolerance");
+    assert!(build(IntegratorOptions { rtol: Some(1e-8), atol: Some(0.0), ..o() }).is_ok());
+    assert!(build(IntegratorOptions { tolerance: Some(1e-7), ..doubling() }).is_ok());
+}

@@ -61,6 +61,10 @@ pub struct SceneFile {
     pub loads: Vec<LoadFile>,
     #[serde(default)]
     pub joints: Vec<JointFile>,
+    /// The engine's memory (base64 of its binary form), so that a loaded world continues bit for bit; null or
+    /// absent in a scene written without it (or by hand), whose engine starts afresh.
+    #[serde(default)]
+    pub memory: Option<String>,
 }
 
 /// A particle.

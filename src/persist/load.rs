@@ -119,181 +119,172 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
 /// saved; within it, energies and momenta stay finite.
 const STATE: f64 = 1e100;
 
-impl World {
-    /// A world from a scene file.
-    pub(crate) fn from_scene_file(f: &SceneFile) -> Result<World, WorldError> {
-        if f.format != FORMAT {
-            return Err(WorldError::invalid("format", format!("expected \"{FORMAT}\", got \"{}\"", f.format)));
-        }
-        if f.version != VERSION {
-            return Err(WorldError::invalid(
-                "version",
-                format!("this tumble reads version {VERSION} of the scene format, the file is version {}", f.version),
-            ));
-        }
-        let mut w = World::new();
-        w.set_gravity(v3(f.gravity))?;
-        w.set_threads(f.threads)?;
-        if let Some(factor) = f.divergence_factor {
-            w.set_divergence_factor(factor)?;
-        }
-        w.set_spring_jacobian(f.spring_jacobian);
-        let mut particles: Vec<ParticleHandle> = Vec::new();
-        for (k, p) in f.particles.iter().enumerate() {
-            let builder = ParticleBuilder::new(p.mass)
-                .damping(p.damping)
-                .stiffness(p.stiffness)
-                .anchor(v3(p.anchor))
-                .radius(p.radius)
-                .material(p.material());
-            let h = w.add_particle(builder).map_err(at("particles", format!("particles[{k}]")))?;
-            let (x, v) = (v3(p.position), v3(p.velocity));
-            limits::vector("position", &x, STATE, "m").map_err(at("particles", format!("particles[{k}]")))?;
-            limits::vector("velocity", &v, STATE, "m/s").map_err(at("particles", format!("particles[{k}]")))?;
-            if let Some(particle) = w.particles.get_mut(h) {
-                (particle.position, particle.velocity) = (x, v);
-            }
-            w.record_particle_start(h);
-            if let Some([x, v]) = p.start {
-                let (x, v) = (v3(x), v3(v));
-                limits::vector("start", &x, limits::COORDINATE, "m")
-                    .map_err(at("particles", format!("particles[{k}]")))?;
-                limits::vector("start", &v, limits::SPEED, "m/s")
-                    .map_err(at("particles", format!("particles[{k}]")))?;
-                w.starts.set_particle(h.index(), (x, v));
-            }
-            particles.push(h);
-        }
-        let mut bodies: Vec<BodyHandle> = Vec::new();
-        for (k, b) in f.bodies.iter().enumerate() {
-            let path = format!("bodies[{k}]");
-            let h = body_builder(b).and_then(|builder| w.add_body(builder)).map_err(at("bodies", path.clone()))?;
-            w.exact_fields(h, b).map_err(at("bodies", path))?;
-            bodies.push(h);
-        }
-        let particle = |list: &'static str, path: &str, i: usize| {
-            particles
-                .get(i)
-                .copied()
-                .ok_or_else(|| WorldError::invalid(list, format!("{path}: no particle of row {i}")))
-        };
-        let body = |list: &'static str, path: &str, i: usize| {
-            bodies.get(i).copied().ok_or_else(|| WorldError::invalid(list, format!("{path}: no body of row {i}")))
-        };
-        for (k, s) in f.springs.iter().enumerate() {
-            let end = |e: &EndFile, side: &str| -> Result<Attachment, WorldError> {
-                let path = format!("springs[{k}].{side}");
-                Ok(match e {
-                    EndFile::Particle(i) => Attachment::Particle(particle("springs", &path, *i)?),
-                    EndFile::Body { body: i, anchor } => Attachment::Body(body("springs", &path, *i)?, v3(*anchor)),
-                    EndFile::Point(p) => Attachment::Point(v3(*p)),
-                })
-            };
-            let mut builder =
-                SpringBuilder::new(end(&s.a, "a")?, end(&s.b, "b")?).stiffness(s.stiffness).damping(s.damping);
-            if let Some(l) = s.rest_length {
-                builder = builder.rest_length(l);
-            }
-            w.add_spring(builder).map_err(at("springs", format!("springs[{k}]")))?;
-        }
-        for (k, l) in f.loads.iter().enumerate() {
-            let path = format!("loads[{k}]");
-            let load = match l {
-                LoadFile::Force { target, force, at: point } => {
-                    let target = match target {
-                        TargetFile::Particle(i) => Target::Particle(particle("loads", &path, *i)?),
-                        TargetFile::Body(i) => Target::Body(body("loads", &path, *i)?),
-                    };
-                    Load::Force { target, force: v3(*force), at: point.map(v3) }
-                }
-                LoadFile::Torque { body: i, torque } => {
-                    Load::Torque { body: body("loads", &path, *i)?, torque: v3(*torque) }
-                }
-            };
-            w.add_load(load).map_err(at("loads", path))?;
-        }
-        // the mode before the joints, which must fit it (a soft joint only in fast mode)
-        w.set_mode(f.mode)?;
-        for (k, j) in f.joints.iter().enumerate() {
-            let path = format!("joints[{k}]");
-            let end = |i: Option<usize>| i.map(|i| body("joints", &path, i)).transpose();
-            let (a, b) = (end(j.a)?, end(j.b)?);
-            let mut builder = match j.kind {
-                JointType::Ball => JointBuilder::ball(a, b),
-                JointType::Hinge => JointBuilder::hinge(a, b, v3(j.axis)),
-                JointType::Slider => JointBuilder::slider(a, b, v3(j.axis)),
-                JointType::Weld => JointBuilder::weld(a, b),
-                JointType::Distance { length, rope: false } => JointBuilder::distance(a, b, length),
-                JointType::Distance { length, rope: true } => JointBuilder::rope(a, b, length),
-            };
-            builder = builder.anchor_a(v3(j.anchor_a)).anchor_b(v3(j.anchor_b)).axis(v3(j.axis));
-            if let Some([lo, hi]) = j.limits {
-                builder = builder.limits(lo, hi);
-            }
-            if let Some(m) = j.motor {
-                builder = builder.motor(m.speed, m.max_force);
-            }
-            if let Some(sp) = j.spring {
-                builder = builder.spring(sp.stiffness, sp.damping, sp.target);
-            }
-            if let Some([hz, zeta]) = j.softness {
-                builder = builder.softness(hz, zeta);
-            }
-            let h = w.add_joint(builder).map_err(at("joints", path.clone()))?;
-            // the joint's zero as it was made, to the bit
-            let joint = w.joints.get_mut(h).expect("just added");
-            if let Some(q) = j.reference {
-                joint.reference = quaternion("reference", q).map_err(at("joints", path.clone()))?;
-            }
-            if let Some(axis) = j.axis_b {
-                let axis = v3(axis);
-                if !(axis.iter().all(|c| c.is_finite()) && (axis.norm() - 1.0).abs() < 1e-9) {
-                    return Err(WorldError::invalid("joints", format!("{path}.axis_b: must be a unit vector")));
-                }
-                joint.axis_b = axis;
-            }
-        }
-        if let Some(settings) = &f.integrator {
-            match f.mode {
-                Mode::Accurate(_) => {
-                    w.set_integrator(settings.clone()).map_err(at("integrator", "integrator".into()))?
-                }
-                Mode::Fast(_) => w.settings = settings.clone(),
-            }
-        }
-        w.time = limits::in_range("time", f.time, -limits::TIME, limits::TIME, "s")?;
-        w.stepped = f.particles.iter().any(|p| p.start.is_some()) || f.bodies.iter().any(|b| b.start.is_some());
-        Ok(w)
+/// A world from a scene file.
+pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
+    if f.format != FORMAT {
+        return Err(WorldError::invalid("format", format!("expected \"{FORMAT}\", got \"{}\"", f.format)));
     }
+    if f.version != VERSION {
+        return Err(WorldError::invalid(
+            "version",
+            format!("this tumble reads version {VERSION} of the scene format, the file is version {}", f.version),
+        ));
+    }
+    let mut w = World::new();
+    w.set_gravity(v3(f.gravity))?;
+    w.set_threads(f.threads)?;
+    if let Some(factor) = f.divergence_factor {
+        w.set_divergence_factor(factor)?;
+    }
+    w.set_spring_jacobian(f.spring_jacobian);
+    let mut particles: Vec<ParticleHandle> = Vec::new();
+    for (k, p) in f.particles.iter().enumerate() {
+        let builder = ParticleBuilder::new(p.mass)
+            .damping(p.damping)
+            .stiffness(p.stiffness)
+            .anchor(v3(p.anchor))
+            .radius(p.radius)
+            .material(p.material());
+        let h = w.add_particle(builder).map_err(at("particles", format!("particles[{k}]")))?;
+        let (x, v) = (v3(p.position), v3(p.velocity));
+        limits::vector("position", &x, STATE, "m").map_err(at("particles", format!("particles[{k}]")))?;
+        limits::vector("velocity", &v, STATE, "m/s").map_err(at("particles", format!("particles[{k}]")))?;
+        if let Some(particle) = w.particles.get_mut(h) {
+            (particle.position, particle.velocity) = (x, v);
+        }
+        w.record_particle_start(h);
+        if let Some([x, v]) = p.start {
+            let (x, v) = (v3(x), v3(v));
+            limits::vector("start", &x, limits::COORDINATE, "m").map_err(at("particles", format!("particles[{k}]")))?;
+            limits::vector("start", &v, limits::SPEED, "m/s").map_err(at("particles", format!("particles[{k}]")))?;
+            w.starts.set_particle(h.index(), (x, v));
+        }
+        particles.push(h);
+    }
+    let mut bodies: Vec<BodyHandle> = Vec::new();
+    for (k, b) in f.bodies.iter().enumerate() {
+        let path = format!("bodies[{k}]");
+        let h = body_builder(b).and_then(|builder| w.add_body(builder)).map_err(at("bodies", path.clone()))?;
+        exact_fields(&mut w, h, b).map_err(at("bodies", path))?;
+        bodies.push(h);
+    }
+    let particle = |list: &'static str, path: &str, i: usize| {
+        particles.get(i).copied().ok_or_else(|| WorldError::invalid(list, format!("{path}: no particle of row {i}")))
+    };
+    let body = |list: &'static str, path: &str, i: usize| {
+        bodies.get(i).copied().ok_or_else(|| WorldError::invalid(list, format!("{path}: no body of row {i}")))
+    };
+    for (k, s) in f.springs.iter().enumerate() {
+        let end = |e: &EndFile, side: &str| -> Result<Attachment, WorldError> {
+            let path = format!("springs[{k}].{side}");
+            Ok(match e {
+                EndFile::Particle(i) => Attachment::Particle(particle("springs", &path, *i)?),
+                EndFile::Body { body: i, anchor } => Attachment::Body(body("springs", &path, *i)?, v3(*anchor)),
+                EndFile::Point(p) => Attachment::Point(v3(*p)),
+            })
+        };
+        let mut builder =
+            SpringBuilder::new(end(&s.a, "a")?, end(&s.b, "b")?).stiffness(s.stiffness).damping(s.damping);
+        if let Some(l) = s.rest_length {
+            builder = builder.rest_length(l);
+        }
+        w.add_spring(builder).map_err(at("springs", format!("springs[{k}]")))?;
+    }
+    for (k, l) in f.loads.iter().enumerate() {
+        let path = format!("loads[{k}]");
+        let load = match l {
+            LoadFile::Force { target, force, at: point } => {
+                let target = match target {
+                    TargetFile::Particle(i) => Target::Particle(particle("loads", &path, *i)?),
+                    TargetFile::Body(i) => Target::Body(body("loads", &path, *i)?),
+                };
+                Load::Force { target, force: v3(*force), at: point.map(v3) }
+            }
+            LoadFile::Torque { body: i, torque } => {
+                Load::Torque { body: body("loads", &path, *i)?, torque: v3(*torque) }
+            }
+        };
+        w.add_load(load).map_err(at("loads", path))?;
+    }
+    // the mode before the joints, which must fit it (a soft joint only in fast mode)
+    w.set_mode(f.mode)?;
+    for (k, j) in f.joints.iter().enumerate() {
+        let path = format!("joints[{k}]");
+        let end = |i: Option<usize>| i.map(|i| body("joints", &path, i)).transpose();
+        let (a, b) = (end(j.a)?, end(j.b)?);
+        let mut builder = match j.kind {
+            JointType::Ball => JointBuilder::ball(a, b),
+            JointType::Hinge => JointBuilder::hinge(a, b, v3(j.axis)),
+            JointType::Slider => JointBuilder::slider(a, b, v3(j.axis)),
+            JointType::Weld => JointBuilder::weld(a, b),
+            JointType::Distance { length, rope: false } => JointBuilder::distance(a, b, length),
+            JointType::Distance { length, rope: true } => JointBuilder::rope(a, b, length),
+        };
+        builder = builder.anchor_a(v3(j.anchor_a)).anchor_b(v3(j.anchor_b)).axis(v3(j.axis));
+        if let Some([lo, hi]) = j.limits {
+            builder = builder.limits(lo, hi);
+        }
+        if let Some(m) = j.motor {
+            builder = builder.motor(m.speed, m.max_force);
+        }
+        if let Some(sp) = j.spring {
+            builder = builder.spring(sp.stiffness, sp.damping, sp.target);
+        }
+        if let Some([hz, zeta]) = j.softness {
+            builder = builder.softness(hz, zeta);
+        }
+        let h = w.add_joint(builder).map_err(at("joints", path.clone()))?;
+        // the joint's zero as it was made, to the bit
+        let joint = w.joints.get_mut(h).expect("just added");
+        if let Some(q) = j.reference {
+            joint.reference = quaternion("reference", q).map_err(at("joints", path.clone()))?;
+        }
+        if let Some(axis) = j.axis_b {
+            let axis = v3(axis);
+            if !(axis.iter().all(|c| c.is_finite()) && (axis.norm() - 1.0).abs() < 1e-9) {
+                return Err(WorldError::invalid("joints", format!("{path}.axis_b: must be a unit vector")));
+            }
+            joint.axis_b = axis;
+        }
+    }
+    if let Some(settings) = &f.integrator {
+        match f.mode {
+            Mode::Accurate(_) => w.set_integrator(settings.clone()).map_err(at("integrator", "integrator".into()))?,
+            Mode::Fast(_) => w.settings = settings.clone(),
+        }
+    }
+    w.time = limits::in_range("time", f.time, -limits::TIME, limits::TIME, "s")?;
+    w.stepped = f.particles.iter().any(|p| p.start.is_some()) || f.bodies.iter().any(|b| b.start.is_some());
+    Ok(w)
+}
 
-    /// Puts a body's momenta, collider placements (given its mass and inertia) and start as written, to the bit.
-    fn exact_fields(&mut self, h: BodyHandle, f: &BodyFile) -> Result<(), WorldError> {
-        let b = self.bodies.get_mut(h).ok_or_else(|| WorldError::invalid("bodies", "lost"))?;
-        if f.is_static || f.inertia.is_some() {
-            for (c, written) in b.colliders.iter_mut().zip(&f.colliders) {
-                c.offset.translation.vector = v3(written.position);
-            }
+/// Puts a body's momenta, collider placements (given its mass and inertia) and start as written, to the bit.
+fn exact_fields(w: &mut World, h: BodyHandle, f: &BodyFile) -> Result<(), WorldError> {
+    let b = w.bodies.get_mut(h).ok_or_else(|| WorldError::invalid("bodies", "lost"))?;
+    if f.is_static || f.inertia.is_some() {
+        for (c, written) in b.colliders.iter_mut().zip(&f.colliders) {
+            c.offset.translation.vector = v3(written.position);
         }
-        limits::vector("position", &v3(f.position), STATE, "m")?;
-        b.position = v3(f.position);
-        if !b.is_static {
-            if let Some(p) = f.momentum {
-                limits::vector("momentum", &(v3(p) / b.mass), STATE, "m/s (p / m)")?;
-                b.momentum = v3(p);
-            }
-            if let Some(l) = f.angular_momentum {
-                check_finite("angular_momentum", l.iter())?;
-                b.angular_momentum = v3(l);
-            }
-        }
-        if let Some((x, q, p, l)) = f.start {
-            limits::vector("start", &v3(x), limits::COORDINATE, "m")?;
-            check_finite("start", p.iter().chain(l.iter()))?;
-            let start = (v3(x), quaternion("start", q)?, v3(p), v3(l));
-            self.starts.set_body(h.index(), start);
-        } else {
-            self.record_body_start(h);
-        }
-        Ok(())
     }
+    limits::vector("position", &v3(f.position), STATE, "m")?;
+    b.position = v3(f.position);
+    if !b.is_static {
+        if let Some(p) = f.momentum {
+            limits::vector("momentum", &(v3(p) / b.mass), STATE, "m/s (p / m)")?;
+            b.momentum = v3(p);
+        }
+        if let Some(l) = f.angular_momentum {
+            check_finite("angular_momentum", l.iter())?;
+            b.angular_momentum = v3(l);
+        }
+    }
+    if let Some((x, q, p, l)) = f.start {
+        limits::vector("start", &v3(x), limits::COORDINATE, "m")?;
+        check_finite("start", p.iter().chain(l.iter()))?;
+        let start = (v3(x), quaternion("start", q)?, v3(p), v3(l));
+        w.starts.set_body(h.index(), start);
+    } else {
+        w.record_body_start(h);
+    }
+    Ok(())
 }

@@ -1,26 +1,27 @@
-//! Saving and loading worlds: a readable scene file (JSON, `file.rs`) that a person can write by hand, and a
+//! The formats a world is saved in: a readable scene file (JSON, `file.rs`) that a person can write by hand, and a
 //! versioned binary format (an 8-byte magic, the version, the same scene in postcard, then the engine's memory).
-//! Both hold every object with its state to the bit, the settings and the start `reset` returns to. The binary
-//! format also holds the engine's memory (fast mode's warm starts, kept manifolds and sleep; accurate mode's
-//! integration, resting contacts and touching phase), so that a loaded world continues bit for bit as the original;
-//! a world loaded from JSON starts its engine afresh from the saved state, as a world built by hand and set to it
-//! would. A file of another version, a truncated file or a bad value is a clear error naming the field, and no
-//! world is half-built.
+//! Both hold every object with its state to the bit, the settings and the start `reset` returns to, and both hold
+//! the engine's memory (fast mode's warm starts, kept manifolds and sleep; accurate mode's integration, resting
+//! contacts and touching phase: in JSON as base64 of its binary form), so that a loaded world continues bit for
+//! bit as the original. A scene saved without the memory (hand-editable) starts its engine afresh from the saved
+//! state, as a world built by hand and set to it would. A file of another version, a truncated file or a bad
+//! value is a clear error naming the field, and no world is half-built. `World::save`, `load`, `to_json` and the
+//! others (`world/files.rs`) call these.
 
 mod file;
 mod load;
 mod save;
 
 use crate::engine::EngineMemory;
-
 use crate::error::WorldError;
 use crate::world::World;
+use base64::Engine as _;
 use file::SceneFile;
 
 /// The first bytes of a binary world.
 const MAGIC: &[u8; 8] = b"TUMBLEW\0";
 
-/// The engine part of a binary file.
+/// The engine part of a file.
 #[derive(serde::Serialize, serde::Deserialize)]
 struct SavedEngine {
     /// The world's state was set after the engine last ran (the scene holds it, the memory the engine's).
@@ -37,115 +38,118 @@ fn decode_error(format: &str, e: impl std::fmt::Display) -> WorldError {
     WorldError::invalid("file", format!("not a readable {format} scene: {e}"))
 }
 
-impl World {
-    /// The world as a readable scene (JSON). A world with force callbacks cannot be saved: the error names `loads`.
-    pub fn to_json(&self) -> Result<String, WorldError> {
-        let scene = self.scene_file()?;
-        serde_json::to_string_pretty(&scene).map_err(|e| WorldError::invalid("file", e.to_string()))
-    }
+fn encode_error(e: impl std::fmt::Display) -> WorldError {
+    WorldError::invalid("file", e.to_string())
+}
 
-    /// A world from a scene written by `to_json` or by hand. Bad JSON, an unknown field, a wrong format or version
-    /// or a bad value is an error naming it.
-    pub fn from_json(text: &str) -> Result<World, WorldError> {
-        let scene: SceneFile = serde_json::from_str(text).map_err(|e| decode_error("JSON", e))?;
-        World::from_scene_file(&scene)
-    }
-
-    /// The world in the binary format: `TUMBLEW\0`, the version (4 bytes, little-endian), the scene, the engine's
-    /// memory (if the world has an engine: it has stepped since its structure or settings last changed).
-    pub fn to_bytes(&self) -> Result<Vec<u8>, WorldError> {
-        let scene = self.scene_file()?;
-        let mut out = MAGIC.to_vec();
-        out.extend_from_slice(&BINARY_VERSION.to_le_bytes());
-        let fail = |e: postcard::Error| WorldError::invalid("file", e.to_string());
-        let out = postcard::to_extend(&scene, out).map_err(fail)?;
-        postcard::to_extend(&self.saved_memory(), out).map_err(fail)
-    }
-
-    /// The engine's memory, and whether the world's state was set since the engine last ran (the next step then
-    /// gives the engine that state, keeping its contact memory, as the original's would).
-    fn saved_memory(&self) -> Option<SavedEngine> {
-        self.engine.as_ref().map(|e| SavedEngine {
-            edited: self.state_changed,
-            divergence_limit: e.divergence_limit(),
-            memory: e.memory(),
-        })
-    }
-
-    /// Gives the world the memory read with its scene, checked against it first; on an error no world is made.
-    fn restore_memory(&mut self, saved: Option<SavedEngine>) -> Result<(), WorldError> {
-        let Some(SavedEngine { edited, divergence_limit, memory }) = saved else { return Ok(()) };
-        let refused = |why: String| WorldError::invalid("memory", format!("the file's engine memory: {why}"));
-        if !(divergence_limit > 0.0 && divergence_limit.is_finite()) {
-            return Err(refused(format!("its divergence limit {divergence_limit} is not positive and finite")));
-        }
-        let engine = self.engine()?;
-        engine.set_divergence_limit(divergence_limit);
-        engine.set_memory(memory).map_err(refused)?;
-        if edited {
-            // the scene holds the state set since; the engine applies it at the next step
-            self.state_changed = true;
-            return Ok(());
-        }
-        // The scene holds the world's arrays as they were, the memory the engine's state: the same state (the arrays
-        // are the engine's state unpacked, or were set and packed into it, quaternions normalized on the way), to
-        // the rounding; a memory of another time or another motion is refused.
-        let engine = self.engine.as_ref().expect("built above");
-        let packed = engine.rows().pack(&self.particles, &self.bodies);
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
-        let same = engine.state().len() == packed.len()
-            && engine.state().iter().zip(&packed).all(|(a, b)| close(*a, *b))
-            && close(engine.time(), self.time);
-        if !same {
-            return Err(refused("its state is not the scene's".into()));
-        }
-        Ok(())
-    }
-
-    /// A world from `to_bytes`. A truncated file, another version or a bad value is an error naming it.
-    pub fn from_bytes(bytes: &[u8]) -> Result<World, WorldError> {
-        if bytes.len() < 12 || &bytes[..8] != MAGIC {
-            return Err(WorldError::invalid("file", "not a tumble world (it does not start with TUMBLEW)"));
-        }
-        let version = u32::from_le_bytes(bytes[8..12].try_into().expect("four bytes"));
-        if version != BINARY_VERSION {
-            return Err(WorldError::invalid(
-                "version",
-                format!(
-                    "this tumble reads version {BINARY_VERSION} of the binary world format, the file is version \
-                     {version}"
-                ),
-            ));
-        }
-        let (scene, rest): (SceneFile, &[u8]) =
-            postcard::take_from_bytes(&bytes[12..]).map_err(|e| decode_error("binary", e))?;
-        let (memory, rest) = postcard::take_from_bytes(rest).map_err(|e| decode_error("binary", e))?;
-        if !rest.is_empty() {
-            return Err(decode_error("binary", format!("{} bytes left over after the scene", rest.len())));
-        }
-        let mut world = World::from_scene_file(&scene)?;
-        world.restore_memory(memory)?;
-        Ok(world)
-    }
-
-    /// Saves the world to `path`: JSON if it ends in `.json`, else the binary format.
-    pub fn save(&self, path: impl AsRef<std::path::Path>) -> Result<(), WorldError> {
-        let path = path.as_ref();
-        let bytes = if is_json(path) { self.to_json()?.into_bytes() } else { self.to_bytes()? };
-        std::fs::write(path, bytes).map_err(|e| WorldError::invalid("path", format!("{}: {e}", path.display())))
-    }
-
-    /// Loads a world saved by `save` (JSON if `path` ends in `.json`, else binary).
-    pub fn load(path: impl AsRef<std::path::Path>) -> Result<World, WorldError> {
-        let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|e| WorldError::invalid("path", format!("{}: {e}", path.display())))?;
-        if is_json(path) {
-            let text = String::from_utf8(bytes).map_err(|e| decode_error("JSON", e))?;
-            World::from_json(&text)
-        } else {
-            World::from_bytes(&bytes)
+/// The world as JSON, with the engine's memory (base64 of its binary form) if `memory`.
+pub(crate) fn to_json(world: &World, memory: bool) -> Result<String, WorldError> {
+    let mut scene = save::scene_file(world)?;
+    if memory {
+        if let Some(saved) = saved_memory(world) {
+            let bytes = postcard::to_stdvec(&saved).map_err(encode_error)?;
+            scene.memory = Some(base64::engine::general_purpose::STANDARD.encode(bytes));
         }
     }
+    serde_json::to_string_pretty(&scene).map_err(encode_error)
+}
+
+/// A world from JSON (written by `to_json` or by hand), given the memory the file holds.
+pub(crate) fn from_json(text: &str) -> Result<World, WorldError> {
+    let scene: SceneFile = serde_json::from_str(text).map_err(|e| decode_error("JSON", e))?;
+    let memory = match &scene.memory {
+        None => None,
+        Some(text) => {
+            let bytes = base64::engine::general_purpose::STANDARD
+                .decode(text)
+                .map_err(|e| WorldError::invalid("memory", format!("the file's engine memory is not base64: {e}")))?;
+            let saved: SavedEngine = postcard::from_bytes(&bytes)
+                .map_err(|e| WorldError::invalid("memory", format!("the file's engine memory is not readable: {e}")))?;
+            Some(saved)
+        }
+    };
+    let mut world = load::world_from(&scene)?;
+    restore_memory(&mut world, memory)?;
+    Ok(world)
+}
+
+/// The world in the binary format: `TUMBLEW\0`, the version (4 bytes, little-endian), the scene, the engine's
+/// memory (if `memory` and the world has an engine: it has stepped since its structure or settings last changed).
+pub(crate) fn to_bytes(world: &World, memory: bool) -> Result<Vec<u8>, WorldError> {
+    let scene = save::scene_file(world)?;
+    let mut out = MAGIC.to_vec();
+    out.extend_from_slice(&BINARY_VERSION.to_le_bytes());
+    let out = postcard::to_extend(&scene, out).map_err(encode_error)?;
+    let saved = if memory { saved_memory(world) } else { None };
+    postcard::to_extend(&saved, out).map_err(encode_error)
+}
+
+/// A world from `to_bytes`. A truncated file, another version or a bad value is an error naming it.
+pub(crate) fn from_bytes(bytes: &[u8]) -> Result<World, WorldError> {
+    if bytes.len() < 12 || &bytes[..8] != MAGIC {
+        return Err(WorldError::invalid("file", "not a tumble world (it does not start with TUMBLEW)"));
+    }
+    let version = u32::from_le_bytes(bytes[8..12].try_into().expect("four bytes"));
+    if version != BINARY_VERSION {
+        return Err(WorldError::invalid(
+            "version",
+            format!(
+                "this tumble reads version {BINARY_VERSION} of the binary world format, the file is version {version}"
+            ),
+        ));
+    }
+    let (scene, rest): (SceneFile, &[u8]) =
+        postcard::take_from_bytes(&bytes[12..]).map_err(|e| decode_error("binary", e))?;
+    let (memory, rest) = postcard::take_from_bytes(rest).map_err(|e| decode_error("binary", e))?;
+    if !rest.is_empty() {
+        return Err(decode_error("binary", format!("{} bytes left over after the scene", rest.len())));
+    }
+    if scene.memory.is_some() {
+        return Err(decode_error("binary", "its scene holds a memory of its own"));
+    }
+    let mut world = load::world_from(&scene)?;
+    restore_memory(&mut world, memory)?;
+    Ok(world)
+}
+
+/// The engine's memory, and whether the world's state was set since the engine last ran (the next step then gives
+/// the engine that state, keeping its contact memory, as the original's would).
+fn saved_memory(world: &World) -> Option<SavedEngine> {
+    world.engine.as_ref().map(|e| SavedEngine {
+        edited: world.state_changed,
+        divergence_limit: e.divergence_limit(),
+        memory: e.memory(),
+    })
+}
+
+/// Gives the world the memory read with its scene, checked against it first; on an error no world is made.
+fn restore_memory(world: &mut World, saved: Option<SavedEngine>) -> Result<(), WorldError> {
+    let Some(SavedEngine { edited, divergence_limit, memory }) = saved else { return Ok(()) };
+    let refused = |why: String| WorldError::invalid("memory", format!("the file's engine memory: {why}"));
+    if !(divergence_limit > 0.0 && divergence_limit.is_finite()) {
+        return Err(refused(format!("its divergence limit {divergence_limit} is not positive and finite")));
+    }
+    let engine = world.engine()?;
+    engine.set_divergence_limit(divergence_limit);
+    engine.set_memory(memory).map_err(refused)?;
+    if edited {
+        // the scene holds the state set since; the engine applies it at the next step
+        world.state_changed = true;
+        return Ok(());
+    }
+    // The scene holds the world's arrays as they were, the memory the engine's state: the same state (the arrays are
+    // the engine's state unpacked, or were set and packed into it, quaternions normalized on the way), to the
+    // rounding; a memory of another time or another motion is refused.
+    let engine = world.engine.as_ref().expect("built above");
+    let packed = engine.rows().pack(&world.particles, &world.bodies);
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
+    let same = engine.state().len() == packed.len()
+        && engine.state().iter().zip(&packed).all(|(a, b)| close(*a, *b))
+        && close(engine.time(), world.time);
+    if !same {
+        return Err(refused("its state is not the scene's".into()));
+    }
+    Ok(())
 }
 
 /// A shape as the scene file writes it (JSON), e.g. `{"sphere":{"radius":0.1}}`.
@@ -159,7 +163,8 @@ pub fn shape_from_json(text: &str) -> Result<tumble_collide::Shape, WorldError> 
     load::shape(&file)
 }
 
-fn is_json(path: &std::path::Path) -> bool {
+/// Whether a path names a JSON file (by its extension).
+pub(crate) fn is_json(path: &std::path::Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }
 
@@ -194,8 +199,8 @@ mod tests {
     fn spliced(scene_of: &World, memory_of: &World) -> Vec<u8> {
         let mut out = super::MAGIC.to_vec();
         out.extend_from_slice(&super::BINARY_VERSION.to_le_bytes());
-        let out = postcard::to_extend(&scene_of.scene_file().unwrap(), out).unwrap();
-        postcard::to_extend(&memory_of.saved_memory(), out).unwrap()
+        let out = postcard::to_extend(&super::save::scene_file(scene_of).unwrap(), out).unwrap();
+        postcard::to_extend(&super::saved_memory(memory_of), out).unwrap()
     }
 
     #[test]

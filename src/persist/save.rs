@@ -32,143 +32,141 @@ pub(crate) fn shape_file(s: &Shape) -> ShapeFile {
     }
 }
 
-impl World {
-    /// The scene file of the world as it is. A world with force callbacks cannot be written (they are code): the
-    /// error names `loads`.
-    pub(crate) fn scene_file(&self) -> Result<SceneFile, WorldError> {
-        let particle_rows: BTreeMap<u32, usize> =
-            self.particles.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
-        let body_rows: BTreeMap<u32, usize> = self.bodies.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
-        let particles = self
-            .particles
-            .iter()
-            .map(|(h, p)| ParticleFile {
-                mass: p.mass,
-                position: v3(&p.position),
-                velocity: v3(&p.velocity),
-                damping: p.damping,
-                stiffness: p.stiffness,
-                anchor: v3(&p.anchor),
-                radius: p.radius,
-                restitution: p.material.restitution,
-                friction: p.material.friction,
-                start: self.starts.particle(h.index()).map(|(x, v)| [v3(&x), v3(&v)]),
-            })
-            .collect();
-        let bodies = self
-            .bodies
-            .iter()
-            .map(|(h, b)| BodyFile {
-                is_static: b.is_static,
-                colliders: b
-                    .colliders
-                    .iter()
-                    .map(|c| ColliderFile {
-                        shape: shape_file(&c.shape),
-                        position: v3(&c.offset.translation.vector),
-                        orientation: q4(&c.offset.rotation),
-                    })
-                    .collect(),
-                mass: (!b.is_static).then_some(b.mass),
-                inertia: (!b.is_static).then(|| {
-                    let i = b.inertia;
-                    [
-                        [i[(0, 0)], i[(0, 1)], i[(0, 2)]],
-                        [i[(1, 0)], i[(1, 1)], i[(1, 2)]],
-                        [i[(2, 0)], i[(2, 1)], i[(2, 2)]],
-                    ]
-                }),
-                density: None,
-                position: v3(&b.position),
-                orientation: q4(&b.orientation),
-                velocity: None,
-                momentum: (!b.is_static).then(|| v3(&b.momentum)),
-                angular_velocity: None,
-                angular_momentum: (!b.is_static).then(|| v3(&b.angular_momentum)),
-                linear_damping: b.linear_damping,
-                angular_damping: b.angular_damping,
-                restitution: b.material.restitution,
-                friction: b.material.friction,
-                start: self.starts.body(h.index()).map(|(x, q, p, l)| (v3(&x), q4(&q), v3(&p), v3(&l))),
-            })
-            .collect();
-        let end = |a: &Attachment| match a {
-            Attachment::Particle(h) => EndFile::Particle(particle_rows[&h.index()]),
-            Attachment::Body(h, anchor) => EndFile::Body { body: body_rows[&h.index()], anchor: v3(anchor) },
-            Attachment::Point(p) => EndFile::Point(v3(p)),
-        };
-        let springs = self
-            .springs
-            .iter()
-            .map(|(_, s)| SpringFile {
-                a: end(&s.a),
-                b: end(&s.b),
-                stiffness: s.stiffness,
-                damping: s.damping,
-                rest_length: Some(s.rest_length),
-            })
-            .collect();
-        let target = |t: &Target| match t {
-            Target::Particle(h) => TargetFile::Particle(particle_rows[&h.index()]),
-            Target::Body(h) => TargetFile::Body(body_rows[&h.index()]),
-        };
-        let loads = self
-            .loads
-            .iter()
-            .map(|(_, l)| match l {
-                Load::Force { target: t, force, at } => {
-                    Ok(LoadFile::Force { target: target(t), force: v3(force), at: at.as_ref().map(v3) })
-                }
-                Load::Torque { body, torque } => {
-                    Ok(LoadFile::Torque { body: body_rows[&body.index()], torque: v3(torque) })
-                }
-                Load::Callback { .. } => Err(WorldError::invalid(
-                    "loads",
-                    "a world with a force callback cannot be saved (a callback is code); remove it first",
-                )),
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let row = |h: Option<crate::spring::BodyHandle>| h.map(|h| body_rows[&h.index()]);
-        let joints = self
-            .joints
-            .iter()
-            .map(|(_, j)| {
-                let s = &j.spec;
-                let kind = match s.kind {
-                    JointType::Distance { rope, .. } => JointType::Distance { length: Some(j.length), rope },
-                    other => other,
-                };
-                JointFile {
-                    kind,
-                    a: row(s.a),
-                    b: row(s.b),
-                    anchor_a: v3(&s.anchor_a),
-                    anchor_b: v3(&s.anchor_b),
-                    axis: v3(&s.axis),
-                    limits: s.limits.map(|(lo, hi)| [lo, hi]),
-                    motor: s.motor,
-                    spring: s.spring,
-                    softness: s.softness.map(|(h, z)| [h, z]),
-                    reference: Some(q4(&j.reference)),
-                    axis_b: Some(v3(&j.axis_b)),
-                }
-            })
-            .collect();
-        Ok(SceneFile {
-            format: FORMAT.into(),
-            version: VERSION,
-            time: self.time,
-            gravity: v3(&self.gravity),
-            mode: self.mode,
-            integrator: Some(self.settings.clone()),
-            threads: self.threads,
-            divergence_factor: Some(self.divergence_factor),
-            spring_jacobian: self.spring_jacobian,
-            particles,
-            bodies,
-            springs,
-            loads,
-            joints,
+/// The scene file of the world as it is. A world with force callbacks cannot be written (they are code): the
+/// error names `loads`.
+pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
+    let particle_rows: BTreeMap<u32, usize> = w.particles.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
+    let body_rows: BTreeMap<u32, usize> = w.bodies.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
+    let particles = w
+        .particles
+        .iter()
+        .map(|(h, p)| ParticleFile {
+            mass: p.mass,
+            position: v3(&p.position),
+            velocity: v3(&p.velocity),
+            damping: p.damping,
+            stiffness: p.stiffness,
+            anchor: v3(&p.anchor),
+            radius: p.radius,
+            restitution: p.material.restitution,
+            friction: p.material.friction,
+            start: w.starts.particle(h.index()).map(|(x, v)| [v3(&x), v3(&v)]),
         })
-    }
+        .collect();
+    let bodies = w
+        .bodies
+        .iter()
+        .map(|(h, b)| BodyFile {
+            is_static: b.is_static,
+            colliders: b
+                .colliders
+                .iter()
+                .map(|c| ColliderFile {
+                    shape: shape_file(&c.shape),
+                    position: v3(&c.offset.translation.vector),
+                    orientation: q4(&c.offset.rotation),
+                })
+                .collect(),
+            mass: (!b.is_static).then_some(b.mass),
+            inertia: (!b.is_static).then(|| {
+                let i = b.inertia;
+                [
+                    [i[(0, 0)], i[(0, 1)], i[(0, 2)]],
+                    [i[(1, 0)], i[(1, 1)], i[(1, 2)]],
+                    [i[(2, 0)], i[(2, 1)], i[(2, 2)]],
+                ]
+            }),
+            density: None,
+            position: v3(&b.position),
+            orientation: q4(&b.orientation),
+            velocity: None,
+            momentum: (!b.is_static).then(|| v3(&b.momentum)),
+            angular_velocity: None,
+            angular_momentum: (!b.is_static).then(|| v3(&b.angular_momentum)),
+            linear_damping: b.linear_damping,
+            angular_damping: b.angular_damping,
+            restitution: b.material.restitution,
+            friction: b.material.friction,
+            start: w.starts.body(h.index()).map(|(x, q, p, l)| (v3(&x), q4(&q), v3(&p), v3(&l))),
+        })
+        .collect();
+    let end = |a: &Attachment| match a {
+        Attachment::Particle(h) => EndFile::Particle(particle_rows[&h.index()]),
+        Attachment::Body(h, anchor) => EndFile::Body { body: body_rows[&h.index()], anchor: v3(anchor) },
+        Attachment::Point(p) => EndFile::Point(v3(p)),
+    };
+    let springs = w
+        .springs
+        .iter()
+        .map(|(_, s)| SpringFile {
+            a: end(&s.a),
+            b: end(&s.b),
+            stiffness: s.stiffness,
+            damping: s.damping,
+            rest_length: Some(s.rest_length),
+        })
+        .collect();
+    let target = |t: &Target| match t {
+        Target::Particle(h) => TargetFile::Particle(particle_rows[&h.index()]),
+        Target::Body(h) => TargetFile::Body(body_rows[&h.index()]),
+    };
+    let loads = w
+        .loads
+        .iter()
+        .map(|(_, l)| match l {
+            Load::Force { target: t, force, at } => {
+                Ok(LoadFile::Force { target: target(t), force: v3(force), at: at.as_ref().map(v3) })
+            }
+            Load::Torque { body, torque } => {
+                Ok(LoadFile::Torque { body: body_rows[&body.index()], torque: v3(torque) })
+            }
+            Load::Callback { .. } => Err(WorldError::invalid(
+                "loads",
+                "a world with a force callback cannot be saved (a callback is code); remove it first",
+            )),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let row = |h: Option<crate::spring::BodyHandle>| h.map(|h| body_rows[&h.index()]);
+    let joints = w
+        .joints
+        .iter()
+        .map(|(_, j)| {
+            let s = &j.spec;
+            let kind = match s.kind {
+                JointType::Distance { rope, .. } => JointType::Distance { length: Some(j.length), rope },
+                other => other,
+            };
+            JointFile {
+                kind,
+                a: row(s.a),
+                b: row(s.b),
+                anchor_a: v3(&s.anchor_a),
+                anchor_b: v3(&s.anchor_b),
+                axis: v3(&s.axis),
+                limits: s.limits.map(|(lo, hi)| [lo, hi]),
+                motor: s.motor,
+                spring: s.spring,
+                softness: s.softness.map(|(h, z)| [h, z]),
+                reference: Some(q4(&j.reference)),
+                axis_b: Some(v3(&j.axis_b)),
+            }
+        })
+        .collect();
+    Ok(SceneFile {
+        format: FORMAT.into(),
+        version: VERSION,
+        time: w.time,
+        gravity: v3(&w.gravity),
+        mode: w.mode,
+        integrator: Some(w.settings.clone()),
+        threads: w.threads,
+        divergence_factor: Some(w.divergence_factor),
+        spring_jacobian: w.spring_jacobian,
+        particles,
+        bodies,
+        springs,
+        loads,
+        joints,
+        memory: None,
+    })
 }

@@ -6,7 +6,9 @@
 
 mod build;
 mod contacts;
+mod files;
 mod joints;
+mod materials;
 mod plan;
 mod state;
 mod stepping;

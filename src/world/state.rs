@@ -33,7 +33,8 @@ impl World {
         Ok(())
     }
 
-    /// Sets a dynamic body's pose, velocity and angular velocity (world axes).
+    /// Sets a body's pose, velocity and angular velocity (world axes). A static body is moved to the pose (its
+    /// velocities must be zero: it does not move).
     pub fn set_body_state(
         &mut self,
         h: BodyHandle,
@@ -48,6 +49,8 @@ impl World {
         limits::vector("angular_velocity", &angular_velocity, limits::SPEED, "rad/s")?;
         let b = self.bodies.get_mut(h).ok_or_else(|| unknown("body", h))?;
         if b.is_static {
+            crate::body::still("velocity", &velocity)?;
+            crate::body::still("angular_velocity", &angular_velocity)?;
             b.position = position;
             b.orientation = orientation;
             self.retire_engine();
