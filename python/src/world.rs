@@ -4,7 +4,7 @@
 
 use crate::args::{attachment, integrator_options, to_target};
 use crate::control::Control;
-use crate::convert::{array, invalid, mat3, opt_vec3, quat, repr, vec3, world_error};
+use crate::convert::{array, invalid, mat3, number, opt_vec3, quat, repr, vec3, world_error};
 use crate::handles::{PyBodyHandle, PyLoadHandle, PyParticleHandle, PySpringHandle};
 use crate::report::run_arrays;
 use crate::shapes::PyShape;
@@ -390,6 +390,28 @@ impl PyWorld {
         let v = opt_vec3("velocity", velocity)?.unwrap_or(b.velocity());
         let w = opt_vec3("angular_velocity", angular_velocity)?.unwrap_or(b.angular_velocity());
         self.w().set_body_state(body.into(), x, q, v, w).map_err(world_error)
+    }
+
+    /// Sets a particle's or body's friction and/or restitution (static bodies included; either left as it is when
+    /// None), between steps, in either mode: the contacts found from the next step on use it, and the engine keeps
+    /// its memory. Copies and saved files keep the new material. Raises ValueError naming a bad value.
+    #[pyo3(signature = (handle, friction = None, restitution = None))]
+    fn set_material(
+        &mut self,
+        handle: &Bound<'_, PyAny>,
+        friction: Option<&Bound<'_, PyAny>>,
+        restitution: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let target = to_target(handle, "handle")?;
+        let friction = friction.filter(|f| !f.is_none()).map(|f| number("friction", f)).transpose()?;
+        let restitution = restitution.filter(|r| !r.is_none()).map(|r| number("restitution", r)).transpose()?;
+        self.w()
+            .set_material(target, friction, restitution)
+            .map_err(|e| match e {
+                WorldError::UnknownHandle { handle, .. } => WorldError::UnknownHandle { name: "handle", handle },
+                other => other,
+            })
+            .map_err(world_error)
     }
 
     /// Advances by exactly `dt` (several internal steps if the integrator is adaptive). Raises SimulationError,

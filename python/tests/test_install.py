@@ -1,4 +1,4 @@
-"""Without an optional extra, the feature that needs it says how to install it in the README's words: tumble is
+"""Without an optional extra, the feature that needs it says how to install it in the documentation's words: tumble is
 installed from its clone, so the command is ``pip install "./python[EXTRA]"``, not a package index's name."""
 
 from __future__ import annotations
@@ -16,12 +16,13 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def readme_command(extra: str) -> str:
-    """The README's command for ``extra`` (checked against the README when the repository is around: it gives it
-    for the viewer, USD and Dask, and its form for every extra)."""
+    """The documentation's command for ``extra`` (checked against it when the repository is around: the README,
+    the Python README and the pages under docs/ give it for the viewer, USD and Dask, in one form for every
+    extra)."""
     command = f'pip install "./python[{extra}]"'
-    readme = ROOT / "README.md"
-    if readme.exists():
-        text = readme.read_text()
+    pages = [ROOT / "README.md", ROOT / "python" / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    if pages[0].exists():
+        text = "\n".join(p.read_text() for p in pages if p.exists())
         assert 'pip install "./python[' in text
         assert command in text or extra not in ("viewer", "usd", "dask"), command
     return command

@@ -1,6 +1,7 @@
-"""Saving, loading and pickling worlds from Python (issue 15): every object and state to the bit; a world loaded
-from binary or unpickled continues as the original, bit for bit, in both modes; one loaded from JSON as the
-original started afresh from its state; bad files raise ValueError naming the field."""
+"""Saving, loading and pickling worlds from Python: every object and state to the bit; a world loaded from JSON or
+binary or unpickled continues as the original, bit for bit, in both modes (the files carry the engine's memory);
+one saved with ``memory=False`` (the scene alone, hand-editable) as the original started afresh from its state; bad
+files raise ValueError naming the field."""
 
 import json
 import pickle
@@ -40,25 +41,28 @@ def afresh(w: tumble.World) -> tumble.World:
 
 
 @pytest.mark.parametrize("mode", ["accurate", "fast"])
-@pytest.mark.parametrize("how", ["json", "binary", "pickle"])
+@pytest.mark.parametrize("how", ["json", "binary", "pickle", "json scene", "binary scene"])
 def test_save_load_continue(mode, how, tmp_path):
     w = scene(mode)
     w.step(0.75)  # the bodies touch: warm starts, lagged impulses, a touching phase
     if how == "pickle":
         loaded = pickle.loads(pickle.dumps(w))
     else:
-        path = w.save(tmp_path / ("world.json" if how == "json" else "world.tumble"))
+        name = "world.json" if how.startswith("json") else "world.tumble"
+        path = w.save(tmp_path / name, memory=not how.endswith("scene"))
+        if how == "json scene":
+            assert json.loads(path.read_text())["memory"] is None, "the scene alone holds no memory"
         loaded = tumble.World.load(path)
     assert type(loaded) is tumble.World
     assert arrays(loaded) == arrays(w)
-    # the binary format (and pickle) carries the engine's memory: the original's own continuation; JSON starts the
-    # engine afresh from the saved state, which goes another way (so the memory is what carried the binary one)
+    # a file with the engine's memory (and pickle) continues as the original; the scene alone starts the engine
+    # afresh from the saved state, which goes another way (so the memory is what carried the others)
     import copy
     original, started_afresh = copy.deepcopy(w), afresh(w)
     for x in (original, started_afresh, loaded):
         x.step(0.25)
     assert arrays(original) != arrays(started_afresh)
-    assert arrays(loaded) == arrays(started_afresh if how == "json" else original)
+    assert arrays(loaded) == arrays(started_afresh if how.endswith("scene") else original)
     loaded.reset()
     w.reset()
     assert arrays(loaded) == arrays(w), "the start travels with the file"

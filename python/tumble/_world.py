@@ -173,19 +173,19 @@ class World(_World):
         """The same as ``copy.copy``: a world shares nothing with its copy but its force callbacks."""
         return self.__copy__()
 
-    def save(self, path: str | os.PathLike[str]) -> Path:
-        """Saves the world: readable JSON if ``path`` ends in ``.json`` (a scene a person can read and edit), else
-        the versioned binary format. Every object and its state are kept to the bit, with the settings and the
-        start ``reset`` returns to. The binary format (and ``pickle``, which uses it) also keeps the engine's memory
-        (fast mode's warm starts, kept manifolds and sleep; accurate mode's integration, resting contacts and
-        touching phase): a loaded world continues bit for bit as this one, in both modes. From JSON a loaded world
-        starts its engine afresh from the saved state. A world with force callbacks cannot be saved
-        (ValueError naming ``loads``). Returns the path."""
+    def save(self, path: str | os.PathLike[str], memory: bool = True) -> Path:
+        """Saves the world: readable JSON if ``path`` ends in ``.json``, else the versioned binary format. Every
+        object and its state are kept to the bit, with the settings and the start ``reset`` returns to, and (unless
+        ``memory=False``) the engine's memory (fast mode's warm starts, kept manifolds and sleep; accurate mode's
+        integration, resting contacts and touching phase): a loaded world continues bit for bit as this one, in
+        both modes and from either format. With ``memory=False`` the file holds the scene alone (in JSON, one a
+        person can read and edit), and a world loaded from it starts its engine afresh from the saved state. A world
+        with force callbacks cannot be saved (ValueError naming ``loads``). Returns the path."""
         path = as_path(path)
         if path.suffix.lower() == ".json":
-            path.write_text(self.to_json())
+            path.write_text(self.to_json(memory=memory))
         else:
-            path.write_bytes(self._to_bytes())
+            path.write_bytes(self._to_bytes(memory=memory))
         return path
 
     @classmethod

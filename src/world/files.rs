@@ -32,7 +32,12 @@ impl World {
         persist::to_bytes(self, true)
     }
 
-    /// A world from `to_bytes`. A truncated file, another version or a bad value is an error naming it.
+    /// The scene alone in the binary format, without the engine's memory.
+    pub fn to_bytes_scene(&self) -> Result<Vec<u8>, WorldError> {
+        persist::to_bytes(self, false)
+    }
+
+    /// A world from `to_bytes` or `to_bytes_scene`. A truncated file, another version or a bad value is an error naming it.
     pub fn from_bytes(bytes: &[u8]) -> Result<World, WorldError> {
         persist::from_bytes(bytes)
     }
