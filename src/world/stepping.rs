@@ -42,7 +42,7 @@ impl World {
     }
 
     #[cfg(feature = "contact")]
-    fn contact_scene(&self, compiled: &Compiled) -> Option<crate::engine::collider_set::ColliderSet> {
+    pub(crate) fn contact_scene(&self, compiled: &Compiled) -> Option<crate::engine::collider_set::ColliderSet> {
         let mut scene = crate::engine::collider_set::ColliderSet::build(
             compiled.model.layout,
             &self.particles,

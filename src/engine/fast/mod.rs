@@ -15,6 +15,8 @@ mod sleep;
 mod soft_solve;
 mod solve_velocities;
 mod step;
+#[cfg(test)]
+mod tests;
 mod warm_start;
 
 pub(crate) use memory::FastMemory;

@@ -110,14 +110,14 @@ pub(super) fn soft_solve(
 }
 
 /// The joints and springs where the bodies are at the step's start, for the soft step.
-type Links = (Option<Vec<BodyState>>, Vec<Joint>, Vec<SoftSpring>);
+pub(super) type Links = (Option<Vec<BodyState>>, Vec<Joint>, Vec<SoftSpring>);
 
 /// The joints, springs and anchor pulls where the bodies are at the step's start, for the soft step: a dynamic
 /// end is its actor, a fixed end (the world, a static body, a fixed point, a particle's anchor) an extra fixed
 /// actor at its pose, appended to the actors (returned when any). Springs that move nothing (both ends fixed or
 /// asleep, or both on one body) are left out; the body kinematics are those of `applied_forces` (the step's
 /// start).
-fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Links {
+pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Links {
     let model = &cx.model;
     let anchored = model.particles.iter().any(|p| p.stiffness != 0.0);
     if model.joints.is_empty() && model.springs.is_empty() && !anchored {

@@ -79,7 +79,7 @@ pub(super) fn energy(model: &Model, y: &[f64]) -> f64 {
 
 /// Fails the step if the new state is not finite or has diverged past the limit (one comparison a component; NaN
 /// fails it too).
-fn check_state(cx: &StepContext<'_>, h: f64) -> Result<(), WorldError> {
+pub(super) fn check_state(cx: &StepContext<'_>, h: f64) -> Result<(), WorldError> {
     let (limit, y) = (cx.divergence_limit, &cx.memory.y);
     if y.iter().all(|v| v.abs() <= limit) {
         return Ok(());
