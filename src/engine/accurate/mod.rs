@@ -47,6 +47,8 @@ mod pass_through;
 #[cfg(feature = "contact")]
 mod resting;
 mod system;
+#[cfg(all(test, feature = "contact"))]
+mod tests;
 #[cfg(feature = "contact")]
 mod touching;
 

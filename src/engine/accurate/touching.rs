@@ -315,7 +315,7 @@ fn momenta(model: &Model, involved: &[bool], y: &[f64]) -> f64 {
 
 /// y <- 2 y - other (Richardson extrapolation of the two half steps against the whole one); quaternions aligned
 /// in sign first and normalised after.
-fn extrapolate(model: &Model, y: &mut [f64], other: &[f64]) {
+pub(super) fn extrapolate(model: &Model, y: &mut [f64], other: &[f64]) {
     for (v, o) in y.iter_mut().zip(other) {
         *v = 2.0 * *v - o;
     }
