@@ -123,7 +123,7 @@ pub enum FastSolver {
     /// as the game engines, with a small penetration under load (about g / (2 pi hertz)^2 per body weight carried).
     Soft(SoftSolver),
     /// clarabel's exact velocity-level cone program per island: no penetration and exact contact conditions each
-    /// step, 30 to 50 times slower; for verification and small scenes.
+    /// step, many times slower (docs/benchmarks.md measures it); for verification and small scenes.
     Exact {
         /// Fraction of an interpenetration removed per step, in [0, 1]; 0.2 by default.
         erp: f64,

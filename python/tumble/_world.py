@@ -113,10 +113,11 @@ class World(_World):
     contacts, Coulomb friction and restitution solved by ``solver="soft"`` (the default: Catto's soft step, in
     ``substeps`` substeps a step, default 8, iterative and warm-started, as fast as the game engines with a small
     penetration under load) or ``solver="exact"`` (one conic program per island each step with clarabel: no penetration,
-    30-50 times slower); ``step_doubling=True`` in fast mode also takes every step as two halves and reports their
-    largest difference as ``report.step_error`` (metres; the run itself is unchanged, the cost tripled), and resting
-    islands sleep (``sleep=False`` keeps them awake); it always steps by ``dt``: ``step`` and ``run`` durations must be
-    whole numbers of steps, and a frame is the state of the first step that reaches its time. An option that does not
+    many times slower, as docs/benchmarks.md measures); ``step_doubling=True`` in fast mode also takes every step as two
+    halves and reports their largest difference as ``report.step_error`` (metres; the run itself is unchanged, the cost
+    tripled), and resting islands sleep (``sleep=False`` keeps them awake); it always steps by ``dt``: ``step`` and
+    ``run`` durations must be whole numbers of steps, and a frame is the state of the first step that reaches its
+    time. An option that does not
     apply to the mode (an integrator option or ``contact_tolerance`` in fast mode, ``sleep``, ``solver`` or ``substeps``
     in accurate mode, ``substeps`` with the exact solver) raises ValueError naming it.
     Arguments left as ``None`` take the library's defaults: particles of 1 kg, restitution and friction 0.5, spring

@@ -1,5 +1,5 @@
-//! Building a world: adding particles, bodies, springs and loads (joints: `joints.rs`) (each checked where it enters), and removing
-//! them with what hangs on them. Any change of structure retires the engine; the next step compiles anew.
+//! Building a world: adding particles, bodies, springs and loads (joints: `joints.rs`), each checked where it
+//! enters, and removing them with what hangs on them. Any change of structure retires the engine; the next step compiles anew.
 
 use super::{unknown, World};
 use crate::body::{RigidBody, RigidBodyBuilder};

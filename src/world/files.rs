@@ -37,7 +37,8 @@ impl World {
         persist::to_bytes(self, false)
     }
 
-    /// A world from `to_bytes` or `to_bytes_scene`. A truncated file, another version or a bad value is an error naming it.
+    /// A world from `to_bytes` or `to_bytes_scene`. A truncated file, another version or a bad value is an error
+    /// naming it.
     pub fn from_bytes(bytes: &[u8]) -> Result<World, WorldError> {
         persist::from_bytes(bytes)
     }

@@ -33,7 +33,7 @@ impl World {
     /// Whether the compiled world has colliders that can touch.
     pub(crate) fn has_contact(&self, compiled: &Compiled) -> bool {
         #[cfg(feature = "contact")]
-        return self.contact_scene(compiled).is_some();
+        return self.collider_set(compiled).is_some();
         #[cfg(not(feature = "contact"))]
         {
             let _ = compiled;
@@ -42,7 +42,7 @@ impl World {
     }
 
     #[cfg(feature = "contact")]
-    pub(crate) fn contact_scene(&self, compiled: &Compiled) -> Option<crate::engine::collider_set::ColliderSet> {
+    pub(crate) fn collider_set(&self, compiled: &Compiled) -> Option<crate::engine::collider_set::ColliderSet> {
         let mut scene = crate::engine::collider_set::ColliderSet::build(
             compiled.model.layout,
             &self.particles,
@@ -80,7 +80,7 @@ impl World {
             mode: self.mode,
             settings: self.settings.clone().divergence_limit(self.divergence_factor * scale),
             #[cfg(feature = "contact")]
-            scene: self.contact_scene(&compiled),
+            scene: self.collider_set(&compiled),
             gravity: self.gravity.norm(),
             threads: self.threads,
         };
@@ -135,7 +135,7 @@ impl World {
     /// [`WorldError::Interrupted`] and the world is as it was.
     pub fn step_with(&mut self, dt: f64, control: impl FnMut(f64) -> bool) -> Result<(), WorldError> {
         limits::positive("dt", dt, limits::TIME, "s")?;
-        self.drive(dt, "dt", None, control).map(|_| ())
+        self.run_loop(dt, "dt", None, control).map(|_| ())
     }
 
     /// Runs for `duration`, recording a frame every `frame_interval` (and at the end).
@@ -167,13 +167,13 @@ impl World {
                 ),
             ));
         }
-        let run = self.drive(duration, "duration", Some(frame_interval), control)?;
+        let run = self.run_loop(duration, "duration", Some(frame_interval), control)?;
         Ok(run.expect("frames were asked for"))
     }
 
     /// The run loop of every mode: advances by `span` (named `name` in errors), recording frames every
     /// `frame_interval` if given.
-    fn drive(
+    fn run_loop(
         &mut self,
         span: f64,
         name: &'static str,

@@ -3,8 +3,9 @@
 //! Contacts are speculative (pairs within the distance they can close in the step take part, with their gap as a
 //! bound), so nothing passes through and new contacts stop at their gap. Friction is lagged: each contact's
 //! friction impulse is bounded by mu times a normal impulse, and the step iterates that bound to its own normal
-//! impulse (a fixed point to `Contacts::lagged_tolerance`, at most `LAGGED_ITERATIONS` solves), so sliding decelerates at mu g without the convex
-//! cone's hop and the answer does not depend on the previous step's forces beyond the first guess.
+//! impulse (a fixed point to `ContactScales::lagged_tolerance`, at most `LAGGED_ITERATIONS` solves), so sliding
+//! decelerates at mu g without the convex cone's hop and the answer does not depend on the previous step's forces
+//! beyond the first guess.
 
 use super::contact_stages::ContactStages;
 use super::failure;

@@ -1,6 +1,6 @@
 //! The impact stage of accurate mode, run at each event: find the touching contacts. When one of them has
-//! friction, or the world has joints, the touching phase takes over from here (its convex steps resolve the impact with friction and
-//! restitution). Otherwise apply impulses to those that close (all at once, restitution only where the closing
+//! friction, or the world has joints, the touching phase takes over from here (its convex steps resolve the impact
+//! with friction and restitution). Otherwise apply impulses to those that close (all at once, restitution only where the closing
 //! speed exceeds the resting speed); contacts that then neither close nor open start the touching phase, or, with
 //! `Persistent::RestingForces`, are lifted back to zero gap if they drifted and handed to the right-hand side as
 //! the resting set. Bounces slower than the resting speed are absorbed, so a bouncing ball comes to rest after
@@ -73,7 +73,7 @@ pub fn impact(
         cx.report.qp_solves += correct_drift(model, &mut y, &states, &contacts, cx.solver, t)?;
     }
     if let Some(i) = y.iter().position(|v| !v.is_finite()) {
-        return Err(OdeError::NonFinite { t, what: "state after the contact phase", index: i });
+        return Err(OdeError::NonFinite { t, what: "state after the impact stage", index: i });
     }
     let poses = actor_poses(model.layout, &y, &statics);
     let contacts: Vec<RestingContact> = active.iter().map(|(f, _)| RestingContact::attach(f, &poses)).collect();

@@ -66,7 +66,7 @@ use crate::run::Run;
 use integration::Integration;
 use tumble_integrate::{Integrator, OdeError, Settings};
 
-/// Events at one time without progress before the advance gives up (a contact phase that cannot settle).
+/// Events at one time without progress before the advance gives up (an impact stage that cannot settle).
 #[cfg(feature = "contact")]
 const STUCK: usize = 200;
 

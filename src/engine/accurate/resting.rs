@@ -26,7 +26,7 @@ pub(crate) struct RestingContact {
     pub key: ContactKey,
 }
 
-/// The resting contacts of an accurate-mode world between two contact phases (part of the engine's memory).
+/// The resting contacts of an accurate-mode world between two impact stages (part of the engine's memory).
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub(crate) struct RestingContacts {
     pub contacts: Vec<RestingContact>,

@@ -23,7 +23,7 @@ const G: f64 = 9.81;
 /// Accurate mode's engine of world `w` as it is (its own scene and settings).
 fn engine(w: &World) -> AccurateEngine {
     let compiled = w.compile();
-    let scene = w.contact_scene(&compiled);
+    let scene = w.collider_set(&compiled);
     let y = compiled.rows.pack(&w.particles, &w.bodies);
     let settings = w.settings.clone().divergence_limit(1e12);
     let Mode::Accurate(accurate) = w.mode else { panic!("an accurate world") };

@@ -1,22 +1,20 @@
-//! Accurate mode while bodies touch: convex contact steps (`convex_step.rs`) under error control by step doubling, after
-//! Drake's CENIC (Kurtz and Castro, 2025). Each step of h is taken once whole and once as two halves (the first
+//! Accurate mode while bodies touch: convex contact steps (`convex_step.rs`) under error control by step doubling,
+//! after Drake's CENIC (Kurtz and Castro, 2025). Each step of h is taken once whole and once as two halves (the first
 //! half on the whole step's contacts); their difference estimates the error of the halves, in metres: positions,
 //! body turns times the radius of gyration, and velocity differences times h (what they become a step later). A
 //! step is accepted when that is at most the contact tolerance, and the next h is h (tol / err)^(1/2) (the estimate
 //! is of a first-order method), within 0.2 to 2 times h. The accepted state is the halves extrapolated,
 //! 2 y_half - y_whole (second order; exact for the constant forces of sliding, rolling and resting), unless the two
 //! disagree on which contacts pushed or the extrapolated state has more energy than the step started with, where
-//! the halves are kept. Steps land on frame times, so frames
-//! are states, not interpolations. Contacts that sank past the tolerance (linearised contacts of turning bodies
-//! sink a little) are lifted apart by a position projection before the step. The phase ends when no pair is within reach of a step: the integrator takes over.
+//! the halves are kept. Steps land on frame times, so frames are states, not interpolations. Contacts that sank past
+//! the tolerance (linearised contacts of turning bodies sink a little) are lifted apart by a position projection
+//! before the step. The phase ends when no pair is within reach of a step: the integrator takes over.
 
 use super::contact_stages::ContactStages;
-use super::convex_step::{actors_with_forces, ConvexStep};
-use super::convex_step::{contacts_in_reach, convex_step};
+use super::convex_step::{actors_with_forces, contacts_in_reach, convex_step, ConvexStep};
 use super::drift::correct_drift;
 use super::failure;
-use super::free_flight::free_flight;
-use super::free_flight::{copy_free, involved, FreeFlight};
+use super::free_flight::{copy_free, free_flight, involved, FreeFlight};
 use super::system::AccurateSystem;
 use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;

@@ -23,7 +23,7 @@ const H: f64 = 1.0 / 240.0;
 /// The fast engine of world `w` as it is (the world's own rules for its scene), with `settings`.
 fn engine(w: &World, settings: FastSettings) -> FastEngine {
     let compiled = w.compile();
-    let scene = w.contact_scene(&compiled);
+    let scene = w.collider_set(&compiled);
     let y = compiled.rows.pack(&w.particles, &w.bodies);
     FastEngine::new(compiled, scene, 0.0, y, settings, 1, 1e12)
 }
