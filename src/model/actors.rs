@@ -6,6 +6,7 @@ use crate::model::layout::{get3, get_quat, Layout};
 use crate::model::Model;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
 use tumble_contact::BodyState;
+use tumble_integrate::OdeError;
 
 /// The pose of every actor (particles: translation only; then dynamic bodies; then `statics`) in state y.
 pub(crate) fn actor_poses(l: Layout, y: &[f64], statics: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
@@ -75,5 +76,23 @@ impl Model {
         }
         out.extend(statics.iter().map(|p| BodyState::fixed(Point3::from(p.translation.vector))));
         out
+    }
+
+    /// The actors of a time step from state y and the rates `dy` of its force evaluation (fast mode's steps,
+    /// accurate mode's contact steps): the forces checked finite (an error names the first rate that is not),
+    /// Euler's gyroscopic term cancelled (the step carries angular momentum), the `asleep` actors fixed.
+    pub(crate) fn step_actors(
+        &self,
+        t: f64,
+        y: &[f64],
+        dy: &[f64],
+        statics: &[Isometry3<f64>],
+        asleep: &[bool],
+    ) -> Result<Vec<BodyState>, OdeError> {
+        if let Some(index) = dy.iter().position(|v| !v.is_finite()) {
+            return Err(OdeError::NonFinite { t, what: "force", index });
+        }
+        let options = StateOptions { asleep, cancel_gyroscopic: true };
+        Ok(self.contact_states(y, &dy[self.layout.positions()..], statics, options))
     }
 }

@@ -10,7 +10,7 @@ pub(crate) mod joints;
 pub(crate) mod layout;
 
 #[cfg(feature = "contact")]
-pub(crate) use actors::{actor_poses, StateOptions};
+pub(crate) use actors::actor_poses;
 
 use crate::body::RigidBody;
 use crate::handle::Arena;

@@ -14,7 +14,7 @@ use super::system::AccurateSystem;
 use crate::engine::contact_reduction::reduce;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::engine::semi_implicit::update_positions;
-use crate::model::{actor_poses, Model, StateOptions};
+use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -44,11 +44,7 @@ pub(crate) fn actors_with_forces(
 ) -> Result<Vec<BodyState>, OdeError> {
     let mut dy = vec![0.0; y.len()];
     system.rhs(t, y, &mut dy).map_err(|e| failure(t, e.to_string()))?;
-    if let Some(index) = dy.iter().position(|v| !v.is_finite()) {
-        return Err(OdeError::NonFinite { t, what: "force", index });
-    }
-    let (model, q) = (&system.model, system.model.layout.positions());
-    Ok(model.contact_states(y, &dy[q..], statics, StateOptions { asleep: &[], cancel_gyroscopic: true }))
+    system.model.step_actors(t, y, &dy, statics, &[])
 }
 
 /// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed

@@ -5,9 +5,10 @@
 //! contact steps following its smooth motion), 21 s of work for a quarter second.
 
 use super::contact_stages::ContactStages;
+use super::integration::within_budget;
 use super::integration::Integration;
 use super::system::AccurateSystem;
-use crate::engine::budget::{over_budget, Budget};
+use crate::engine::budget::Budget;
 use crate::engine::found_contact::FoundContact;
 use crate::model::joints::JointEnd;
 use crate::model::layout::Layout;
@@ -117,13 +118,9 @@ pub fn free_flight(
         };
         let flight = free.insert(flight);
         let integrator = flight.integration.live_mut();
-        integrator.set_max_steps(budget.left());
-        let advanced = integrator.advance_to(system, t + h, &[], |_, _, _| {});
-        let report = integrator.take_report();
-        cx.free_report.merge(&report);
-        let charged = budget.charge(report.steps + report.rejected, t);
-        advanced.map_err(|e| over_budget(e, budget))?;
-        charged?;
+        let advanced = within_budget(integrator, budget, Some(t), |i| i.advance_to(system, t + h, &[], |_, _, _| {}));
+        cx.free_report.merge(&integrator.take_report());
+        advanced?;
         let mut out = y.to_vec();
         copy_free(&system.model, involved, integrator.state(), &mut out);
         Ok(Some(out))

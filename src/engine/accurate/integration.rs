@@ -4,6 +4,7 @@
 //! of its system (`AccurateEngine::set_memory`), which then continues bit for bit.
 
 use super::system::AccurateSystem;
+use crate::engine::budget::{over_budget, Budget};
 use tumble_integrate::{Integrator, IntegratorMemory, OdeError, Settings};
 
 /// A live integrator, or one read from a file and not yet given back.
@@ -53,6 +54,30 @@ impl Integration {
             }
         }
     }
+}
+
+/// Runs `advance` on `integrator` with what is left of the call's `budget` as its step limit, then charges the steps
+/// it tried (taken or rejected) to the budget at time `at` (the integrator's own when `None`): the one bookkeeping of
+/// every integration of accurate mode (free motion, and the free flights beside touching bodies). An integrator that
+/// ran out of steps names the call's whole budget.
+pub(super) fn within_budget<R>(
+    integrator: &mut Integrator<AccurateSystem>,
+    budget: &mut Budget<'_>,
+    at: Option<f64>,
+    advance: impl FnOnce(&mut Integrator<AccurateSystem>) -> Result<R, OdeError>,
+) -> Result<R, OdeError> {
+    integrator.set_max_steps(budget.left());
+    let before = attempts(integrator);
+    let result = advance(integrator);
+    let charged = budget.charge(attempts(integrator) - before, at.unwrap_or_else(|| integrator.time()));
+    let result = result.map_err(|e| over_budget(e, budget))?;
+    charged?;
+    Ok(result)
+}
+
+/// Steps the integrator has taken or rejected since its report was last taken.
+fn attempts(i: &Integrator<AccurateSystem>) -> usize {
+    i.report().steps + i.report().rejected
 }
 
 impl serde::Serialize for Integration {

@@ -55,7 +55,7 @@ mod touching;
 pub(crate) use memory::{engine_name, AccurateMemory};
 pub(crate) use system::AccurateSystem;
 
-use super::budget::{over_budget, Budget};
+use super::budget::Budget;
 use super::{Engine, EngineCore, EngineMemory};
 use crate::error::WorldError;
 use crate::mode::AccurateSettings;
@@ -63,7 +63,7 @@ use crate::model::{Compiled, Model};
 use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
-use integration::Integration;
+use integration::{within_budget, Integration};
 use tumble_integrate::{Integrator, OdeError, Settings};
 
 /// Events at one time without progress before the advance gives up (an impact stage that cannot settle).
@@ -176,24 +176,22 @@ impl AccurateEngine {
         };
         let integrator = integration.live_mut();
         integrator.log_steps(run.is_some());
-        integrator.set_max_steps(budget.left());
-        let before = attempts(integrator);
-        let energy = mechanical_energy(&model.model, integrator.state());
-        let delivered = integrator.advance_until(model, t_end, pause, saves, |m, t, y| {
-            if let Some(run) = run.as_deref_mut() {
-                run.record(&m.model, t, y, 0.0, []);
+        let report = &mut self.core.report;
+        Ok(within_budget(integrator, budget, None, |integrator| {
+            let energy = mechanical_energy(&model.model, integrator.state());
+            let delivered = integrator.advance_until(model, t_end, pause, saves, |m, t, y| {
+                if let Some(run) = run.as_deref_mut() {
+                    run.record(&m.model, t, y, 0.0, []);
+                }
+            });
+            if let Some(run) = run {
+                for (t, h) in integrator.take_step_log() {
+                    run.log_step(t, h);
+                }
             }
-        });
-        if let Some(run) = run {
-            for (t, h) in integrator.take_step_log() {
-                run.log_step(t, h);
-            }
-        }
-        self.core.report.energy_change += mechanical_energy(&model.model, integrator.state()) - energy;
-        let charged = budget.charge(attempts(integrator) - before, integrator.time());
-        let delivered = delivered.map_err(|e| over_budget(e, budget))?;
-        charged?;
-        Ok(delivered)
+            report.energy_change += mechanical_energy(&model.model, integrator.state()) - energy;
+            delivered
+        })?)
     }
 
     /// Advances to `t_end` (pausing past `pause`) with the contact stages, recording frames with the penetration
@@ -243,32 +241,30 @@ impl AccurateEngine {
                     continue;
                 }
                 // The integrator's own budget restarts at every event: it gets what is left of the call's.
-                integrator.set_max_steps(budget.left());
-                let before = attempts(integrator);
                 let penetration = stages.memory.penetration;
-                // the resting contacts are lent to the equations of motion for the integration
-                system.resting = stages.memory.resting.take();
-                let adv = integrator.advance_with_events(
-                    system,
-                    t_end,
-                    pause,
-                    &saves[done..],
-                    |m, t, y| {
-                        if let Some(run) = run.as_deref_mut() {
-                            run.record(&m.model, t, y, penetration, []);
+                let adv = within_budget(integrator, budget, None, |integrator| {
+                    // the resting contacts are lent to the equations of motion for the integration
+                    system.resting = stages.memory.resting.take();
+                    let adv = integrator.advance_with_events(
+                        system,
+                        t_end,
+                        pause,
+                        &saves[done..],
+                        |m, t, y| {
+                            if let Some(run) = run.as_deref_mut() {
+                                run.record(&m.model, t, y, penetration, []);
+                            }
+                        },
+                        |step| detect::detect(&mut stages, step),
+                    );
+                    stages.memory.resting = system.resting.take();
+                    if let Some(run) = run.as_deref_mut() {
+                        for (t, h) in integrator.take_step_log() {
+                            run.log_step(t, h);
                         }
-                    },
-                    |step| detect::detect(&mut stages, step),
-                );
-                stages.memory.resting = system.resting.take();
-                if let Some(run) = run.as_deref_mut() {
-                    for (t, h) in integrator.take_step_log() {
-                        run.log_step(t, h);
                     }
-                }
-                let charged = budget.charge(attempts(integrator) - before, integrator.time());
-                let adv = adv.map_err(|e| over_budget(e, budget))?;
-                charged?;
+                    adv
+                })?;
                 done += adv.delivered;
                 let Some(t) = adv.event else { return Ok(done) };
                 if let Some(run) = run.as_deref_mut() {
@@ -328,11 +324,6 @@ impl AccurateEngine {
         self.memory = AccurateMemory { clock, integration, contact };
         Ok(())
     }
-}
-
-/// Steps the integrator has taken or rejected since its report was last taken.
-fn attempts(i: &Integrator<AccurateSystem>) -> usize {
-    i.report().steps + i.report().rejected
 }
 
 /// The integrator's report since the last call, with the integrate and Jacobian stages booked from it.

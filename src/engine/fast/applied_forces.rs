@@ -5,10 +5,8 @@
 use super::failure;
 use super::step::StepContext;
 use crate::mode::FastSolver;
-use crate::model::StateOptions;
 use crate::WorldError;
 use tumble_contact::BodyState;
-use tumble_integrate::OdeError;
 
 /// Evaluates the equations of motion at the current state; returns the actors with those forces. With the soft
 /// solver the springs are left out: its substeps evaluate them (`soft_solve.rs`).
@@ -20,17 +18,11 @@ pub(super) fn applied_forces(cx: &mut StepContext<'_>) -> Result<Vec<BodyState>,
         FastSolver::Exact { .. } => model.rates(t, &cx.memory.y, &mut cx.dy, true),
     }
     .map_err(|e| failure(t, e.to_string()))?;
-    if let Some(index) = cx.dy.iter().position(|v| !v.is_finite()) {
-        return Err(WorldError::Simulation(OdeError::NonFinite { t, what: "force", index }));
-    }
-    Ok(actors(cx))
+    actors(cx)
 }
 
-/// The actors with the forces of the last evaluation; sleeping actors are passed as fixed. The step conserves
-/// angular momentum (w* = I^-1 (L + h tau)), so Euler's gyroscopic term that tumble-contact adds is cancelled.
-pub(super) fn actors(cx: &StepContext<'_>) -> Vec<BodyState> {
-    let model = &cx.model;
+/// The actors with the forces of the last evaluation (checked finite); sleeping actors are passed as fixed.
+pub(super) fn actors(cx: &StepContext<'_>) -> Result<Vec<BodyState>, WorldError> {
     let statics = cx.scene.as_deref().map_or(&[][..], |s| &s.static_poses[..]);
-    let options = StateOptions { asleep: cx.memory.sleep.flags(), cancel_gyroscopic: true };
-    model.contact_states(&cx.memory.y, &cx.dy[model.layout.positions()..], statics, options)
+    Ok(cx.model.step_actors(cx.t, &cx.memory.y, cx.dy, statics, cx.memory.sleep.flags())?)
 }

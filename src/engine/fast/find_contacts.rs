@@ -37,7 +37,7 @@ pub(super) fn find_contacts(
         for a in 0..dynamic {
             scene.inert[a] = cx.memory.sleep.asleep(a);
         }
-        *states = actors(cx);
+        *states = actors(cx)?;
         let scene = cx.scene.as_deref_mut().expect("checked above");
         let cache = cx.memory.manifolds.as_mut();
         found = reduce(scene.find_closing(&poses, states, h, cx.settings.margin, cache).map_err(|e| failure(t, e))?);
