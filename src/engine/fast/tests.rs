@@ -56,7 +56,7 @@ fn applied_forces_are_gravity_damping_and_loads_and_a_sleeper_is_fixed() {
     for _ in 0..4 {
         cx.memory.sleep.update(&[], &[1.0, 0.0], &FastSettings { sleep_time: 0.5, ..FastSettings::new(H) }, 0.125);
     }
-    let states = actors(&cx);
+    let states = actors(&cx).unwrap();
     assert!(states[0].is_dynamic() && !states[1].is_dynamic());
     assert_eq!(states[1].force, Vector3::zeros());
 }
