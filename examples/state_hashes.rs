@@ -11,6 +11,10 @@
 //! Only the public API is used, so the same file runs on any version that has it. `--quick` leaves out the
 //! slowest scenes.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::{random_shape, Lcg};
 use nalgebra::{UnitQuaternion, Vector3};
 use tumble::{
     scenes, Attachment, FastFriction, FastSettings, FastSolver, IntegratorOptions, Material, Mode, ParticleBuilder,
@@ -84,34 +88,6 @@ fn hash_report(h: &mut Fnv, w: &World) {
     h.float(r.step_error.unwrap_or(-1.0));
     h.float(r.energy_gain.unwrap_or(-1.0));
     h.float(i.error_estimate.unwrap_or(-1.0));
-}
-
-/// A seeded linear congruential generator.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-}
-
-fn random_shape(rng: &mut Lcg) -> Shape {
-    match (rng.next() * 5.0) as usize {
-        0 => Shape::sphere(rng.range(0.05, 0.3)).unwrap(),
-        1 => Shape::cuboid(Vector3::new(rng.range(0.05, 0.3), rng.range(0.05, 0.3), rng.range(0.05, 0.3))).unwrap(),
-        2 => Shape::capsule(rng.range(0.05, 0.3), rng.range(0.05, 0.3)).unwrap(),
-        3 => Shape::cylinder(rng.range(0.05, 0.3), rng.range(0.05, 0.3)).unwrap(),
-        _ => {
-            let points: Vec<nalgebra::Point3<f64>> = (0..8)
-                .map(|_| nalgebra::Point3::new(rng.range(-0.25, 0.25), rng.range(-0.25, 0.25), rng.range(-0.25, 0.25)))
-                .collect();
-            Shape::convex_hull(&points).unwrap()
-        }
-    }
 }
 
 /// One to four random shapes one above another over a ground, with random orientations, spins, densities and
