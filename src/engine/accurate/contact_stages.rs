@@ -71,7 +71,6 @@ impl ContactRules {
         divergence_limit: f64,
     ) -> ContactStages<'a> {
         ContactStages {
-            scales: memory.scales,
             scene: &mut self.scene,
             settings: &self.settings,
             solver: &self.solver,
@@ -100,8 +99,6 @@ pub(crate) struct ContactStages<'a> {
     pub solve_work: &'a mut usize,
     pub free_report: &'a mut Report,
     pub memory: &'a mut ContactMemory,
-    /// The memory's scales (constant while the engine lives).
-    pub scales: ContactScales,
     pub report: &'a mut WorldReport,
     pub threads: usize,
     pub divergence_limit: f64,

@@ -104,14 +104,14 @@ pub fn convex_step(
     // contact over one step, which the error control keeps within the tolerance.
     let mut settings = StepSettings {
         erp: 0.0,
-        bounce_threshold: cx.scales.resting_speed,
+        bounce_threshold: cx.memory.scales.resting_speed,
         threads: cx.threads,
         ..StepSettings::new(h)
     };
     // Answers are judged against the velocity that moves a body by the tolerance in the step (at least): a body
     // nearly at rest judged against g h alone made clarabel's retries fail at h = 1e-6 s. 1e-4 of that scale
     // is a position error of 1e-4 of the tolerance.
-    settings.velocity_scale = cx.scales.tolerance / h;
+    settings.velocity_scale = cx.memory.scales.tolerance / h;
     settings.solver = tumble_contact::SolverSettings { complementarity_tolerance: 1e-4, ..*cx.solver };
     // joints: their rows held exactly in the same programs, fixed ends as extra fixed actors
     let (bilateral, extra) = bilateral_rows(model, y, h, states.len());
@@ -144,7 +144,7 @@ pub fn convex_step(
         let largest = out.normal_impulses.iter().fold(0.0f64, |m, p| m.max(*p));
         let moved = bounds.iter().zip(&out.normal_impulses).fold(0.0f64, |m, (b, p)| m.max((b - p).abs()));
         let frictional = contacts.iter().any(|c| c.friction > 0.0);
-        if !frictional || moved <= cx.scales.lagged_tolerance * largest {
+        if !frictional || moved <= cx.memory.scales.lagged_tolerance * largest {
             break;
         }
         bounds.clone_from(&out.normal_impulses);

@@ -50,7 +50,7 @@ fn watch_for_stall(cx: &mut ContactStages<'_>, t0: f64, t1: f64) -> Result<(), O
     }
     cx.memory.window = (t1, 0);
     let mean = (t1 - start) / STALL as f64;
-    if mean < cx.scales.stall_step {
+    if mean < cx.memory.scales.stall_step {
         return Err(super::failure(
             t1,
             format!(

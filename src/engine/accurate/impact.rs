@@ -55,7 +55,7 @@ pub fn impact(
     }
     // Only contacts that now neither close nor open rest; what bounced away (or was drifting apart) leaves,
     // and if it comes back slower than the resting speed, it is stopped then.
-    active.retain(|(_, v)| *v <= 1e-3 * cx.scales.resting_speed);
+    active.retain(|(_, v)| *v <= 1e-3 * cx.memory.scales.resting_speed);
     if steps {
         cx.memory.resting = None;
         if !active.is_empty() {
@@ -104,7 +104,7 @@ fn touching_contacts(
     cx.report.stages.mark(Stage::CollisionDetection);
     cx.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
     cx.report.max_penetration = cx.report.max_penetration.max(cx.memory.penetration);
-    let v_rest = cx.scales.resting_speed;
+    let v_rest = cx.memory.scales.resting_speed;
     let active = found
         .into_iter()
         .map(|f| {
@@ -126,7 +126,7 @@ fn apply_impulses(
     t: f64,
 ) -> Result<(), OdeError> {
     let statics = &cx.scene.static_poses;
-    let v_rest = cx.scales.resting_speed;
+    let v_rest = cx.memory.scales.resting_speed;
     let states = contact_states(model, y, statics);
     let contacts: Vec<Contact> = active
         .iter()

@@ -90,6 +90,7 @@ pub(crate) fn failure(t: f64, message: String) -> OdeError {
 impl AccurateEngine {
     /// The engine of `compiled` from (t, y), with contact stages over `scene` if given.
     #[allow(clippy::too_many_arguments)]
+    #[cfg_attr(not(feature = "contact"), allow(unused_variables))]
     pub fn new(
         compiled: Compiled,
         #[cfg(feature = "contact")] scene: Option<crate::engine::collider_set::ColliderSet>,
@@ -100,15 +101,18 @@ impl AccurateEngine {
         t: f64,
         y: Vec<f64>,
     ) -> Result<Self, WorldError> {
-        let _ = (&accurate, gravity);
         let Compiled { model, rows } = compiled;
         let mut system = AccurateSystem::new(model);
         let integration =
             if y.is_empty() { None } else { Some(Integration::new(&mut system, settings.clone(), t, &y)?) };
-        let method = settings.method.name();
+        // the contact stages book their counters in a report of their own name, the integration in the method's
+        #[cfg(feature = "contact")]
+        let report = WorldReport::new(if scene.is_some() { "accurate" } else { settings.method.name() });
+        #[cfg(not(feature = "contact"))]
+        let report = WorldReport::new(settings.method.name());
         #[cfg_attr(not(feature = "contact"), allow(unused_mut))]
         let mut engine = AccurateEngine {
-            core: EngineCore::new(rows, settings.divergence_limit, threads, WorldReport::new(method)),
+            core: EngineCore::new(rows, settings.divergence_limit, threads, report),
             system,
             settings,
             #[cfg(feature = "contact")]
@@ -121,7 +125,6 @@ impl AccurateEngine {
             let (rules, memory) = contact_stages::ContactRules::new(scene, accurate, &engine.settings, gravity, t, &y);
             engine.contacts = Some(rules);
             engine.memory.contact = Some(memory);
-            engine.core.report = WorldReport::new("accurate");
         }
         Ok(engine)
     }
@@ -307,11 +310,10 @@ impl AccurateEngine {
         if let (Some(c), Some(scene)) = (&contact, scene) {
             c.check(scene.actors(), scene.colliders.len(), dim)?;
         }
-        let current = self.memory.integration.as_ref().map(|i| i.live().clone());
-        let integration = match integration {
-            Some(i) => Some(i.into_live(|| current.ok_or_else(|| failure(clock, "no integrator".into())))?),
-            None => None,
-        };
+        // a saved integration is given to a copy of the engine's own integrator (made only then)
+        let current = self.memory.integration.as_ref();
+        let template = || current.map(|i| i.live().clone()).ok_or_else(|| failure(clock, "no integrator".into()));
+        let integration = integration.map(|i| i.into_live(template)).transpose()?;
         #[cfg(feature = "contact")]
         let contact = match (contact, &integration) {
             (Some(c), Some(main)) => {

@@ -69,7 +69,9 @@ pub(crate) struct TouchingEnd {
 /// Enters the touching phase with a first step from the tolerance: the time to fall the tolerance, sqrt(2 tol
 /// / g), within the phase's step bounds.
 pub fn start_touching(cx: &mut ContactStages<'_>) {
-    let h = (2.0 * cx.scales.tolerance / cx.gravity.max(1e-300)).sqrt().clamp(min_step(0.0), cx.scales.max_step);
+    let h = (2.0 * cx.memory.scales.tolerance / cx.gravity.max(1e-300))
+        .sqrt()
+        .clamp(min_step(0.0), cx.memory.scales.max_step);
     cx.memory.touching =
         Some(TouchingPhase { lagged: BTreeMap::new(), h, window: (f64::NAN, 0), free: None, last: Vec::new() });
 }
@@ -126,7 +128,7 @@ pub fn touching_steps(
             break Ok(false);
         }
         cx.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
-        if cx.memory.penetration > cx.scales.tolerance {
+        if cx.memory.penetration > cx.memory.scales.tolerance {
             // Linearised contacts of turning bodies sink a little each step; past the tolerance, the bodies are
             // moved apart by the smallest position change (velocities untouched, so no energy but the lift's).
             let sunk: Vec<_> = found.iter().filter(|f| f.contact.distance < 0.0).map(|f| f.contact).collect();
@@ -151,7 +153,7 @@ pub fn touching_steps(
             continue;
         };
         let error = state_difference(&system.model, Some(&involved), &whole.y, &second.y, h);
-        let ratio = error / cx.scales.tolerance;
+        let ratio = error / cx.memory.scales.tolerance;
         if !ratio.is_finite() {
             break Err(OdeError::NonFinite { t, what: "contact step", index: 0 });
         }
@@ -165,7 +167,7 @@ pub fn touching_steps(
                     format!(
                         "contact steps fell to {:.1e} s with an error of {error:.1e} m against a tolerance of \
                          {:.1e} m: the contacts cannot be followed (raise contact_tolerance, or try fast mode)",
-                        phase.h, cx.scales.tolerance
+                        phase.h, cx.memory.scales.tolerance
                     ),
                 ));
             }
@@ -192,7 +194,7 @@ pub fn touching_steps(
             let before = kinetic + potential;
             let free_gain = free.as_deref().map_or(0.0, |f| energy(f) - before);
             let slack = 1e-12 * (kinetic.abs() + potential.abs())
-                + 1e-4 * cx.scales.tolerance / h * momenta(model, &involved, &next);
+                + 1e-4 * cx.memory.scales.tolerance / h * momenta(model, &involved, &next);
             if energy(&better) - free_gain <= before + slack {
                 next = better;
             }
@@ -220,7 +222,7 @@ pub fn touching_steps(
         if let Some(run) = run.as_deref_mut() {
             run.log_step(t, h);
         }
-        let proposed = (h * grow).min(cx.scales.max_step);
+        let proposed = (h * grow).min(cx.memory.scales.max_step);
         phase.h = if clipped { proposed.max(phase.h) } else { proposed };
     };
     match result {
@@ -252,7 +254,7 @@ fn watch_touching(cx: &ContactStages<'_>, phase: &mut TouchingPhase, t: f64) -> 
     }
     phase.window = (t, 1);
     let mean = (t - start) / STALL_WINDOW as f64;
-    if mean < cx.scales.stall_step {
+    if mean < cx.memory.scales.stall_step {
         return Err(failure(
             t,
             format!(
