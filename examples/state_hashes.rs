@@ -14,8 +14,8 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use common::{random_shape, Lcg};
-use nalgebra::{UnitQuaternion, Vector3};
+use common::Lcg;
+use nalgebra::Vector3;
 use tumble::{
     scenes, Attachment, FastFriction, FastSettings, FastSolver, IntegratorOptions, Material, Mode, ParticleBuilder,
     Persistent, RigidBodyBuilder, Shape, SpringBuilder, Target, World, WorldOptions,
@@ -90,27 +90,12 @@ fn hash_report(h: &mut Fnv, w: &World) {
     h.float(i.error_estimate.unwrap_or(-1.0));
 }
 
-/// One to four random shapes one above another over a ground, with random orientations, spins, densities and
-/// materials, and a particle with a radius.
+/// The tests' seeded random drop (one to five random shapes over a ground, `tests/common`) in `mode`, with a
+/// particle of a radius thrown at it.
 fn random_drop(seed: u64, mode: Mode) -> World {
-    let mut rng = Lcg(seed.wrapping_mul(7919).wrapping_add(17));
-    let mut w = World::new();
+    let mut w = common::random_drop(seed);
     w.set_mode(mode).unwrap();
-    w.add_ground(0.0, Material { restitution: rng.range(0.0, 0.6), friction: rng.range(0.0, 1.0) }).unwrap();
-    let count = 1 + (rng.next() * 4.0) as usize;
-    for k in 0..count {
-        let shape = random_shape(&mut rng);
-        let q = UnitQuaternion::from_euler_angles(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
-        w.add_body(
-            RigidBodyBuilder::from_shape(shape, rng.range(100.0, 3000.0))
-                .position(Vector3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), 0.6 + 0.7 * k as f64))
-                .orientation(q)
-                .angular_velocity(Vector3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0)))
-                .restitution(rng.range(0.0, 0.6))
-                .friction(rng.range(0.0, 1.0)),
-        )
-        .unwrap();
-    }
+    let mut rng = Lcg(seed.wrapping_add(1));
     let particle = ParticleBuilder::new(rng.range(0.1, 2.0))
         .radius(0.05)
         .position(Vector3::new(0.8, 0.0, 0.5))
