@@ -36,9 +36,23 @@ pub struct StepSettings {
     /// mode gives its position tolerance over the step, where a body nearly at rest would otherwise be judged
     /// against g h.
     pub velocity_scale: f64,
+    /// The islands' solver: tumble's own Newton method (the default), clarabel where it cannot answer.
+    pub method: StepMethod,
     /// Threads the islands are solved on: 0 (the default) uses one per core; 1 stays on the calling thread. The
     /// answer is the same bit for bit whatever the count (islands are independent and come back in order).
     pub threads: usize,
+}
+
+/// How a velocity step's islands are solved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum StepMethod {
+    /// The multiplier method with Newton's method on the velocities (`newton_island.rs`): exact optimality
+    /// conditions, warm started from the lagged normal impulses. Islands it cannot answer (Anitescu's cone, more
+    /// than a few hundred unknowns, or no convergence within its iteration limits) go to clarabel.
+    #[default]
+    Newton,
+    /// clarabel's interior point for every island (the reference the Newton method is tested against).
+    Clarabel,
 }
 
 impl StepSettings {
@@ -50,6 +64,7 @@ impl StepSettings {
             bounce_threshold: 0.05,
             solver: SolverSettings::default(),
             velocity_scale: 0.0,
+            method: StepMethod::Newton,
             threads: 0,
         }
     }
@@ -80,11 +95,13 @@ pub struct VelocityStep {
     pub normal_impulses: Vec<f64>,
     /// Friction impulse at each contact (world vector on B, tangent to the contact, length <= mu p_n).
     pub friction_impulses: Vec<Vector3<f64>>,
-    /// clarabel iterations, summed over islands.
+    /// Solver iterations (clarabel's, or the Newton method's), summed over islands.
     pub iterations: u32,
-    /// clarabel calls (a lone particle on something static is solved in closed form, and an island no contact of
+    /// Solver calls (a lone particle on something static is solved in closed form, and an island no contact of
     /// which needs an impulse without a solve).
     pub solver_calls: usize,
+    /// Of those, the islands the Newton method answered (the rest went to clarabel).
+    pub newton_calls: usize,
     /// The calls weighted by size, for callers that budget their work: each call counts one for every
     /// `CONTACTS_A_UNIT` contacts of its island (at least one), its cost growing with the island.
     pub solver_work: usize,
@@ -211,7 +228,7 @@ fn step(
     let mut velocities: Vec<BodyVelocity> = bodies.iter().map(|b| free_velocity(b, settings.dt)).collect();
     let mut normal_impulses = vec![0.0; contacts.len()];
     let mut friction_impulses = vec![Vector3::zeros(); contacts.len()];
-    let (mut iterations, mut solver_calls, mut solver_work) = (0, 0, 0);
+    let (mut iterations, mut solver_calls, mut solver_work, mut newton_calls) = (0, 0, 0, 0);
     let pairs: Vec<(usize, usize)> = bilateral.iter().map(|r| (r.a, r.b)).collect();
     let groups = crate::islands::joint_islands(bodies, contacts, &pairs);
     let free = &velocities;
@@ -234,6 +251,7 @@ fn step(
     for ((island, _), result) in groups.iter().zip(solved) {
         let sol = result?;
         solver_calls += usize::from(sol.solved);
+        newton_calls += usize::from(sol.newton);
         if sol.solved {
             solver_work += island.len().div_ceil(CONTACTS_A_UNIT);
         }
@@ -246,7 +264,7 @@ fn step(
         }
         iterations += sol.iterations;
     }
-    Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations, solver_calls, solver_work })
+    Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations, solver_calls, newton_calls, solver_work })
 }
 
 /// The closed form for one particle touching something static, frictionless or with lagged friction: the normal
@@ -292,5 +310,6 @@ fn lone_particle(
         friction: vec![friction_on_particle * sign],
         iterations: 0,
         solved: false,
+        newton: false,
     })
 }

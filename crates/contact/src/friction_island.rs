@@ -20,8 +20,10 @@ pub(crate) struct IslandSolution {
     pub normal: Vec<f64>,
     pub friction: Vec<Vector3<f64>>,
     pub iterations: u32,
-    /// Whether clarabel was called (an island no contact of which needs an impulse is answered without it).
+    /// Whether a solver was called (an island no contact of which needs an impulse is answered without one).
     pub solved: bool,
+    /// Whether the Newton method gave the answer (not clarabel).
+    pub newton: bool,
 }
 
 /// Triplets of the constraint matrix.
@@ -128,6 +130,22 @@ pub(crate) fn solve_island(
     if bilateral.is_empty() {
         if let Some(untouched) = untouched(bodies, contacts, bounds, island, &members, free, s) {
             return Ok(untouched);
+        }
+    }
+    // tumble's own solver first (lagged friction or none), its answer held to the same test as clarabel's
+    let lagged_or_frictionless = bounds.is_some() || island.iter().all(|&i| contacts[i].friction == 0.0);
+    if s.method == crate::friction::StepMethod::Newton && lagged_or_frictionless {
+        let zeros = vec![0.0; contacts.len()];
+        let b = bounds.unwrap_or(&zeros);
+        let answer = crate::newton_island::solve_island_newton(
+            bodies, contacts, b, island, bilateral, free, s, &offset, &members, n,
+        );
+        if let Some((out, joints)) = answer {
+            let (layout, _) = row_layout(contacts, bounds, island, n);
+            let moved = moved_by_joints(bodies, bilateral, free, &joints);
+            if residual(bodies, contacts, island, &layout, &moved, &out, s) <= s.solver.complementarity_tolerance {
+                return Ok(out);
+            }
         }
     }
     let (layout, vars) = row_layout(contacts, bounds, island, n);
@@ -281,22 +299,35 @@ pub(crate) fn solve_island(
         let r = if bilateral.is_empty() {
             residual(bodies, contacts, island, &layout, free, &out, s)
         } else {
-            let mut moved = free.to_vec();
-            for (r, &(row, motor)) in bilateral.iter().zip(&joint_z) {
-                let p = if motor { z[row + 1] - z[row] } else { z[row] };
-                for (k, lin, ang) in [(r.a, -r.lin, r.ang_a), (r.b, r.lin, r.ang_b)] {
-                    let b = &bodies[k];
-                    if b.is_dynamic() {
-                        moved[k].linear += lin * (p * b.inv_mass);
-                        moved[k].angular += b.inv_inertia * ang * p;
-                    }
-                }
-            }
-            residual(bodies, contacts, island, &layout, &moved, &out, s)
+            let impulses: Vec<f64> = joint_z
+                .iter()
+                .map(|&(row, motor)| if motor { z[row + 1] - z[row] } else { z[row] })
+                .collect();
+            residual(bodies, contacts, island, &layout, &moved_by_joints(bodies, bilateral, free, &impulses), &out, s)
         };
         Ok((out, r, sol.iterations))
     })?;
     Ok(IslandSolution { iterations, ..solution })
+}
+
+/// The free velocities with the joint rows' impulses applied (what the contacts' conditions are judged against).
+fn moved_by_joints(
+    bodies: &[BodyState],
+    bilateral: &[&crate::friction::BilateralRow],
+    free: &[BodyVelocity],
+    impulses: &[f64],
+) -> Vec<BodyVelocity> {
+    let mut moved = free.to_vec();
+    for (r, &p) in bilateral.iter().zip(impulses) {
+        for (k, lin, ang) in [(r.a, -r.lin, r.ang_a), (r.b, r.lin, r.ang_b)] {
+            let b = &bodies[k];
+            if b.is_dynamic() {
+                moved[k].linear += lin * (p * b.inv_mass);
+                moved[k].angular += b.inv_inertia * ang * p;
+            }
+        }
+    }
+    moved
 }
 
 /// The island's answer when no contact needs an impulse: the free velocities with every impulse zero, if they
@@ -319,6 +350,7 @@ fn untouched(
         friction: vec![Vector3::zeros(); island.len()],
         iterations: 0,
         solved: false,
+        newton: false,
     };
     let r = residual(bodies, contacts, island, &layout, free, &out, s);
     (r <= s.solver.complementarity_tolerance).then_some(out)
@@ -359,7 +391,7 @@ fn read_back(
         });
         row += layout[slot].width();
     }
-    IslandSolution { velocities, normal, friction, iterations: 0, solved: true }
+    IslandSolution { velocities, normal, friction, iterations: 0, solved: true, newton: false }
 }
 
 /// How far an island's answer is from the conditions of the step, relative to its velocity scale V and impulse

@@ -46,6 +46,8 @@ mod joint;
 #[cfg(feature = "clarabel")]
 mod lcp;
 #[cfg(feature = "clarabel")]
+mod newton_island;
+#[cfg(feature = "clarabel")]
 mod polish;
 #[cfg(feature = "clarabel")]
 mod projection;
@@ -63,7 +65,7 @@ pub use contact::{Contact, NormalMotion};
 pub use error::ContactError;
 #[cfg(feature = "clarabel")]
 pub use friction::{
-    free_velocity, velocity_step, BilateralKind, BilateralRow, StepSettings, VelocityProblem, VelocityStep,
+    free_velocity, velocity_step, BilateralKind, BilateralRow, StepMethod, StepSettings, VelocityProblem, VelocityStep,
 };
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
 pub use islands::islands;
