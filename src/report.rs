@@ -42,6 +42,9 @@ pub struct WorldReport {
     /// Fast mode: the largest rise of mechanical energy over one step (J), the energy a step added (zero when no
     /// step added any); `None` in the other modes.
     pub energy_gain: Option<f64>,
+    /// Wall time of the calls reported (s): everything the engine did, the integrator's share
+    /// (`integrator.wall_seconds`), finding contacts and solving them included.
+    pub wall_seconds: f64,
     /// Wall time spent finding contacts (s).
     pub collision_seconds: f64,
     /// Wall time spent in contact solves (s).
@@ -94,6 +97,7 @@ impl WorldReport {
             step_error: None,
             energy_change: 0.0,
             energy_gain: None,
+            wall_seconds: 0.0,
             collision_seconds: 0.0,
             contact_seconds: 0.0,
             contact_steps: 0,
@@ -126,7 +130,8 @@ impl WorldReport {
             ("krylov_iterations", Count(i.krylov_iterations)),
             ("min_step", stepped(i.min_step)),
             ("max_step", stepped(i.max_step)),
-            ("wall_seconds", Number(i.wall_seconds)),
+            ("wall_seconds", Number(self.wall_seconds)),
+            ("integrator_seconds", Number(i.wall_seconds)),
             ("error_estimate", Optional(i.error_estimate)),
             ("qp_solves", Count(self.qp_solves)),
             ("collisions", Count(self.collisions)),
@@ -164,6 +169,7 @@ impl WorldReport {
         self.islands += o.islands;
         self.sleepers = o.sleepers;
         self.energy_change += o.energy_change;
+        self.wall_seconds += o.wall_seconds;
         self.stages += o.stages;
     }
 
@@ -214,15 +220,24 @@ impl fmt::Display for WorldReport {
         )?;
         writeln!(
             f,
-            "contact          {} collision checks, {} collisions, {} impulses, {} bisection steps, {} qp solves over {} islands",
+            "wall time        {:.6} s in all: {:.6} s integrating, {:.6} s finding contacts, {:.6} s solving them",
+            self.wall_seconds, self.integrator.wall_seconds, self.collision_seconds, self.contact_seconds
+        )?;
+        writeln!(
+            f,
+            "contact          {} narrow-phase pair tests, {} collisions met by impulses, {} contacts given an impulse, \
+             {} bisection steps, {} contact programs solved over {} islands",
             self.collision_checks, self.collisions, self.impulses, self.bisection_steps, self.qp_solves, self.islands
         )?;
-        write!(
-            f,
-            "                 max penetration {:.3e} m, solver residual {:.1e} m/s, {} asleep; {:.3} s finding contacts, {:.3} s \
-             solving them",
-            self.max_penetration, self.contact_residual, self.sleepers, self.collision_seconds, self.contact_seconds
-        )?;
+        write!(f, "                 deepest penetration {:.3e} m, {} bodies asleep", self.max_penetration, self.sleepers)?;
+        if self.contact_residual > 0.0 {
+            write!(
+                f,
+                "; soft-step residual {:.1e} m/s (the largest speed a contact was left off its exact condition: \
+                 approach at a touching contact, slip at a sticking one)",
+                self.contact_residual
+            )?;
+        }
         write!(f, "\nenergy           changed by {:.3e} J", self.energy_change)?;
         if let Some(g) = self.energy_gain {
             write!(f, ", the largest rise over one step {g:.3e} J")?;
@@ -233,7 +248,8 @@ impl fmt::Display for WorldReport {
         if self.contact_steps > 0 {
             write!(
                 f,
-                "\ncontact steps    {} accepted, {} rejected, smallest {:.3e} s, largest error estimate {:.3e} m",
+                "\ncontact steps    {} accepted, {} rejected, smallest {:.3e} s; largest estimated error of a step \
+                 {:.3e} m (what contact_tolerance bounds)",
                 self.contact_steps, self.contact_rejected, self.contact_min_step, self.contact_error
             )?;
         }

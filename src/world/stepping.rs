@@ -211,6 +211,7 @@ impl World {
         // Engines count a time within this of their target as reached (an ulp or two of rounding in the steps
         // that land on it); so does this loop, or it would ask again forever.
         let slack = 1e-12 * t_end.abs().max(1.0);
+        let clock = std::time::Instant::now();
         let outcome = loop {
             let pause = if times.is_empty() { t_end } else { times[(done + chunk).min(times.len()) - 1] };
             let before = e.time();
@@ -235,6 +236,7 @@ impl World {
                 break Ok(());
             }
         };
+        e.core_mut().report.wall_seconds += clock.elapsed().as_secs_f64();
         let report = self.book_report();
         if let Err(err) = outcome {
             if let Some(e) = &mut self.engine {

@@ -58,7 +58,7 @@ impl BodyState {
     }
 
     /// Whether the body turns in response to contact.
-    pub(crate) fn rotates(&self) -> bool {
+    pub fn rotates(&self) -> bool {
         self.inv_inertia != Matrix3::zeros()
     }
 

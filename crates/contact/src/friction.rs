@@ -102,6 +102,8 @@ pub struct VelocityStep {
     pub solver_calls: usize,
     /// Of those, the islands the Newton method answered (the rest went to clarabel).
     pub newton_calls: usize,
+    /// The islands the contacts and joint rows split into.
+    pub islands: usize,
     /// The calls weighted by size, for callers that budget their work: each call counts one for every
     /// `CONTACTS_A_UNIT` contacts of its island (at least one), its cost growing with the island.
     pub solver_work: usize,
@@ -264,7 +266,17 @@ fn step(
         }
         iterations += sol.iterations;
     }
-    Ok(VelocityStep { velocities, normal_impulses, friction_impulses, iterations, solver_calls, newton_calls, solver_work })
+    let islands = groups.len();
+    Ok(VelocityStep {
+        velocities,
+        normal_impulses,
+        friction_impulses,
+        iterations,
+        solver_calls,
+        newton_calls,
+        islands,
+        solver_work,
+    })
 }
 
 /// The closed form for one particle touching something static, frictionless or with lagged friction: the normal

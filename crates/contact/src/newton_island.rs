@@ -25,6 +25,9 @@ use nalgebra::{DMatrix, DVector, Vector3};
 /// distance to the optimum by about 1 / (1 + STIFFNESS) along the block's own direction, while the Hessian's
 /// condition grows by about that factor.
 const STIFFNESS: f64 = 1e3;
+/// How far the proximal weight may be raised over `STIFFNESS` in slow iterations (the Hessian's condition grows
+/// with it: at 1e6 it stays far from f64's limits for masses within 1e4 of each other).
+const GROWTH_LIMIT: f64 = 1e6;
 /// Most outer (multiplier) iterations before the island is handed to clarabel.
 const MAX_OUTER: usize = 60;
 /// Most Newton iterations of one subproblem.
@@ -51,6 +54,8 @@ struct Block {
     row: usize,
     set: Set,
     rho: f64,
+    /// rho as a multiple of the block's inverse effective mass (`STIFFNESS`, raised where the iteration is slow).
+    stiffness: f64,
 }
 
 impl Block {
@@ -178,14 +183,14 @@ fn program(
         let nrm = c.normal.into_inner();
         let normal = sparse(&rows(c, bodies, &nrm), bias(c, bodies, s));
         let rho = STIFFNESS / diagonal(&normal);
-        blocks.push(Block { row: out_rows.len(), set: Set::Interval { lo: 0.0, hi: f64::INFINITY }, rho });
+        blocks.push(Block { row: out_rows.len(), set: Set::Interval { lo: 0.0, hi: f64::INFINITY }, rho, stiffness: STIFFNESS });
         out_rows.push(normal);
         let radius = c.friction * bounds[i];
         if radius > 0.0 {
             let (t1, t2) = tangents(&nrm);
             let (r1, r2) = (sparse(&rows(c, bodies, &t1), 0.0), sparse(&rows(c, bodies, &t2), 0.0));
             let rho = 2.0 * STIFFNESS / (diagonal(&r1) + diagonal(&r2));
-            blocks.push(Block { row: out_rows.len(), set: Set::Disc(radius), rho });
+            blocks.push(Block { row: out_rows.len(), set: Set::Disc(radius), rho, stiffness: STIFFNESS });
             out_rows.extend([r1, r2]);
         }
     }
@@ -198,7 +203,7 @@ fn program(
             BilateralKind::Motor { max_impulse } => (-max_impulse, max_impulse),
         };
         let rho = STIFFNESS / diagonal(&row);
-        blocks.push(Block { row: out_rows.len(), set: Set::Interval { lo, hi }, rho });
+        blocks.push(Block { row: out_rows.len(), set: Set::Interval { lo, hi }, rho, stiffness: STIFFNESS });
         out_rows.push(row);
     }
     Program { mass, inverse, free: v_free, rows: out_rows, blocks }
@@ -333,7 +338,7 @@ pub(crate) fn solve_island_newton(
     if n == 0 || n > MAX_DOFS {
         return None;
     }
-    let p = program(bodies, contacts, bounds, island, bilateral, free, s, offset, members, n);
+    let mut p = program(bodies, contacts, bounds, island, bilateral, free, s, offset, members, n);
     // the velocity scale the accuracy is measured on (the step's own, the free speeds and the rows' constants)
     let scale = p
         .free
@@ -354,6 +359,7 @@ pub(crate) fn solve_island_newton(
     let mut v = &p.free + spread_scaled(&p, &lambda);
     let mut iterations = 0u32;
     let mut converged = false;
+    let mut last_moved = f64::INFINITY;
     for _ in 0..MAX_OUTER {
         let prior = lambda.clone();
         for _ in 0..MAX_NEWTON {
@@ -386,6 +392,16 @@ pub(crate) fn solve_island_newton(
             converged = true;
             break;
         }
+        // an outer iteration that did not gain a digit: directions of the impulses far softer than their blocks'
+        // own (a light body under a heavy one), which a stiffer proximal weight reaches faster
+        if moved > 0.1 * last_moved {
+            let most = STIFFNESS * GROWTH_LIMIT;
+            for b in &mut p.blocks {
+                b.rho = (b.rho * 10.0).min(most * b.rho / b.stiffness);
+                b.stiffness = (b.stiffness * 10.0).min(most);
+            }
+        }
+        last_moved = moved;
     }
     if !converged {
         return None;

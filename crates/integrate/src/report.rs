@@ -110,9 +110,13 @@ impl fmt::Display for Report {
         if self.steps > 0 {
             writeln!(f, "step size        {:.3e} .. {:.3e}", self.min_step, self.max_step)?;
         }
-        writeln!(f, "wall time        {:.6} s", self.wall_seconds)?;
+        writeln!(f, "integrator time  {:.6} s", self.wall_seconds)?;
         match self.error_estimate {
-            Some(e) => write!(f, "error estimate   {e:.3e} (sum of local errors)"),
+            Some(e) => write!(
+                f,
+                "error estimate   {e:.3e} (the accepted steps' local error estimates summed: max norm over the \
+                 state, in its units, metres for positions)"
+            ),
             None => write!(f, "error estimate   none (the method has no estimate)"),
         }
     }

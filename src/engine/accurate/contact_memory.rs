@@ -20,7 +20,8 @@ pub(crate) struct ContactScales {
     pub stall_step: f64,
     /// Error allowed in one contact step (m).
     pub tolerance: f64,
-    /// Largest contact step (s): 1/20 of the scene's time scale, at most 1/60 s.
+    /// Largest contact step (s): the scene's time scale sqrt(size / g) (a step's reach takes in the pairs within
+    /// what gravity moves a body in it, g h^2: a longer step would take in the whole scene).
     pub max_step: f64,
     /// The lagged-friction fixed point is reached when no normal impulse moves by more than this fraction of the
     /// largest: ten times the tolerance relative to the scene's size, within 1e-9 to 1e-3 (a friction bound off by
@@ -37,7 +38,7 @@ impl ContactScales {
             resting_speed: accurate.resting_speed.unwrap_or_else(|| tumble_contact::velocity_tolerance(size, gravity)),
             stall_step: 1e-5 * time_scale.min(1.0),
             tolerance,
-            max_step: (0.05 * time_scale).min(1.0 / 60.0),
+            max_step: time_scale,
             lagged_tolerance: (10.0 * tolerance / size.max(1e-300)).clamp(1e-9, 1e-3),
         }
     }

@@ -154,6 +154,7 @@ pub fn convex_step(
         work += out.solver_work;
     }
     cx.report.qp_solves += solves;
+    cx.report.islands += out.islands;
     *cx.solve_work += work;
     cx.report.stages.add(Stage::ContactConeProgram, solves.max(1));
     update_positions(model, &mut next, &out.velocities, h, |_| true);

@@ -1,12 +1,15 @@
 //! Accurate mode while bodies touch: convex contact steps (`convex_step.rs`) under error control by step doubling,
 //! after Drake's CENIC (Kurtz and Castro, 2025). Each step of h is taken once whole and once as two halves (the first
-//! half on the whole step's contacts); their difference estimates the error of the halves, in metres: positions,
-//! body turns times the radius of gyration, and velocity differences times h (what they become a step later). A
-//! step is accepted when that is at most the contact tolerance, and the next h is h (tol / err)^(1/2) (the estimate
-//! is of a first-order method), within 0.2 to 2 times h. The accepted state is the halves extrapolated,
-//! 2 y_half - y_whole (second order; exact for the constant forces of sliding, rolling and resting), unless the two
-//! disagree on which contacts pushed or the extrapolated state has more energy than the step started with, where
-//! the halves are kept. Steps land on frame times, so frames are states, not interpolations. Contacts that sank past
+//! half on the whole step's contacts); their difference d = y_half - y_whole estimates the error of the halves, in
+//! metres: positions, body turns times the radius of gyration, and velocity differences times h (what they become a
+//! step later). The accepted state is the halves extrapolated, 2 y_half - y_whole (second order; exact for the
+//! constant forces of sliding, rolling and resting), unless the two disagree on which contacts pushed or the
+//! extrapolated state has more energy than the step started with, where the halves are kept. The extrapolated
+//! state's own error is estimated by how d changed since the last step, |d - (h / h_last)^2 d_last| (zero while
+//! the forces are constant, of order h^3 while they vary smoothly, as large as d where they jump); the halves' by
+//! |d|. A step is accepted when its estimate is at most the contact tolerance, and the next h is
+//! h (tol / err)^(1/3) after an extrapolated step and h (tol / err)^(1/2) after the halves, within 0.2 to 2 times h
+//! and at most the scene's time scale (what bounds the pairs a step's reach takes in). Steps land on frame times, so frames are states, not interpolations. Contacts that sank past
 //! the tolerance (linearised contacts of turning bodies sink a little) are lifted apart by a position projection
 //! before the step. The phase ends when no pair is within reach of a step: the integrator takes over.
 
@@ -24,7 +27,7 @@ use crate::model::layout::{get3, get_quat, set_quat};
 use crate::model::Model;
 use crate::run::Run;
 use nalgebra::Quaternion;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use tumble_integrate::OdeError;
 
 /// What the touching phase carries from step to step (part of the engine's memory).
@@ -40,6 +43,9 @@ pub(crate) struct TouchingPhase {
     pub free: Option<FreeFlight>,
     /// The contacts of the last accepted step, with the whole step's impulses.
     pub last: Vec<LastContact>,
+    /// The last accepted step's h and its halves' difference d = y_half - y_whole (for the extrapolated state's
+    /// error estimate).
+    pub difference: Option<(f64, Vec<f64>)>,
 }
 
 impl TouchingPhase {
@@ -50,6 +56,7 @@ impl TouchingPhase {
             && self.lagged.iter().all(|(k, f)| k.fits(colliders) && f.is_finite())
             && self.last.iter().all(|c| c.a < actors && c.b < actors)
             && self.free.as_ref().is_none_or(|f| f.frozen.iter().all(|&k| k < dim))
+            && self.difference.as_ref().is_none_or(|(h, d)| *h > 0.0 && d.len() == dim && d.iter().all(|x| x.is_finite()))
     }
 }
 
@@ -73,7 +80,14 @@ pub fn start_touching(cx: &mut ContactStages<'_>) {
         .sqrt()
         .clamp(min_step(0.0), cx.memory.scales.max_step);
     cx.memory.touching =
-        Some(TouchingPhase { lagged: BTreeMap::new(), h, window: (f64::NAN, 0), free: None, last: Vec::new() });
+        Some(TouchingPhase {
+        lagged: BTreeMap::new(),
+        h,
+        window: (f64::NAN, 0),
+        free: None,
+        last: Vec::new(),
+        difference: None,
+    });
 }
 
 /// The smallest step: 16 ulps of the time, and no less than 1e-14 s.
@@ -152,12 +166,35 @@ pub fn touching_steps(
             }
             continue;
         };
-        let error = state_difference(&system.model, Some(&involved), &whole.y, &second.y, h);
+        let halves_error = state_difference(&system.model, Some(&involved), &whole.y, &second.y, h);
+        let difference: Vec<f64> = second.y.iter().zip(&whole.y).map(|(a, b)| a - b).collect();
+        // the extrapolated state's estimate, when the halves agree with the whole step on which contacts push and
+        // the last step left a difference to compare with
+        // A step across a change of which contacts push, or across a sliding contact's stop, is an event the
+        // extrapolation does not see: the halves' estimate governs it, with the slip a stop may have cut short.
+        let pressed_before: BTreeSet<ContactKey> =
+            phase.lagged.iter().filter(|(_, f)| **f > 0.0).map(|(k, _)| *k).collect();
+        let pressed: BTreeSet<ContactKey> = second.pressing.iter().copied().collect();
+        let after = actors_with_forces(system, &statics, t + h, &second.y)?;
+        let stop = stopped_slip(&found, &states, &after) * h;
+        let extrapolating = whole.pressing == second.pressing;
+        let smooth = extrapolating && pressed == pressed_before && stop == 0.0;
+        let halves_error = halves_error.max(stop);
+        let error = match (&phase.difference, smooth) {
+            (Some((h_last, last)), true) => {
+                let r = (h / h_last).powi(2);
+                let change: Vec<f64> = difference.iter().zip(last).map(|(d, l)| d - r * l).collect();
+                let zero = vec![0.0; change.len()];
+                state_difference(&system.model, Some(&involved), &change, &zero, h).min(halves_error)
+            }
+            _ => halves_error,
+        };
         let ratio = error / cx.memory.scales.tolerance;
         if !ratio.is_finite() {
             break Err(OdeError::NonFinite { t, what: "contact step", index: 0 });
         }
-        let grow = (0.9 / ratio.max(1e-300).sqrt()).clamp(0.2, 2.0);
+        let order = if smooth && phase.difference.is_some() { 3.0 } else { 2.0 };
+        let grow = (0.9 * ratio.max(1e-300).powf(-1.0 / order)).clamp(0.2, 2.0);
         if ratio > 1.0 {
             cx.report.contact_rejected += 1;
             phase.h = h * grow.min(0.5);
@@ -180,7 +217,8 @@ pub fn touching_steps(
             copy_free(&system.model, &involved, free, &mut second.y);
         }
         let mut next = second.y;
-        if whole.pressing == second.pressing {
+        let mut kept_error = halves_error;
+        if extrapolating {
             let mut better = next.clone();
             extrapolate(&system.model, &mut better, &whole.y);
             // Never a gain of energy over the step from the extrapolation, beyond the solves' own accuracy
@@ -197,6 +235,7 @@ pub fn touching_steps(
                 + 1e-4 * cx.memory.scales.tolerance / h * momenta(model, &involved, &next);
             if energy(&better) - free_gain <= before + slack {
                 next = better;
+                kept_error = error;
             }
         }
         if let Some(free) = &free {
@@ -213,11 +252,12 @@ pub fn touching_steps(
         // and an advance that ends an ulp before its end would be asked to go on from there forever.
         (t, y) = (if h == stop - t { stop } else { t + h }, next);
         phase.lagged = second.forces;
+        phase.difference = Some((h, difference));
         let impulses = found.iter().map(|f| whole.forces.get(&f.key).map_or(0.0, |force| force * h));
         phase.last = LastContact::from_found(&found, impulses, h);
         let r = &mut cx.report;
         r.contact_steps += 1;
-        r.contact_error = r.contact_error.max(error);
+        r.contact_error = r.contact_error.max(kept_error);
         r.contact_min_step = r.contact_min_step.min(h);
         if let Some(run) = run.as_deref_mut() {
             run.log_step(t, h);
@@ -296,6 +336,29 @@ fn doubled_step(
     };
     let involved = involved(&system.model, &[found, &later]);
     Ok(Some((whole, second, involved)))
+}
+
+/// Half the largest slip speed, at the step's start (`before`), of a frictional contact that sticks at its end
+/// (`after`, its slip fallen more than a thousandfold): the slip a stop inside the step may have cut short per
+/// second of the step (semi-implicit Euler stops a contact at the step's start when it stops within the step,
+/// and step doubling cannot see it when both the step and its halves stop). Zero when no sliding contact stopped.
+fn stopped_slip(
+    found: &[crate::engine::found_contact::FoundContact],
+    before: &[tumble_contact::BodyState],
+    after: &[tumble_contact::BodyState],
+) -> f64 {
+    let slip = |states: &[tumble_contact::BodyState], c: &tumble_contact::Contact| {
+        let rel = states[c.b].point_velocity(&c.point) - states[c.a].point_velocity(&c.point);
+        let n = c.normal.into_inner();
+        (rel - n * n.dot(&rel)).norm()
+    };
+    found
+        .iter()
+        .map(|f| &f.contact)
+        .filter(|c| c.friction > 0.0)
+        .map(|c| (slip(before, c), slip(after, c)))
+        .filter(|&(start, end)| start > 1e3 * end)
+        .fold(0.0f64, |m, (start, _)| m.max(0.5 * start))
 }
 
 /// The sum of the `involved` actors' momentum magnitudes in state y (kg m/s).
