@@ -177,15 +177,19 @@ pub fn touching_steps(
         let pressed: BTreeSet<ContactKey> = second.pressing.iter().copied().collect();
         let after = actors_with_forces(system, &statics, t + h, &second.y)?;
         let stop = stopped_slip(&found, &states, &after) * h;
+        let sink = turning_sink(&found, &pressed, &after, h);
         let extrapolating = whole.pressing == second.pressing;
         let smooth = extrapolating && pressed == pressed_before && stop == 0.0;
-        let halves_error = halves_error.max(stop);
+        let halves_error = halves_error.max(stop).max(sink);
         let error = match (&phase.difference, smooth) {
             (Some((h_last, last)), true) => {
                 let r = (h / h_last).powi(2);
                 let change: Vec<f64> = difference.iter().zip(last).map(|(d, l)| d - r * l).collect();
                 let zero = vec![0.0; change.len()];
-                state_difference(&system.model, Some(&involved), &change, &zero, h).min(halves_error)
+                let changed = state_difference(&system.model, Some(&involved), &change, &zero, h);
+                // the extrapolation moves each body by d again, unconstrained: what that sinks a pushing contact
+                let sunk = extrapolation_sink(&system.model, &found, &pressed, &second.y, &difference);
+                changed.max(sunk).max(sink).min(halves_error)
             }
             _ => halves_error,
         };
@@ -222,21 +226,31 @@ pub fn touching_steps(
             let mut better = next.clone();
             extrapolate(&system.model, &mut better, &whole.y);
             // Never a gain of energy over the step from the extrapolation, beyond the solves' own accuracy
-            // (velocities to 1e-4 of tol / h: an energy of that times the momenta) and rounding (1e-12 of the
-            // kinetic and potential energies' sizes, whose difference the total may be).
+            // (velocities to 1e-9 of tol / h, the Newton method's margin: an energy of that times the momenta) and
+            // rounding (1e-12 of the kinetic and potential energies' sizes, whose difference the total may be).
             // The free actors' own change of energy (the same in both) is taken out: only the touching ones'
-            // is judged.
+            // is judged. (Extrapolating a rocking body's steps can gain energy; the halves are kept then, and
+            // the step is shortened if their own error is past the tolerance.)
             let model = &system.model;
             let energy = |y: &[f64]| model.kinetic_energy(y) + model.potential_energy(y);
             let (kinetic, potential) = (model.kinetic_energy(&y), model.potential_energy(&y));
             let before = kinetic + potential;
             let free_gain = free.as_deref().map_or(0.0, |f| energy(f) - before);
             let slack = 1e-12 * (kinetic.abs() + potential.abs())
-                + 1e-4 * cx.memory.scales.tolerance / h * momenta(model, &involved, &next);
+                + 1e-9 * cx.memory.scales.tolerance / h * momenta(model, &involved, &next);
             if energy(&better) - free_gain <= before + slack {
                 next = better;
                 kept_error = error;
             }
+        }
+        if kept_error > cx.memory.scales.tolerance {
+            // the extrapolation was refused and the halves' own error is past the tolerance: a shorter step
+            cx.report.contact_rejected += 1;
+            phase.h = h * (0.9 * (cx.memory.scales.tolerance / kept_error).sqrt()).clamp(0.2, 0.5);
+            if phase.h < min_step(t) {
+                break Err(failure(t, format!("contact steps fell to {:.1e} s", phase.h)));
+            }
+            continue;
         }
         if let Some(free) = &free {
             copy_free(&system.model, &involved, free, &mut next);
@@ -359,6 +373,66 @@ fn stopped_slip(
         .map(|c| (slip(before, c), slip(after, c)))
         .filter(|&(start, end)| start > 1e3 * end)
         .fold(0.0f64, |m, (start, _)| m.max(0.5 * start))
+}
+
+/// The deepest a pushing contact sinks in a step of h because the step follows its bodies' turning in a straight
+/// line: the centripetal part of the contact points' motion, (w x (w x r)) h^2 / 2 for each body, taken along
+/// the normal into the contact (velocities at the step's end, `after`). The convex step's constraint is linear in
+/// the velocities and cannot see it, and its halves sink alike, so the estimate of the step's error includes it:
+/// a rocking box's corners otherwise sank several tolerances, and lifting them back gained potential energy.
+fn turning_sink(
+    found: &[crate::engine::found_contact::FoundContact],
+    pressed: &BTreeSet<ContactKey>,
+    after: &[tumble_contact::BodyState],
+    h: f64,
+) -> f64 {
+    let centripetal = |b: &tumble_contact::BodyState, p: &nalgebra::Point3<f64>| {
+        let w = b.angular_velocity;
+        w.cross(&w.cross(&(p - b.position)))
+    };
+    found
+        .iter()
+        .filter(|f| pressed.contains(&f.key))
+        .map(|f| {
+            let c = &f.contact;
+            let (a, b) = (&after[c.a], &after[c.b]);
+            let relative = centripetal(b, &c.point) - centripetal(a, &c.point);
+            (-c.normal.dot(&relative) * 0.5 * h * h).max(0.0)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// How deep the extrapolation 2 y_half - y_whole = y_half + d sinks a pushing contact: each contact point moved
+/// with its two bodies by d (translation, and the turn d's quaternion part makes from the halves' orientation),
+/// taken along the normal into the contact. The halves and the whole step each hold the contact; their
+/// extrapolation need not, so this is part of the extrapolated state's error.
+fn extrapolation_sink(
+    model: &Model,
+    found: &[crate::engine::found_contact::FoundContact],
+    pressed: &BTreeSet<ContactKey>,
+    halves: &[f64],
+    d: &[f64],
+) -> f64 {
+    let l = model.layout;
+    let moved = |actor: usize, p: &nalgebra::Point3<f64>| -> nalgebra::Vector3<f64> {
+        if actor < l.particles {
+            get3(d, l.px(actor))
+        } else if actor < l.particles + l.bodies {
+            let j = actor - l.particles;
+            let turn = (get_quat(d, l.bq(j)) * get_quat(halves, l.bq(j)).conjugate()).vector() * 2.0;
+            get3(d, l.bx(j)) + turn.cross(&(p - nalgebra::Point3::from(get3(halves, l.bx(j)))))
+        } else {
+            nalgebra::Vector3::zeros()
+        }
+    };
+    found
+        .iter()
+        .filter(|f| pressed.contains(&f.key))
+        .map(|f| {
+            let c = &f.contact;
+            (-c.normal.dot(&(moved(c.b, &c.point) - moved(c.a, &c.point)))).max(0.0)
+        })
+        .fold(0.0, f64::max)
 }
 
 /// The sum of the `involved` actors' momentum magnitudes in state y (kg m/s).
