@@ -75,6 +75,12 @@ pub struct AccurateSettings {
     pub contact_tolerance: Option<f64>,
     /// How contacts that persist are carried.
     pub persistent: Persistent,
+    /// Whether resting islands sleep (`engine/accurate/sleep.rs`): an island whose actors have all moved slower
+    /// than the resting speed for `sleep_time` is frozen until something awake reaches it or the state is set;
+    /// true by default.
+    pub sleep: bool,
+    /// How long an island must stay slower than the resting speed before it sleeps (s); 0.5 by default.
+    pub sleep_time: f64,
 }
 
 impl Default for AccurateSettings {
@@ -85,6 +91,8 @@ impl Default for AccurateSettings {
             resting_speed: None,
             contact_tolerance: None,
             persistent: Persistent::ContactSteps,
+            sleep: true,
+            sleep_time: 0.5,
         }
     }
 }
@@ -99,6 +107,7 @@ impl AccurateSettings {
         if let Some(v) = self.contact_tolerance {
             limits::positive("contact_tolerance", v, limits::COORDINATE, "m")?;
         }
+        limits::non_negative("sleep_time", self.sleep_time, limits::TIME, "s")?;
         Ok(())
     }
 }

@@ -3,10 +3,14 @@
 //! sphere. Examples, benchmarks, tests and the Python module's default job start from them.
 
 #[cfg(feature = "contact")]
+mod benchmark;
+#[cfg(feature = "contact")]
 mod contact;
 #[cfg(feature = "contact")]
 pub mod joints;
 mod registry;
+#[cfg(feature = "contact")]
+pub use benchmark::Benchmark;
 #[cfg(feature = "contact")]
 pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
 pub use registry::{build, check, NAMES};

@@ -159,12 +159,16 @@ pub struct VelocityProblem<'a> {
     /// normals[i] (a normal impulse for each contact: the last step's, or 0 for a new contact).
     pub lagged: Option<&'a [f64]>,
     pub bilateral: &'a [BilateralRow],
+    /// Impulses to start the Newton method from, one world vector per contact (on B: normal and friction
+    /// together), such as the last step's scaled to this one; `None` starts from the lagged normal impulses.
+    /// They change how fast the answer is found, not the answer.
+    pub warm: Option<&'a [Vector3<f64>]>,
 }
 
 impl<'a> VelocityProblem<'a> {
     /// The bodies and their contacts, friction by the cone, no joint rows.
     pub fn new(bodies: &'a [BodyState], contacts: &'a [Contact]) -> Self {
-        VelocityProblem { bodies, contacts, lagged: None, bilateral: &[] }
+        VelocityProblem { bodies, contacts, lagged: None, bilateral: &[], warm: None }
     }
 
     /// Friction lagged on these normal impulses, one per contact.
@@ -175,6 +179,11 @@ impl<'a> VelocityProblem<'a> {
     /// Joint rows held in the same programs.
     pub fn bilateral(self, rows: &'a [BilateralRow]) -> Self {
         VelocityProblem { bilateral: rows, ..self }
+    }
+
+    /// The Newton method started from these impulses, one per contact.
+    pub fn warm(self, impulses: &'a [Vector3<f64>]) -> Self {
+        VelocityProblem { warm: Some(impulses), ..self }
     }
 
     fn check(&self) -> Result<(), ContactError> {
@@ -190,6 +199,17 @@ impl<'a> VelocityProblem<'a> {
                     "lagged",
                     format!("impulse {i} must be finite and >= 0, got {}", lagged[i]),
                 ));
+            }
+        }
+        if let Some(warm) = self.warm {
+            if warm.len() != self.contacts.len() {
+                return Err(ContactError::invalid(
+                    "warm",
+                    format!("needs one impulse per contact: {} for {} contacts", warm.len(), self.contacts.len()),
+                ));
+            }
+            if let Some(i) = warm.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+                return Err(ContactError::invalid("warm", format!("impulse {i} is not finite")));
             }
         }
         for (k, r) in self.bilateral.iter().enumerate() {
@@ -215,16 +235,11 @@ impl<'a> VelocityProblem<'a> {
 /// program per island.
 pub fn velocity_step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<VelocityStep, ContactError> {
     problem.check()?;
-    step(problem.bodies, problem.contacts, problem.lagged, problem.bilateral, settings)
+    step(problem, settings)
 }
 
-fn step(
-    bodies: &[BodyState],
-    contacts: &[Contact],
-    bounds: Option<&[f64]>,
-    bilateral: &[BilateralRow],
-    settings: &StepSettings,
-) -> Result<VelocityStep, ContactError> {
+fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<VelocityStep, ContactError> {
+    let VelocityProblem { bodies, contacts, lagged: bounds, bilateral, warm } = *problem;
     check_all(bodies, contacts)?;
     settings.check()?;
     let mut velocities: Vec<BodyVelocity> = bodies.iter().map(|b| free_velocity(b, settings.dt)).collect();
@@ -243,7 +258,7 @@ fn step(
         };
         match lone {
             Some(sol) => Ok(sol),
-            None => solve_island(bodies, contacts, bounds, island, &rows, free, settings),
+            None => solve_island(bodies, contacts, bounds, island, &rows, free, settings, warm),
         }
     };
     // a clarabel call takes tens of microseconds or more: worth a thread from a few dozen contacts

@@ -114,6 +114,7 @@ pub(crate) fn solve_island(
     bilateral: &[&crate::friction::BilateralRow],
     free: &[BodyVelocity],
     s: &StepSettings,
+    warm: Option<&[Vector3<f64>]>,
 ) -> Result<IslandSolution, ContactError> {
     // Velocity variables: 3 per moving particle, 6 per moving rigid body.
     let mut offset = vec![usize::MAX; bodies.len()];
@@ -138,7 +139,7 @@ pub(crate) fn solve_island(
         let zeros = vec![0.0; contacts.len()];
         let b = bounds.unwrap_or(&zeros);
         let answer = crate::newton_island::solve_island_newton(
-            bodies, contacts, b, island, bilateral, free, s, &offset, &members, n,
+            bodies, contacts, b, island, bilateral, free, s, &offset, &members, n, warm,
         );
         if let Some((out, joints)) = answer {
             let (layout, _) = row_layout(contacts, bounds, island, n);

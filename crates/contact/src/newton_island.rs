@@ -19,12 +19,17 @@ use crate::friction::{BilateralKind, BilateralRow, StepSettings};
 use crate::friction_island::{bias, IslandSolution};
 use crate::impulse::BodyVelocity;
 use crate::jacobian::{rows, Row};
-use nalgebra::{DMatrix, DVector, Vector3};
+use faer::linalg::solvers::Solve;
+use nalgebra::{DVector, Matrix3, Vector3};
 
 /// The proximal weight as a multiple of each block's own inverse effective mass: each outer iteration shrinks the
 /// distance to the optimum by about 1 / (1 + STIFFNESS) along the block's own direction, while the Hessian's
 /// condition grows by about that factor.
 const STIFFNESS: f64 = 1e3;
+/// The first outer iteration's weight, raised tenfold each iteration up to `STIFFNESS` (a continuation: a soft
+/// first subproblem has few kinks for Newton's method to cross and finds most of the active set; each stiffer one
+/// starts from the last's answer).
+const FIRST_STIFFNESS: f64 = 1.0;
 /// How far the proximal weight may be raised over `STIFFNESS` in slow iterations (the Hessian's condition grows
 /// with it: at 1e6 it stays far from f64's limits for masses within 1e4 of each other).
 const GROWTH_LIMIT: f64 = 1e6;
@@ -36,7 +41,8 @@ const MAX_NEWTON: usize = 40;
 /// checks accept, so the closed-form tests keep their precision; Newton's last iterations converge quadratically,
 /// so the margin costs about one iteration).
 const RELATIVE: f64 = 1e-10;
-/// Islands with more velocity unknowns than this go to clarabel (the dense factorisation is O(n^3)).
+/// Islands with more velocity unknowns than this go to clarabel (the dense factorisation, faer's Cholesky, is
+/// O(n^3)).
 pub(crate) const MAX_DOFS: usize = 600;
 
 /// What set a block's impulse lies in.
@@ -102,11 +108,17 @@ impl SparseRow {
     }
 }
 
+/// One body's block of the mass matrix: its first unknown, its mass, and its inertia and inverse for a rigid body.
+struct MassBlock {
+    at: usize,
+    mass: f64,
+    inertia: Option<(Matrix3<f64>, Matrix3<f64>)>,
+}
+
 /// The island as the Newton iteration sees it.
 struct Program {
-    /// The mass matrix over the unknowns (dense, block-diagonal), and its inverse.
-    mass: DMatrix<f64>,
-    inverse: DMatrix<f64>,
+    /// The mass matrix over the unknowns, block by block.
+    mass: Vec<MassBlock>,
     /// The free velocities v*.
     free: DVector<f64>,
     rows: Vec<SparseRow>,
@@ -128,23 +140,20 @@ fn program(
     members: &[usize],
     n: usize,
 ) -> Program {
-    let mut mass = DMatrix::zeros(n, n);
-    let mut inverse = DMatrix::zeros(n, n);
+    let mut mass = Vec::with_capacity(members.len());
     let mut v_free = DVector::zeros(n);
     for &k in members {
         let (b, o) = (&bodies[k], offset[k]);
         for d in 0..3 {
-            mass[(o + d, o + d)] = 1.0 / b.inv_mass;
-            inverse[(o + d, o + d)] = b.inv_mass;
             v_free[o + d] = free[k].linear[d];
         }
         if b.rotates() {
-            mass.view_mut((o + 3, o + 3), (3, 3)).copy_from(&b.inertia);
-            inverse.view_mut((o + 3, o + 3), (3, 3)).copy_from(&b.inv_inertia);
             for d in 0..3 {
                 v_free[o + 3 + d] = free[k].angular[d];
             }
         }
+        let inertia = b.rotates().then_some((b.inertia, b.inv_inertia));
+        mass.push(MassBlock { at: o, mass: 1.0 / b.inv_mass, inertia });
     }
     let sparse = |parts: &[Row; 2], c: f64| {
         let mut row = SparseRow { entries: Vec::with_capacity(12), c };
@@ -182,15 +191,15 @@ fn program(
         let c = &contacts[i];
         let nrm = c.normal.into_inner();
         let normal = sparse(&rows(c, bodies, &nrm), bias(c, bodies, s));
-        let rho = STIFFNESS / diagonal(&normal);
-        blocks.push(Block { row: out_rows.len(), set: Set::Interval { lo: 0.0, hi: f64::INFINITY }, rho, stiffness: STIFFNESS });
+        let rho = FIRST_STIFFNESS / diagonal(&normal);
+        blocks.push(Block { row: out_rows.len(), set: Set::Interval { lo: 0.0, hi: f64::INFINITY }, rho, stiffness: FIRST_STIFFNESS });
         out_rows.push(normal);
         let radius = c.friction * bounds[i];
         if radius > 0.0 {
             let (t1, t2) = tangents(&nrm);
             let (r1, r2) = (sparse(&rows(c, bodies, &t1), 0.0), sparse(&rows(c, bodies, &t2), 0.0));
-            let rho = 2.0 * STIFFNESS / (diagonal(&r1) + diagonal(&r2));
-            blocks.push(Block { row: out_rows.len(), set: Set::Disc(radius), rho, stiffness: STIFFNESS });
+            let rho = 2.0 * FIRST_STIFFNESS / (diagonal(&r1) + diagonal(&r2));
+            blocks.push(Block { row: out_rows.len(), set: Set::Disc(radius), rho, stiffness: FIRST_STIFFNESS });
             out_rows.extend([r1, r2]);
         }
     }
@@ -202,14 +211,32 @@ fn program(
             BilateralKind::AtLeast => (0.0, f64::INFINITY),
             BilateralKind::Motor { max_impulse } => (-max_impulse, max_impulse),
         };
-        let rho = STIFFNESS / diagonal(&row);
-        blocks.push(Block { row: out_rows.len(), set: Set::Interval { lo, hi }, rho, stiffness: STIFFNESS });
+        let rho = FIRST_STIFFNESS / diagonal(&row);
+        blocks.push(Block { row: out_rows.len(), set: Set::Interval { lo, hi }, rho, stiffness: FIRST_STIFFNESS });
         out_rows.push(row);
     }
-    Program { mass, inverse, free: v_free, rows: out_rows, blocks }
+    Program { mass, free: v_free, rows: out_rows, blocks }
 }
 
 impl Program {
+    /// M x (inverse: M^-1 x).
+    fn mass_times(&self, x: &DVector<f64>, inverse: bool) -> DVector<f64> {
+        let mut out = DVector::zeros(x.len());
+        for b in &self.mass {
+            let o = b.at;
+            let m = if inverse { 1.0 / b.mass } else { b.mass };
+            for d in 0..3 {
+                out[o + d] = m * x[o + d];
+            }
+            if let Some((i, inv)) = &b.inertia {
+                let w = Vector3::new(x[o + 3], x[o + 4], x[o + 5]);
+                let r = if inverse { inv * w } else { i * w };
+                out.fixed_rows_mut::<3>(o + 3).copy_from(&r);
+            }
+        }
+        out
+    }
+
     /// u = J v + c.
     fn row_velocities(&self, v: &[f64]) -> Vec<f64> {
         self.rows.iter().map(|r| r.dot(v) + r.c).collect()
@@ -242,9 +269,21 @@ impl Program {
         out
     }
 
-    /// The Hessian M + J^T rho dP J.
-    fn hessian(&self, derivatives: &[[f64; 4]]) -> DMatrix<f64> {
-        let mut h = self.mass.clone();
+    /// The Hessian M + J^T rho dP J (its lower triangle) in `h`.
+    fn hessian(&self, derivatives: &[[f64; 4]], h: &mut faer::Mat<f64>) {
+        h.fill(0.0);
+        for b in &self.mass {
+            for d in 0..3 {
+                h[(b.at + d, b.at + d)] = b.mass;
+            }
+            if let Some((i, _)) = &b.inertia {
+                for r in 0..3 {
+                    for c in 0..3 {
+                        h[(b.at + 3 + r, b.at + 3 + c)] = i[(r, c)];
+                    }
+                }
+            }
+        }
         for (b, d) in self.blocks.iter().zip(derivatives) {
             let w = b.width();
             for p in 0..w {
@@ -255,13 +294,14 @@ impl Program {
                     }
                     for &(i, x) in &self.rows[b.row + p].entries {
                         for &(j, y) in &self.rows[b.row + q].entries {
-                            h[(i, j)] += g * x * y;
+                            if i >= j {
+                                h[(i, j)] += g * x * y;
+                            }
                         }
                     }
                 }
             }
         }
-        h
     }
 
     /// The slope of the subproblem along dv at v + alpha dv (and its second derivative), given u(v) and J dv.
@@ -272,7 +312,7 @@ impl Program {
         let mut ds = Vec::with_capacity(self.blocks.len());
         self.impulses(prior, &u, &mut lambda, Some(&mut ds));
         let moved = v + dv * alpha - &self.free;
-        let mdv = &self.mass * dv;
+        let mdv = self.mass_times(dv, false);
         let mut first = mdv.dot(&moved) - jdv.iter().zip(&lambda).map(|(a, b)| a * b).sum::<f64>();
         let mut second = mdv.dot(dv);
         for (b, d) in self.blocks.iter().zip(&ds) {
@@ -320,8 +360,8 @@ impl Program {
 }
 
 /// The island's answer by the multiplier method, or `None` when it did not converge within its iteration limits
-/// (the caller then asks clarabel), with the joint rows' impulses. Each contact's first normal impulse is its
-/// lagged one.
+/// (the caller then asks clarabel), with the joint rows' impulses. The iteration starts from the `warm` impulses
+/// (one world vector per contact, on B), or from each contact's lagged normal impulse.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_island_newton(
     bodies: &[BodyState],
@@ -334,6 +374,7 @@ pub(crate) fn solve_island_newton(
     offset: &[usize],
     members: &[usize],
     n: usize,
+    warm: Option<&[Vector3<f64>]>,
 ) -> Option<(IslandSolution, Vec<f64>)> {
     if n == 0 || n > MAX_DOFS {
         return None;
@@ -348,16 +389,29 @@ pub(crate) fn solve_island_newton(
         .fold(s.velocity_scale, f64::max)
         .max(f64::MIN_POSITIVE);
     let tolerance = RELATIVE * scale;
-    // first impulses: each contact's lagged normal impulse, nothing else
+    // first impulses: each contact's given impulse (within its set), or its lagged normal impulse
     let mut lambda = vec![0.0; p.rows.len()];
-    let mut contact_block = 0;
+    let mut block = 0;
     for &i in island {
-        let b = p.blocks[contact_block];
-        lambda[b.row] = bounds[i];
-        contact_block += if contacts[i].friction * bounds[i] > 0.0 { 2 } else { 1 };
+        let c = &contacts[i];
+        let b = p.blocks[block];
+        lambda[b.row] = warm.map_or(bounds[i], |w| c.normal.dot(&w[i]).max(0.0));
+        block += 1;
+        if c.friction * bounds[i] > 0.0 {
+            let b = p.blocks[block];
+            if let (Some(w), Set::Disc(r)) = (warm, b.set) {
+                let (t1, t2) = tangents(&c.normal);
+                let (x, y) = (t1.dot(&w[i]), t2.dot(&w[i]));
+                let shrink = (r / (x * x + y * y).sqrt().max(f64::MIN_POSITIVE)).min(1.0);
+                lambda[b.row] = x * shrink;
+                lambda[b.row + 1] = y * shrink;
+            }
+            block += 1;
+        }
     }
     let mut v = &p.free + spread_scaled(&p, &lambda);
     let mut iterations = 0u32;
+    let mut hessian = faer::Mat::<f64>::zeros(n, n);
     let mut converged = false;
     let mut last_moved = f64::INFINITY;
     for _ in 0..MAX_OUTER {
@@ -367,9 +421,12 @@ pub(crate) fn solve_island_newton(
             let u = p.row_velocities(v.as_slice());
             let mut ds = Vec::with_capacity(p.blocks.len());
             p.impulses(&prior, &u, &mut lambda, Some(&mut ds));
-            let gradient = &p.mass * (&v - &p.free) - p.spread(&lambda);
-            let chol = p.hessian(&ds).cholesky()?;
-            let dv = -chol.solve(&gradient);
+            let gradient = p.mass_times(&(&v - &p.free), false) - p.spread(&lambda);
+            p.hessian(&ds, &mut hessian);
+            let llt = hessian.llt(faer::Side::Lower).ok()?;
+            let mut dv = faer::Col::<f64>::from_fn(n, |i| -gradient[i]);
+            llt.solve_in_place(dv.as_mat_mut());
+            let dv = DVector::from_fn(n, |i, _| dv[i]);
             let alpha = p.line_search(&prior, &v, &dv, &u);
             let step = &dv * alpha;
             v += &step;
@@ -394,11 +451,13 @@ pub(crate) fn solve_island_newton(
         }
         // an outer iteration that did not gain a digit: directions of the impulses far softer than their blocks'
         // own (a light body under a heavy one), which a stiffer proximal weight reaches faster
-        if moved > 0.1 * last_moved {
-            let most = STIFFNESS * GROWTH_LIMIT;
+        let soft = p.blocks.iter().any(|b| b.stiffness < STIFFNESS);
+        if soft || moved > 0.1 * last_moved {
+            let most = if soft { STIFFNESS } else { STIFFNESS * GROWTH_LIMIT };
             for b in &mut p.blocks {
-                b.rho = (b.rho * 10.0).min(most * b.rho / b.stiffness);
-                b.stiffness = (b.stiffness * 10.0).min(most);
+                let raised = (b.stiffness * 10.0).min(most);
+                b.rho *= raised / b.stiffness;
+                b.stiffness = raised;
             }
         }
         last_moved = moved;
@@ -440,7 +499,7 @@ pub(crate) fn solve_island_newton(
 
 /// M^-1 J^T lambda.
 fn spread_scaled(p: &Program, lambda: &[f64]) -> DVector<f64> {
-    &p.inverse * p.spread(lambda)
+    p.mass_times(&p.spread(lambda), true)
 }
 
 /// The largest speed a velocity change gives a row (what any contact point or joint sees) or a body's centre.

@@ -16,6 +16,7 @@ use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::engine::semi_implicit::update_positions;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
+use nalgebra::Vector3;
 use std::collections::BTreeMap;
 use std::time::Instant;
 use tumble_contact::{free_velocity, velocity_step, BodyState, Contact, ContactError, StepSettings, VelocityProblem};
@@ -32,6 +33,9 @@ pub(crate) struct ConvexStep {
     pub forces: BTreeMap<ContactKey, f64>,
     /// Contacts that pushed (a positive normal impulse).
     pub pressing: Vec<ContactKey>,
+    /// Each contact's whole force over the step (impulse / h, normal and friction, on B), by key: where the next
+    /// solves start from.
+    pub wrenches: BTreeMap<ContactKey, Vector3<f64>>,
 }
 
 /// The actors at state y with the applied forces of the equations of motion (gyroscopic term cancelled: the step
@@ -78,15 +82,16 @@ pub fn contacts_in_reach(
 
 /// One step of h from (t, y) with the actors `states` (from `actors_with_forces` at y) and the contacts
 /// `found`; `lagged` holds normal forces the friction bound starts from (contacts without one get a
-/// frictionless first pass). `None` when clarabel could not answer to its tolerance (the caller tries a
-/// smaller step; the reason is kept in `last_solver_error`).
+/// frictionless first pass), `warm` the forces the solves start from (a step's or its halves', by key). `None`
+/// when no solver could answer to its tolerance (the caller tries a smaller step; the reason is kept in
+/// `last_solver_error`).
 #[allow(clippy::too_many_arguments)]
 pub fn convex_step(
     cx: &mut ContactStages<'_>,
     model: &Model,
     states: &[BodyState],
     found: &[FoundContact],
-    lagged: &BTreeMap<ContactKey, f64>,
+    (lagged, warm): (&BTreeMap<ContactKey, f64>, &BTreeMap<ContactKey, Vector3<f64>>),
     t: f64,
     y: &[f64],
     h: f64,
@@ -95,7 +100,12 @@ pub fn convex_step(
     if found.is_empty() && model.joints.is_empty() {
         let v: Vec<_> = states.iter().map(|b| free_velocity(b, h)).collect();
         update_positions(model, &mut next, &v, h, |_| true);
-        return Ok(Some(ConvexStep { y: next, forces: BTreeMap::new(), pressing: Vec::new() }));
+        return Ok(Some(ConvexStep {
+            y: next,
+            forces: BTreeMap::new(),
+            pressing: Vec::new(),
+            wrenches: BTreeMap::new(),
+        }));
     }
     let clock = Instant::now();
     let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
@@ -122,8 +132,8 @@ pub fn convex_step(
         with_extra = states.iter().copied().chain(extra).collect();
         &with_extra[..]
     };
-    let mut solve = |bounds: &[f64]| {
-        let problem = VelocityProblem::new(states, &contacts).lagged(bounds).bilateral(&bilateral);
+    let mut solve = |bounds: &[f64], start: &[Vector3<f64>]| {
+        let problem = VelocityProblem::new(states, &contacts).lagged(bounds).bilateral(&bilateral).warm(start);
         match velocity_step(&problem, &settings) {
             Ok(out) => Ok(Some(out)),
             Err(ContactError::InvalidArgument { name, reason }) => {
@@ -136,8 +146,13 @@ pub fn convex_step(
         }
     };
     let mut bounds: Vec<f64> = found.iter().map(|f| lagged.get(&f.key).map_or(0.0, |p| p * h)).collect();
+    let mut start: Vec<Vector3<f64>> = found
+        .iter()
+        .zip(&bounds)
+        .map(|(f, b)| warm.get(&f.key).map_or(f.contact.normal.into_inner() * *b, |force| force * h))
+        .collect();
     let (mut solves, mut work) = (0, 0);
-    let Some(mut out) = solve(&bounds)? else { return Ok(None) };
+    let Some(mut out) = solve(&bounds, &start)? else { return Ok(None) };
     solves += out.solver_calls;
     work += out.solver_work;
     for _ in 1..LAGGED_ITERATIONS {
@@ -148,7 +163,8 @@ pub fn convex_step(
             break;
         }
         bounds.clone_from(&out.normal_impulses);
-        let Some(next) = solve(&bounds)? else { return Ok(None) };
+        start = impulse_vectors(&contacts, &out);
+        let Some(next) = solve(&bounds, &start)? else { return Ok(None) };
         out = next;
         solves += out.solver_calls;
         work += out.solver_work;
@@ -160,7 +176,17 @@ pub fn convex_step(
     update_positions(model, &mut next, &out.velocities, h, |_| true);
     project_joints(model, &mut next, JOINT_DRIFT);
     let forces = found.iter().zip(&out.normal_impulses).map(|(f, p)| (f.key, p / h)).collect();
+    let wrenches = found.iter().zip(impulse_vectors(&contacts, &out)).map(|(f, p)| (f.key, p / h)).collect();
     let pressing = found.iter().zip(&out.normal_impulses).filter(|(_, p)| **p > 0.0).map(|(f, _)| f.key).collect();
     cx.report.contact_seconds += clock.elapsed().as_secs_f64();
-    Ok(Some(ConvexStep { y: next, forces, pressing }))
+    Ok(Some(ConvexStep { y: next, forces, pressing, wrenches }))
+}
+
+/// Each contact's whole impulse (normal and friction, on B) of a velocity step.
+fn impulse_vectors(contacts: &[Contact], out: &tumble_contact::VelocityStep) -> Vec<Vector3<f64>> {
+    contacts
+        .iter()
+        .zip(out.normal_impulses.iter().zip(&out.friction_impulses))
+        .map(|(c, (p, f))| c.normal.into_inner() * *p + f)
+        .collect()
 }

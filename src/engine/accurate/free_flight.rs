@@ -37,33 +37,53 @@ pub(crate) fn involved(model: &Model, found: &[&[FoundContact]]) -> Vec<bool> {
             }
         }
     }
-    let actor = |e: &End| match *e {
-        End::Particle(i) => Some(i),
-        End::Body(j, _) => Some(l.particles + j),
-        End::Point(_) => None,
-    };
-    // Springs and joints join actors: spread along them until nothing changes (at most one pass per link).
-    let joint_actor = |e: &JointEnd| match *e {
-        JointEnd::Body(j) => Some(l.particles + j),
-        JointEnd::Fixed(_) => None,
-    };
-    let springs = model.springs.iter().map(|s| (actor(&s.a), actor(&s.b)));
-    let links: Vec<(Option<usize>, Option<usize>)> =
-        springs.chain(model.joints.iter().map(|j| (joint_actor(&j.a), joint_actor(&j.b)))).collect();
+    let links = links(model);
     for _ in 0..=links.len() {
         let mut changed = false;
-        for link in &links {
-            if let (Some(a), Some(b)) = *link {
-                if out[a] != out[b] {
-                    (out[a], out[b]) = (true, true);
-                    changed = true;
-                }
+        for &(a, b) in &links {
+            if out[a] != out[b] {
+                (out[a], out[b]) = (true, true);
+                changed = true;
             }
         }
         if !changed {
             break;
         }
     }
+    out
+}
+
+/// The pairs of actors (particles, then dynamic bodies) joined by a spring or a joint.
+pub(crate) fn links(model: &Model) -> Vec<(usize, usize)> {
+    let l = model.layout;
+    let actor = |e: &End| match *e {
+        End::Particle(i) => Some(i),
+        End::Body(j, _) => Some(l.particles + j),
+        End::Point(_) => None,
+    };
+    let joint_actor = |e: &JointEnd| match *e {
+        JointEnd::Body(j) => Some(l.particles + j),
+        JointEnd::Fixed(_) => None,
+    };
+    let springs = model.springs.iter().map(|s| (actor(&s.a), actor(&s.b)));
+    let joints = model.joints.iter().map(|j| (joint_actor(&j.a), joint_actor(&j.b)));
+    springs.chain(joints).filter_map(|(a, b)| Some((a?, b?))).collect()
+}
+
+/// The actors (particles, then dynamic bodies) an end of a joint holds (fixed ends hold none).
+pub(crate) fn jointed(model: &Model) -> Vec<usize> {
+    let l = model.layout;
+    let mut out: Vec<usize> = model
+        .joints
+        .iter()
+        .flat_map(|j| [j.a, j.b])
+        .filter_map(|e| match e {
+            JointEnd::Body(j) => Some(l.particles + j),
+            JointEnd::Fixed(_) => None,
+        })
+        .collect();
+    out.sort_unstable();
+    out.dedup();
     out
 }
 

@@ -46,6 +46,8 @@ mod memory;
 mod pass_through;
 #[cfg(feature = "contact")]
 mod resting;
+#[cfg(feature = "contact")]
+mod sleep;
 mod system;
 #[cfg(all(test, feature = "contact"))]
 mod tests;
@@ -138,6 +140,9 @@ impl AccurateEngine {
                 crate::mode::Persistent::ContactSteps => Stage::ContactConeProgram,
                 crate::mode::Persistent::RestingForces => Stage::RestingContact,
             });
+            if a.sleep && a.persistent == crate::mode::Persistent::ContactSteps {
+                out.push(Stage::Sleeping);
+            }
         }
         if dim > 0 {
             out.push(Stage::Integrate);
@@ -369,11 +374,13 @@ impl Engine for AccurateEngine {
         self.memory.state()
     }
 
+    /// Sets the state, which wakes every sleeping island (a push or an edit must be felt).
     fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
         match &mut self.memory.integration {
             Some(i) => i.live_mut().set_state(t, y)?,
             None => self.memory.clock = t,
         }
+        self.wake_all();
         Ok(())
     }
 
@@ -430,6 +437,7 @@ impl Engine for AccurateEngine {
         if let Some(c) = &mut self.contacts {
             c.scene.set_material(actor, material);
         }
+        self.wake_all();
     }
 
     fn take_own_report(&mut self) -> WorldReport {
@@ -444,7 +452,10 @@ impl Engine for AccurateEngine {
             r.integrator.merge(&free);
             let c = std::mem::replace(&mut self.core.report, WorldReport::new("accurate"));
             r.merge_contact(&c);
+            r.islands += c.islands;
+            r.sleepers = self.memory.contact.as_ref().and_then(|m| m.touching.as_ref()).map_or(0, |t| t.sleep.count());
             r.energy_change += c.energy_change;
+            r.wall_seconds += c.wall_seconds;
             r.stages += c.stages;
             let solves = std::mem::take(&mut self.system.resting_solves);
             r.qp_solves += solves;
@@ -454,6 +465,7 @@ impl Engine for AccurateEngine {
             return r;
         }
         r.energy_change = std::mem::take(&mut self.core.report.energy_change);
+        r.wall_seconds = std::mem::take(&mut self.core.report.wall_seconds);
         self.book_joints(&mut r);
         r
     }
@@ -464,6 +476,14 @@ impl Engine for AccurateEngine {
 }
 
 impl AccurateEngine {
+    /// Wakes every sleeping island.
+    fn wake_all(&mut self) {
+        #[cfg(feature = "contact")]
+        if let Some(touching) = self.memory.contact.as_mut().and_then(|c| c.touching.as_mut()) {
+            touching.sleep.wake_all();
+        }
+    }
+
     /// Books the joints' rows and errors at the current state (at the end of every call).
     fn book_joints(&self, r: &mut WorldReport) {
         let model = &self.system.model;

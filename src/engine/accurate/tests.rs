@@ -239,9 +239,11 @@ fn a_convex_step_carries_a_resting_cubes_weight_and_slows_a_sliding_one_at_mu_g(
         assert_eq!(found.len(), 4);
         // the lagged friction bound from the weight shared by the corners
         let lagged: BTreeMap<_, _> = found.iter().map(|f| (f.key, 4.0 * G / 4.0)).collect();
-        let step = super::convex_step::convex_step(&mut stages, &system.model, &states, &found, &lagged, 0.0, &y, h)
-            .unwrap()
-            .expect("clarabel answers");
+        let warm = BTreeMap::new();
+        let step =
+            super::convex_step::convex_step(&mut stages, &system.model, &states, &found, (&lagged, &warm), 0.0, &y, h)
+                .unwrap()
+                .expect("the solver answers");
         let total: f64 = step.forces.values().sum();
         // the normal forces carry m g to clarabel's tolerance (1e-4 of tol / h as a velocity, over h: 1e-6 relative)
         assert!((total - 4.0 * G).abs() < 1e-6 * 4.0 * G, "{what}: {total} N");

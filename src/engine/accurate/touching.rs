@@ -17,7 +17,8 @@ use super::contact_stages::ContactStages;
 use super::convex_step::{actors_with_forces, contacts_in_reach, convex_step, ConvexStep};
 use super::drift::correct_drift;
 use super::failure;
-use super::free_flight::{copy_free, free_flight, involved, FreeFlight};
+use super::free_flight::{copy_free, free_flight, involved, jointed, links, FreeFlight};
+use super::sleep::Sleep;
 use super::system::AccurateSystem;
 use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;
@@ -46,6 +47,11 @@ pub(crate) struct TouchingPhase {
     /// The last accepted step's h and its halves' difference d = y_half - y_whole (for the extrapolated state's
     /// error estimate).
     pub difference: Option<(f64, Vec<f64>)>,
+    /// The islands asleep and the actors calm (`sleep.rs`).
+    pub sleep: Sleep,
+    /// Each contact's whole force of the last accepted step (N, normal and friction), where the next step's
+    /// solves start from.
+    pub warm: BTreeMap<ContactKey, nalgebra::Vector3<f64>>,
 }
 
 impl TouchingPhase {
@@ -56,6 +62,8 @@ impl TouchingPhase {
             && self.lagged.iter().all(|(k, f)| k.fits(colliders) && f.is_finite())
             && self.last.iter().all(|c| c.a < actors && c.b < actors)
             && self.free.as_ref().is_none_or(|f| f.frozen.iter().all(|&k| k < dim))
+            && self.sleep.fits(actors)
+            && self.warm.iter().all(|(k, f)| k.fits(colliders) && f.iter().all(|x| x.is_finite()))
             && self.difference.as_ref().is_none_or(|(h, d)| *h > 0.0 && d.len() == dim && d.iter().all(|x| x.is_finite()))
     }
 }
@@ -87,6 +95,8 @@ pub fn start_touching(cx: &mut ContactStages<'_>) {
         free: None,
         last: Vec::new(),
         difference: None,
+        sleep: Sleep::default(),
+        warm: BTreeMap::new(),
     });
 }
 
@@ -117,6 +127,9 @@ pub fn touching_steps(
     let Some(mut phase) = cx.memory.touching.take() else {
         return Err(failure(t, "contact steps without a touching phase".into()));
     };
+    let actors = system.model.layout.particles + system.model.layout.bodies;
+    let (links, jointed) = (links(&system.model), jointed(&system.model));
+    let sleeping = (cx.memory.scales.resting_speed, cx.settings.sleep_time);
     let result = loop {
         while delivered < saves.len() && saves[delivered] <= t + slack {
             if let Some(run) = run.as_deref_mut() {
@@ -136,10 +149,21 @@ pub fn touching_steps(
         if let Err(e) = watch_touching(cx, &mut phase, t) {
             break Err(e);
         }
-        let mut states = actors_with_forces(system, &statics, t, &y)?;
+        let mut states = held(system, &statics, t, &y, &phase.sleep)?;
         let mut found = contacts_in_reach(cx, &system.model, &states, &y, t, h)?;
+        while phase.sleep.wake_touched(&found, actors) {
+            states = held(system, &statics, t, &y, &phase.sleep)?;
+            found = contacts_in_reach(cx, &system.model, &states, &y, t, h)?;
+        }
         if found.is_empty() {
-            break Ok(false);
+            if phase.sleep.count() == 0 {
+                break Ok(false);
+            }
+            if phase.sleep.count() == actors {
+                // everything sleeps: the clock alone
+                t = stop;
+                continue;
+            }
         }
         cx.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
         if cx.memory.penetration > cx.memory.scales.tolerance {
@@ -153,7 +177,7 @@ pub fn touching_steps(
         }
         cx.report.max_penetration = cx.report.max_penetration.max(cx.memory.penetration);
         let work = *cx.solve_work;
-        let doubled = doubled_step(cx, system, &statics, &states, &found, &phase.lagged, t, &y, h);
+        let doubled = doubled_step(cx, system, &statics, &states, &found, &phase, t, &y, h);
         if let Err(e) = budget.charge((*cx.solve_work - work).saturating_sub(1), t) {
             break Err(e);
         }
@@ -175,7 +199,7 @@ pub fn touching_steps(
         let pressed_before: BTreeSet<ContactKey> =
             phase.lagged.iter().filter(|(_, f)| **f > 0.0).map(|(k, _)| *k).collect();
         let pressed: BTreeSet<ContactKey> = second.pressing.iter().copied().collect();
-        let after = actors_with_forces(system, &statics, t + h, &second.y)?;
+        let after = held(system, &statics, t + h, &second.y, &phase.sleep)?;
         let stop = stopped_slip(&found, &states, &after) * h;
         let sink = turning_sink(&found, &pressed, &after, h);
         let extrapolating = whole.pressing == second.pressing;
@@ -214,11 +238,13 @@ pub fn touching_steps(
             }
             continue;
         }
-        // The actors that touch nothing follow the integrator over the accepted step.
-        let free = free_flight(cx, system, &mut phase.free, &involved, t, &y, h, budget)?;
+        // The actors that touch nothing follow the integrator over the accepted step (the sleeping ones held).
+        let mut holding = involved.clone();
+        phase.sleep.mark(&mut holding);
+        let free = free_flight(cx, system, &mut phase.free, &holding, t, &y, h, budget)?;
         if let Some(free) = &free {
-            copy_free(&system.model, &involved, free, &mut whole.y);
-            copy_free(&system.model, &involved, free, &mut second.y);
+            copy_free(&system.model, &holding, free, &mut whole.y);
+            copy_free(&system.model, &holding, free, &mut second.y);
         }
         let mut next = second.y;
         let mut kept_error = halves_error;
@@ -253,7 +279,7 @@ pub fn touching_steps(
             continue;
         }
         if let Some(free) = &free {
-            copy_free(&system.model, &involved, free, &mut next);
+            copy_free(&system.model, &holding, free, &mut next);
         }
         if let Some(index) = next.iter().position(|v| !v.is_finite()) {
             break Err(OdeError::NonFinite { t: t + h, what: "state after a contact step", index });
@@ -265,7 +291,12 @@ pub fn touching_steps(
         // A step cut to reach a frame or the end lands on it exactly: t + (stop - t) can fall an ulp short,
         // and an advance that ends an ulp before its end would be asked to go on from there forever.
         (t, y) = (if h == stop - t { stop } else { t + h }, next);
+        if cx.settings.sleep && phase.sleep.settle(&system.model, &found, &links, &jointed, &mut y, t, sleeping) {
+            cx.report.stages.mark(crate::plan::Stage::Sleeping);
+        }
+        cx.report.sleepers = phase.sleep.count();
         phase.lagged = second.forces;
+        phase.warm = second.wrenches;
         phase.difference = Some((h, difference));
         let impulses = found.iter().map(|f| whole.forces.get(&f.key).map_or(0.0, |force| force * h));
         phase.last = LastContact::from_found(&found, impulses, h);
@@ -333,19 +364,24 @@ fn doubled_step(
     statics: &[nalgebra::Isometry3<f64>],
     states: &[tumble_contact::BodyState],
     found: &[crate::engine::found_contact::FoundContact],
-    lagged: &BTreeMap<ContactKey, f64>,
+    phase: &TouchingPhase,
     t: f64,
     y: &[f64],
     h: f64,
 ) -> Result<Option<(ConvexStep, ConvexStep, Vec<bool>)>, OdeError> {
-    let Some(whole) = convex_step(cx, &system.model, states, found, lagged, t, y, h)? else { return Ok(None) };
-    let Some(first) = convex_step(cx, &system.model, states, found, lagged, t, y, 0.5 * h)? else {
+    let lagged = &phase.lagged;
+    // each solve starts from the last: the whole step from the last step's forces, the halves from the whole's
+    let Some(whole) = convex_step(cx, &system.model, states, found, (lagged, &phase.warm), t, y, h)? else {
+        return Ok(None);
+    };
+    let Some(first) = convex_step(cx, &system.model, states, found, (lagged, &whole.wrenches), t, y, 0.5 * h)? else {
         return Ok(None);
     };
     let mid = t + 0.5 * h;
-    let states = actors_with_forces(system, statics, mid, &first.y)?;
+    let states = held(system, statics, mid, &first.y, &phase.sleep)?;
     let later = contacts_in_reach(cx, &system.model, &states, &first.y, mid, 0.5 * h)?;
-    let Some(second) = convex_step(cx, &system.model, &states, &later, &first.forces, mid, &first.y, 0.5 * h)? else {
+    let warm = (&first.forces, &first.wrenches);
+    let Some(second) = convex_step(cx, &system.model, &states, &later, warm, mid, &first.y, 0.5 * h)? else {
         return Ok(None);
     };
     let involved = involved(&system.model, &[found, &later]);
@@ -433,6 +469,19 @@ fn extrapolation_sink(
             (-c.normal.dot(&(moved(c.b, &c.point) - moved(c.a, &c.point)))).max(0.0)
         })
         .fold(0.0, f64::max)
+}
+
+/// The actors at state y with their applied forces (`actors_with_forces`), the sleeping ones fixed at rest.
+fn held(
+    system: &mut AccurateSystem,
+    statics: &[nalgebra::Isometry3<f64>],
+    t: f64,
+    y: &[f64],
+    sleep: &Sleep,
+) -> Result<Vec<tumble_contact::BodyState>, OdeError> {
+    let mut states = actors_with_forces(system, statics, t, y)?;
+    sleep.hold(&mut states);
+    Ok(states)
 }
 
 /// The sum of the `involved` actors' momentum magnitudes in state y (kg m/s).

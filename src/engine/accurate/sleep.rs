@@ -1,0 +1,188 @@
+//! Sleeping in accurate mode's touching phase: an island (actors joined by contacts, springs or joints) whose
+//! actors have all moved slower than the resting speed for `AccurateSettings::sleep_time` is frozen: its
+//! velocities are set to zero and, while it sleeps, its actors are fixed bodies to the contact steps (they cost no
+//! solve, and contacts among them are not even kept), held still in free flight, and a world with nothing awake
+//! advances its clock alone. An island wakes, whole, when an awake actor comes within a step's reach of one of its
+//! actors; every island wakes when the state is set (a push, an edit) or a material changes. What sleeps is part of
+//! the engine's memory, so a saved and loaded world sleeps and wakes with the same bits.
+
+use crate::engine::found_contact::FoundContact;
+use crate::model::layout::get3;
+use crate::model::Model;
+use serde::{Deserialize, Serialize};
+use tumble_contact::BodyState;
+
+/// What sleeps and what is calm.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub(crate) struct Sleep {
+    /// For each actor (particles, then dynamic bodies) touching something, since when it has moved slower than the
+    /// resting speed; actors not listed are moving or touch nothing. Ordered by actor.
+    pub calm_since: Vec<(usize, f64)>,
+    /// The islands asleep, each its actors in increasing order, the islands in the order they fell asleep.
+    pub islands: Vec<Vec<usize>>,
+}
+
+impl Sleep {
+    /// Whether it fits a scene of `actors` moving actors.
+    pub fn fits(&self, actors: usize) -> bool {
+        self.calm_since.iter().all(|(a, t)| *a < actors && t.is_finite())
+            && self.islands.iter().flatten().all(|a| *a < actors)
+    }
+
+    /// Actors asleep.
+    pub fn count(&self) -> usize {
+        self.islands.iter().map(Vec::len).sum()
+    }
+
+    /// Whether `actor` sleeps.
+    pub fn asleep(&self, actor: usize) -> bool {
+        self.islands.iter().any(|i| i.binary_search(&actor).is_ok())
+    }
+
+    /// Wakes every island (the state was set, or a material changed).
+    pub fn wake_all(&mut self) {
+        self.islands.clear();
+        self.calm_since.clear();
+    }
+
+    /// The sleeping actors made fixed bodies at rest in the contact steps' view of the actors.
+    pub fn hold(&self, states: &mut [BodyState]) {
+        for &a in self.islands.iter().flatten() {
+            let s = &mut states[a];
+            *s = BodyState::fixed(s.position);
+        }
+    }
+
+    /// Marks the sleeping actors as held (`involved`, in free flight's sense).
+    pub fn mark(&self, involved: &mut [bool]) {
+        for &a in self.islands.iter().flatten() {
+            involved[a] = true;
+        }
+    }
+
+    /// Wakes each island one of whose actors is in a contact of `found` with an awake moving actor (`actors` of
+    /// them); whether any woke.
+    pub fn wake_touched(&mut self, found: &[FoundContact], actors: usize) -> bool {
+        let mut woke = false;
+        for f in found {
+            let (a, b) = (f.contact.a, f.contact.b);
+            for (sleeper, other) in [(a, b), (b, a)] {
+                if other < actors && !self.asleep(other) {
+                    if let Some(k) = self.islands.iter().position(|i| i.binary_search(&sleeper).is_ok()) {
+                        for actor in self.islands.remove(k) {
+                            self.calm_since.retain(|(x, _)| *x != actor);
+                        }
+                        woke = true;
+                    }
+                }
+            }
+        }
+        woke
+    }
+
+    /// After a step accepted at time t with the contacts `found` and `links` (springs and joints between actors):
+    /// brings each touching actor's calm time up to date from its speed in y, and puts to sleep, with their
+    /// velocities zeroed in y, the islands whose actors have all been calm for `sleep_time` (islands with a
+    /// `jointed` actor stay awake: a joint's rows need a moving end). Whether any fell asleep.
+    #[allow(clippy::too_many_arguments)]
+    pub fn settle(
+        &mut self,
+        model: &Model,
+        found: &[FoundContact],
+        links: &[(usize, usize)],
+        jointed: &[usize],
+        y: &mut [f64],
+        t: f64,
+        (resting_speed, sleep_time): (f64, f64),
+    ) -> bool {
+        let l = model.layout;
+        let actors = l.particles + l.bodies;
+        let touching = |a: usize| a < actors && !self.asleep(a);
+        // union-find over the awake touching actors
+        let mut parent: Vec<usize> = (0..actors).collect();
+        fn root(parent: &mut [usize], mut a: usize) -> usize {
+            while parent[a] != a {
+                parent[a] = parent[parent[a]];
+                a = parent[a];
+            }
+            a
+        }
+        let mut member = vec![false; actors];
+        let pairs = found.iter().map(|f| (f.contact.a, f.contact.b));
+        for (a, b) in pairs.clone().chain(links.iter().copied()) {
+            for x in [a, b] {
+                if touching(x) {
+                    member[x] = true;
+                }
+            }
+            if touching(a) && touching(b) {
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+        // an island joined to a sleeping actor by a contact stays awake (it is being woken or will be)
+        let mut blocked = vec![false; actors];
+        for (a, b) in pairs.chain(links.iter().copied()) {
+            for (x, other) in [(a, b), (b, a)] {
+                if touching(x) && other < actors && self.asleep(other) {
+                    blocked[root(&mut parent, x)] = true;
+                }
+            }
+        }
+        let calm_since: Vec<(usize, f64)> = (0..actors)
+            .filter(|&a| member[a])
+            .filter(|&a| speed(model, y, a) < resting_speed)
+            .map(|a| (a, self.calm_since.iter().find(|(x, _)| *x == a).map_or(t, |(_, since)| *since)))
+            .collect();
+        self.calm_since = calm_since;
+        // islands in order of their smallest actor; asleep when every member has been calm long enough
+        let mut islands: Vec<Vec<usize>> = Vec::new();
+        let mut slot = vec![usize::MAX; actors];
+        for a in (0..actors).filter(|&a| member[a]) {
+            let r = root(&mut parent, a);
+            if slot[r] == usize::MAX {
+                slot[r] = islands.len();
+                islands.push(Vec::new());
+            }
+            islands[slot[r]].push(a);
+        }
+        let mut fell = false;
+        for island in islands {
+            let r = root(&mut parent, island[0]);
+            let calm = |a: &usize| self.calm_since.iter().any(|(x, since)| x == a && t - since >= sleep_time);
+            let free = island.iter().all(|a| jointed.binary_search(a).is_err());
+            if !blocked[r] && free && island.iter().all(calm) {
+                for &a in &island {
+                    zero_velocity(model, y, a);
+                }
+                self.calm_since.retain(|(x, _)| island.binary_search(x).is_err());
+                self.islands.push(island);
+                fell = true;
+            }
+        }
+        fell
+    }
+}
+
+/// The fastest an actor's points move in state y (m/s): its centre's speed, plus for a body its angular momentum's
+/// share at the radius of gyration (|L| / (m r)).
+fn speed(model: &Model, y: &[f64], a: usize) -> f64 {
+    let l = model.layout;
+    if a < l.particles {
+        return get3(y, l.pv(a)).norm();
+    }
+    let j = a - l.particles;
+    let body = &model.bodies[j];
+    let r = (body.inertia.trace() / (2.0 * body.mass)).sqrt();
+    let turning = if r > 0.0 { get3(y, l.bl(j)).norm() / (body.mass * r) } else { 0.0 };
+    get3(y, l.bp(j)).norm() / body.mass + turning
+}
+
+/// Sets an actor's velocity (a particle's) or momenta (a body's) to zero in state y.
+fn zero_velocity(model: &Model, y: &mut [f64], a: usize) {
+    let l = model.layout;
+    let blocks = if a < l.particles { vec![l.pv(a)] } else { vec![l.bp(a - l.particles), l.bl(a - l.particles)] };
+    for k in blocks {
+        y[k..k + 3].fill(0.0);
+    }
+}
