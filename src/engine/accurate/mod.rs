@@ -225,7 +225,11 @@ impl AccurateEngine {
         integrator.log_steps(run.is_some());
         let energy = mechanical_energy(&system.model, integrator.state());
         let result = (|| {
-            impact::impact(&mut stages, system, integrator)?;
+            // a touching phase carries on from the last call (so pausing, for frames or progress, changes nothing);
+            // otherwise the contacts at the start are an event
+            if stages.memory.touching.is_none() {
+                impact::impact(&mut stages, system, integrator)?;
+            }
             let (mut done, mut stuck, mut last) = (0, 0, integrator.time());
             loop {
                 if stages.memory.touching.is_some() {
@@ -374,13 +378,17 @@ impl Engine for AccurateEngine {
         self.memory.state()
     }
 
-    /// Sets the state, which wakes every sleeping island (a push or an edit must be felt).
+    /// Sets the state. A set state (a push, an edit) starts afresh: the touching phase, its sleeping islands and
+    /// its step history are dropped, and the next advance begins with an impact stage.
     fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
         match &mut self.memory.integration {
             Some(i) => i.live_mut().set_state(t, y)?,
             None => self.memory.clock = t,
         }
-        self.wake_all();
+        #[cfg(feature = "contact")]
+        if let Some(c) = self.memory.contact.as_mut() {
+            c.touching = None;
+        }
         Ok(())
     }
 

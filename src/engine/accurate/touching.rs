@@ -140,7 +140,8 @@ pub fn touching_steps(
         if t >= pause.min(t_end) - slack {
             break Ok(true);
         }
-        let stop = saves.get(delivered).map_or(t_end, |s| s.min(t_end));
+        // frames do not steer the steps: only the end of the advance cuts one
+        let stop = t_end;
         let h = phase.h.min(stop - t);
         let clipped = h < phase.h;
         if let Err(e) = budget.charge(1, t) {
@@ -160,8 +161,8 @@ pub fn touching_steps(
                 break Ok(false);
             }
             if phase.sleep.count() == actors {
-                // everything sleeps: the clock alone
-                t = stop;
+                // everything sleeps: the clock alone, to the next pause
+                t = pause.min(t_end);
                 continue;
             }
         }
@@ -290,7 +291,18 @@ pub fn touching_steps(
         }
         // A step cut to reach a frame or the end lands on it exactly: t + (stop - t) can fall an ulp short,
         // and an advance that ends an ulp before its end would be asked to go on from there forever.
-        (t, y) = (if h == stop - t { stop } else { t + h }, next);
+        let (t0, y0) = (t, std::mem::replace(&mut y, next));
+        t = if h == stop - t { stop } else { t + h };
+        // frames inside the step from the step's own interpolation: positions move at the step's end velocities
+        // (semi-implicit Euler), so the state is linear in time across it; a frame at the step's end is its state
+        while delivered < saves.len() && saves[delivered] < t - slack {
+            if let Some(run) = run.as_deref_mut() {
+                let frame = interpolate(&system.model, &y0, &y, (saves[delivered] - t0) / (t - t0));
+                let contacts = phase.last.iter().map(|c| (c.point, c.normal));
+                run.record(&system.model, saves[delivered], &frame, cx.memory.penetration, contacts);
+            }
+            delivered += 1;
+        }
         if cx.settings.sleep && phase.sleep.settle(&system.model, &found, &links, &jointed, &mut y, t, sleeping) {
             cx.report.stages.mark(crate::plan::Stage::Sleeping);
         }
@@ -497,6 +509,17 @@ fn momenta(model: &Model, involved: &[bool], y: &[f64]) -> f64 {
     let bodies: f64 =
         (0..model.bodies.len()).filter(|j| involved[l.particles + j]).map(|j| get3(y, l.bp(j)).norm()).sum();
     particles + bodies
+}
+
+/// The state a fraction `s` of the way from `a` to `b`, component by component, quaternions normalised.
+fn interpolate(model: &Model, a: &[f64], b: &[f64], s: f64) -> Vec<f64> {
+    let mut y: Vec<f64> = a.iter().zip(b).map(|(x, z)| x + s * (z - x)).collect();
+    let l = model.layout;
+    for j in 0..model.bodies.len() {
+        let q = get_quat(&y, l.bq(j));
+        set_quat(&mut y, l.bq(j), &nalgebra::UnitQuaternion::from_quaternion(q));
+    }
+    y
 }
 
 /// y <- 2 y - other (Richardson extrapolation of the two half steps against the whole one); quaternions aligned
