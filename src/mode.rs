@@ -77,10 +77,57 @@ pub struct AccurateSettings {
     pub persistent: Persistent,
     /// Whether resting islands sleep (`engine/accurate/sleep.rs`): an island whose actors have all moved slower
     /// than the resting speed for `sleep_time` is frozen until something awake reaches it or the state is set;
-    /// true by default.
+    /// true by default (worlds with joints do not sleep).
+    #[serde(default = "yes")]
     pub sleep: bool,
     /// How long an island must stay slower than the resting speed before it sleeps (s); 0.5 by default.
+    #[serde(default = "half_a_second")]
     pub sleep_time: f64,
+    /// The contact steps' solver; the Newton method by default.
+    #[serde(default)]
+    pub solver: AccurateSolver,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn half_a_second() -> f64 {
+    0.5
+}
+
+/// How accurate mode's contact steps solve their programs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AccurateSolver {
+    /// tumble's own: the multiplier method with Newton's method on the velocities, warm started from the last
+    /// step; islands it cannot answer go to clarabel (the default).
+    #[default]
+    Newton,
+    /// clarabel's interior point for every island (the reference the Newton method is tested against).
+    Clarabel,
+}
+
+impl AccurateSolver {
+    /// The solver by name: "newton" or "clarabel".
+    pub fn from_name(name: &str) -> Result<AccurateSolver, WorldError> {
+        match name {
+            "newton" => Ok(AccurateSolver::Newton),
+            "clarabel" => Ok(AccurateSolver::Clarabel),
+            other => Err(WorldError::invalid(
+                "solver",
+                format!("accurate mode's solver is \"newton\" or \"clarabel\", got {other:?}"),
+            )),
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            AccurateSolver::Newton => "newton",
+            AccurateSolver::Clarabel => "clarabel",
+        }
+    }
 }
 
 impl Default for AccurateSettings {
@@ -93,6 +140,7 @@ impl Default for AccurateSettings {
             persistent: Persistent::ContactSteps,
             sleep: true,
             sleep_time: 0.5,
+            solver: AccurateSolver::Newton,
         }
     }
 }

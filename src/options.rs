@@ -4,7 +4,7 @@
 
 use crate::body::RigidBodyBuilder;
 use crate::error::WorldError;
-use crate::mode::{AccurateSettings, FastSettings, FastSolver, Mode, SoftSolver};
+use crate::mode::{AccurateSettings, AccurateSolver, FastSettings, FastSolver, Mode, SoftSolver};
 use crate::world::World;
 use nalgebra::{Matrix3, Vector3};
 use tumble_collide::Shape;
@@ -156,17 +156,18 @@ impl IntegratorOptions {
     }
 }
 
-/// The options of a contact mode, by name; `None` takes the default. `dt`, `sleep`, `solver` and `substeps` apply
-/// to fast mode only, `contact_tolerance` to accurate mode only.
+/// The options of a contact mode, by name; `None` takes the default. `dt` and `substeps` apply to fast mode only,
+/// `contact_tolerance` to accurate mode only; `sleep` to both; `solver` names each mode's own solvers.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ModeOptions {
     /// Fast mode's step (s; default 1/240).
     pub dt: Option<f64>,
-    /// Whether fast mode's resting islands sleep (default true).
+    /// Whether resting islands sleep (default true).
     pub sleep: Option<bool>,
     /// Accurate mode's error allowed in one contact step (m; default 1e-6 of the scene's size).
     pub contact_tolerance: Option<f64>,
-    /// Fast mode's contact solver: "soft" (the default) or "exact".
+    /// The contact solver: fast mode's "soft" (the default) or "exact"; accurate mode's "newton" (the default) or
+    /// "clarabel".
     pub solver: Option<String>,
     /// The soft solver's substeps a step (default 8).
     pub substeps: Option<usize>,
@@ -183,16 +184,15 @@ pub fn mode_from(name: &str, o: &ModeOptions) -> Result<Mode, WorldError> {
                     "accurate mode takes its steps from the integrator: give dt with the integrator",
                 ));
             }
-            for (name, given) in
-                [("sleep", o.sleep.is_some()), ("solver", o.solver.is_some()), ("substeps", o.substeps.is_some())]
-            {
-                if given {
-                    return Err(WorldError::invalid(name, "applies to fast mode only"));
-                }
+            if o.substeps.is_some() {
+                return Err(WorldError::invalid("substeps", "applies to fast mode's soft solver only"));
             }
+            let d = AccurateSettings::default();
             let mode = Mode::Accurate(AccurateSettings {
                 contact_tolerance: o.contact_tolerance,
-                ..AccurateSettings::default()
+                sleep: o.sleep.unwrap_or(d.sleep),
+                solver: o.solver.as_deref().map_or(Ok(d.solver), AccurateSolver::from_name)?,
+                ..d
             });
             mode.check()?;
             Ok(mode)
@@ -241,13 +241,14 @@ pub struct WorldOptions {
     pub gravity: Option<Vector3<f64>>,
     /// "accurate" (the default) or "fast".
     pub mode: Option<String>,
-    /// Fast mode: whether resting islands sleep (default true).
+    /// Whether resting islands sleep (default true).
     pub sleep: Option<bool>,
     /// Threads of the contact solves (0: one per core, the default).
     pub threads: Option<usize>,
     /// Accurate mode: the error allowed in one contact step (m; default 1e-6 of the scene's size).
     pub contact_tolerance: Option<f64>,
-    /// Fast mode: the contact solver, "soft" (the default) or "exact".
+    /// The contact solver: fast mode's "soft" (the default) or "exact", accurate mode's "newton" (the default) or
+    /// "clarabel".
     pub solver: Option<String>,
     /// Fast mode's soft solver: substeps a step (default 8).
     pub substeps: Option<usize>,

@@ -137,8 +137,18 @@ fn options_that_do_not_apply_to_the_mode_are_errors_naming_them() {
     assert_eq!(e.argument(), Some("newton"), "{e}");
     let w = fast(IntegratorOptions { dt: Some(0.01), ..Default::default() }).unwrap();
     assert_eq!(w.mode(), Mode::Fast(FastSettings::new(0.01)), "dt is fast mode's step");
-    let e = WorldOptions { sleep: Some(false), ..WorldOptions::default() }.build().err().unwrap();
-    assert_eq!(e.argument(), Some("sleep"), "{e}");
+    let e = WorldOptions { substeps: Some(4), ..WorldOptions::default() }.build().err().unwrap();
+    assert_eq!(e.argument(), Some("substeps"), "{e}");
+    let e = WorldOptions { solver: Some("soft".into()), ..WorldOptions::default() }.build().err().unwrap();
+    assert_eq!(e.argument(), Some("solver"), "{e}");
+    // sleep and the solver apply to accurate mode too
+    let w = WorldOptions { sleep: Some(false), solver: Some("clarabel".into()), ..WorldOptions::default() }.build();
+    let expected = tumble::AccurateSettings {
+        sleep: false,
+        solver: tumble::AccurateSolver::Clarabel,
+        ..tumble::AccurateSettings::default()
+    };
+    assert_eq!(w.unwrap().mode(), Mode::Accurate(expected));
     let e = tumble::mode_from("accurate", &tumble::ModeOptions { dt: Some(0.01), ..Default::default() }).unwrap_err();
     assert_eq!(e.argument(), Some("dt"), "{e}");
     // An integrator chosen in fast mode.

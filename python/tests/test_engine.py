@@ -59,8 +59,12 @@ def test_options_that_do_not_apply_raise_value_error_naming_them():
         tumble.World(mode="fast", integrator="radau5")
     with pytest.raises(ValueError, match="rtol"):
         tumble.World(mode="fast", rtol=1e-8)
-    with pytest.raises(ValueError, match="sleep"):
-        tumble.World(sleep=False)
+    with pytest.raises(ValueError, match="substeps"):
+        tumble.World(substeps=4)
+    with pytest.raises(ValueError, match="solver"):
+        tumble.World(solver="soft")
+    with pytest.raises(ValueError, match="solver"):
+        tumble.World(mode="fast", solver="newton")
     w = tumble.World(mode="fast", dt=1 / 120, sleep=False)
     with pytest.raises(ValueError, match="integrator"):
         w.set_integrator("rk4", dt=0.01)

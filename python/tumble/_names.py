@@ -22,5 +22,5 @@ IntegratorName = Literal[
     "dop853",
 ]
 ModeName = Literal["accurate", "fast"]
-SolverName = Literal["soft", "exact"]
+SolverName = Literal["soft", "exact", "newton", "clarabel"]
 LinearSolverName = Literal["direct", "iterative"]

@@ -109,7 +109,10 @@ class World(_World):
     collisions are located by bisection on its dense output and resolved by impulses (restitution); while bodies touch
     (and at any impact with friction), convex contact steps with Coulomb friction carry them, their size set by step
     doubling so that each step's error stays within ``contact_tolerance`` metres (default 1e-6 of the scene's size); the
-    report gives their count and largest error estimate. ``mode="fast"`` steps at ``dt`` (default 1/240 s) with
+    report gives their count and largest error estimate. Their programs are solved by ``solver="newton"`` (the default:
+    tumble's own Newton method, warm started from the last step) or ``solver="clarabel"`` (the interior point, the
+    reference); frames come from the steps' interpolation, so recording never changes the result; resting islands
+    sleep (``sleep=False`` keeps them awake) and wake when something awake reaches them. ``mode="fast"`` steps at ``dt`` (default 1/240 s) with
     contacts, Coulomb friction and restitution solved by ``solver="soft"`` (the default: Catto's soft step, in
     ``substeps`` substeps a step, default 8, iterative and warm-started, as fast as the game engines with a small
     penetration under load) or ``solver="exact"`` (one conic program per island each step with clarabel: no penetration,
@@ -118,8 +121,8 @@ class World(_World):
     tripled), and resting islands sleep (``sleep=False`` keeps them awake); it always steps by ``dt``: ``step`` and
     ``run`` durations must be whole numbers of steps, and a frame is the state of the first step that reaches its
     time. An option that does not
-    apply to the mode (an integrator option or ``contact_tolerance`` in fast mode, ``sleep``, ``solver`` or ``substeps``
-    in accurate mode, ``substeps`` with the exact solver) raises ValueError naming it.
+    apply to the mode (an integrator option or ``contact_tolerance`` in fast mode, ``substeps`` in accurate mode or with
+    the exact solver, a solver of the other mode) raises ValueError naming it.
     Arguments left as ``None`` take the library's defaults: particles of 1 kg, restitution and friction 0.5, spring
     stiffness 1 N/m, bodies of density 1000 kg/m^3 when given only a shape, frames every 1/60 s.
     ``threads`` sets how many threads the contact solves use (0, the default: one per core); results do not depend

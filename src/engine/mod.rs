@@ -209,7 +209,9 @@ pub(crate) fn planned(mode: &Mode, model: &Model, settings: &Settings, has_scene
     match mode {
         #[cfg(feature = "contact")]
         Mode::Fast(f) => stages.extend(fast::FastEngine::planned(f, dim, has_scene, model.has_joints())),
-        Mode::Accurate(a) => stages.extend(AccurateEngine::planned(settings, has_scene.then_some(a), dim)),
+        Mode::Accurate(a) => {
+            stages.extend(AccurateEngine::planned(settings, has_scene.then_some(a), dim, model.has_joints()))
+        }
         #[cfg(not(feature = "contact"))]
         Mode::Fast(_) => {}
     }

@@ -79,3 +79,17 @@ pub fn random_drop(seed: u64) -> World {
     }
     w
 }
+
+/// The world's mechanical energy (kinetic and potential) at its start and after each of `span / dt` calls of
+/// `step(dt)`: states at the ends of calls are the engine's own, never interpolated (frames between an engine's
+/// steps are interpolated, and an interpolation through a bounce dips in kinetic energy and rises again).
+#[allow(dead_code)]
+pub fn energies_by_steps(w: &mut World, span: f64, dt: f64) -> Vec<f64> {
+    let energy = |w: &World| w.kinetic_energy() + w.potential_energy();
+    let mut out = vec![energy(w)];
+    for _ in 0..(span / dt).round() as usize {
+        w.step(dt).unwrap_or_else(|e| panic!("at t = {}: {e}", w.time()));
+        out.push(energy(w));
+    }
+    out
+}

@@ -123,6 +123,10 @@ pub fn convex_step(
     // is a position error of 1e-4 of the tolerance.
     settings.velocity_scale = cx.memory.scales.tolerance / h;
     settings.solver = tumble_contact::SolverSettings { complementarity_tolerance: 1e-4, ..*cx.solver };
+    settings.method = match cx.settings.solver {
+        crate::mode::AccurateSolver::Newton => tumble_contact::StepMethod::Newton,
+        crate::mode::AccurateSolver::Clarabel => tumble_contact::StepMethod::Clarabel,
+    };
     // joints: their rows held exactly in the same programs, fixed ends as extra fixed actors
     let (bilateral, extra) = bilateral_rows(model, y, h, states.len());
     let with_extra: Vec<BodyState>;

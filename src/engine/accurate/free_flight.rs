@@ -70,23 +70,6 @@ pub(crate) fn links(model: &Model) -> Vec<(usize, usize)> {
     springs.chain(joints).filter_map(|(a, b)| Some((a?, b?))).collect()
 }
 
-/// The actors (particles, then dynamic bodies) an end of a joint holds (fixed ends hold none).
-pub(crate) fn jointed(model: &Model) -> Vec<usize> {
-    let l = model.layout;
-    let mut out: Vec<usize> = model
-        .joints
-        .iter()
-        .flat_map(|j| [j.a, j.b])
-        .filter_map(|e| match e {
-            JointEnd::Body(j) => Some(l.particles + j),
-            JointEnd::Fixed(_) => None,
-        })
-        .collect();
-    out.sort_unstable();
-    out.dedup();
-    out
-}
-
 /// The state components of actor `a`.
 fn components(l: Layout, a: usize) -> Vec<usize> {
     let blocks = if a < l.particles {

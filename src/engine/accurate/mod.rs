@@ -132,7 +132,7 @@ impl AccurateEngine {
     }
 
     /// The engine's own stages for a state of length `dim`, with or without contact stages.
-    pub fn planned(settings: &Settings, accurate: Option<&AccurateSettings>, dim: usize) -> Vec<Stage> {
+    pub fn planned(settings: &Settings, accurate: Option<&AccurateSettings>, dim: usize, joints: bool) -> Vec<Stage> {
         let mut out = Vec::new();
         if let Some(a) = accurate {
             out.extend([Stage::CollisionDetection, Stage::Bisection, Stage::Impulses]);
@@ -140,7 +140,8 @@ impl AccurateEngine {
                 crate::mode::Persistent::ContactSteps => Stage::ContactConeProgram,
                 crate::mode::Persistent::RestingForces => Stage::RestingContact,
             });
-            if a.sleep && a.persistent == crate::mode::Persistent::ContactSteps {
+            // jointed worlds do not sleep (`sleep.rs`)
+            if a.sleep && !joints && a.persistent == crate::mode::Persistent::ContactSteps {
                 out.push(Stage::Sleeping);
             }
         }
@@ -408,7 +409,8 @@ impl Engine for AccurateEngine {
     }
 
     fn own_stages(&self) -> Vec<Stage> {
-        Self::planned(&self.settings, self.accurate_settings(), self.system.model.layout.dim())
+        let model = &self.system.model;
+        Self::planned(&self.settings, self.accurate_settings(), model.layout.dim(), model.has_joints())
     }
 
     fn memory(&self) -> EngineMemory {

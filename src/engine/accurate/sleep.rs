@@ -1,4 +1,5 @@
-//! Sleeping in accurate mode's touching phase: an island (actors joined by contacts, springs or joints) whose
+//! Sleeping in accurate mode's touching phase (worlds without joints, as in fast mode: a joint's rows need moving
+//! ends): an island (actors joined by contacts or springs) whose
 //! actors have all moved slower than the resting speed for `AccurateSettings::sleep_time` is frozen: its
 //! velocities are set to zero and, while it sleeps, its actors are fixed bodies to the contact steps (they cost no
 //! solve, and contacts among them are not even kept), held still in free flight, and a world with nothing awake
@@ -82,15 +83,13 @@ impl Sleep {
 
     /// After a step accepted at time t with the contacts `found` and `links` (springs and joints between actors):
     /// brings each touching actor's calm time up to date from its speed in y, and puts to sleep, with their
-    /// velocities zeroed in y, the islands whose actors have all been calm for `sleep_time` (islands with a
-    /// `jointed` actor stay awake: a joint's rows need a moving end). Whether any fell asleep.
-    #[allow(clippy::too_many_arguments)]
+    /// velocities zeroed in y, the islands whose actors have all been calm for `sleep_time`. Whether any fell
+    /// asleep.
     pub fn settle(
         &mut self,
         model: &Model,
         found: &[FoundContact],
         links: &[(usize, usize)],
-        jointed: &[usize],
         y: &mut [f64],
         t: f64,
         (resting_speed, sleep_time): (f64, f64),
@@ -150,8 +149,7 @@ impl Sleep {
         for island in islands {
             let r = root(&mut parent, island[0]);
             let calm = |a: &usize| self.calm_since.iter().any(|(x, since)| x == a && t - since >= sleep_time);
-            let free = island.iter().all(|a| jointed.binary_search(a).is_err());
-            if !blocked[r] && free && island.iter().all(calm) {
+            if !blocked[r] && island.iter().all(calm) {
                 for &a in &island {
                     zero_velocity(model, y, a);
                 }

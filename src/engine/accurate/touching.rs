@@ -17,7 +17,7 @@ use super::contact_stages::ContactStages;
 use super::convex_step::{actors_with_forces, contacts_in_reach, convex_step, ConvexStep};
 use super::drift::correct_drift;
 use super::failure;
-use super::free_flight::{copy_free, free_flight, involved, jointed, links, FreeFlight};
+use super::free_flight::{copy_free, free_flight, involved, links, FreeFlight};
 use super::sleep::Sleep;
 use super::system::AccurateSystem;
 use crate::engine::found_contact::ContactKey;
@@ -128,7 +128,8 @@ pub fn touching_steps(
         return Err(failure(t, "contact steps without a touching phase".into()));
     };
     let actors = system.model.layout.particles + system.model.layout.bodies;
-    let (links, jointed) = (links(&system.model), jointed(&system.model));
+    let links = links(&system.model);
+    let sleeps = cx.settings.sleep && !system.model.has_joints();
     let sleeping = (cx.memory.scales.resting_speed, cx.settings.sleep_time);
     let result = loop {
         while delivered < saves.len() && saves[delivered] <= t + slack {
@@ -202,19 +203,25 @@ pub fn touching_steps(
         let pressed: BTreeSet<ContactKey> = second.pressing.iter().copied().collect();
         let after = held(system, &statics, t + h, &second.y, &phase.sleep)?;
         let stop = stopped_slip(&found, &states, &after) * h;
-        let sink = turning_sink(&found, &pressed, &after, h);
-        let extrapolating = whole.pressing == second.pressing;
+        // How deep the halves' state, and the extrapolated one, sink any contact of the step: the convex steps hold
+        // their contacts to first order in the turning, the extrapolation not at all, and a sunk contact lifted
+        // back later gains energy. The extrapolation is used only where it sinks nothing the halves do not.
+        let model = &system.model;
+        let mut extrapolated = second.y.clone();
+        extrapolate(model, &mut extrapolated, &whole.y);
+        let (sink_halves, sink_extrapolated) =
+            (sinking(model, &found, &y, &second.y), sinking(model, &found, &y, &extrapolated));
+        let extrapolating = whole.pressing == second.pressing
+            && sink_extrapolated <= sink_halves + 1e-3 * cx.memory.scales.tolerance;
         let smooth = extrapolating && pressed == pressed_before && stop == 0.0;
-        let halves_error = halves_error.max(stop).max(sink);
+        let halves_error = halves_error.max(stop).max(sink_halves);
         let error = match (&phase.difference, smooth) {
             (Some((h_last, last)), true) => {
                 let r = (h / h_last).powi(2);
                 let change: Vec<f64> = difference.iter().zip(last).map(|(d, l)| d - r * l).collect();
                 let zero = vec![0.0; change.len()];
-                let changed = state_difference(&system.model, Some(&involved), &change, &zero, h);
-                // the extrapolation moves each body by d again, unconstrained: what that sinks a pushing contact
-                let sunk = extrapolation_sink(&system.model, &found, &pressed, &second.y, &difference);
-                changed.max(sunk).max(sink).min(halves_error)
+                let changed = state_difference(model, Some(&involved), &change, &zero, h);
+                changed.min(halves_error).max(sink_extrapolated)
             }
             _ => halves_error,
         };
@@ -246,12 +253,12 @@ pub fn touching_steps(
         if let Some(free) = &free {
             copy_free(&system.model, &holding, free, &mut whole.y);
             copy_free(&system.model, &holding, free, &mut second.y);
+            copy_free(&system.model, &holding, free, &mut extrapolated);
         }
         let mut next = second.y;
         let mut kept_error = halves_error;
         if extrapolating {
-            let mut better = next.clone();
-            extrapolate(&system.model, &mut better, &whole.y);
+            let better = extrapolated;
             // Never a gain of energy over the step from the extrapolation, beyond the solves' own accuracy
             // (velocities to 1e-9 of tol / h, the Newton method's margin: an energy of that times the momenta) and
             // rounding (1e-12 of the kinetic and potential energies' sizes, whose difference the total may be).
@@ -303,7 +310,7 @@ pub fn touching_steps(
             }
             delivered += 1;
         }
-        if cx.settings.sleep && phase.sleep.settle(&system.model, &found, &links, &jointed, &mut y, t, sleeping) {
+        if sleeps && phase.sleep.settle(&system.model, &found, &links, &mut y, t, sleeping) {
             cx.report.stages.mark(crate::plan::Stage::Sleeping);
         }
         cx.report.sleepers = phase.sleep.count();
@@ -423,62 +430,31 @@ fn stopped_slip(
         .fold(0.0f64, |m, (start, _)| m.max(0.5 * start))
 }
 
-/// The deepest a pushing contact sinks in a step of h because the step follows its bodies' turning in a straight
-/// line: the centripetal part of the contact points' motion, (w x (w x r)) h^2 / 2 for each body, taken along
-/// the normal into the contact (velocities at the step's end, `after`). The convex step's constraint is linear in
-/// the velocities and cannot see it, and its halves sink alike, so the estimate of the step's error includes it:
-/// a rocking box's corners otherwise sank several tolerances, and lifting them back gained potential energy.
-fn turning_sink(
-    found: &[crate::engine::found_contact::FoundContact],
-    pressed: &BTreeSet<ContactKey>,
-    after: &[tumble_contact::BodyState],
-    h: f64,
-) -> f64 {
-    let centripetal = |b: &tumble_contact::BodyState, p: &nalgebra::Point3<f64>| {
-        let w = b.angular_velocity;
-        w.cross(&w.cross(&(p - b.position)))
-    };
-    found
-        .iter()
-        .filter(|f| pressed.contains(&f.key))
-        .map(|f| {
-            let c = &f.contact;
-            let (a, b) = (&after[c.a], &after[c.b]);
-            let relative = centripetal(b, &c.point) - centripetal(a, &c.point);
-            (-c.normal.dot(&relative) * 0.5 * h * h).max(0.0)
-        })
-        .fold(0.0, f64::max)
-}
-
-/// How deep the extrapolation 2 y_half - y_whole = y_half + d sinks a pushing contact: each contact point moved
-/// with its two bodies by d (translation, and the turn d's quaternion part makes from the halves' orientation),
-/// taken along the normal into the contact. The halves and the whole step each hold the contact; their
-/// extrapolation need not, so this is part of the extrapolated state's error.
-fn extrapolation_sink(
-    model: &Model,
-    found: &[crate::engine::found_contact::FoundContact],
-    pressed: &BTreeSet<ContactKey>,
-    halves: &[f64],
-    d: &[f64],
-) -> f64 {
+/// How much deeper than at the step's start (state `from`) any contact of `found` is in state `to`: each contact
+/// point carried with its two bodies' rigid motion (translation and the exact turn of their orientations, so a
+/// turning body's corner follows its arc), taken along the normal. Zero when no contact sank.
+fn sinking(model: &Model, found: &[crate::engine::found_contact::FoundContact], from: &[f64], to: &[f64]) -> f64 {
     let l = model.layout;
     let moved = |actor: usize, p: &nalgebra::Point3<f64>| -> nalgebra::Vector3<f64> {
         if actor < l.particles {
-            get3(d, l.px(actor))
+            get3(to, l.px(actor)) - get3(from, l.px(actor))
         } else if actor < l.particles + l.bodies {
             let j = actor - l.particles;
-            let turn = (get_quat(d, l.bq(j)) * get_quat(halves, l.bq(j)).conjugate()).vector() * 2.0;
-            get3(d, l.bx(j)) + turn.cross(&(p - nalgebra::Point3::from(get3(halves, l.bx(j)))))
+            let (x0, x1) = (get3(from, l.bx(j)), get3(to, l.bx(j)));
+            let q = |y: &[f64]| nalgebra::UnitQuaternion::from_quaternion(get_quat(y, l.bq(j)));
+            let turn = q(to) * q(from).inverse();
+            let r = p.coords - x0;
+            x1 - x0 + (turn * r - r)
         } else {
             nalgebra::Vector3::zeros()
         }
     };
     found
         .iter()
-        .filter(|f| pressed.contains(&f.key))
         .map(|f| {
             let c = &f.contact;
-            (-c.normal.dot(&(moved(c.b, &c.point) - moved(c.a, &c.point)))).max(0.0)
+            let gap = c.distance + c.normal.dot(&(moved(c.b, &c.point) - moved(c.a, &c.point)));
+            ((-gap) - (-c.distance).max(0.0)).max(0.0)
         })
         .fold(0.0, f64::max)
 }
