@@ -13,7 +13,7 @@ pub struct WorldReport {
     pub integrator: Report,
     /// How often each force loop ran.
     pub forces: ForceCounters,
-    /// Contact QP or conic-program solves (clarabel calls).
+    /// Contact programs solved (QPs and conic programs: the Newton method's or clarabel's).
     pub qp_solves: usize,
     /// Collisions resolved: contacts that met closing faster than the resting (accurate) or bounce (fast) speed.
     pub collisions: usize,
@@ -25,7 +25,7 @@ pub struct WorldReport {
     pub collision_checks: usize,
     /// Contact islands solved.
     pub islands: usize,
-    /// Actors asleep at the end of the last step (fast mode).
+    /// Actors asleep at the end of the last step (either mode).
     pub sleepers: usize,
     /// Largest penetration seen (m).
     pub max_penetration: f64,

@@ -11,9 +11,11 @@ class Report:
 
     Integrator counters (``steps``, ``rejected``, ``rhs_evals``, ``jacobians``, ``factorizations``,
     ``linear_solves``, ``newton_iterations``, ``krylov_iterations``), the smallest and largest accepted step
-    (``min_step``, ``max_step``; ``None`` before any step), ``wall_seconds``, the integrator's ``error_estimate``
-    (the sum of its local error estimates, ``None`` for methods without one); contact counters (``qp_solves``,
-    ``collisions``, ``impulses``, ``bisection_steps``, ``collision_checks``, ``islands``, ``sleepers``,
+    (``min_step``, ``max_step``; ``None`` before any step), ``wall_seconds`` (the calls' whole wall time: integrating,
+    finding and solving contacts), ``integrator_seconds`` (the integrator's share), the integrator's ``error_estimate``
+    (the sum of its local error estimates, ``None`` for methods without one); contact counters (``qp_solves``, the
+    contact programs solved, ``collisions``, ``impulses``, ``bisection_steps``, ``collision_checks``, ``islands``,
+    ``sleepers`` (actors asleep at the end, either mode),
     ``max_penetration``, ``contact_residual`` (fast mode's soft step: the largest distance in m/s of a step's end
     from the exact contact conditions), ``step_error`` (fast mode with ``step_doubling=True``: the largest difference
     in metres between a step and its two halves; ``None`` without), ``collision_seconds``, ``contact_seconds``: zero
