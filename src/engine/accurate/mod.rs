@@ -487,8 +487,8 @@ impl Engine for AccurateEngine {
 
 impl AccurateEngine {
     /// Wakes every sleeping island.
+    #[cfg(feature = "contact")]
     fn wake_all(&mut self) {
-        #[cfg(feature = "contact")]
         if let Some(touching) = self.memory.contact.as_mut().and_then(|c| c.touching.as_mut()) {
             touching.sleep.wake_all();
         }
