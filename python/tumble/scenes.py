@@ -128,3 +128,16 @@ def ragdoll() -> World:
     """A 70 kg ragdoll of 10 parts (ball joints at the neck, shoulders and hips, limited hinges at the elbows and
     knees) pushed off the top of a flight of stairs (fast mode at 1/60 s)."""
     return World._rust_scene("ragdoll")
+
+
+BENCHMARKS = ("slide", "incline", "roll", "cube_pile", "domino_row")
+
+
+def benchmark(name: str = "slide", degrees: float = 35.0) -> World:
+    """One of the scenes accurate mode is measured on against Drake's CENIC (accurate mode at its defaults; z up,
+    restitution 0, inclines by tilting gravity): "slide" (a 0.4 m cube at 2 m/s on mu 0.5), "incline" (a 0.1 m cube
+    on mu 0.5 tilted by ``degrees``), "roll" (a sphere of radius 0.1 m on mu 0.3 tilted 30 degrees), "cube_pile"
+    (20 cubes of 0.2 m dropped in three layers) or "domino_row" (ten dominoes, the first tipped)."""
+    if name not in BENCHMARKS:
+        raise ValueError(f"name: expected one of {', '.join(BENCHMARKS)}, got {name!r}")
+    return World._rust_scene("benchmark", which=BENCHMARKS.index(name) + 1, degrees=degrees)

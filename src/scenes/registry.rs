@@ -7,7 +7,7 @@ use crate::error::WorldError;
 use crate::world::World;
 
 /// The built-in scenes' names.
-pub const NAMES: [&str; 13] = [
+pub const NAMES: [&str; 14] = [
     "cloth",
     "spinning_top",
     "bouncing_ball",
@@ -21,6 +21,7 @@ pub const NAMES: [&str; 13] = [
     "newtons_cradle",
     "door",
     "ragdoll",
+    "benchmark",
 ];
 
 /// Largest count a scene parameter may take (particles a side, dominoes, pyramid layers).
@@ -227,6 +228,32 @@ fn contact_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<Wor
             } else {
                 None
             }
+        }
+        "benchmark" => {
+            // the scenes accurate mode is compared with CENIC on (`benchmark.rs`), by number
+            use super::Benchmark;
+            let which = p.count("which", 1)?;
+            let degrees = p.number("degrees", 35.0)?;
+            p.finish(name)?;
+            let scene = match which {
+                1 => Benchmark::Slide,
+                2 => Benchmark::Incline { degrees },
+                3 => Benchmark::Roll,
+                4 => Benchmark::CubePile,
+                5 => Benchmark::DominoRow,
+                other => {
+                    return Err(WorldError::invalid(
+                        "which",
+                        format!(
+                            "1 slide, 2 incline, 3 roll, 4 cube pile, 5 domino row; got {other}"
+                        ),
+                    ))
+                }
+            };
+            if !(0.0..90.0).contains(&degrees) {
+                return Err(WorldError::invalid("degrees", format!("must be in [0, 90), got {degrees}")));
+            }
+            make.then(|| scene.build().map(|s| s.0)).transpose()?
         }
         "pendulum" | "chain" | "newtons_cradle" | "door" | "ragdoll" => return jointed(name, p, make),
         other => return Err(unknown(other)),
