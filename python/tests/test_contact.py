@@ -186,3 +186,22 @@ def test_accurate_mode_has_coulomb_friction_under_error_control():
         tumble.World(mode="fast", contact_tolerance=1e-6)
     with pytest.raises(ValueError, match="`contact_tolerance`"):
         tumble.World(contact_tolerance=-1.0)
+
+
+def test_the_benchmark_scenes_meet_their_closed_forms_in_accurate_mode():
+    # The slide stops at v^2 / (2 mu g) and the sphere rolls (5/7) g sin t^2 / 2 in 1 s; at the default contact
+    # tolerance (1e-6 of the scene's size) both were measured within 1e-11 m, bound 1e-6 m (about the tolerance).
+    slide = tumble.scenes.benchmark("slide")
+    slide.step(1.0)
+    assert abs(slide.bodies.positions[0, 0] - 2.0 ** 2 / (2 * 0.5 * G)) < 1e-6
+    roll = tumble.scenes.benchmark("roll")
+    roll.step(1.0)
+    assert abs(roll.bodies.positions[0, 0] - 5 / 7 * G * math.sin(math.radians(30)) / 2) < 1e-6
+    # the incline at 20 degrees sticks (tan 20 < 0.5)
+    stick = tumble.scenes.benchmark("incline", degrees=20.0)
+    stick.step(2.0)
+    assert abs(stick.bodies.positions[0, 0]) < 1e-9
+    with pytest.raises(ValueError, match="name"):
+        tumble.scenes.benchmark("pyramid")
+    with pytest.raises(ValueError, match="degrees"):
+        tumble.scenes.benchmark("incline", degrees=95.0)
