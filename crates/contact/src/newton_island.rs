@@ -29,7 +29,7 @@ const STIFFNESS: f64 = 1e3;
 /// The first outer iteration's weight, raised tenfold each iteration up to `STIFFNESS` (a continuation: a soft
 /// first subproblem has few kinks for Newton's method to cross and finds most of the active set; each stiffer one
 /// starts from the last's answer).
-const FIRST_STIFFNESS: f64 = 1.0;
+const FIRST_STIFFNESS: f64 = 1e2;
 /// How far the proximal weight may be raised over `STIFFNESS` in slow iterations (the Hessian's condition grows
 /// with it: at 1e6 it stays far from f64's limits for masses within 1e4 of each other).
 const GROWTH_LIMIT: f64 = 1e6;
