@@ -48,6 +48,8 @@ mod pass_through;
 mod resting;
 #[cfg(feature = "contact")]
 mod sleep;
+#[cfg(feature = "contact")]
+mod step_estimate;
 mod system;
 #[cfg(all(test, feature = "contact"))]
 mod tests;

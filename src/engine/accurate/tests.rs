@@ -269,7 +269,7 @@ fn the_touching_phase_extrapolates_two_halves_against_the_whole_step() {
         (UnitQuaternion::from_euler_angles(0.1, 0.0, 0.0), UnitQuaternion::from_euler_angles(0.05, 0.0, 0.0));
     crate::model::layout::set_quat(&mut halves, l.bq(0), &qa);
     crate::model::layout::set_quat(&mut whole, l.bq(0), &qb);
-    super::touching::extrapolate(model, &mut halves, &whole);
+    super::step_estimate::extrapolate(model, &mut halves, &whole);
     // 2 y_half - y_whole
     assert_eq!(get3(&halves, l.px(0)), Vector3::new(1.5, 2.0, 2.0));
     // the rotation extrapolated: 0.15 rad about x to third order in the angles (the blend of the quaternions is

@@ -3,15 +3,18 @@
 //! half on the whole step's contacts); their difference d = y_half - y_whole estimates the error of the halves, in
 //! metres: positions, body turns times the radius of gyration, and velocity differences times h (what they become a
 //! step later). The accepted state is the halves extrapolated, 2 y_half - y_whole (second order; exact for the
-//! constant forces of sliding, rolling and resting), unless the two disagree on which contacts pushed or the
-//! extrapolated state has more energy than the step started with, where the halves are kept. The extrapolated
-//! state's own error is estimated by how d changed since the last step, |d - (h / h_last)^2 d_last| (zero while
-//! the forces are constant, of order h^3 while they vary smoothly, as large as d where they jump); the halves' by
-//! |d|. A step is accepted when its estimate is at most the contact tolerance, and the next h is
-//! h (tol / err)^(1/3) after an extrapolated step and h (tol / err)^(1/2) after the halves, within 0.2 to 2 times h
-//! and at most the scene's time scale (what bounds the pairs a step's reach takes in). Steps land on frame times, so frames are states, not interpolations. Contacts that sank past
-//! the tolerance (linearised contacts of turning bodies sink a little) are lifted apart by a position projection
-//! before the step. The phase ends when no pair is within reach of a step: the integrator takes over.
+//! constant forces of sliding, rolling and resting), unless the two disagree on which contacts pushed, the
+//! extrapolation sinks a contact deeper than the halves do, or it has more energy than the step started with; then
+//! the halves are kept. The extrapolated state's own error is estimated by how d changed since the last step,
+//! |d - (h / h_last)^2 d_last| (zero while the forces are constant, of order h^3 while they vary smoothly), and its
+//! sinking; the halves' by |d|, their sinking and the slip of a sliding contact that stopped. Events (a change of
+//! which contacts push, a stop) take the halves' estimate. A step is accepted when its estimate is at most the
+//! contact tolerance, and the next h is h (tol / err)^(1/3) after a smooth extrapolated step and h (tol / err)^(1/2)
+//! otherwise, within 0.2 to 2 times h and at most the scene's time scale (what bounds the pairs a step's reach takes
+//! in). Only the end of an advance cuts a step: frames inside one are its linear interpolation. Contacts that sank
+//! past the tolerance are lifted apart by a position projection before the step. Sleeping islands (`sleep.rs`) are
+//! fixed bodies to the steps. The phase ends when no pair is within reach of a step and nothing sleeps: the
+//! integrator takes over.
 
 use super::contact_stages::ContactStages;
 use super::convex_step::{actors_with_forces, contacts_in_reach, convex_step, ConvexStep};
@@ -19,15 +22,13 @@ use super::drift::correct_drift;
 use super::failure;
 use super::free_flight::{copy_free, free_flight, involved, links, FreeFlight};
 use super::sleep::Sleep;
+use super::step_estimate::{extrapolate, interpolate, momenta, sinking, stopped_slip};
 use super::system::AccurateSystem;
 use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;
 use crate::engine::state_error::state_difference;
 use crate::engine::Budget;
-use crate::model::layout::{get3, get_quat, set_quat};
-use crate::model::Model;
 use crate::run::Run;
-use nalgebra::Quaternion;
 use std::collections::{BTreeMap, BTreeSet};
 use tumble_integrate::OdeError;
 
@@ -413,58 +414,6 @@ fn doubled_step(
     Ok(Some((whole, second, involved)))
 }
 
-/// Half the largest slip speed, at the step's start (`before`), of a frictional contact that sticks at its end
-/// (`after`, its slip fallen more than a thousandfold): the slip a stop inside the step may have cut short per
-/// second of the step (semi-implicit Euler stops a contact at the step's start when it stops within the step,
-/// and step doubling cannot see it when both the step and its halves stop). Zero when no sliding contact stopped.
-fn stopped_slip(
-    found: &[crate::engine::found_contact::FoundContact],
-    before: &[tumble_contact::BodyState],
-    after: &[tumble_contact::BodyState],
-) -> f64 {
-    let slip = |states: &[tumble_contact::BodyState], c: &tumble_contact::Contact| {
-        let rel = states[c.b].point_velocity(&c.point) - states[c.a].point_velocity(&c.point);
-        let n = c.normal.into_inner();
-        (rel - n * n.dot(&rel)).norm()
-    };
-    found
-        .iter()
-        .map(|f| &f.contact)
-        .filter(|c| c.friction > 0.0)
-        .map(|c| (slip(before, c), slip(after, c)))
-        .filter(|&(start, end)| start > 1e3 * end)
-        .fold(0.0f64, |m, (start, _)| m.max(0.5 * start))
-}
-
-/// How much deeper than at the step's start (state `from`) any contact of `found` is in state `to`: each contact
-/// point carried with its two bodies' rigid motion (translation and the exact turn of their orientations, so a
-/// turning body's corner follows its arc), taken along the normal. Zero when no contact sank.
-fn sinking(model: &Model, found: &[crate::engine::found_contact::FoundContact], from: &[f64], to: &[f64]) -> f64 {
-    let l = model.layout;
-    let moved = |actor: usize, p: &nalgebra::Point3<f64>| -> nalgebra::Vector3<f64> {
-        if actor < l.particles {
-            get3(to, l.px(actor)) - get3(from, l.px(actor))
-        } else if actor < l.particles + l.bodies {
-            let j = actor - l.particles;
-            let (x0, x1) = (get3(from, l.bx(j)), get3(to, l.bx(j)));
-            let q = |y: &[f64]| nalgebra::UnitQuaternion::from_quaternion(get_quat(y, l.bq(j)));
-            let turn = q(to) * q(from).inverse();
-            let r = p.coords - x0;
-            x1 - x0 + (turn * r - r)
-        } else {
-            nalgebra::Vector3::zeros()
-        }
-    };
-    found
-        .iter()
-        .map(|f| {
-            let c = &f.contact;
-            let gap = c.distance + c.normal.dot(&(moved(c.b, &c.point) - moved(c.a, &c.point)));
-            ((-gap) - (-c.distance).max(0.0)).max(0.0)
-        })
-        .fold(0.0, f64::max)
-}
-
 /// The actors at state y with their applied forces (`actors_with_forces`), the sleeping ones fixed at rest.
 fn held(
     system: &mut AccurateSystem,
@@ -478,48 +427,3 @@ fn held(
     Ok(states)
 }
 
-/// The sum of the `involved` actors' momentum magnitudes in state y (kg m/s).
-fn momenta(model: &Model, involved: &[bool], y: &[f64]) -> f64 {
-    let l = model.layout;
-    let particles: f64 = model
-        .particles
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| involved[*i])
-        .map(|(i, p)| p.mass * get3(y, l.pv(i)).norm())
-        .sum();
-    let bodies: f64 =
-        (0..model.bodies.len()).filter(|j| involved[l.particles + j]).map(|j| get3(y, l.bp(j)).norm()).sum();
-    particles + bodies
-}
-
-/// The state a fraction `s` of the way from `a` to `b`, component by component, quaternions normalised.
-fn interpolate(model: &Model, a: &[f64], b: &[f64], s: f64) -> Vec<f64> {
-    let mut y: Vec<f64> = a.iter().zip(b).map(|(x, z)| x + s * (z - x)).collect();
-    let l = model.layout;
-    for j in 0..model.bodies.len() {
-        let q = get_quat(&y, l.bq(j));
-        set_quat(&mut y, l.bq(j), &nalgebra::UnitQuaternion::from_quaternion(q));
-    }
-    y
-}
-
-/// y <- 2 y - other (Richardson extrapolation of the two half steps against the whole one); quaternions aligned
-/// in sign first and normalised after.
-pub(super) fn extrapolate(model: &Model, y: &mut [f64], other: &[f64]) {
-    for (v, o) in y.iter_mut().zip(other) {
-        *v = 2.0 * *v - o;
-    }
-    let l = model.layout;
-    for j in 0..model.bodies.len() {
-        // undo the plain formula on the quaternion and redo it with the signs aligned
-        let k = l.bq(j);
-        let e = get_quat(y, k);
-        let o = get_quat(other, k);
-        let half: Quaternion<f64> = (e + o) * 0.5;
-        let o = if half.dot(&o) < 0.0 { -o } else { o };
-        let q = half * 2.0 - o;
-        let n = q.norm();
-        set_quat(y, k, &nalgebra::UnitQuaternion::from_quaternion(if n > 0.0 { q } else { half }));
-    }
-}
