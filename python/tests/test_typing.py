@@ -112,11 +112,15 @@ def test_literal_names_are_the_accepted_names() -> None:
     with pytest.raises(ValueError, match='expected "accurate" or "fast"'):
         tumble.World(mode="fsat")
 
-    assert typing.get_args(tumble.SolverName) == ("soft", "exact")
-    for solver in typing.get_args(tumble.SolverName):
+    assert typing.get_args(tumble.SolverName) == ("soft", "exact", "newton", "clarabel")
+    for solver in ("soft", "exact"):
         tumble.World(mode="fast", solver=solver)
+    for solver in ("newton", "clarabel"):
+        tumble.World(solver=solver)
     with pytest.raises(ValueError, match='expected "soft" or "exact"'):
         tumble.World(mode="fast", solver="soft-step")
+    with pytest.raises(ValueError, match='"newton" or "clarabel"'):
+        tumble.World(solver="soft-step")
 
     assert typing.get_args(tumble.LinearSolverName) == ("direct", "iterative")
     for linear in typing.get_args(tumble.LinearSolverName):
