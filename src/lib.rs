@@ -48,7 +48,9 @@ pub mod limit {
 }
 pub use joint::{Joint, JointBuilder, JointHandle, JointSpringSpec, JointType, Motor};
 pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
-pub use mode::{AccurateSettings, AccurateSolver, FastFriction, FastSettings, FastSolver, Mode, Persistent, SoftSolver};
+pub use mode::{
+    AccurateSettings, AccurateSolver, FastFriction, FastSettings, FastSolver, Mode, Persistent, SoftSolver,
+};
 pub use model::ForceCounters;
 pub use options::{mode_from, BodyOptions, IntegratorOptions, ModeOptions, WorldOptions, DEFAULT_DENSITY, DEFAULT_DT};
 pub use particle::{Particle, ParticleBuilder};

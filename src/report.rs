@@ -229,7 +229,11 @@ impl fmt::Display for WorldReport {
              {} bisection steps, {} contact programs solved over {} islands",
             self.collision_checks, self.collisions, self.impulses, self.bisection_steps, self.qp_solves, self.islands
         )?;
-        write!(f, "                 deepest penetration {:.3e} m, {} bodies asleep", self.max_penetration, self.sleepers)?;
+        write!(
+            f,
+            "                 deepest penetration {:.3e} m, {} bodies asleep",
+            self.max_penetration, self.sleepers
+        )?;
         if self.contact_residual > 0.0 {
             write!(
                 f,

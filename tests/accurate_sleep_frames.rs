@@ -76,10 +76,8 @@ fn a_sleeping_pile_wakes_when_a_falling_cube_reaches_it() {
     // asleep
     let (mut w, cubes) = pile(1);
     let cube = Shape::cuboid(Vector3::repeat(0.1)).unwrap();
-    let high = RigidBodyBuilder::from_shape(cube, 500.0)
-        .position(Vector3::new(0.3, 0.3, 60.0))
-        .friction(0.5)
-        .restitution(0.0);
+    let high =
+        RigidBodyBuilder::from_shape(cube, 500.0).position(Vector3::new(0.3, 0.3, 60.0)).friction(0.5).restitution(0.0);
     let falling = w.add_body(high).unwrap();
     w.step(3.0).unwrap();
     assert_eq!(w.report().sleepers, 20, "the pile sleeps while the cube falls");

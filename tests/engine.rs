@@ -189,7 +189,7 @@ fn the_plan_names_exactly_the_stages_that_run() {
     )
     .unwrap();
     plan_is_kept("accurate drop", drop, 2.0); // asleep by the end
-    // The pile in fast mode, sleeping at the end.
+                                              // The pile in fast mode, sleeping at the end.
     let (pile, _) = Pile { side: 3, layers: 1 }.build().unwrap();
     plan_is_kept("pile", pile, 2.0);
     // Particles without gravity or shapes.

@@ -10,8 +10,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use tumble::scenes::{BouncingBall, ClothDrape, Pile};
 use tumble::{
-    AccurateSettings, Attachment, FastSettings, Material, Method, Mode, OdeError, ParticleBuilder, RigidBodyBuilder, Settings, Shape,
-    SpringBuilder, Target, World, WorldError, Wrench,
+    AccurateSettings, Attachment, FastSettings, Material, Method, Mode, OdeError, ParticleBuilder, RigidBodyBuilder,
+    Settings, Shape, SpringBuilder, Target, World, WorldError, Wrench,
 };
 
 fn finite(w: &World) -> bool {

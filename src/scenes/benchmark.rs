@@ -55,7 +55,11 @@ impl Benchmark {
             }
             Benchmark::Incline { .. } => {
                 let half = 0.05;
-                bodies.push(w.add_body(body(Shape::cuboid(Vector3::repeat(half))?, 500.0, Vector3::new(0.0, 0.0, half)))?);
+                bodies.push(w.add_body(body(
+                    Shape::cuboid(Vector3::repeat(half))?,
+                    500.0,
+                    Vector3::new(0.0, 0.0, half),
+                ))?);
             }
             Benchmark::Roll => {
                 let r = 0.1;

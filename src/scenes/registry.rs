@@ -244,9 +244,7 @@ fn contact_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<Wor
                 other => {
                     return Err(WorldError::invalid(
                         "which",
-                        format!(
-                            "1 slide, 2 incline, 3 roll, 4 cube pile, 5 domino row; got {other}"
-                        ),
+                        format!("1 slide, 2 incline, 3 roll, 4 cube pile, 5 domino row; got {other}"),
                     ))
                 }
             };

@@ -300,10 +300,8 @@ pub(crate) fn solve_island(
         let r = if bilateral.is_empty() {
             residual(bodies, contacts, island, &layout, free, &out, s)
         } else {
-            let impulses: Vec<f64> = joint_z
-                .iter()
-                .map(|&(row, motor)| if motor { z[row + 1] - z[row] } else { z[row] })
-                .collect();
+            let impulses: Vec<f64> =
+                joint_z.iter().map(|&(row, motor)| if motor { z[row + 1] - z[row] } else { z[row] }).collect();
             residual(bodies, contacts, island, &layout, &moved_by_joints(bodies, bilateral, free, &impulses), &out, s)
         };
         Ok((out, r, sol.iterations))

@@ -192,7 +192,12 @@ fn program(
         let nrm = c.normal.into_inner();
         let normal = sparse(&rows(c, bodies, &nrm), bias(c, bodies, s));
         let rho = FIRST_STIFFNESS / diagonal(&normal);
-        blocks.push(Block { row: out_rows.len(), set: Set::Interval { lo: 0.0, hi: f64::INFINITY }, rho, stiffness: FIRST_STIFFNESS });
+        blocks.push(Block {
+            row: out_rows.len(),
+            set: Set::Interval { lo: 0.0, hi: f64::INFINITY },
+            rho,
+            stiffness: FIRST_STIFFNESS,
+        });
         out_rows.push(normal);
         let radius = c.friction * bounds[i];
         if radius > 0.0 {
@@ -305,7 +310,14 @@ impl Program {
     }
 
     /// The slope of the subproblem along dv at v + alpha dv (and its second derivative), given u(v) and J dv.
-    fn slope(&self, prior: &[f64], v: &DVector<f64>, dv: &DVector<f64>, du: (&[f64], &[f64]), alpha: f64) -> (f64, f64) {
+    fn slope(
+        &self,
+        prior: &[f64],
+        v: &DVector<f64>,
+        dv: &DVector<f64>,
+        du: (&[f64], &[f64]),
+        alpha: f64,
+    ) -> (f64, f64) {
         let (u0, jdv) = du;
         let u: Vec<f64> = u0.iter().zip(jdv).map(|(a, b)| a + alpha * b).collect();
         let mut lambda = vec![0.0; u.len()];

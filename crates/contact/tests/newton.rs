@@ -54,9 +54,7 @@ fn random_island(seed: u64, joints: bool) -> Island {
         for _ in 0..points {
             let at = p + Vector3::new(u() - 0.5, u() - 0.5, -0.1) * 0.2;
             let gap = 1e-3 * (u() - 0.2);
-            contacts.push(
-                Contact::new(on, k, at, normal).with_friction(mu).with_restitution(e).with_distance(gap),
-            );
+            contacts.push(Contact::new(on, k, at, normal).with_friction(mu).with_restitution(e).with_distance(gap));
             lagged.push(if u() < 0.3 { 0.0 } else { 2.0 * u() * m * G * H / points as f64 });
         }
         bodies.push(b);
@@ -152,4 +150,3 @@ fn newton_and_clarabel_agree_on_random_islands() {
     println!("the Newton method answered {newton} of {calls} island solves");
     assert_eq!(newton, calls, "every island is the Newton method's");
 }
-

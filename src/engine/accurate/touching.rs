@@ -65,7 +65,10 @@ impl TouchingPhase {
             && self.free.as_ref().is_none_or(|f| f.frozen.iter().all(|&k| k < dim))
             && self.sleep.fits(actors)
             && self.warm.iter().all(|(k, f)| k.fits(colliders) && f.iter().all(|x| x.is_finite()))
-            && self.difference.as_ref().is_none_or(|(h, d)| *h > 0.0 && d.len() == dim && d.iter().all(|x| x.is_finite()))
+            && self
+                .difference
+                .as_ref()
+                .is_none_or(|(h, d)| *h > 0.0 && d.len() == dim && d.iter().all(|x| x.is_finite()))
     }
 }
 
@@ -88,8 +91,7 @@ pub fn start_touching(cx: &mut ContactStages<'_>) {
     let h = (2.0 * cx.memory.scales.tolerance / cx.gravity.max(1e-300))
         .sqrt()
         .clamp(min_step(0.0), cx.memory.scales.max_step);
-    cx.memory.touching =
-        Some(TouchingPhase {
+    cx.memory.touching = Some(TouchingPhase {
         lagged: BTreeMap::new(),
         h,
         window: (f64::NAN, 0),
@@ -212,8 +214,8 @@ pub fn touching_steps(
         extrapolate(model, &mut extrapolated, &whole.y);
         let (sink_halves, sink_extrapolated) =
             (sinking(model, &found, &y, &second.y), sinking(model, &found, &y, &extrapolated));
-        let extrapolating = whole.pressing == second.pressing
-            && sink_extrapolated <= sink_halves + 1e-3 * cx.memory.scales.tolerance;
+        let extrapolating =
+            whole.pressing == second.pressing && sink_extrapolated <= sink_halves + 1e-3 * cx.memory.scales.tolerance;
         let smooth = extrapolating && pressed == pressed_before && stop == 0.0;
         // (in a jointed world the joints' projection moves the bodies by their drift, whatever the step: its
         // sinking would not shrink with h, so there it only decides the extrapolation)
@@ -426,4 +428,3 @@ fn held(
     sleep.hold(&mut states);
     Ok(states)
 }
-
