@@ -138,9 +138,19 @@ pub(crate) fn solve_island(
     if s.method == crate::friction::StepMethod::Newton && lagged_or_frictionless {
         let zeros = vec![0.0; contacts.len()];
         let b = bounds.unwrap_or(&zeros);
-        let answer = crate::newton_island::solve_island_newton(
-            bodies, contacts, b, island, bilateral, free, s, &offset, &members, n, warm,
-        );
+        let input = crate::newton_program::Island {
+            bodies,
+            contacts,
+            bounds: b,
+            island,
+            bilateral,
+            free,
+            s,
+            offset: &offset,
+            members: &members,
+            n,
+        };
+        let answer = crate::newton_island::solve_island_newton(&input, warm);
         if let Some((out, joints)) = answer {
             let (layout, _) = row_layout(contacts, bounds, island, n);
             let moved = moved_by_joints(bodies, bilateral, free, &joints);
@@ -355,6 +365,25 @@ fn untouched(
     (r <= s.solver.complementarity_tolerance).then_some(out)
 }
 
+/// Each member's velocities read from the unknowns x (3 for a particle, 6 for a rigid body, from `offset`).
+pub(crate) fn velocities_of(
+    bodies: &[BodyState],
+    members: &[usize],
+    offset: &[usize],
+    x: &[f64],
+) -> Vec<(usize, BodyVelocity)> {
+    members
+        .iter()
+        .map(|&k| {
+            let o = offset[k];
+            let linear = Vector3::new(x[o], x[o + 1], x[o + 2]);
+            let angular =
+                if bodies[k].rotates() { Vector3::new(x[o + 3], x[o + 4], x[o + 5]) } else { Vector3::zeros() };
+            (k, BodyVelocity { linear, angular })
+        })
+        .collect()
+}
+
 /// Velocities from the primal solution, impulses from the duals.
 #[allow(clippy::too_many_arguments)]
 fn read_back(
@@ -367,16 +396,7 @@ fn read_back(
     x: &[f64],
     z: &[f64],
 ) -> IslandSolution {
-    let velocities = members
-        .iter()
-        .map(|&k| {
-            let o = offset[k];
-            let linear = Vector3::new(x[o], x[o + 1], x[o + 2]);
-            let angular =
-                if bodies[k].rotates() { Vector3::new(x[o + 3], x[o + 4], x[o + 5]) } else { Vector3::zeros() };
-            (k, BodyVelocity { linear, angular })
-        })
-        .collect();
+    let velocities = velocities_of(bodies, members, offset, x);
     let (mut normal, mut friction) = (Vec::new(), Vec::new());
     let mut row = 0;
     for (slot, &i) in island.iter().enumerate() {

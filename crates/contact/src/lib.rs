@@ -48,6 +48,8 @@ mod lcp;
 #[cfg(feature = "clarabel")]
 mod newton_island;
 #[cfg(feature = "clarabel")]
+mod newton_program;
+#[cfg(feature = "clarabel")]
 mod polish;
 #[cfg(feature = "clarabel")]
 mod projection;

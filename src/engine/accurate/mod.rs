@@ -24,6 +24,8 @@
 //! (`memory.rs`).
 
 #[cfg(feature = "contact")]
+mod advance;
+#[cfg(feature = "contact")]
 mod collision_time;
 #[cfg(feature = "contact")]
 mod contact_memory;
@@ -203,98 +205,6 @@ impl AccurateEngine {
             report.energy_change += mechanical_energy(&model.model, integrator.state()) - energy;
             delivered
         })?)
-    }
-
-    /// Advances to `t_end` (pausing past `pause`) with the contact stages, recording frames with the penetration
-    /// of the last impact stage and the events' times.
-    #[cfg(feature = "contact")]
-    fn advance_with_contacts(
-        &mut self,
-        t_end: f64,
-        pause: f64,
-        saves: &[f64],
-        mut run: Option<&mut Run>,
-        budget: &mut Budget<'_>,
-    ) -> Result<usize, WorldError> {
-        let AccurateEngine { core, system, contacts, memory, .. } = self;
-        let rules = contacts.as_mut().expect("the engine has contact stages");
-        let AccurateMemory { integration, contact, .. } = memory;
-        let (Some(integration), Some(contact)) = (integration.as_mut(), contact.as_mut()) else {
-            return Err(failure(0.0, "contact stages without an integration".into()).into());
-        };
-        let integrator = integration.live_mut();
-        let (threads, limit) = (core.threads, core.divergence_limit);
-        let mut stages = rules.stages(contact, &mut core.report, threads, limit);
-        integrator.log_steps(run.is_some());
-        let energy = mechanical_energy(&system.model, integrator.state());
-        let result = (|| {
-            // a touching phase carries on from the last call (so pausing, for frames or progress, changes nothing);
-            // otherwise the contacts at the start are an event
-            if stages.memory.touching.is_none() {
-                impact::impact(&mut stages, system, integrator)?;
-            }
-            let (mut done, mut stuck, mut last) = (0, 0, integrator.time());
-            loop {
-                if stages.memory.touching.is_some() {
-                    let (t, y) = (integrator.time(), integrator.state().to_vec());
-                    let end = touching::touching_steps(
-                        &mut stages,
-                        system,
-                        t,
-                        y,
-                        t_end,
-                        pause,
-                        &saves[done..],
-                        run.as_deref_mut(),
-                        budget,
-                    )?;
-                    done += end.delivered;
-                    integrator.set_state(end.t, &end.y)?;
-                    if end.touching {
-                        return Ok(done);
-                    }
-                    continue;
-                }
-                // The integrator's own budget restarts at every event: it gets what is left of the call's.
-                let penetration = stages.memory.penetration;
-                let adv = within_budget(integrator, budget, None, |integrator| {
-                    // the resting contacts are lent to the equations of motion for the integration
-                    system.resting = stages.memory.resting.take();
-                    let adv = integrator.advance_with_events(
-                        system,
-                        t_end,
-                        pause,
-                        &saves[done..],
-                        |m, t, y| {
-                            if let Some(run) = run.as_deref_mut() {
-                                run.record(&m.model, t, y, penetration, []);
-                            }
-                        },
-                        |step| detect::detect(&mut stages, step),
-                    );
-                    stages.memory.resting = system.resting.take();
-                    if let Some(run) = run.as_deref_mut() {
-                        for (t, h) in integrator.take_step_log() {
-                            run.log_step(t, h);
-                        }
-                    }
-                    adv
-                })?;
-                done += adv.delivered;
-                let Some(t) = adv.event else { return Ok(done) };
-                if let Some(run) = run.as_deref_mut() {
-                    run.contact_events.push(t);
-                }
-                stuck = if t > last { 0 } else { stuck + 1 };
-                last = t;
-                if stuck > STUCK {
-                    return Err(failure(t, format!("{STUCK} contact events at one time: the contacts do not settle")));
-                }
-                impact::impact(&mut stages, system, integrator)?;
-            }
-        })();
-        stages.report.energy_change += mechanical_energy(&system.model, integrator.state()) - energy;
-        Ok(result?)
     }
 
     /// Puts `memory` in place after checking it against the engine: every integration made live (one read from a
