@@ -17,7 +17,7 @@ use crate::engine::semi_implicit::update_positions;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
 use nalgebra::Vector3;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 use tumble_contact::{free_velocity, velocity_step, BodyState, Contact, ContactError, StepSettings, VelocityProblem};
 use tumble_integrate::{OdeError, OdeSystem};
@@ -31,8 +31,10 @@ pub(crate) struct ConvexStep {
     pub y: Vec<f64>,
     /// Each contact's normal force over the step (impulse / h), by key.
     pub forces: BTreeMap<ContactKey, f64>,
-    /// Contacts that pushed (a positive normal impulse).
-    pub pressing: Vec<ContactKey>,
+    /// The pairs of actors that pushed (a positive normal impulse at one of their contacts), in order: pairs, not
+    /// points, since how a pair's redundant points (a box's four corners) share its push is not fixed by the
+    /// program and may change from solve to solve.
+    pub pressing: BTreeSet<(usize, usize)>,
     /// Each contact's whole force over the step (impulse / h, normal and friction, on B), by key: where the next
     /// solves start from.
     pub wrenches: BTreeMap<ContactKey, Vector3<f64>>,
@@ -103,7 +105,7 @@ pub fn convex_step(
         return Ok(Some(ConvexStep {
             y: next,
             forces: BTreeMap::new(),
-            pressing: Vec::new(),
+            pressing: BTreeSet::new(),
             wrenches: BTreeMap::new(),
         }));
     }
@@ -181,7 +183,12 @@ pub fn convex_step(
     project_joints(model, &mut next, JOINT_DRIFT);
     let forces = found.iter().zip(&out.normal_impulses).map(|(f, p)| (f.key, p / h)).collect();
     let wrenches = found.iter().zip(impulse_vectors(&contacts, &out)).map(|(f, p)| (f.key, p / h)).collect();
-    let pressing = found.iter().zip(&out.normal_impulses).filter(|(_, p)| **p > 0.0).map(|(f, _)| f.key).collect();
+    let pressing = found
+        .iter()
+        .zip(&out.normal_impulses)
+        .filter(|(_, p)| **p > 0.0)
+        .map(|(f, _)| (f.contact.a, f.contact.b))
+        .collect();
     cx.report.contact_seconds += clock.elapsed().as_secs_f64();
     Ok(Some(ConvexStep { y: next, forces, pressing, wrenches }))
 }

@@ -201,9 +201,9 @@ pub fn touching_steps(
         // the last step left a difference to compare with
         // A step across a change of which contacts push, or across a sliding contact's stop, is an event the
         // extrapolation does not see: the halves' estimate governs it, with the slip a stop may have cut short.
-        let pressed_before: BTreeSet<ContactKey> =
-            phase.lagged.iter().filter(|(_, f)| **f > 0.0).map(|(k, _)| *k).collect();
-        let pressed: BTreeSet<ContactKey> = second.pressing.iter().copied().collect();
+        let pressed_before: BTreeSet<(usize, usize)> =
+            phase.last.iter().filter(|c| c.impulse > 0.0).map(|c| (c.a, c.b)).collect();
+        let pressed = &second.pressing;
         let after = held(system, &statics, t + h, &second.y, &phase.sleep)?;
         let stop = stopped_slip(&found, &states, &after) * h;
         // How deep the halves' state, and the extrapolated one, sink any contact of the step: the convex steps hold
@@ -214,9 +214,9 @@ pub fn touching_steps(
         extrapolate(model, &mut extrapolated, &whole.y);
         let (sink_halves, sink_extrapolated) =
             (sinking(model, &found, &y, &second.y), sinking(model, &found, &y, &extrapolated));
-        let extrapolating =
-            whole.pressing == second.pressing && sink_extrapolated <= sink_halves + 1e-3 * cx.memory.scales.tolerance;
-        let smooth = extrapolating && pressed == pressed_before && stop == 0.0;
+        let extrapolating = whole.pressing == second.pressing
+            && sink_extrapolated <= sink_halves + 1e-3 * cx.memory.scales.tolerance;
+        let smooth = extrapolating && *pressed == pressed_before && stop == 0.0;
         // (in a jointed world the joints' projection moves the bodies by their drift, whatever the step: its
         // sinking would not shrink with h, so there it only decides the extrapolation)
         let charged = if model.has_joints() { 0.0 } else { sink_halves };
