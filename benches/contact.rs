@@ -2,7 +2,8 @@
 //! the soft step (the default solver), and 100 with the exact cone program for the ratio; accurate
 //! mode on the bouncing ball, on a column of ten cubes and on twenty cubes dropped in a pile (the wall time of the
 //! first simulated 0.5 s, printed per simulated second); the share of that time spent finding contacts and solving
-//! them is printed from the world's report, with the substeps, clarabel solves, contact steps and events.
+//! them is printed from the world's report, with the substeps, clarabel solves, contact steps and events; and a
+//! contact step's time split on the 20-cube pile and ten dominoes (`accurate_step_split`).
 //!
 //! Run: `cargo bench --bench contact`. The pile: cubes of edge 0.5 m on a k x k grid (0.6 m apart) in L layers
 //! (0.6 m apart), each slightly tilted, dropped onto the floor; the measured steps lie between 0.4 s and 1.0 s
@@ -171,5 +172,47 @@ fn accurate_contact(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, fast_pile, accurate_ball, accurate_contact);
+/// A contact step's time split on the scenes accurate mode is compared with Drake's CENIC on
+/// (`tumble::scenes::Benchmark`: the 20-cube pile and ten dominoes, at their defaults, one thread, frames every
+/// 1/60 s): the wall time of a contact step, and its shares: finding contacts, building and solving the contact
+/// programs (whole step, halves and lagged re-solves), and the rest (error control: the estimate, the
+/// extrapolation, the energy guard, sleeping and frames).
+fn accurate_split(c: &mut Criterion) {
+    use tumble::scenes::Benchmark;
+    let span = if test_mode() { 0.05 } else { 1.0 };
+    let mut g = c.benchmark_group("accurate_step_split");
+    g.sample_size(10);
+    for (name, scene) in [("20-cube pile", Benchmark::CubePile), ("ten dominoes", Benchmark::DominoRow)] {
+        let build = || {
+            let (mut w, _) = scene.build().unwrap();
+            w.set_threads(1).unwrap();
+            w
+        };
+        g.bench_function(format!("{name}, first {span} s"), |b| {
+            b.iter(|| {
+                let mut w = build();
+                w.run(span, 1.0 / 60.0).unwrap();
+                w
+            })
+        });
+        let mut w = build();
+        let r = w.run(span, 1.0 / 60.0).unwrap().report;
+        let steps = (r.contact_steps + r.contact_rejected).max(1) as f64;
+        let rest = r.wall_seconds - r.collision_seconds - r.contact_seconds;
+        println!(
+            "{name}: {:.3} ms a contact step tried ({} accepted, {} rejected): finding contacts {:.0}%, building and \
+             solving the programs {:.0}% ({} programs), error control and the rest {:.0}%",
+            1e3 * r.wall_seconds / steps,
+            r.contact_steps,
+            r.contact_rejected,
+            100.0 * r.collision_seconds / r.wall_seconds,
+            100.0 * r.contact_seconds / r.wall_seconds,
+            r.qp_solves,
+            100.0 * rest / r.wall_seconds
+        );
+    }
+    g.finish();
+}
+
+criterion_group!(benches, fast_pile, accurate_ball, accurate_contact, accurate_split);
 criterion_main!(benches);

@@ -150,8 +150,8 @@ impl RigidBodyBuilder {
             angular_velocity: Vector3::zeros(),
             linear_damping: 0.0,
             angular_damping: 0.0,
-            restitution: 0.5,
-            friction: 0.5,
+            restitution: Material::default().restitution,
+            friction: Material::default().friction,
         }
     }
 

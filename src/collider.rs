@@ -25,9 +25,10 @@ pub struct Material {
 }
 
 impl Default for Material {
-    /// Restitution 0.5, friction 0.5 (the API's defaults).
+    /// Restitution 0, friction 0.5 (the API's defaults: bodies that meet come to rest together, as in Blender's
+    /// and Rapier's defaults; a bounce is asked for).
     fn default() -> Self {
-        Material { restitution: 0.5, friction: 0.5 }
+        Material { restitution: 0.0, friction: 0.5 }
     }
 }
 

@@ -71,7 +71,7 @@ pub struct AccurateSettings {
     /// 1e-3 sqrt(2 g L) for the scene's size L (a bounce slower than that would rise less than 1e-6 L).
     pub resting_speed: Option<f64>,
     /// Error allowed in one contact step (m): positions, turns at the radius of gyration, velocity differences
-    /// times the step. `None` picks 1e-6 of the scene's size.
+    /// times the step. `None` picks 1e-4 of the scene's size.
     pub contact_tolerance: Option<f64>,
     /// How contacts that persist are carried.
     pub persistent: Persistent,

@@ -164,7 +164,7 @@ pub struct ModeOptions {
     pub dt: Option<f64>,
     /// Whether resting islands sleep (default true).
     pub sleep: Option<bool>,
-    /// Accurate mode's error allowed in one contact step (m; default 1e-6 of the scene's size).
+    /// Accurate mode's error allowed in one contact step (m; default 1e-4 of the scene's size).
     pub contact_tolerance: Option<f64>,
     /// The contact solver: fast mode's "soft" (the default) or "exact"; accurate mode's "newton" (the default) or
     /// "clarabel".
@@ -245,7 +245,7 @@ pub struct WorldOptions {
     pub sleep: Option<bool>,
     /// Threads of the contact solves (0: one per core, the default).
     pub threads: Option<usize>,
-    /// Accurate mode: the error allowed in one contact step (m; default 1e-6 of the scene's size).
+    /// Accurate mode: the error allowed in one contact step (m; default 1e-4 of the scene's size).
     pub contact_tolerance: Option<f64>,
     /// The contact solver: fast mode's "soft" (the default) or "exact", accurate mode's "newton" (the default) or
     /// "clarabel".

@@ -55,6 +55,9 @@ pub struct WorldReport {
     pub contact_rejected: usize,
     /// Largest error estimate of an accepted contact step (m).
     pub contact_error: f64,
+    /// Accurate mode: the contact tolerance in force (m), the settings' or the default from the scene's size (what
+    /// `contact_error` is held within); `None` before contacts were set up, and in the other modes.
+    pub contact_tolerance: Option<f64>,
     /// Smallest accepted contact step (s; infinite before any).
     pub contact_min_step: f64,
     /// Rows the joints gave at the last step measured.
@@ -103,6 +106,7 @@ impl WorldReport {
             contact_steps: 0,
             contact_rejected: 0,
             contact_error: 0.0,
+            contact_tolerance: None,
             contact_min_step: f64::INFINITY,
             joint_rows: 0,
             joint_error: 0.0,
@@ -150,6 +154,7 @@ impl WorldReport {
             ("contact_steps", Count(self.contact_steps)),
             ("contact_rejected", Count(self.contact_rejected)),
             ("contact_error", Optional((self.contact_steps > 0).then_some(self.contact_error))),
+            ("contact_tolerance", Optional(self.contact_tolerance)),
             ("contact_min_step", Optional((self.contact_steps > 0).then_some(self.contact_min_step))),
             ("joint_rows", Count(self.joint_rows)),
             ("joint_error", Number(self.joint_error)),
@@ -194,6 +199,7 @@ impl WorldReport {
         self.contact_steps += o.contact_steps;
         self.contact_rejected += o.contact_rejected;
         self.contact_error = self.contact_error.max(o.contact_error);
+        self.contact_tolerance = o.contact_tolerance.or(self.contact_tolerance);
         self.contact_min_step = self.contact_min_step.min(o.contact_min_step);
         self.joint_rows = if o.joint_rows > 0 { o.joint_rows } else { self.joint_rows };
         self.joint_error = self.joint_error.max(o.joint_error);
@@ -253,9 +259,12 @@ impl fmt::Display for WorldReport {
             write!(
                 f,
                 "\ncontact steps    {} accepted, {} rejected, smallest {:.3e} s; largest estimated error of a step \
-                 {:.3e} m (what contact_tolerance bounds)",
+                 {:.3e} m",
                 self.contact_steps, self.contact_rejected, self.contact_min_step, self.contact_error
             )?;
+        }
+        if let Some(t) = self.contact_tolerance {
+            write!(f, "\nsettings         contact tolerance {t:.3e} m (the error a contact step may keep)")?;
         }
         if self.joint_rows > 0 {
             write!(

@@ -33,7 +33,7 @@ impl PyWorld {
 
     /// Chooses how contact is handled: mode="accurate" (free flight under the integrator's error control,
     /// impacts located by bisection, touching bodies carried by error-controlled convex steps with Coulomb friction;
-    /// `contact_tolerance` is their error per step in metres, default 1e-6 of the scene's size; solver="newton", the
+    /// `contact_tolerance` is their error per step in metres, default 1e-4 of the scene's size; solver="newton", the
     /// default, or "clarabel") or "fast" (time stepping at dt, default 1/240 s; solver="soft", the default, or
     /// "exact"; substeps of the soft solver, default 8). In both, sleep=False keeps islands at rest simulated. `dt`
     /// and `substeps` apply to fast mode only, `contact_tolerance` to accurate mode only.

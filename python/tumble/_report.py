@@ -25,7 +25,8 @@ class Report:
     one step, the energy a step added; ``None`` in the other modes);
     accurate
     mode's contact steps (``contact_steps``, ``contact_rejected``, their largest error estimate ``contact_error`` in
-    metres and smallest step ``contact_min_step``; ``None`` before any); how often each
+    metres and smallest step ``contact_min_step``; ``None`` before any; ``contact_tolerance``, the tolerance in force in
+    metres, the settings' or the default from the scene's size); how often each
     force loop ran (``evaluations``, ``spring_evaluations``, ``load_evaluations``, ``callback_calls``,
     ``projections``); and ``stages_ran``, the stages that ran, in pipeline order (compare with ``World.plan()``).
     ``str(report)`` is the library's table of it.

@@ -108,7 +108,7 @@ class World(_World):
     Contact: ``mode="accurate"`` (the default): the integrator carries free flight under its error control; frictionless
     collisions are located by bisection on its dense output and resolved by impulses (restitution); while bodies touch
     (and at any impact with friction), convex contact steps with Coulomb friction carry them, their size set by step
-    doubling so that each step's error stays within ``contact_tolerance`` metres (default 1e-6 of the scene's size); the
+    doubling so that each step's error stays within ``contact_tolerance`` metres (default 1e-4 of the scene's size); the
     report gives their count and largest error estimate. Their programs are solved by ``solver="newton"`` (the default:
     tumble's own Newton method, warm started from the last step) or ``solver="clarabel"`` (the interior point, the
     reference); frames come from the steps' interpolation, so recording never changes the result; resting islands
@@ -123,7 +123,7 @@ class World(_World):
     time. An option that does not
     apply to the mode (an integrator option or ``contact_tolerance`` in fast mode, ``substeps`` in accurate mode or with
     the exact solver, a solver of the other mode) raises ValueError naming it.
-    Arguments left as ``None`` take the library's defaults: particles of 1 kg, restitution and friction 0.5, spring
+    Arguments left as ``None`` take the library's defaults: particles of 1 kg, restitution 0 and friction 0.5, spring
     stiffness 1 N/m, bodies of density 1000 kg/m^3 when given only a shape, frames every 1/60 s.
     ``threads`` sets how many threads the contact solves use (0, the default: one per core); results do not depend
     on it. Bodies collide through their shapes (``add_body(shape, ...)``, ``colliders=[(shape, position,

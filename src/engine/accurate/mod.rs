@@ -383,6 +383,7 @@ impl Engine for AccurateEngine {
             r.qp_solves += solves;
             r.stages.add(Stage::RestingContact, solves);
             r.contact_seconds += std::mem::take(&mut self.system.resting_seconds);
+            r.contact_tolerance = self.memory.contact.as_ref().map(|m| m.scales.tolerance);
             self.book_joints(&mut r);
             return r;
         }

@@ -2,32 +2,57 @@
 //! contact's stop may have cut short, how deep a state sinks a contact, the momenta the energy guard weighs, and the
 //! two ways a state is made from others (the extrapolation of the halves, and the interpolation frames take).
 
-use crate::engine::found_contact::FoundContact;
+use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::model::layout::{get3, get_quat, set_quat};
 use crate::model::Model;
-use nalgebra::Quaternion;
+use nalgebra::{Quaternion, Vector3};
+use std::collections::BTreeMap;
 
-/// Half the largest slip speed, at the step's start (`before`), of a frictional contact that sticks at its end
-/// (`after`, its slip fallen more than a thousandfold): the slip a stop inside the step may have cut short per
-/// second of the step (semi-implicit Euler stops a contact at the step's start when it stops within the step,
-/// and step doubling cannot see it when both the step and its halves stop). Zero when no sliding contact stopped.
+/// A sliding contact's stop inside a step (its slip fallen more than a thousandfold from the step's start,
+/// `before`, to its end, `after`): semi-implicit Euler stops it at the step's start, so the slip it cuts short is
+/// half the start slip times the time to the stop, and step doubling cannot see it when both the step and its halves
+/// stop. The time to the stop is read from the whole step's friction: of the friction a pair's contacts could give
+/// over the step (mu times the normal force, summed), the part they gave (summed as vectors) stopped them, so at a steady deceleration
+/// the stop came at that fraction of the step (`wrenches`: each contact's force, normal and friction, on B).
+pub(super) struct Stop {
+    /// The slip cut short per second of the step (0 when no sliding contact stopped).
+    pub slip: f64,
+    /// The earliest stop, as a fraction of the step (1 when none stopped).
+    pub at: f64,
+}
+
 pub(super) fn stopped_slip(
     found: &[FoundContact],
     before: &[tumble_contact::BodyState],
     after: &[tumble_contact::BodyState],
-) -> f64 {
+    wrenches: &BTreeMap<ContactKey, Vector3<f64>>,
+) -> Stop {
     let slip = |states: &[tumble_contact::BodyState], c: &tumble_contact::Contact| {
         let rel = states[c.b].point_velocity(&c.point) - states[c.a].point_velocity(&c.point);
         let n = c.normal.into_inner();
         (rel - n * n.dot(&rel)).norm()
     };
-    found
-        .iter()
-        .map(|f| &f.contact)
-        .filter(|c| c.friction > 0.0)
-        .map(|c| (slip(before, c), slip(after, c)))
-        .filter(|&(start, end)| start > 1e3 * end)
-        .fold(0.0f64, |m, (start, _)| m.max(0.5 * start))
+    // per pair of actors: the friction given and the friction there was to give
+    // (the friction summed as vectors: a stuck pair's redundant points may push against each other)
+    let mut pairs: BTreeMap<(usize, usize), (Vector3<f64>, f64)> = BTreeMap::new();
+    for f in found.iter().filter(|f| f.contact.friction > 0.0) {
+        let (c, w) = (&f.contact, wrenches.get(&f.key).copied().unwrap_or_default());
+        let n = c.normal.into_inner();
+        let e = pairs.entry((c.a, c.b)).or_default();
+        e.0 += w - n * n.dot(&w);
+        e.1 += c.friction * n.dot(&w).max(0.0);
+    }
+    let mut stop = Stop { slip: 0.0, at: 1.0 };
+    for c in found.iter().map(|f| &f.contact).filter(|c| c.friction > 0.0) {
+        let (start, end) = (slip(before, c), slip(after, c));
+        if start > 1e3 * end {
+            let (given, bound) = pairs[&(c.a, c.b)];
+            let at = if bound > 0.0 { (given.norm() / bound).clamp(0.0, 1.0) } else { 1.0 };
+            stop.slip = stop.slip.max(0.5 * start * at);
+            stop.at = stop.at.min(at);
+        }
+    }
+    stop
 }
 
 /// How much deeper than at the step's start (state `from`) any contact of `found` is in state `to`: each contact

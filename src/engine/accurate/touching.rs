@@ -108,6 +108,11 @@ fn min_step(t: f64) -> f64 {
     (16.0 * f64::EPSILON * t.abs()).max(1e-14)
 }
 
+/// The share of the tolerance a sliding contact's stop may cut short inside a step before the step is cut at it.
+const STOP_SHARE: f64 = 0.1;
+/// The earliest stop located, as a fraction of the step: earlier ones are left to the error control.
+const STOP_EARLIEST: f64 = 0.01;
+
 /// Advances from (t, y) by error-controlled contact steps until `t_end` (pausing past `pause`) or until no
 /// pair is within reach; each save time reached records a frame. Each step tried is charged to the call's
 /// `budget`, a contact step counting each convex program it solved by its size (one unit for every eight
@@ -134,6 +139,8 @@ pub fn touching_steps(
     let links = links(&system.model);
     let sleeps = cx.settings.sleep && !system.model.has_joints();
     let sleeping = (cx.memory.scales.resting_speed, cx.settings.sleep_time);
+    // whether the step being tried was cut at a stop
+    let mut located = false;
     let result = loop {
         while delivered < saves.len() && saves[delivered] <= t + slack {
             if let Some(run) = run.as_deref_mut() {
@@ -205,7 +212,8 @@ pub fn touching_steps(
             phase.last.iter().filter(|c| c.impulse > 0.0).map(|c| (c.a, c.b)).collect();
         let pressed = &second.pressing;
         let after = held(system, &statics, t + h, &second.y, &phase.sleep)?;
-        let stop = stopped_slip(&found, &states, &after) * h;
+        let stopped = stopped_slip(&found, &states, &after, &whole.wrenches);
+        let stop = stopped.slip * h;
         // How deep the halves' state, and the extrapolated one, sink any contact of the step: the convex steps hold
         // their contacts to first order in the turning, the extrapolation not at all, and a sunk contact lifted
         // back later gains energy. The extrapolation is used only where it sinks nothing the halves do not.
@@ -214,8 +222,8 @@ pub fn touching_steps(
         extrapolate(model, &mut extrapolated, &whole.y);
         let (sink_halves, sink_extrapolated) =
             (sinking(model, &found, &y, &second.y), sinking(model, &found, &y, &extrapolated));
-        let extrapolating = whole.pressing == second.pressing
-            && sink_extrapolated <= sink_halves + 1e-3 * cx.memory.scales.tolerance;
+        let extrapolating =
+            whole.pressing == second.pressing && sink_extrapolated <= sink_halves + 1e-3 * cx.memory.scales.tolerance;
         let smooth = extrapolating && *pressed == pressed_before && stop == 0.0;
         // (in a jointed world the joints' projection moves the bodies by their drift, whatever the step: its
         // sinking would not shrink with h, so there it only decides the extrapolation)
@@ -237,9 +245,17 @@ pub fn touching_steps(
         }
         let order = if smooth && phase.difference.is_some() { 3.0 } else { 2.0 };
         let grow = (0.9 * ratio.max(1e-300).powf(-1.0 / order)).clamp(0.2, 2.0);
-        if ratio > 1.0 {
+        // A sliding contact's stop is located, as an impact's time is: a step across a stop that cut short more
+        // than `STOP_SHARE` of the tolerance is tried again to end just before the stop, where the slip has
+        // nearly run out and the step after it stops it at almost no cost.
+        // One try a step: a stop the estimate placed badly (a pair stopped by its neighbours' contacts rather than
+        // its own) is then left to the error control.
+        let locating =
+            !located && stop > STOP_SHARE * cx.memory.scales.tolerance && (STOP_EARLIEST..1.0).contains(&stopped.at);
+        if ratio > 1.0 || locating {
             cx.report.contact_rejected += 1;
-            phase.h = h * grow.min(0.5);
+            located = locating;
+            phase.h = if locating { h * (1.0 - 1e-3) * stopped.at } else { h * grow.min(0.5) };
             if phase.h < min_step(t) {
                 break Err(failure(
                     t,
@@ -304,6 +320,7 @@ pub fn touching_steps(
         }
         // A step cut to reach a frame or the end lands on it exactly: t + (stop - t) can fall an ulp short,
         // and an advance that ends an ulp before its end would be asked to go on from there forever.
+        located = false;
         let (t0, y0) = (t, std::mem::replace(&mut y, next));
         t = if h == stop - t { stop } else { t + h };
         // frames inside the step from the step's own interpolation: positions move at the step's end velocities
