@@ -260,25 +260,20 @@ impl Program {
                 }
             }
         }
-        // A block's rows share their unknowns (one contact's two bodies, or one joint row's): its part is
-        // R^T (rho dP) R over them, at most 12 x 12, formed as (rho dP R) first.
-        let mut weighted = [[0.0f64; 12]; 2];
         for (b, d) in self.blocks.iter().zip(derivatives) {
             let w = b.width();
-            if d[..w * w].iter().all(|&x| x == 0.0) {
-                continue;
-            }
-            let first = &self.rows[b.row].entries;
-            let k = first.len();
-            for (p, out) in weighted.iter_mut().enumerate().take(w) {
-                for (a, slot) in out.iter_mut().enumerate().take(k) {
-                    *slot = (0..w).map(|q| b.rho * d[p * 2 + q] * self.rows[b.row + q].entries[a].1).sum();
-                }
-            }
-            for (a, &(i, _)) in first.iter().enumerate() {
-                for (c, &(j, _)) in first.iter().enumerate() {
-                    if i >= j {
-                        h[(i, j)] += (0..w).map(|p| self.rows[b.row + p].entries[a].1 * weighted[p][c]).sum::<f64>();
+            for p in 0..w {
+                for q in 0..w {
+                    let g = b.rho * d[p * 2 + q];
+                    if g == 0.0 {
+                        continue;
+                    }
+                    for &(i, x) in &self.rows[b.row + p].entries {
+                        for &(j, y) in &self.rows[b.row + q].entries {
+                            if i >= j {
+                                h[(i, j)] += g * x * y;
+                            }
+                        }
                     }
                 }
             }
