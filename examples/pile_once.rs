@@ -17,6 +17,7 @@ fn main() {
             .unwrap();
     }
     let clock = std::time::Instant::now();
-    let run = w.run(scene.span(), 1.0 / 60.0).unwrap();
+    let span = std::env::args().nth(3).and_then(|a| a.parse::<f64>().ok()).unwrap_or(scene.span());
+    let run = w.run(span, 1.0 / 60.0).unwrap();
     println!("{:.3} s\n{}", clock.elapsed().as_secs_f64(), run.report);
 }

@@ -23,7 +23,9 @@ pub(crate) const DEFAULT_TOLERANCE: f64 = 1e-4;
 pub(crate) struct ContactScales {
     /// Relative normal speed below which contacts rest (m/s): the settings' or 1e-3 sqrt(2 g L) for the scene's size.
     pub resting_speed: f64,
-    /// A mean step below this is a stall (s): 1e-5 of the scene's time scale sqrt(size / g), at most 1e-5 s.
+    /// A mean step below this is a stall (s): 1e-5 of the scene's time scale sqrt(size / g), at most 1e-5 s, and
+    /// for tolerances tighter than 1e-6 of the size that times sqrt(tolerance / (1e-6 size)) (a first-order step's
+    /// error goes as h^2, so the steps a tolerance needs shrink as its square root).
     pub stall_step: f64,
     /// Error allowed in one contact step (m).
     pub tolerance: f64,
@@ -43,7 +45,7 @@ impl ContactScales {
         let tolerance = accurate.contact_tolerance.unwrap_or(DEFAULT_TOLERANCE * size);
         ContactScales {
             resting_speed: accurate.resting_speed.unwrap_or_else(|| tumble_contact::velocity_tolerance(size, gravity)),
-            stall_step: 1e-5 * time_scale.min(1.0),
+            stall_step: 1e-5 * time_scale.min(1.0) * (tolerance / (1e-6 * size.max(1e-300))).sqrt().min(1.0),
             tolerance,
             max_step: time_scale,
             lagged_tolerance: (10.0 * tolerance / size.max(1e-300)).clamp(1e-9, 1e-3),
