@@ -1,5 +1,6 @@
-//! One run of the 20-cube pile at a contact tolerance given on the command line (default: the defaults), for
-//! profiling: `cargo run --release --example pile_once -- 1e-3`
+//! One run of an accurate-mode benchmark scene (`pile`, the default, `dominoes` or `slide`) at a contact tolerance
+//! given on the command line (anything else: the defaults) over its span or a given one, printing the wall time and
+//! the report, for profiling: `cargo run --release --example pile_once -- 1e-3 pile 3.0`
 use tumble::scenes::Benchmark;
 use tumble::{AccurateSettings, Mode};
 fn main() {
