@@ -39,6 +39,7 @@ mod friction;
 #[cfg(feature = "clarabel")]
 mod friction_island;
 mod impulse;
+mod island_check;
 mod islands;
 #[cfg(feature = "clarabel")]
 mod jacobian;

@@ -11,10 +11,10 @@ use std::collections::BTreeSet;
 use tumble_integrate::{Integrator, Settings};
 
 /// The default contact tolerance as a fraction of the scene's size (`docs/modes.md` has the measurements behind
-/// it): the closed-form scenes (a slide's stop, an incline, a roll) stay within 1e-9 of their distances at any
+/// it): the closed-form scenes (a slide's stop, an incline, a roll) stay within 1e-8 of their distances at any
 /// tolerance, since their motion between events is quadratic and a sliding contact's stop is located, so the
-/// tolerance buys penetration and the chaotic scenes' paths: a 20-cube pile's contacts stay within a few tenths of a
-/// millimetre, and random drops of one to five shapes cost hundredths of a second per simulated second.
+/// tolerance buys penetration and the chaotic scenes' paths: a 20-cube pile's deepest contact is 33 micrometres at
+/// the defaults, and random drops of one to five shapes cost hundredths of a second per simulated second.
 pub(crate) const DEFAULT_TOLERANCE: f64 = 1e-4;
 
 /// The contact stages' scales, set from the scene's size where the engine was built (a world built, stepped and

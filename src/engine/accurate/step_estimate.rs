@@ -12,8 +12,9 @@ use std::collections::BTreeMap;
 /// `before`, to its end, `after`): semi-implicit Euler stops it at the step's start, so the slip it cuts short is
 /// half the start slip times the time to the stop, and step doubling cannot see it when both the step and its halves
 /// stop. The time to the stop is read from the whole step's friction: of the friction a pair's contacts could give
-/// over the step (mu times the normal force, summed), the part they gave (summed as vectors) stopped them, so at a steady deceleration
-/// the stop came at that fraction of the step (`wrenches`: each contact's force, normal and friction, on B).
+/// over the step (mu times the normal force, summed), the part they gave (summed as vectors) stopped them, so at a
+/// steady deceleration the stop came at that fraction of the step (`wrenches`: each contact's force, normal and
+/// friction, on B).
 pub(super) struct Stop {
     /// The slip cut short per second of the step (0 when no sliding contact stopped).
     pub slip: f64,
@@ -32,8 +33,8 @@ pub(super) fn stopped_slip(
         let n = c.normal.into_inner();
         (rel - n * n.dot(&rel)).norm()
     };
-    // per pair of actors: the friction given and the friction there was to give
-    // (the friction summed as vectors: a stuck pair's redundant points may push against each other)
+    // per pair of actors: the friction given (summed as vectors: a stuck pair's redundant points may push against
+    // each other) and the friction there was to give
     let mut pairs: BTreeMap<(usize, usize), (Vector3<f64>, f64)> = BTreeMap::new();
     for f in found.iter().filter(|f| f.contact.friction > 0.0) {
         let (c, w) = (&f.contact, wrenches.get(&f.key).copied().unwrap_or_default());
