@@ -39,6 +39,7 @@ mod friction;
 #[cfg(feature = "clarabel")]
 mod friction_island;
 mod impulse;
+#[cfg(feature = "clarabel")]
 mod island_check;
 mod islands;
 #[cfg(feature = "clarabel")]
