@@ -48,6 +48,8 @@ mod joint;
 #[cfg(feature = "clarabel")]
 mod lcp;
 #[cfg(feature = "clarabel")]
+mod newton_hessian;
+#[cfg(feature = "clarabel")]
 mod newton_island;
 #[cfg(feature = "clarabel")]
 mod newton_program;

@@ -15,8 +15,8 @@
 
 use crate::contact::tangents;
 use crate::friction_island::{velocities_of, IslandSolution};
+use crate::newton_hessian::Hessian;
 use crate::newton_program::{program, Island, Program, Set};
-use faer::linalg::solvers::Solve;
 use nalgebra::{DVector, Vector3};
 
 /// The proximal weight as a multiple of each block's own inverse effective mass: each outer iteration shrinks the
@@ -85,7 +85,7 @@ pub(crate) fn solve_island_newton(
     }
     let mut v = &p.free + spread_scaled(&p, &lambda);
     let mut iterations = 0u32;
-    let mut hessian = faer::Mat::<f64>::zeros(n, n);
+    let mut hessian = Hessian::new(&p)?;
     let mut converged = false;
     let mut last_moved = f64::INFINITY;
     for _ in 0..MAX_OUTER {
@@ -96,11 +96,8 @@ pub(crate) fn solve_island_newton(
             let mut ds = Vec::with_capacity(p.blocks.len());
             p.impulses(&prior, &u, &mut lambda, Some(&mut ds));
             let gradient = p.mass_times(&(&v - &p.free), false) - p.spread(&lambda);
-            p.hessian(&ds, &mut hessian);
-            let llt = hessian.llt(faer::Side::Lower).ok()?;
-            let mut dv = faer::Col::<f64>::from_fn(n, |i| -gradient[i]);
-            llt.solve_in_place(dv.as_mat_mut());
-            let dv = DVector::from_fn(n, |i, _| dv[i]);
+            hessian.assemble(&p, &ds);
+            let dv = hessian.solve(&-gradient)?;
             let alpha = p.line_search(&prior, &v, &dv, &u);
             let step = &dv * alpha;
             v += &step;

@@ -77,24 +77,40 @@ impl Block {
     }
 }
 
-/// A Jacobian row over the island's unknowns: up to twelve (index, value) entries, and its constant.
+/// One body's part of a Jacobian row: its first unknown, its width (3 for a particle, 6 for a rigid body: linear
+/// then angular), the body, and the values.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Part {
+    pub at: usize,
+    pub len: usize,
+    pub body: usize,
+    pub values: [f64; 6],
+}
+
+/// A Jacobian row over the island's unknowns: the parts of its (at most two) moving bodies, and its constant.
 #[derive(Clone, Default)]
 pub(crate) struct SparseRow {
-    entries: Vec<(usize, f64)>,
+    parts: [Part; 2],
+    count: usize,
     pub c: f64,
 }
 
 impl SparseRow {
+    /// The row's parts, one per moving body.
+    pub fn parts(&self) -> &[Part] {
+        &self.parts[..self.count]
+    }
+
     pub fn dot(&self, v: &[f64]) -> f64 {
-        self.entries.iter().map(|&(i, x)| x * v[i]).sum::<f64>()
+        self.parts().iter().map(|p| (0..p.len).map(|k| p.values[k] * v[p.at + k]).sum::<f64>()).sum()
     }
 }
 
 /// One body's block of the mass matrix: its first unknown, its mass, and its inertia and inverse for a rigid body.
 pub(crate) struct MassBlock {
-    at: usize,
+    pub at: usize,
     pub mass: f64,
-    inertia: Option<(Matrix3<f64>, Matrix3<f64>)>,
+    pub inertia: Option<(Matrix3<f64>, Matrix3<f64>)>,
 }
 
 /// The island as the Newton iteration sees it.
@@ -127,17 +143,24 @@ pub(crate) fn program(island: &Island<'_>) -> Program {
         mass.push(MassBlock { at: o, mass: 1.0 / b.inv_mass, inertia });
     }
     let sparse = |parts: &[Row; 2], c: f64| {
-        let mut row = SparseRow { entries: Vec::with_capacity(12), c };
+        let mut row = SparseRow { c, ..SparseRow::default() };
         for p in parts {
             let b = &bodies[p.body];
             if !b.is_dynamic() {
                 row.c += p.lin.dot(&free[p.body].linear) + p.ang.dot(&free[p.body].angular);
                 continue;
             }
-            let o = offset[p.body];
-            row.entries.extend((0..3).map(|d| (o + d, p.lin[d])));
-            if b.rotates() {
-                row.entries.extend((0..3).map(|d| (o + 3 + d, p.ang[d])));
+            let mut values = [0.0; 6];
+            values[..3].copy_from_slice(p.lin.as_slice());
+            values[3..].copy_from_slice(p.ang.as_slice());
+            let len = if b.rotates() { 6 } else { 3 };
+            match row.parts[..row.count].iter_mut().find(|q| q.body == p.body) {
+                // (a row with both ends on one body: its parts add up)
+                Some(q) => (0..6).for_each(|k| q.values[k] += values[k]),
+                None => {
+                    row.parts[row.count] = Part { at: offset[p.body], len, body: p.body, values };
+                    row.count += 1;
+                }
             }
         }
         row
@@ -145,13 +168,12 @@ pub(crate) fn program(island: &Island<'_>) -> Program {
     // A_ii: the row's inverse effective mass, for its proximal weight
     let diagonal = |r: &SparseRow| {
         let mut sum = 0.0;
-        for &k in members {
-            let (o, b) = (offset[k], &bodies[k]);
-            let part = |d: usize| r.entries.iter().filter(|(i, _)| *i == o + d).map(|e| e.1).sum::<f64>();
-            let lin = Vector3::new(part(0), part(1), part(2));
+        for part in r.parts() {
+            let b = &bodies[part.body];
+            let lin = Vector3::new(part.values[0], part.values[1], part.values[2]);
             sum += lin.norm_squared() * b.inv_mass;
-            if b.rotates() {
-                let ang = Vector3::new(part(3), part(4), part(5));
+            if part.len == 6 {
+                let ang = Vector3::new(part.values[3], part.values[4], part.values[5]);
                 sum += ang.dot(&(b.inv_inertia * ang));
             }
         }
@@ -238,46 +260,13 @@ impl Program {
     pub fn spread(&self, lambda: &[f64]) -> DVector<f64> {
         let mut out = DVector::zeros(self.free.len());
         for (r, l) in self.rows.iter().zip(lambda) {
-            for &(i, x) in &r.entries {
-                out[i] += x * l;
+            for p in r.parts() {
+                for k in 0..p.len {
+                    out[p.at + k] += p.values[k] * l;
+                }
             }
         }
         out
-    }
-
-    /// The Hessian M + J^T rho dP J (its lower triangle) in `h`.
-    pub fn hessian(&self, derivatives: &[[f64; 4]], h: &mut faer::Mat<f64>) {
-        h.fill(0.0);
-        for b in &self.mass {
-            for d in 0..3 {
-                h[(b.at + d, b.at + d)] = b.mass;
-            }
-            if let Some((i, _)) = &b.inertia {
-                for r in 0..3 {
-                    for c in 0..3 {
-                        h[(b.at + 3 + r, b.at + 3 + c)] = i[(r, c)];
-                    }
-                }
-            }
-        }
-        for (b, d) in self.blocks.iter().zip(derivatives) {
-            let w = b.width();
-            for p in 0..w {
-                for q in 0..w {
-                    let g = b.rho * d[p * 2 + q];
-                    if g == 0.0 {
-                        continue;
-                    }
-                    for &(i, x) in &self.rows[b.row + p].entries {
-                        for &(j, y) in &self.rows[b.row + q].entries {
-                            if i >= j {
-                                h[(i, j)] += g * x * y;
-                            }
-                        }
-                    }
-                }
-            }
-        }
     }
 
     /// The slope of the subproblem along dv at v + alpha dv (and its second derivative), given u(v) and J dv.
