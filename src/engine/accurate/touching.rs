@@ -17,7 +17,7 @@
 //! integrator takes over.
 
 use super::contact_stages::ContactStages;
-use super::convex_step::{actors_with_forces, contacts_in_reach, convex_step, ConvexStep};
+use super::convex_step::{actors_with_forces, contacts_in_reach, convex_step, ConvexStep, ANSWER_SHARE};
 use super::drift::correct_drift;
 use super::failure;
 use super::free_flight::{copy_free, free_flight, involved, links, FreeFlight};
@@ -277,12 +277,15 @@ pub fn touching_steps(
             copy_free(&system.model, &holding, free, &mut second.y);
             copy_free(&system.model, &holding, free, &mut extrapolated);
         }
+        let pushed = 4.0 * pushing(&second) + pushing(&whole);
         let mut next = second.y;
         let mut kept_error = halves_error;
         if extrapolating {
             let better = extrapolated;
             // Never a gain of energy over the step from the extrapolation, beyond the solves' own accuracy
-            // (velocities to 1e-9 of tol / h, the Newton method's margin: an energy of that times the momenta) and
+            // (the velocities' rounding, 1e-9 of tol / h times the momenta, and the work the contact impulses do
+            // on the closing speeds the answers leave, `ANSWER_SHARE` of tol / h: that times the impulses, of the
+            // halves twice and of the whole step once, as the extrapolation weighs them) and
             // rounding (1e-12 of the kinetic and potential energies' sizes, whose difference the total may be).
             // The free actors' own change of energy (the same in both) is taken out: only the touching ones'
             // is judged. (Extrapolating a rocking body's steps can gain energy; the halves are kept then, and
@@ -293,7 +296,8 @@ pub fn touching_steps(
             let before = kinetic + potential;
             let free_gain = free.as_deref().map_or(0.0, |f| energy(f) - before);
             let slack = 1e-12 * (kinetic.abs() + potential.abs())
-                + 1e-9 * cx.memory.scales.tolerance / h * momenta(model, &involved, &next);
+                + 1e-9 * cx.memory.scales.tolerance / h * momenta(model, &involved, &next)
+                + ANSWER_SHARE * cx.memory.scales.tolerance * pushed;
             if energy(&better) - free_gain <= before + slack {
                 next = better;
                 kept_error = error;
@@ -431,6 +435,11 @@ fn doubled_step(
     };
     let involved = involved(&system.model, &[found, &later]);
     Ok(Some((whole, second, involved)))
+}
+
+/// The sum of a convex step's contact force magnitudes (N).
+fn pushing(step: &ConvexStep) -> f64 {
+    step.wrenches.values().map(|f| f.norm()).sum()
 }
 
 /// The actors at state y with their applied forces (`actors_with_forces`), the sleeping ones fixed at rest.
