@@ -4,9 +4,11 @@
 //! 20-cube pile's 108 unknowns hold about a fifth of a dense lower triangle).
 
 use crate::newton_program::Program;
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, Par, Side};
 use nalgebra::DVector;
 
 /// Islands with at least this many velocity unknowns are factorised sparse (measured on the 20-cube pile, time a
@@ -23,12 +25,19 @@ pub(crate) struct Hessian {
     sparse: Option<SparseParts>,
 }
 
+/// A large island's factorisation: the Hessian's upper triangle in a fill-reducing order (faer's AMD, found once
+/// per program; stored in the order and on the side faer's factorisation reads, so nothing is permuted or copied
+/// per iteration), its symbolic factorisation, where each stored entry sits in the dense square, and the numeric
+/// factor's and the workspace's storage, kept from iteration to iteration.
 struct SparseParts {
     structure: SymbolicSparseColMat<usize>,
-    symbolic: SymbolicLlt<usize>,
-    /// Each stored entry's index in `dense`.
+    symbolic: SymbolicCholesky<usize>,
+    /// The order: unknown `order[k]` is the k-th of the factorisation.
+    order: Vec<usize>,
     gather: Vec<usize>,
     values: Vec<f64>,
+    factor: Vec<f64>,
+    work: MemBuffer,
 }
 
 impl Hessian {
@@ -103,16 +112,31 @@ impl Hessian {
         match &mut self.sparse {
             None => {
                 let h = faer::MatRef::from_column_major_slice(&self.dense, n, n);
-                h.llt(faer::Side::Lower).ok()?.solve_in_place(x.as_mat_mut());
+                h.llt(Side::Lower).ok()?.solve_in_place(x.as_mat_mut());
             }
             Some(s) => {
                 for (v, &at) in s.values.iter_mut().zip(&s.gather) {
                     *v = self.dense[at];
                 }
                 let a = SparseColMatRef::new(s.structure.as_ref(), &s.values);
-                Llt::try_new_with_symbolic(s.symbolic.clone(), a, faer::Side::Lower)
-                    .ok()?
-                    .solve_in_place(x.as_mat_mut());
+                let stack = MemStack::new(&mut s.work);
+                let llt = s
+                    .symbolic
+                    .factorize_numeric_llt(
+                        &mut s.factor,
+                        a,
+                        Side::Upper,
+                        Default::default(),
+                        Par::Seq,
+                        stack,
+                        Default::default(),
+                    )
+                    .ok()?;
+                let mut y = faer::Col::<f64>::from_fn(n, |k| x[s.order[k]]);
+                llt.solve_in_place_with_conj(Conj::No, y.as_mat_mut(), Par::Seq, MemStack::new(&mut s.work));
+                for (k, &i) in s.order.iter().enumerate() {
+                    x[i] = y[k];
+                }
             }
         }
         Some(DVector::from_fn(n, |i, _| x[i]))
@@ -152,20 +176,60 @@ impl SparseParts {
                 }
             }
         }
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let (mut row_idx, mut gather) = (Vec::new(), Vec::new());
-        col_ptr.push(0);
-        for (j, rows) in columns.iter_mut().enumerate() {
-            rows.sort_unstable();
-            rows.dedup();
-            gather.extend(rows.iter().map(|&i| i + j * n));
-            row_idx.extend_from_slice(rows);
-            col_ptr.push(row_idx.len());
+        let lower = |columns: &mut [Vec<usize>]| {
+            let mut col_ptr = Vec::with_capacity(n + 1);
+            let mut row_idx = Vec::new();
+            col_ptr.push(0);
+            for rows in columns.iter_mut() {
+                rows.sort_unstable();
+                rows.dedup();
+                row_idx.extend_from_slice(rows);
+                col_ptr.push(row_idx.len());
+            }
+            SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx)
+        };
+        // the order, from the structure as it stands
+        let natural = lower(&mut columns);
+        let amd =
+            factorize_symbolic_cholesky(natural.as_ref(), Side::Lower, SymmetricOrdering::Amd, Default::default())
+                .ok()?;
+        let order: Vec<usize> = match amd.perm() {
+            Some(perm) => perm.arrays().0.to_vec(),
+            None => (0..n).collect(),
+        };
+        // the upper triangle of the reordered Hessian: its entry (k, l), k <= l, is the original's at
+        // (order[k], order[l]), stored in the dense square's lower triangle
+        let mut position = vec![0; n];
+        for (k, &i) in order.iter().enumerate() {
+            position[i] = k;
         }
-        let structure = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let symbolic = SymbolicLlt::try_new(structure.as_ref(), faer::Side::Lower).ok()?;
-        let values = vec![0.0; gather.len()];
-        Some(SparseParts { structure, symbolic, gather, values })
+        let mut upper: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (j, rows) in columns.iter().enumerate() {
+            for &i in rows {
+                let (k, l) = (position[i], position[j]);
+                upper[k.max(l)].push(k.min(l));
+            }
+        }
+        let structure = lower(&mut upper);
+        let mut gather = Vec::with_capacity(structure.compute_nnz());
+        for l in 0..n {
+            for &k in structure.as_ref().row_idx_of_col_raw(l) {
+                let (a, b) = (order[k], order[l]);
+                gather.push(a.max(b) + a.min(b) * n);
+            }
+        }
+        let symbolic = factorize_symbolic_cholesky(
+            structure.as_ref(),
+            Side::Upper,
+            SymmetricOrdering::Identity,
+            Default::default(),
+        )
+        .ok()?;
+        let req = symbolic
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        let (values, factor) = (vec![0.0; gather.len()], vec![0.0; symbolic.len_val()]);
+        Some(SparseParts { structure, symbolic, order, gather, values, factor, work: MemBuffer::try_new(req).ok()? })
     }
 }
 

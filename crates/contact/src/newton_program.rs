@@ -269,50 +269,42 @@ impl Program {
         out
     }
 
-    /// The slope of the subproblem along dv at v + alpha dv (and its second derivative), given u(v) and J dv.
-    pub fn slope(
-        &self,
-        prior: &[f64],
-        v: &DVector<f64>,
-        dv: &DVector<f64>,
-        du: (&[f64], &[f64]),
-        alpha: f64,
-    ) -> (f64, f64) {
-        let (u0, jdv) = du;
-        let u: Vec<f64> = u0.iter().zip(jdv).map(|(a, b)| a + alpha * b).collect();
-        let mut lambda = vec![0.0; u.len()];
-        let mut ds = Vec::with_capacity(self.blocks.len());
-        self.impulses(prior, &u, &mut lambda, Some(&mut ds));
-        let moved = v + dv * alpha - &self.free;
-        let mdv = self.mass_times(dv, false);
-        let mut first = mdv.dot(&moved) - jdv.iter().zip(&lambda).map(|(a, b)| a * b).sum::<f64>();
-        let mut second = mdv.dot(dv);
-        for (b, d) in self.blocks.iter().zip(&ds) {
-            let w = b.width();
-            for p in 0..w {
-                for q in 0..w {
-                    second += b.rho * d[p * 2 + q] * jdv[b.row + p] * jdv[b.row + q];
-                }
-            }
-        }
-        first = if first.is_finite() { first } else { f64::NAN };
-        (first, second)
-    }
-
     /// The exact minimiser of the subproblem along dv within (0, 1], by safeguarded Newton on the slope (convex and
-    /// piecewise quadratic, so Newton is exact within a piece).
+    /// piecewise quadratic, so Newton is exact within a piece), given u(v) = J v + c.
     pub fn line_search(&self, prior: &[f64], v: &DVector<f64>, dv: &DVector<f64>, u0: &[f64]) -> f64 {
         let jdv: Vec<f64> = self.rows.iter().map(|r| r.dot(dv.as_slice())).collect();
-        let du = (u0, &jdv[..]);
-        let (f0, _) = self.slope(prior, v, dv, du, 0.0);
-        let (f1, _) = self.slope(prior, v, dv, du, 1.0);
-        if !(f0 < 0.0) || f1 <= 0.0 {
+        let mdv = self.mass_times(dv, false);
+        // the mass term's slope at alpha is base + alpha curvature
+        let (base, curvature) = (mdv.dot(&(v - &self.free)), mdv.dot(dv));
+        let (mut u, mut lambda) = (vec![0.0; u0.len()], vec![0.0; u0.len()]);
+        let mut ds = Vec::with_capacity(self.blocks.len());
+        // the slope at v + alpha dv and its second derivative
+        let mut slope = |alpha: f64| {
+            for ((u, a), b) in u.iter_mut().zip(u0).zip(&jdv) {
+                *u = a + alpha * b;
+            }
+            ds.clear();
+            self.impulses(prior, &u, &mut lambda, Some(&mut ds));
+            let first = base + alpha * curvature - jdv.iter().zip(&lambda).map(|(a, b)| a * b).sum::<f64>();
+            let mut second = curvature;
+            for (b, d) in self.blocks.iter().zip(&ds) {
+                let w = b.width();
+                for p in 0..w {
+                    for q in 0..w {
+                        second += b.rho * d[p * 2 + q] * jdv[b.row + p] * jdv[b.row + q];
+                    }
+                }
+            }
+            (if first.is_finite() { first } else { f64::NAN }, second)
+        };
+        let (f0, _) = slope(0.0);
+        let (mut f, mut df) = slope(1.0);
+        if !(f0 < 0.0) || f <= 0.0 {
             return 1.0;
         }
         let (mut lo, mut hi) = (0.0, 1.0);
         let mut alpha = 1.0;
         for _ in 0..50 {
-            let (f, df) = self.slope(prior, v, dv, du, alpha);
             if f.abs() <= 1e-12 * f0.abs() {
                 break;
             }
@@ -326,6 +318,7 @@ impl Program {
             if hi - lo <= 1e-14 {
                 break;
             }
+            (f, df) = slope(alpha);
         }
         alpha
     }
