@@ -49,6 +49,10 @@ pub struct WorldReport {
     pub collision_seconds: f64,
     /// Wall time spent in contact solves (s).
     pub contact_seconds: f64,
+    /// Of `contact_seconds`, the time spent building accurate mode's contact programs (s): their rows and
+    /// Jacobians, the Newton method's sparse Hessian structure and clarabel's matrices, summed over islands (on
+    /// several threads it can pass the wall time).
+    pub program_seconds: f64,
     /// Contact steps accepted (accurate mode while bodies touch).
     pub contact_steps: usize,
     /// Contact steps rejected by their error estimate.
@@ -103,6 +107,7 @@ impl WorldReport {
             wall_seconds: 0.0,
             collision_seconds: 0.0,
             contact_seconds: 0.0,
+            program_seconds: 0.0,
             contact_steps: 0,
             contact_rejected: 0,
             contact_error: 0.0,
@@ -151,6 +156,7 @@ impl WorldReport {
             ("energy_gain", Optional(self.energy_gain)),
             ("collision_seconds", Number(self.collision_seconds)),
             ("contact_seconds", Number(self.contact_seconds)),
+            ("program_seconds", Number(self.program_seconds)),
             ("contact_steps", Count(self.contact_steps)),
             ("contact_rejected", Count(self.contact_rejected)),
             ("contact_error", Optional((self.contact_steps > 0).then_some(self.contact_error))),
@@ -196,6 +202,7 @@ impl WorldReport {
         self.energy_gain = largest(self.energy_gain, o.energy_gain);
         self.collision_seconds += o.collision_seconds;
         self.contact_seconds += o.contact_seconds;
+        self.program_seconds += o.program_seconds;
         self.contact_steps += o.contact_steps;
         self.contact_rejected += o.contact_rejected;
         self.contact_error = self.contact_error.max(o.contact_error);
@@ -226,8 +233,13 @@ impl fmt::Display for WorldReport {
         )?;
         writeln!(
             f,
-            "wall time        {:.6} s in all: {:.6} s integrating, {:.6} s finding contacts, {:.6} s solving them",
-            self.wall_seconds, self.integrator.wall_seconds, self.collision_seconds, self.contact_seconds
+            "wall time        {:.6} s in all: {:.6} s integrating, {:.6} s finding contacts, {:.6} s solving them ({:.6} s \
+             building their programs)",
+            self.wall_seconds,
+            self.integrator.wall_seconds,
+            self.collision_seconds,
+            self.contact_seconds,
+            self.program_seconds
         )?;
         writeln!(
             f,

@@ -298,3 +298,21 @@ fn the_chapters_resting_forces_stay_selectable_and_refuse_friction() {
     assert!(e.to_string().contains("frictionless"), "{e}");
     assert_eq!(w.time(), 0.0);
 }
+
+#[test]
+fn the_report_splits_the_contact_time_into_building_and_solving_the_programs() {
+    // Ten dominoes for 0.2 s: every contact step builds programs, so their building takes some of the solving's time
+    // and never more than all of it (the share is summed over islands; one thread here, so it is wall time too).
+    let (mut w, _) = tumble::scenes::Benchmark::DominoRow.build().unwrap();
+    w.set_threads(1).unwrap();
+    let r = w.run(0.2, 1.0 / 60.0).unwrap().report;
+    assert!(r.contact_steps > 0 && r.qp_solves > 0, "{r}");
+    assert!(r.program_seconds > 0.0, "{r}");
+    assert!(
+        r.program_seconds <= r.contact_seconds,
+        "{} s building of {} s solving",
+        r.program_seconds,
+        r.contact_seconds
+    );
+    assert!(r.to_string().contains("building their programs"), "{r}");
+}

@@ -131,7 +131,8 @@ def test_report_and_run_carry_the_contact_fields():
     run = w.run(1.0, 1 / 30)
     fields = run.report.as_dict()
     for key in ("qp_solves", "collisions", "impulses", "bisection_steps", "collision_checks", "islands", "sleepers",
-                "max_penetration", "contact_residual", "collision_seconds", "contact_seconds"):
+                "max_penetration", "contact_residual", "collision_seconds", "contact_seconds",
+                "program_seconds"):
         assert key in fields
     assert "narrow-phase pair tests" in str(run.report)
     assert run.contact_events.shape == (0,), "fast mode has no events"

@@ -107,6 +107,9 @@ pub struct VelocityStep {
     /// The calls weighted by size, for callers that budget their work: each call counts one for every
     /// `CONTACTS_A_UNIT` contacts of its island (at least one), its cost growing with the island.
     pub solver_work: usize,
+    /// Wall time spent building the islands' programs (s): their rows, Jacobians and the Newton method's Hessian
+    /// structure, or clarabel's matrices; summed over islands.
+    pub building_seconds: f64,
 }
 
 /// Contacts of an island that one unit of `VelocityStep::solver_work` stands for.
@@ -246,6 +249,7 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
     let mut normal_impulses = vec![0.0; contacts.len()];
     let mut friction_impulses = vec![Vector3::zeros(); contacts.len()];
     let (mut iterations, mut solver_calls, mut solver_work, mut newton_calls) = (0, 0, 0, 0);
+    let mut building_seconds = 0.0;
     let pairs: Vec<(usize, usize)> = bilateral.iter().map(|r| (r.a, r.b)).collect();
     let groups = crate::islands::joint_islands(bodies, contacts, &pairs);
     let free = &velocities;
@@ -280,6 +284,7 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
             friction_impulses[i] = sol.friction[slot];
         }
         iterations += sol.iterations;
+        building_seconds += sol.building_seconds;
     }
     let islands = groups.len();
     Ok(VelocityStep {
@@ -291,6 +296,7 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
         newton_calls,
         islands,
         solver_work,
+        building_seconds,
     })
 }
 
@@ -338,5 +344,6 @@ fn lone_particle(
         iterations: 0,
         solved: false,
         newton: false,
+        building_seconds: 0.0,
     })
 }

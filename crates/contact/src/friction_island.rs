@@ -25,6 +25,8 @@ pub(crate) struct IslandSolution {
     pub solved: bool,
     /// Whether the Newton method gave the answer (not clarabel).
     pub newton: bool,
+    /// Wall time spent building the island's programs (s).
+    pub building_seconds: f64,
 }
 
 /// Triplets of the constraint matrix.
@@ -140,6 +142,7 @@ pub(crate) fn solve_island(
         }
     }
     // tumble's own solver first (lagged friction or none), its answer held to the same test as clarabel's
+    let mut building = 0.0;
     let lagged_or_frictionless = bounds.is_some() || island.iter().all(|&i| contacts[i].friction == 0.0);
     if s.method == crate::friction::StepMethod::Newton && lagged_or_frictionless {
         let zeros = vec![0.0; contacts.len()];
@@ -156,15 +159,16 @@ pub(crate) fn solve_island(
             members: &members,
             n,
         };
-        let answer = crate::newton_island::solve_island_newton(&input, warm);
+        let answer = crate::newton_island::solve_island_newton(&input, warm, &mut building);
         if let Some((out, joints)) = answer {
             let (layout, _) = row_layout(contacts, bounds, island, n);
             let moved = moved_by_joints(bodies, bilateral, free, &joints);
             if residual(bodies, contacts, island, &layout, &moved, &out, s) <= s.solver.complementarity_tolerance {
-                return Ok(out);
+                return Ok(IslandSolution { building_seconds: building, ..out });
             }
         }
     }
+    let clock = std::time::Instant::now();
     let (layout, vars) = row_layout(contacts, bounds, island, n);
     // P = M (upper triangle), q = -M v* (and the bounds on the epigraph variables).
     let (mut pi, mut pj, mut pv): (Vec<usize>, Vec<usize>, Vec<f64>) = (Vec::new(), Vec::new(), Vec::new());
@@ -302,6 +306,7 @@ pub(crate) fn solve_island(
     let p = CscMatrix::new_from_triplets(vars, vars, pi, pj, pv);
     let a = CscMatrix::new_from_triplets(m, vars, a.rows, a.cols, a.vals);
     let problem = "friction-step";
+    building += clock.elapsed().as_secs_f64();
     let (solution, _, iterations) = with_retries(&s.solver, problem, |settings| {
         let mut solver = DefaultSolver::new(&p, &q, &a, &rhs_scaled, &cones, settings.clarabel(problem)?)
             .map_err(|e| ContactError::Solver { problem, status: format!("{e:?}"), iterations: 0 })?;
@@ -322,7 +327,7 @@ pub(crate) fn solve_island(
         };
         Ok((out, r, sol.iterations))
     })?;
-    Ok(IslandSolution { iterations, ..solution })
+    Ok(IslandSolution { iterations, building_seconds: building, ..solution })
 }
 
 /// The free velocities with the joint rows' impulses applied (what the contacts' conditions are judged against).
@@ -390,5 +395,5 @@ fn read_back(
         });
         row += layout[slot].width();
     }
-    IslandSolution { velocities, normal, friction, iterations: 0, solved: true, newton: false }
+    IslandSolution { velocities, normal, friction, iterations: 0, solved: true, newton: false, building_seconds: 0.0 }
 }

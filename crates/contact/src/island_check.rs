@@ -29,6 +29,7 @@ pub(crate) fn untouched(
         iterations: 0,
         solved: false,
         newton: false,
+        building_seconds: 0.0,
     };
     let r = residual(bodies, contacts, island, &layout, free, &out, s);
     // A caller's own velocity scale also bounds how far the free velocities may close a contact: relative to a

@@ -167,6 +167,7 @@ pub fn convex_step(
     let Some(mut out) = solve(&bounds, &start)? else { return Ok(None) };
     solves += out.solver_calls;
     work += out.solver_work;
+    let mut building = out.building_seconds;
     for _ in 1..LAGGED_ITERATIONS {
         // judged pair by pair: how a pair's redundant points (a box's four corners) share its push is not fixed by
         // the program and may wander from solve to solve, while their sum is
@@ -188,8 +189,10 @@ pub fn convex_step(
         out = next;
         solves += out.solver_calls;
         work += out.solver_work;
+        building += out.building_seconds;
     }
     cx.report.qp_solves += solves;
+    cx.report.program_seconds += building;
     cx.report.islands += out.islands;
     *cx.solve_work += work;
     cx.report.stages.add(Stage::ContactConeProgram, solves.max(1));
