@@ -1,6 +1,6 @@
 //! The Newton method's Hessian M + J^T rho dP J over an island's velocities (`newton_island.rs`), assembled body
-//! block by body block and factorised by Cholesky: dense (faer) for small islands, sparse with its symbolic
-//! analysis done once per program for large ones (a pile's island couples each body to a few neighbours: the
+//! block by body block and factorised by Cholesky: dense (faer) for a lone body, sparse with its symbolic
+//! analysis done once per program for more (a pile's island couples each body to a few neighbours: the
 //! 20-cube pile's 108 unknowns hold about a fifth of a dense lower triangle).
 
 use crate::newton_program::Program;
@@ -12,9 +12,10 @@ use faer::{Conj, Par, Side};
 use nalgebra::DVector;
 
 /// Islands with at least this many velocity unknowns are factorised sparse (measured on the 20-cube pile, time a
-/// Newton iteration dense / sparse: 16 / 22 us at 48-59 unknowns, 32 / 29 at 72-83, 43 / 33 at 96-107, 51 / 38 at
-/// 108-119).
-const SPARSE_FROM: usize = 72;
+/// Newton iteration dense / sparse: 1.5 / 1.4 us below 12 unknowns, 2.8 / 2.6 at 12-23, 5.2 / 3.9 at 24-35, 15.6 /
+/// 15.4 at 48-59, 36 / 29 at 72-83, 45 / 31 at 108-119; a lone body stays dense, the reference the sparse path is
+/// tested against).
+const SPARSE_FROM: usize = 12;
 
 /// The Hessian's storage: a dense column-major square (the lower triangle read), and for a sparse island the
 /// lower triangle's structure (every entry a row of the program can reach), its symbolic factorisation and where
@@ -155,69 +156,69 @@ fn add_outer(h: &mut [f64], n: usize, (ra, x): (usize, &[f64]), (cb, y): (usize,
 }
 
 impl SparseParts {
-    /// The lower triangle's structure: each body's own block and each pair of bodies a row joins, whole blocks.
+    /// The structure: each body's own block and each pair of bodies a row joins, whole blocks, with the bodies in
+    /// a minimum-degree order (so each body's unknowns stay together and the structure is built without sorting).
     fn new(p: &Program, n: usize) -> Option<SparseParts> {
-        let mut columns: Vec<Vec<usize>> = vec![Vec::new(); n];
-        let mut add_block = |(ra, la): (usize, usize), (cb, lb): (usize, usize)| {
-            for j in cb..cb + lb {
-                columns[j].extend((ra..ra + la).filter(|&i| i >= j));
-            }
-        };
-        for b in &p.mass {
-            let len = if b.inertia.is_some() { 6 } else { 3 };
-            add_block((b.at, len), (b.at, len));
+        // the bodies (blocks of the mass matrix) and the pairs of them the rows join
+        let mut body_at = vec![usize::MAX; n];
+        for (k, b) in p.mass.iter().enumerate() {
+            body_at[b.at] = k;
         }
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
         for r in &p.rows {
-            for a in r.parts() {
-                for c in r.parts() {
-                    if a.at > c.at {
-                        add_block((a.at, a.len), (c.at, c.len));
-                    }
+            if let [a, c] = r.parts() {
+                let (a, c) = (body_at[a.at], body_at[c.at]);
+                if a != c {
+                    pairs.push((a.min(c), a.max(c)));
                 }
             }
         }
-        let lower = |columns: &mut [Vec<usize>]| {
-            let mut col_ptr = Vec::with_capacity(n + 1);
-            let mut row_idx = Vec::new();
-            col_ptr.push(0);
-            for rows in columns.iter_mut() {
-                rows.sort_unstable();
-                rows.dedup();
-                row_idx.extend_from_slice(rows);
+        pairs.sort_unstable();
+        pairs.dedup();
+        let bodies = p.mass.len();
+        let order = minimum_degree(bodies, &pairs);
+        let mut rank = vec![0; bodies];
+        for (k, &b) in order.iter().enumerate() {
+            rank[b] = k;
+        }
+        // the unknowns in that order, and where each body's first lands
+        let len = |b: usize| if p.mass[b].inertia.is_some() { 6 } else { 3 };
+        let mut first = vec![0; bodies];
+        let mut unknowns = Vec::with_capacity(n);
+        for &b in &order {
+            first[b] = unknowns.len();
+            unknowns.extend(p.mass[b].at..p.mass[b].at + len(b));
+        }
+        // each body's neighbours earlier in the order, in order
+        let mut earlier: Vec<Vec<usize>> = vec![Vec::new(); bodies];
+        for &(a, c) in &pairs {
+            let (lo, hi) = if rank[a] < rank[c] { (a, c) } else { (c, a) };
+            earlier[hi].push(lo);
+        }
+        // the upper triangle of the reordered Hessian: column l of body B holds the rows of B's earlier neighbours
+        // and of B itself up to l; its entry (k, l) is the original's at (unknowns[k], unknowns[l]), stored in the
+        // dense square's lower triangle
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for &b in &order {
+            earlier[b].sort_unstable_by_key(|&c| rank[c]);
+            for l in first[b]..first[b] + len(b) {
+                for &c in &earlier[b] {
+                    row_idx.extend(first[c]..first[c] + len(c));
+                }
+                row_idx.extend(first[b]..=l);
                 col_ptr.push(row_idx.len());
             }
-            SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx)
-        };
-        // the order, from the structure as it stands
-        let natural = lower(&mut columns);
-        let amd =
-            factorize_symbolic_cholesky(natural.as_ref(), Side::Lower, SymmetricOrdering::Amd, Default::default())
-                .ok()?;
-        let order: Vec<usize> = match amd.perm() {
-            Some(perm) => perm.arrays().0.to_vec(),
-            None => (0..n).collect(),
-        };
-        // the upper triangle of the reordered Hessian: its entry (k, l), k <= l, is the original's at
-        // (order[k], order[l]), stored in the dense square's lower triangle
-        let mut position = vec![0; n];
-        for (k, &i) in order.iter().enumerate() {
-            position[i] = k;
         }
-        let mut upper: Vec<Vec<usize>> = vec![Vec::new(); n];
-        for (j, rows) in columns.iter().enumerate() {
-            for &i in rows {
-                let (k, l) = (position[i], position[j]);
-                upper[k.max(l)].push(k.min(l));
-            }
-        }
-        let structure = lower(&mut upper);
-        let mut gather = Vec::with_capacity(structure.compute_nnz());
+        let mut gather = Vec::with_capacity(row_idx.len());
         for l in 0..n {
-            for &k in structure.as_ref().row_idx_of_col_raw(l) {
-                let (a, b) = (order[k], order[l]);
+            for &k in &row_idx[col_ptr[l]..col_ptr[l + 1]] {
+                let (a, b) = (unknowns[k], unknowns[l]);
                 gather.push(a.max(b) + a.min(b) * n);
             }
         }
+        let structure = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         let symbolic = factorize_symbolic_cholesky(
             structure.as_ref(),
             Side::Upper,
@@ -229,8 +230,32 @@ impl SparseParts {
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
             .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         let (values, factor) = (vec![0.0; gather.len()], vec![0.0; symbolic.len_val()]);
+        let order = unknowns;
         Some(SparseParts { structure, symbolic, order, gather, values, factor, work: MemBuffer::try_new(req).ok()? })
     }
+}
+
+/// A minimum-degree elimination order of a graph of `nodes` nodes with edges `pairs` (each once): the node of fewest
+/// neighbours in the graph as eliminated so far goes next (ties to the lower index), its neighbours joined to each
+/// other. A pile's islands have a few dozen bodies, so the quadratic search costs nothing beside a factorisation.
+fn minimum_degree(nodes: usize, pairs: &[(usize, usize)]) -> Vec<usize> {
+    let mut adjacent: Vec<std::collections::BTreeSet<usize>> = vec![Default::default(); nodes];
+    for &(a, b) in pairs {
+        adjacent[a].insert(b);
+        adjacent[b].insert(a);
+    }
+    let mut done = vec![false; nodes];
+    let mut order = Vec::with_capacity(nodes);
+    while let Some(next) = (0..nodes).filter(|&i| !done[i]).min_by_key(|&i| (adjacent[i].len(), i)) {
+        done[next] = true;
+        order.push(next);
+        let neighbours: Vec<usize> = std::mem::take(&mut adjacent[next]).into_iter().collect();
+        for &a in &neighbours {
+            adjacent[a].remove(&next);
+            adjacent[a].extend(neighbours.iter().copied().filter(|&b| b != a));
+        }
+    }
+    order
 }
 
 #[cfg(test)]
