@@ -12,7 +12,8 @@ is given the same bodies on a continuous MultibodyPlant with hydroelastic contac
 1e8 Pa, Hunt-Crossley dissipation 10 s/m; point contact makes a box rest on one point and rock) and point contact for
 the sphere, against a rigid half-space floor, integrated by CENIC at target accuracies 1e-1 to 1e-5; tumble's accurate mode at contact tolerances
 1e-2 to 1e-6 m. The pile and the dominoes have no closed form: each engine is measured against its own tightest run
-(CENIC at 1e-6, tumble at 1e-6 m: the largest distance of any body from it).
+(CENIC at 1e-6, tumble at 1e-6 m: the largest distance of any body from it), and their boxes' resting penetration
+into the floor at the end (the deepest corner below it, the same measure of both).
 
 Drake runs in ``--drake-python`` (an interpreter with ``drake==1.51.1``; default: this one), each scene in its own
 process, so the two engines never share an interpreter; tumble runs here.
@@ -40,6 +41,34 @@ SCENES = {
 }
 
 
+# the boxes' half extents in the scenes with several bodies (for the resting penetration into the floor)
+HALVES = {"cube_pile": (0.1, 0.1, 0.1), "domino_row": (0.02, 0.1, 0.2)}
+
+
+def floor_depth(kind: str, poses: list[tuple[list[float], list[list[float]]]]) -> float | None:
+    """How deep the deepest box corner lies below the floor z = 0 (m): the same measure of both engines' end
+    states, their resting penetration (CENIC's hydroelastic contact has no single depth to read during a run)."""
+    if kind not in HALVES:
+        return None
+    hx, hy, hz = HALVES[kind]
+    lowest = math.inf
+    for centre, r in poses:
+        for sx in (-1, 1):
+            for sy in (-1, 1):
+                for sz in (-1, 1):
+                    z = centre[2] + r[2][0] * sx * hx + r[2][1] * sy * hy + r[2][2] * sz * hz
+                    lowest = min(lowest, z)
+    return max(0.0, -lowest)
+
+
+def rotation(q) -> list[list[float]]:
+    """The rotation matrix of a unit quaternion (w, x, y, z)."""
+    w, x, y, z = (float(c) for c in q)
+    return [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
+
+
 def tumble_run(name: str, tolerance: float) -> dict:
     """One accurate-mode run of a scene at a contact tolerance, one thread, frames every 1/60 s."""
     import tumble
@@ -53,8 +82,10 @@ def tumble_run(name: str, tolerance: float) -> dict:
     run = w.run(span, 1 / 60)
     wall = time.perf_counter() - clock
     end = w.bodies.positions[1:]
+    turns = w.bodies.orientations[1:]
+    floor = floor_depth(kind, [(list(c), rotation(q)) for c, q in zip(end, turns)])
     return {"wall": wall, "moved": float(end[0, 0] - start[0, 0]), "positions": end.tolist(),
-            "penetration": run.report.max_penetration, "steps": run.report.contact_steps}
+            "penetration": run.report.max_penetration, "floor": floor, "steps": run.report.contact_steps}
 
 
 def drake_run(name: str, accuracy: float) -> dict:
@@ -135,14 +166,16 @@ def drake_run(name: str, accuracy: float) -> dict:
     clock = time.perf_counter()
     simulator.AdvanceTo(span)
     wall = time.perf_counter() - clock
-    end = [plant.EvalBodyPoseInWorld(plant_context, b).translation() for b, _, _ in bodies]
+    poses = [plant.EvalBodyPoseInWorld(plant_context, b) for b, _, _ in bodies]
+    end = [p.translation() for p in poses]
+    floor = floor_depth(kind, [(list(p.translation()), p.rotation().matrix().tolist()) for p in poses])
     return {"wall": wall, "moved": float(end[0][0] - start[0][0]), "positions": [list(p) for p in end],
-            "steps": integrator.get_num_steps_taken()}
+            "floor": floor, "steps": integrator.get_num_steps_taken()}
 
 
 def table(rows: list[tuple[str, str, list[dict]]], reference: dict[str, dict]) -> None:
-    print("| scene | engine | setting | wall (s) | error (m) | steps |")
-    print("|---|---|---|---|---|---|")
+    print("| scene | engine | setting | wall (s) | error (m) | steps | resting floor penetration (m) |")
+    print("|---|---|---|---|---|---|---|")
     for name, engine, results in rows:
         closed = SCENES[name][3]
         span = SCENES[name][2]
@@ -152,7 +185,8 @@ def table(rows: list[tuple[str, str, list[dict]]], reference: dict[str, dict]) -
             else:
                 ref = reference[engine]["positions"]
                 error = max(math.dist(a, b) for a, b in zip(r["positions"], ref))
-            print(f"| {name} | {engine} | {setting} | {r['wall']:.4f} | {error:.2e} | {r['steps']} |")
+            floor = "" if r.get("floor") is None else f"{r['floor']:.2e}"
+            print(f"| {name} | {engine} | {setting} | {r['wall']:.4f} | {error:.2e} | {r['steps']} | {floor} |")
 
 
 def main() -> None:
