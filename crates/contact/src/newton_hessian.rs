@@ -17,19 +17,19 @@ use nalgebra::DVector;
 /// tested against).
 const SPARSE_FROM: usize = 12;
 
-/// The Hessian's storage: a dense column-major square (the lower triangle read), and for a sparse island the
-/// lower triangle's structure (every entry a row of the program can reach), its symbolic factorisation and where
-/// each stored entry sits in the dense square.
+/// The Hessian's storage: a dense column-major square (the lower triangle read; assembled there on either path),
+/// and for a sparse island its factorisation's parts (`SparseParts`).
 pub(crate) struct Hessian {
     n: usize,
     dense: Vec<f64>,
     sparse: Option<SparseParts>,
 }
 
-/// A large island's factorisation: the Hessian's upper triangle in a fill-reducing order (faer's AMD, found once
-/// per program; stored in the order and on the side faer's factorisation reads, so nothing is permuted or copied
-/// per iteration), its symbolic factorisation, where each stored entry sits in the dense square, and the numeric
-/// factor's and the workspace's storage, kept from iteration to iteration.
+/// A sparse island's factorisation: the Hessian's upper triangle (every entry a row of the program can reach) with
+/// the bodies in a minimum-degree order, found once per program and stored in the order and on the side faer's
+/// factorisation reads, so nothing is permuted per iteration; its symbolic factorisation, where each stored entry
+/// sits in the dense square, and the numeric factor's and the workspace's storage, kept from iteration to
+/// iteration.
 struct SparseParts {
     structure: SymbolicSparseColMat<usize>,
     symbolic: SymbolicCholesky<usize>,

@@ -41,8 +41,8 @@ const MAX_NEWTON: usize = 40;
 /// caller's (`StepSettings::velocity_scale` times `SolverSettings::complementarity_tolerance`, the accuracy
 /// clarabel's answers are checked to) where that is looser.
 const RELATIVE: f64 = 1e-10;
-/// Islands with more velocity unknowns than this go to clarabel (the dense factorisation, faer's Cholesky, is
-/// O(n^3)).
+/// Islands with more velocity unknowns than this go to clarabel (the Hessian is assembled in a dense square of
+/// n^2 entries each Newton iteration, and its factorisation's cost grows with the fill).
 pub(crate) const MAX_DOFS: usize = 600;
 
 /// The island's answer by the multiplier method, or `None` when it did not converge within its iteration limits

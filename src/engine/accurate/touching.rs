@@ -277,7 +277,6 @@ pub fn touching_steps(
             copy_free(&system.model, &holding, free, &mut second.y);
             copy_free(&system.model, &holding, free, &mut extrapolated);
         }
-        let pushed = 4.0 * pushing(&second) + pushing(&whole);
         let mut next = second.y;
         let mut kept_error = halves_error;
         if extrapolating {
@@ -297,7 +296,9 @@ pub fn touching_steps(
             let free_gain = free.as_deref().map_or(0.0, |f| energy(f) - before);
             let slack = 1e-12 * (kinetic.abs() + potential.abs())
                 + 1e-9 * cx.memory.scales.tolerance / h * momenta(model, &involved, &next)
-                + ANSWER_SHARE * cx.memory.scales.tolerance * pushed;
+                + ANSWER_SHARE
+                    * cx.memory.scales.tolerance
+                    * (4.0 * pushing(&second.wrenches) + pushing(&whole.wrenches));
             if energy(&better) - free_gain <= before + slack {
                 next = better;
                 kept_error = error;
@@ -437,9 +438,9 @@ fn doubled_step(
     Ok(Some((whole, second, involved)))
 }
 
-/// The sum of a convex step's contact force magnitudes (N).
-fn pushing(step: &ConvexStep) -> f64 {
-    step.wrenches.values().map(|f| f.norm()).sum()
+/// The sum of a convex step's contact force magnitudes (N), from its `wrenches`.
+fn pushing(wrenches: &BTreeMap<ContactKey, nalgebra::Vector3<f64>>) -> f64 {
+    wrenches.values().map(|f| f.norm()).sum()
 }
 
 /// The actors at state y with their applied forces (`actors_with_forces`), the sleeping ones fixed at rest.
