@@ -1,18 +1,24 @@
 //! Contact reduction for the velocity-level steps (fast mode, accurate mode's contact steps): at most four points
 //! per collider pair, chosen to keep the deepest point and the largest support area (the quadrilateral of greatest
-//! area among the manifold's points, greedily).
+//! area among the manifold's points, greedily), and to hold the centre of mass of the body the contact carries
+//! wherever the whole contact polygon holds it (a prism on its face stands on the points that hold it up).
 
 use crate::engine::found_contact::{pair_runs, FoundContact};
+use crate::engine::support_polygon::hold;
 use nalgebra::{Point3, Vector3};
 use std::collections::BTreeMap;
+use tumble_contact::BodyState;
 
 /// At most `MAX_POINTS` contacts per collider pair.
 pub(crate) const MAX_POINTS: usize = 4;
 
 /// Keeps, per collider pair, the deepest contact, the one farthest from it, the one spanning the largest triangle
 /// with those two, and the one adding the most area outside that triangle (in the order found otherwise). A box
-/// on a face keeps its four corners; the rows of the conic program drop from up to eight per pair to four.
-pub(crate) fn reduce(found: Vec<FoundContact>) -> Vec<FoundContact> {
+/// on a face keeps its four corners; the rows of the conic program drop from up to eight per pair to four. If those
+/// four leave out the centre of mass of a body of the pair (seen along the normal, the body pressed hardest into
+/// the other first) that the whole polygon holds, they are chosen again to hold it (`support_polygon::hold`).
+/// `states` are the actors' (indexed as the contacts' bodies; statics may be missing).
+pub(crate) fn reduce(found: Vec<FoundContact>, states: &[BodyState]) -> Vec<FoundContact> {
     // The scene gives each pair's contacts together, pairs in order: then the groups are runs, found without a map.
     let groups: Vec<Vec<usize>> = match pair_runs(&found, |f| f.key.colliders) {
         Some(runs) => runs.into_iter().filter(|r| r.len() > MAX_POINTS).map(|r| r.collect()).collect(),
@@ -36,15 +42,33 @@ pub(crate) fn reduce(found: Vec<FoundContact>) -> Vec<FoundContact> {
         let deepest = (0..members.len())
             .min_by(|&a, &b| found[members[a]].contact.distance.total_cmp(&found[members[b]].contact.distance))
             .expect("a group has members");
-        for k in select(&points, deepest) {
+        let c = &found[members[0]].contact;
+        let targets = centres(c.a, c.b, c.normal.into_inner(), states);
+        for k in hold(&points, deepest, select(&points, deepest), &targets, &c.normal) {
             keep[members[k]] = true;
         }
     }
     found.into_iter().zip(keep).filter_map(|(f, k)| k.then_some(f)).collect()
 }
 
+/// The centres of mass of the dynamic bodies of a contact of `a` and `b` along `normal` (from A to B), the one the
+/// applied forces press harder into the other first.
+fn centres(a: usize, b: usize, normal: Vector3<f64>, states: &[BodyState]) -> Vec<Point3<f64>> {
+    let mut pressed: Vec<(f64, Point3<f64>)> = Vec::with_capacity(2);
+    if let Some(s) = states.get(a).filter(|s| s.inv_mass > 0.0) {
+        pressed.push((s.force.dot(&normal), s.position));
+    }
+    if let Some(s) = states.get(b).filter(|s| s.inv_mass > 0.0) {
+        pressed.push((-s.force.dot(&normal), s.position));
+    }
+    if pressed.len() == 2 && pressed[1].0 > pressed[0].0 {
+        pressed.swap(0, 1);
+    }
+    pressed.into_iter().map(|(_, p)| p).collect()
+}
+
 /// Indices of up to four of `points` starting from `first`, greedily maximising the area they span.
-fn select(points: &[Point3<f64>], first: usize) -> Vec<usize> {
+pub(crate) fn select(points: &[Point3<f64>], first: usize) -> Vec<usize> {
     let best = |score: &dyn Fn(&Point3<f64>) -> f64| {
         (0..points.len()).map(|k| (k, score(&points[k]))).fold((first, 0.0), |acc, s| if s.1 > acc.1 { s } else { acc })
     };

@@ -26,6 +26,8 @@ mod memory;
 mod semi_implicit;
 #[cfg(feature = "contact")]
 mod state_error;
+#[cfg(feature = "contact")]
+mod support_polygon;
 
 pub(crate) use self::core::EngineCore;
 pub(crate) use budget::Budget;

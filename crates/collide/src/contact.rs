@@ -6,12 +6,13 @@
 use crate::aabb::check_pose;
 use crate::convert::{from_parry, point_from_parry};
 use crate::error::ShapeError;
+use crate::face_contact::long_face_contacts;
 use crate::geometry::ParryView;
 use crate::proximity::unsupported_pair;
 use crate::shape::Shape;
 use nalgebra::{Isometry3, Point3, Unit, Vector3};
 use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
-use parry3d_f64::shape::FeatureId;
+use parry3d_f64::shape::{FeatureId, Shape as ParryShape};
 
 /// The feature of a shape that carries a contact point.
 #[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,7 +73,7 @@ fn feature(shape: &Shape, id: FeatureId) -> Feature {
     }
 }
 
-fn kind(a: Feature, b: Feature) -> ContactKind {
+pub(crate) fn kind(a: Feature, b: Feature) -> ContactKind {
     use Feature::*;
     match (a, b) {
         (Edge(_), Edge(_)) => ContactKind::EdgeEdge,
@@ -110,6 +111,21 @@ pub fn contacts(
         let sa = m.subshape_poses.as_ref().and_then(|s| s.pos1).map_or(pa, |s| pa * s);
         let sb = m.subshape_poses.as_ref().and_then(|s| s.pos2).map_or(pb, |s| pb * s);
         let Some(normal) = Unit::try_new(from_parry(sa.rotation * m.local_n1), 1e-12) else { continue };
+        // A hull's face of more than four vertices: parry keeps four of them, the whole face is clipped here.
+        let (ta, tb) = (va.triangle(m.subshape1), vb.triangle(m.subshape2));
+        let part_a: &dyn ParryShape = ta.as_ref().map_or(va.as_dyn(), |t| t);
+        let part_b: &dyn ParryShape = tb.as_ref().map_or(vb.as_dyn(), |t| t);
+        let planar = part_a.as_halfspace().is_some() || part_b.as_halfspace().is_some();
+        if !m.points.is_empty() || planar {
+            if let Some(whole) = long_face_contacts(part_a, &sa, part_b, &sb, normal, prediction) {
+                for c in whole {
+                    if !out.iter().any(|o| same_place(o, &c)) {
+                        out.push(c);
+                    }
+                }
+                continue;
+            }
+        }
         let labelled = m.points.iter().filter(|p| !p.fid1.is_unknown() || !p.fid2.is_unknown());
         let deepest_labelled = labelled.map(|p| p.dist).fold(f64::INFINITY, f64::min);
         for p in m.points.iter().filter(|p| p.dist <= prediction) {

@@ -5,7 +5,9 @@ use crate::convert::{pose_to_parry, to_parry};
 use crate::shape::Shape;
 use nalgebra::Isometry3;
 use parry3d_f64::math::{Pose, Rotation, Vector};
-use parry3d_f64::shape::{Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, HalfSpace, Shape as ParryShape, TriMesh};
+use parry3d_f64::shape::{
+    Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, HalfSpace, Shape as ParryShape, TriMesh, Triangle,
+};
 
 /// A parry shape borrowed or built from one of ours.
 pub(crate) enum ParryView<'a> {
@@ -40,6 +42,14 @@ impl<'a> ParryView<'a> {
             ParryView::Hull(s) => *s,
             ParryView::Mesh(s) => *s,
             ParryView::HalfSpace(s) => s,
+        }
+    }
+
+    /// Triangle `index` of a mesh (parry's manifolds of a mesh are per triangle); `None` for other shapes.
+    pub(crate) fn triangle(&self, index: u32) -> Option<Triangle> {
+        match self {
+            ParryView::Mesh(m) if (index as usize) < m.indices().len() => Some(m.triangle(index)),
+            _ => None,
         }
     }
 

@@ -27,6 +27,7 @@ mod aabb;
 mod contact;
 mod convert;
 mod error;
+mod face_contact;
 mod geometry;
 mod mass;
 mod mesh;

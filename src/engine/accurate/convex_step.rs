@@ -79,7 +79,7 @@ pub fn contacts_in_reach(
     }
     let checks = cx.scene.checks;
     let found = cx.scene.find(&poses, &reach, cx.settings.contact_distance).map_err(|e| failure(t, e))?;
-    let found: Vec<FoundContact> = reduce(found)
+    let found: Vec<FoundContact> = reduce(found, states)
         .into_iter()
         .filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic())
         .collect();

@@ -31,7 +31,7 @@ pub(super) fn find_contacts(
     let checks = scene.checks;
     let cache = cx.memory.manifolds.as_mut();
     let mut found =
-        reduce(scene.find_closing(&poses, states, h, cx.settings.margin, cache).map_err(|e| failure(t, e))?);
+        reduce(scene.find_closing(&poses, states, h, cx.settings.margin, cache).map_err(|e| failure(t, e))?, states);
     if cx.memory.sleep.wake_touched(&found, dynamic) {
         // The woken actors' own contacts (with the floor under them, say) were left out as inert: find again.
         for a in 0..dynamic {
@@ -40,7 +40,10 @@ pub(super) fn find_contacts(
         *states = actors(cx)?;
         let scene = cx.scene.as_deref_mut().expect("checked above");
         let cache = cx.memory.manifolds.as_mut();
-        found = reduce(scene.find_closing(&poses, states, h, cx.settings.margin, cache).map_err(|e| failure(t, e))?);
+        found = reduce(
+            scene.find_closing(&poses, states, h, cx.settings.margin, cache).map_err(|e| failure(t, e))?,
+            states,
+        );
     }
     let scene = cx.scene.as_deref_mut().expect("checked above");
     cx.report.collision_checks += scene.checks - checks;
