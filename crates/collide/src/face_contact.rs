@@ -329,7 +329,8 @@ mod tests {
         // [0, 2]^2 and [1, 3]^2 share [1, 2]^2 of area 1
         let o = overlap(&square(1.0, 1.0), &square(2.0, 1.0), 1e-12);
         assert_eq!(o.len(), 4);
-        assert!((area(&o) - 1.0).abs() < 1e-12, "area {}", area(&o));
+        // the clip keeps points within eps of an edge: the area may grow by about eps times the perimeter (4)
+        assert!((area(&o) - 1.0).abs() < 1e-11, "area {}", area(&o));
     }
 
     #[test]
