@@ -4,6 +4,7 @@
 use crate::collider::{compound_mass, Collider, Material};
 use crate::error::{check_finite, check_scalar, WorldError};
 use crate::limits;
+use crate::mesh_shape::MeshShape;
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use tumble_collide::Shape;
 
@@ -133,6 +134,7 @@ pub struct RigidBodyBuilder {
     angular_damping: f64,
     restitution: f64,
     friction: f64,
+    mesh_shape: Option<MeshShape>,
 }
 
 impl RigidBodyBuilder {
@@ -152,6 +154,7 @@ impl RigidBodyBuilder {
             angular_damping: 0.0,
             restitution: Material::default().restitution,
             friction: Material::default().friction,
+            mesh_shape: None,
         }
     }
 
@@ -184,6 +187,12 @@ impl RigidBodyBuilder {
     /// to its centre of mass). With a density, it adds its mass too.
     pub fn collider(mut self, shape: Shape, offset: Isometry3<f64>) -> Self {
         self.extra.push((shape, offset));
+        self
+    }
+    /// How the body's closed meshes collide (decomposed by default when it moves, exact when static); an error for
+    /// a body without a mesh.
+    pub fn mesh_shape(mut self, choice: MeshShape) -> Self {
+        self.mesh_shape = Some(choice);
         self
     }
     /// Initial centre-of-mass position.
@@ -228,7 +237,7 @@ impl RigidBodyBuilder {
     }
 
     /// Resolves the mass properties and checks every field.
-    pub(crate) fn build(self) -> Result<RigidBody, WorldError> {
+    pub(crate) fn build(mut self) -> Result<RigidBody, WorldError> {
         limits::vector("position", &self.position, limits::COORDINATE, "m")?;
         check_finite("orientation", self.orientation.coords.iter())?;
         limits::vector("velocity", &self.velocity, limits::SPEED, "m/s")?;
@@ -245,6 +254,7 @@ impl RigidBodyBuilder {
             check_finite("offset", pose.rotation.coords.iter())?;
             limits::vector("offset", &pose.translation.vector, limits::COORDINATE, "m")?;
         }
+        self.resolve_meshes()?;
         let (mass, inertia, offset) = if self.is_static {
             (f64::INFINITY, Matrix3::identity(), Vector3::zeros())
         } else {
@@ -290,6 +300,31 @@ impl RigidBodyBuilder {
             material,
             is_static: self.is_static,
         })
+    }
+
+    /// Gives each closed mesh the collision geometry chosen (`MeshShape::resolve`); a choice with no mesh to apply
+    /// to is an error.
+    fn resolve_meshes(&mut self) -> Result<(), WorldError> {
+        let choice = self.mesh_shape.as_ref();
+        let has_mesh = self.shape.iter().chain(self.extra.iter().map(|(s, _)| s)).any(|s| matches!(s, Shape::Mesh(_)));
+        if let (Some(c), false) = (choice, has_mesh) {
+            return Err(WorldError::invalid(
+                "shape",
+                format!("\"{}\" applies to a mesh, and the body has none", c.name()),
+            ));
+        }
+        let one = |s: &Shape| {
+            if matches!(s, Shape::Mesh(_)) {
+                MeshShape::resolve(s, choice, self.is_static)
+            } else {
+                Ok(s.clone())
+            }
+        };
+        let shape = self.shape.as_ref().map(one).transpose()?;
+        let extra = self.extra.iter().map(|(s, pose)| Ok((one(s)?, *pose))).collect::<Result<Vec<_>, WorldError>>()?;
+        self.shape = shape;
+        self.extra = extra;
+        Ok(())
     }
 
     /// (mass, inertia about the centre of mass, shape origin in the body frame).

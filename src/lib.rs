@@ -25,6 +25,7 @@ mod handle;
 mod joint;
 mod limits;
 mod load;
+mod mesh_shape;
 mod mode;
 mod model;
 mod options;
@@ -48,6 +49,7 @@ pub mod limit {
 }
 pub use joint::{Joint, JointBuilder, JointHandle, JointSpringSpec, JointType, Motor};
 pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
+pub use mesh_shape::MeshShape;
 pub use mode::{
     AccurateSettings, AccurateSolver, FastFriction, FastSettings, FastSolver, Mode, Persistent, SoftSolver,
 };
@@ -64,7 +66,7 @@ pub use world::{ContactInfo, SpringJacobian, World, WorldState};
 
 /// Shapes and mass properties (tumble-collide).
 pub use tumble_collide as collide;
-pub use tumble_collide::Shape;
+pub use tumble_collide::{Decomposition, Mesh, Shape};
 /// Contact response (tumble-contact).
 #[cfg(feature = "contact")]
 pub use tumble_contact as contact;

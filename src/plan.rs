@@ -7,6 +7,8 @@ use std::fmt;
 /// One stage of a world's step: a term of the equations of motion or a stage of an engine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Stage {
+    /// Closed meshes of moving bodies decomposed into convex pieces (when the bodies were added).
+    MeshDecomposition,
     /// The particles' equations of motion.
     Particles,
     /// The rigid bodies' equations of motion.
@@ -47,7 +49,8 @@ pub enum Stage {
 
 impl Stage {
     /// Every stage, in pipeline order.
-    pub const ALL: [Stage; 18] = [
+    pub const ALL: [Stage; 19] = [
+        Stage::MeshDecomposition,
         Stage::Particles,
         Stage::RigidBodies,
         Stage::Rotation,
@@ -71,6 +74,7 @@ impl Stage {
     /// The stage's name, as plans and reports show it.
     pub fn name(self) -> &'static str {
         match self {
+            Stage::MeshDecomposition => "mesh-decomposition",
             Stage::Particles => "particles",
             Stage::RigidBodies => "rigid-bodies",
             Stage::Rotation => "rotation",
@@ -132,7 +136,7 @@ impl std::ops::AddAssign for StageCounts {
 /// The stages a world runs and the length of its state vector.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Plan {
-    /// Active stages in pipeline order: "particles", "rigid-bodies", "rotation", "gravity", "damping",
+    /// Active stages in pipeline order: "mesh-decomposition" (done once, as bodies with meshes were added), "particles", "rigid-bodies", "rotation", "gravity", "damping",
     /// "springs", "loads", "callbacks", "joints", then with colliders that can touch "collision-detection" and either
     /// (accurate mode) "bisection", "impulses", "resting-contact" or (fast mode) "contact-soft-step" (or "contact-cone-program") and
     /// "sleeping"; then "integrate", "jacobian".
@@ -149,9 +153,10 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// Whether a stage is active.
+    /// Whether a stage is active (its name with hyphens or spaces: "mesh-decomposition" or "mesh decomposition").
     pub fn has(&self, stage: &str) -> bool {
-        self.stages.contains(&stage)
+        let stage = stage.replace(' ', "-");
+        self.stages.iter().any(|s| *s == stage)
     }
 }
 

@@ -72,6 +72,10 @@ pub struct WorldReport {
     pub joint_angle_error: f64,
     /// How many times each stage ran.
     pub stages: StageCounts,
+    /// Convex pieces of the moving bodies' decomposed meshes.
+    pub mesh_pieces: usize,
+    /// Seconds their decompositions took (each the first time its mesh was decomposed in the process, or as saved).
+    pub decomposition_seconds: f64,
 }
 
 /// One field of a report, for bindings and tables.
@@ -117,6 +121,8 @@ impl WorldReport {
             joint_error: 0.0,
             joint_angle_error: 0.0,
             stages: StageCounts::default(),
+            mesh_pieces: 0,
+            decomposition_seconds: 0.0,
         }
     }
 
@@ -170,6 +176,8 @@ impl WorldReport {
             ("load_evaluations", Count(f.load_evaluations)),
             ("callback_calls", Count(f.callback_calls)),
             ("projections", Count(f.projections)),
+            ("mesh_pieces", Count(self.mesh_pieces)),
+            ("decomposition_seconds", Number(self.decomposition_seconds)),
         ]
     }
 
@@ -283,6 +291,13 @@ impl fmt::Display for WorldReport {
                 f,
                 "\njoints           {} rows, largest error {:.3e} m and {:.3e} rad",
                 self.joint_rows, self.joint_error, self.joint_angle_error
+            )?;
+        }
+        if self.mesh_pieces > 0 {
+            write!(
+                f,
+                "\nmeshes           {} convex pieces, decomposed in {:.3} s",
+                self.mesh_pieces, self.decomposition_seconds
             )?;
         }
         write!(f, "\nstages ran       {}", self.stages.ran().join(" -> "))

@@ -9,6 +9,7 @@ mod control;
 mod convert;
 mod files;
 mod handles;
+mod mesh;
 mod report;
 mod shapes;
 mod state;
@@ -39,6 +40,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<shapes::Cylinder>()?;
     m.add_class::<shapes::ConvexHull>()?;
     m.add_class::<shapes::TriMesh>()?;
+    m.add_class::<mesh::PyMesh>()?;
     m.add_class::<handles::PyParticleHandle>()?;
     m.add_class::<handles::PyBodyHandle>()?;
     m.add_class::<handles::PySpringHandle>()?;

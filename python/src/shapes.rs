@@ -13,7 +13,26 @@ pub struct PyShape {
     pub shape: Shape,
 }
 
-fn shape_err(e: tumble::collide::ShapeError) -> PyErr {
+/// (T, 3) vertex indices: an integer array or a sequence of triples.
+pub fn triangles_arg(name: &str, triangles: &Bound<'_, PyAny>) -> PyResult<Vec<[u32; 3]>> {
+    let expected = || invalid(name, "expected (T, 3) vertex indices, each in 0 .. 2**32 - 1");
+    if let Ok(t) = triangles.extract::<Vec<[u32; 3]>>() {
+        return Ok(t);
+    }
+    let a: numpy::PyReadonlyArray2<'_, i64> = triangles
+        .call_method1("astype", ("int64",))
+        .and_then(|a| a.extract())
+        .or_else(|_| triangles.extract())
+        .map_err(|_| expected())?;
+    let view = a.as_array();
+    if view.ncols() != 3 {
+        return Err(invalid(name, format!("expected (T, 3) indices, got shape {:?}", view.shape())));
+    }
+    let index = |k: i64| u32::try_from(k).map_err(|_| expected());
+    view.rows().into_iter().map(|r| Ok([index(r[0])?, index(r[1])?, index(r[2])?])).collect()
+}
+
+pub fn shape_err(e: tumble::collide::ShapeError) -> PyErr {
     invalid(e.name, e.reason)
 }
 
@@ -77,7 +96,8 @@ impl PyShape {
         Ok((verts, tris))
     }
 
-    /// The shape's kind: "sphere", "box", "capsule", "cylinder", "convex hull", "triangle mesh", "half-space".
+    /// The shape's kind: "sphere", "box", "capsule", "cylinder", "convex hull", "mesh", "decomposed mesh",
+    /// "triangle mesh", "half-space".
     #[getter]
     fn kind(&self) -> &'static str {
         self.shape.kind()
@@ -91,6 +111,15 @@ impl PyShape {
             Shape::Cylinder { half_height, radius } => format!("Cylinder(half_height={half_height}, radius={radius})"),
             Shape::ConvexHull(h) => format!("ConvexHull({} vertices)", h.vertices().len()),
             Shape::TriMesh(m) => format!("TriMesh({} triangles)", m.triangle_count()),
+            Shape::Mesh(m) => format!("Mesh(\"{}\", {} triangles)", m.name(), m.triangles().len()),
+            Shape::Decomposed(d) => {
+                format!(
+                    "Mesh(\"{}\", {} triangles, {} pieces)",
+                    d.mesh().name(),
+                    d.mesh().triangles().len(),
+                    d.pieces().len()
+                )
+            }
             Shape::HalfSpace { normal } => format!("HalfSpace(normal=({}, {}, {}))", normal.x, normal.y, normal.z),
         }
     }
@@ -173,22 +202,7 @@ impl TriMesh {
     #[new]
     fn new(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
         let v = to_points("vertices", vertices)?;
-        let expected = || invalid("triangles", "expected (T, 3) vertex indices, each in 0 .. 2**32 - 1");
-        let t: Vec<[u32; 3]> = match triangles.extract::<Vec<[u32; 3]>>() {
-            Ok(t) => t,
-            Err(_) => {
-                let a: numpy::PyReadonlyArray2<'_, i64> = triangles.extract().map_err(|_| expected())?;
-                let view = a.as_array();
-                if view.ncols() != 3 {
-                    return Err(invalid("triangles", format!("expected (T, 3) indices, got shape {:?}", view.shape())));
-                }
-                let index = |k: i64| u32::try_from(k).map_err(|_| expected());
-                view.rows()
-                    .into_iter()
-                    .map(|r| Ok([index(r[0])?, index(r[1])?, index(r[2])?]))
-                    .collect::<PyResult<_>>()?
-            }
-        };
+        let t = triangles_arg("triangles", triangles)?;
         Ok(PyClassInitializer::from(PyShape { shape: Shape::trimesh(&v, &t).map_err(shape_err)? })
             .add_subclass(TriMesh))
     }

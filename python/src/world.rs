@@ -167,14 +167,17 @@ impl PyWorld {
     }
 
     /// Adds a rigid body: from a shape and a density (or a total mass), or from a mass and a 3x3 inertia tensor.
-    #[pyo3(signature = (shape = None, density = None, mass = None, inertia = None, position = None,
+    /// A `Mesh` moves as its convex decomposition (`decomposition={"resolution", "max_pieces", "concavity"}`), or
+    /// as its hull with `shape="hull"`; a static one keeps its exact triangles (`shape="exact"`).
+    #[pyo3(signature = (geometry = None, /, density = None, mass = None, inertia = None, position = None,
                         orientation = None, velocity = None, angular_velocity = None, restitution = None,
                         friction = None, r#static = false, linear_damping = 0.0, angular_damping = 0.0,
-                        colliders = None))]
+                        colliders = None, shape = None, decomposition = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
-        shape: Option<PyRef<'_, PyShape>>,
+        py: Python<'_>,
+        geometry: Option<PyRef<'_, PyShape>>,
         density: Option<f64>,
         mass: Option<f64>,
         inertia: Option<&Bound<'_, PyAny>>,
@@ -188,8 +191,11 @@ impl PyWorld {
         linear_damping: f64,
         angular_damping: f64,
         colliders: Option<&Bound<'_, PyAny>>,
+        shape: Option<&Bound<'_, PyAny>>,
+        decomposition: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyBodyHandle> {
-        let shape = shape.map(|s| s.shape.clone());
+        let (geometry, mesh_shape) = crate::mesh::shape_args(geometry, shape, decomposition)?;
+        let shape = geometry;
         let mut extra = Vec::new();
         if let Some(list) = colliders.filter(|c| !c.is_none()) {
             let entries = list.try_iter().map_err(|_| {
@@ -242,8 +248,14 @@ impl PyWorld {
         if let Some(mu) = friction {
             b = b.friction(mu);
         }
+        if let Some(choice) = mesh_shape {
+            b = b.mesh_shape(choice);
+        }
         b = b.linear_damping(linear_damping).angular_damping(angular_damping);
-        self.r().add_body(b).map(Into::into).map_err(world_error)
+        let mut guard = self.r();
+        let world: &mut tumble::World = &mut guard;
+        // a mesh's decomposition can take seconds: other Python threads run meanwhile
+        py.detach(|| world.add_body(b)).map(Into::into).map_err(world_error)
     }
 
     /// Adds a damped spring between `a` and `b` (particles or bodies; `b=None` with `world_point` for a fixed

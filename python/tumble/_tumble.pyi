@@ -1,6 +1,7 @@
 """Type stubs of tumble's compiled module (the package ``tumble`` re-exports these)."""
 
-from typing import Any, Callable, Self, Sequence
+import os
+from typing import Any, Callable, Literal, Self, Sequence, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -124,6 +125,39 @@ class TriMesh(Shape):
     """Static bodies only."""
     def __init__(self, vertices: npt.ArrayLike, triangles: npt.ArrayLike) -> None: ...
 
+class Mesh(Shape):
+    """A closed triangle mesh (counter-clockwise seen from outside). A moving body carries its convex
+    decomposition (or its hull, ``shape="hull"``), a static one the exact triangles; its mass properties are the
+    solid's. Raises ValueError naming the mesh when it does not bound a solid."""
+    def __init__(self, vertices: npt.ArrayLike | Any, triangles: npt.ArrayLike | None = None, name: str = "") -> None: ...
+    @staticmethod
+    def load(path: str | os.PathLike[str], scale: float = 1.0, up: Literal["y", "z"] = "z") -> Mesh:
+        """An OBJ, STL, PLY, glTF or GLB file's meshes merged, placed by the file's transforms, scaled by ``scale``
+        (file units to metres), the file's ``up`` axis turned to +z."""
+    @staticmethod
+    def load_all(path: str | os.PathLike[str], scale: float = 1.0, up: Literal["y", "z"] = "z") -> list[Mesh]:
+        """A file's meshes one by one (as ``load``, not merged)."""
+    @property
+    def vertices(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def triangles(self) -> npt.NDArray[np.uint32]: ...
+    @property
+    def volume(self) -> float: ...
+    @property
+    def name(self) -> str: ...
+    def hull(self) -> ConvexHull: ...
+    def pieces(
+        self, resolution: int | None = None, max_pieces: int | None = None, concavity: float | None = None
+    ) -> list[ConvexHull]:
+        """The convex pieces a moving body of this mesh collides with (defaults: 64, 32, 0.01)."""
+
+MeshShapeName = Literal["decomposed", "hull", "exact"]
+
+class Decomposition(TypedDict, total=False):
+    resolution: int
+    max_pieces: int
+    concavity: float
+
 class World:
     def __init__(
         self,
@@ -188,7 +222,8 @@ class World:
     ) -> ParticleHandle: ...
     def add_body(
         self,
-        shape: Shape | None = None,
+        geometry: Shape | None = None,
+        /,
         density: float | None = None,
         mass: float | None = None,
         inertia: npt.ArrayLike | None = None,
@@ -202,6 +237,8 @@ class World:
         linear_damping: float = 0.0,
         angular_damping: float = 0.0,
         colliders: list[tuple[Shape, Vec3] | tuple[Shape, Vec3, Quat]] | None = None,
+        shape: Shape | MeshShapeName | None = None,
+        decomposition: Decomposition | None = None,
     ) -> BodyHandle: ...
     def add_spring(
         self,

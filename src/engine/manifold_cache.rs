@@ -60,7 +60,9 @@ impl ManifoldCache {
         prediction: f64,
         compute: impl FnOnce(f64) -> Result<Vec<Contact>, E>,
     ) -> Result<Vec<Contact>, E> {
-        let polyhedral = |s: &Shape| matches!(s, Shape::Cuboid { .. } | Shape::ConvexHull(_) | Shape::HalfSpace { .. });
+        let polyhedral = |s: &Shape| {
+            matches!(s, Shape::Cuboid { .. } | Shape::ConvexHull(_) | Shape::Decomposed(_) | Shape::HalfSpace { .. })
+        };
         let size = radius_a.min(radius_b);
         let reuse = REUSE * size;
         if !(polyhedral(shape_a) && polyhedral(shape_b) && size.is_finite() && size > 0.0) {

@@ -6,6 +6,7 @@ use crate::collider::Material;
 use crate::mode::Mode;
 use crate::world::SpringJacobian;
 use serde::{Deserialize, Serialize};
+use tumble_collide::Decomposition;
 use tumble_integrate::Settings;
 
 /// The format's name, written first in a JSON file.
@@ -98,13 +99,50 @@ pub struct ParticleFile {
 #[derive(Serialize, Deserialize, Debug, Clone)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ShapeFile {
-    Sphere { radius: f64 },
-    Box { half_extents: [f64; 3] },
-    Capsule { half_height: f64, radius: f64 },
-    Cylinder { half_height: f64, radius: f64 },
-    ConvexHull { points: Vec<[f64; 3]> },
-    TriMesh { vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]> },
-    HalfSpace { normal: [f64; 3] },
+    Sphere {
+        radius: f64,
+    },
+    Box {
+        half_extents: [f64; 3],
+    },
+    Capsule {
+        half_height: f64,
+        radius: f64,
+    },
+    Cylinder {
+        half_height: f64,
+        radius: f64,
+    },
+    ConvexHull {
+        points: Vec<[f64; 3]>,
+    },
+    TriMesh {
+        vertices: Vec<[f64; 3]>,
+        triangles: Vec<[u32; 3]>,
+    },
+    /// A closed mesh: exact on a static body, decomposed (with `decomposition`, else the defaults) on a moving one.
+    Mesh {
+        vertices: Vec<[f64; 3]>,
+        triangles: Vec<[u32; 3]>,
+        #[serde(default)]
+        name: String,
+        #[serde(default)]
+        decomposition: Option<Decomposition>,
+    },
+    /// A closed mesh and its convex pieces (point sets), as saved: loading does not decompose it again.
+    DecomposedMesh {
+        vertices: Vec<[f64; 3]>,
+        triangles: Vec<[u32; 3]>,
+        #[serde(default)]
+        name: String,
+        decomposition: Decomposition,
+        pieces: Vec<Vec<[f64; 3]>>,
+        #[serde(default)]
+        seconds: f64,
+    },
+    HalfSpace {
+        normal: [f64; 3],
+    },
 }
 
 /// A shape placed in its body's frame (relative to the centre of mass when the body's mass and inertia are given,

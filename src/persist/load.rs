@@ -12,7 +12,7 @@ use crate::particle::ParticleBuilder;
 use crate::spring::{Attachment, BodyHandle, ParticleHandle, SpringBuilder};
 use crate::world::World;
 use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, Translation3, Unit, UnitQuaternion, Vector3};
-use tumble_collide::Shape;
+use tumble_collide::{Decomposed, Mesh, Shape};
 
 /// An error of the list `list` (a field name the error carries), said with the item's path.
 fn at(list: &'static str, path: String) -> impl Fn(WorldError) -> WorldError {
@@ -47,6 +47,21 @@ pub(crate) fn shape(s: &ShapeFile) -> Result<Shape, WorldError> {
         ShapeFile::Cylinder { half_height, radius } => Shape::cylinder(*half_height, *radius)?,
         ShapeFile::ConvexHull { points: p } => Shape::convex_hull(&points(p))?,
         ShapeFile::TriMesh { vertices, triangles } => Shape::trimesh(&points(vertices), triangles)?,
+        ShapeFile::Mesh { vertices, triangles, name, decomposition } => {
+            let mesh = Mesh::new(&points(vertices), triangles, name)?;
+            match decomposition {
+                Some(params) => Shape::decomposed(&mesh, params)?,
+                None => Shape::mesh(mesh),
+            }
+        }
+        ShapeFile::DecomposedMesh { vertices, triangles, name, decomposition, pieces, seconds } => {
+            let mesh = Mesh::new(&points(vertices), triangles, name)?;
+            let pieces: Vec<Vec<Point3<f64>>> = pieces.iter().map(|p| points(p)).collect();
+            if !(seconds.is_finite() && *seconds >= 0.0) {
+                return Err(WorldError::invalid("seconds", format!("must be finite and >= 0, got {seconds}")));
+            }
+            Shape::Decomposed(Decomposed::from_pieces(&mesh, decomposition, &pieces, *seconds)?)
+        }
         ShapeFile::HalfSpace { normal } => {
             let n = v3(*normal);
             if n.iter().all(|c| c.is_finite()) && (n.norm() - 1.0).abs() <= 1e-12 {

@@ -28,6 +28,20 @@ pub(crate) fn shape_file(s: &Shape) -> ShapeFile {
         Shape::Cylinder { half_height, radius } => ShapeFile::Cylinder { half_height: *half_height, radius: *radius },
         Shape::ConvexHull(h) => ShapeFile::ConvexHull { points: points(h.source_points().to_vec()) },
         Shape::TriMesh(m) => ShapeFile::TriMesh { vertices: points(m.vertices()), triangles: m.triangles() },
+        Shape::Mesh(m) => ShapeFile::Mesh {
+            vertices: points(m.vertices().to_vec()),
+            triangles: m.triangles().to_vec(),
+            name: m.name().to_string(),
+            decomposition: None,
+        },
+        Shape::Decomposed(d) => ShapeFile::DecomposedMesh {
+            vertices: points(d.mesh().vertices().to_vec()),
+            triangles: d.mesh().triangles().to_vec(),
+            name: d.mesh().name().to_string(),
+            decomposition: *d.params(),
+            pieces: d.pieces().iter().map(|h| points(h.source_points().to_vec())).collect(),
+            seconds: d.seconds(),
+        },
         Shape::HalfSpace { normal } => ShapeFile::HalfSpace { normal: v3(normal) },
     }
 }

@@ -230,7 +230,15 @@ impl World {
 
     /// Everything the world's steps have cost so far.
     pub fn report(&self) -> WorldReport {
-        self.totals.clone()
+        let mut r = self.totals.clone();
+        for c in self.bodies.iter().flat_map(|(_, b)| b.colliders.iter()) {
+            if let tumble_collide::Shape::Decomposed(d) = &c.shape {
+                r.mesh_pieces += d.pieces().len();
+                r.decomposition_seconds += d.seconds();
+                r.stages.mark(crate::plan::Stage::MeshDecomposition);
+            }
+        }
+        r
     }
 }
 

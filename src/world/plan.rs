@@ -14,9 +14,14 @@ impl World {
             None => crate::engine::planned(&self.mode, &compiled.model, &self.settings, self.has_contact(&compiled)),
         };
         let fast = matches!(self.mode, Mode::Fast(_));
+        let decomposed = self
+            .bodies
+            .iter()
+            .any(|(_, b)| b.colliders.iter().any(|c| matches!(c.shape, tumble_collide::Shape::Decomposed(_))));
+        let setup = decomposed.then_some(Stage::MeshDecomposition);
         Plan {
             jacobian: stages.contains(&Stage::Jacobian).then(|| compiled.model.jacobian_name()),
-            stages: stages.iter().map(|s| s.name()).collect(),
+            stages: setup.iter().chain(stages.iter()).map(|s| s.name()).collect(),
             state_len: compiled.model.layout.dim(),
             mode: self.mode.name(),
             method: if fast { "fast (semi-implicit Euler)" } else { self.settings.method.name() },

@@ -113,12 +113,19 @@ pub fn contacts(
         let Some(normal) = Unit::try_new(from_parry(sa.rotation * m.local_n1), 1e-12) else { continue };
         // A hull's face of more than four vertices: parry keeps four of them, the whole face is clipped here.
         let (ta, tb) = (va.triangle(m.subshape1), vb.triangle(m.subshape2));
-        let part_a: &dyn ParryShape = ta.as_ref().map_or(va.as_dyn(), |t| t);
-        let part_b: &dyn ParryShape = tb.as_ref().map_or(vb.as_dyn(), |t| t);
+        let (ca, cb) = (va.piece(m.subshape1), vb.piece(m.subshape2));
+        let part_a: &dyn ParryShape = ta.as_ref().map(|t| t as &dyn ParryShape).or(ca).unwrap_or(va.as_dyn());
+        let part_b: &dyn ParryShape = tb.as_ref().map(|t| t as &dyn ParryShape).or(cb).unwrap_or(vb.as_dyn());
+        // a compound's features are numbered within each piece: the piece's number goes into the id
+        let tag = |c: Contact| Contact {
+            feature_a: ca.map_or(c.feature_a, |_| in_piece(c.feature_a, m.subshape1)),
+            feature_b: cb.map_or(c.feature_b, |_| in_piece(c.feature_b, m.subshape2)),
+            ..c
+        };
         let planar = part_a.as_halfspace().is_some() || part_b.as_halfspace().is_some();
         if !m.points.is_empty() || planar {
             if let Some(whole) = long_face_contacts(part_a, &sa, part_b, &sb, normal, prediction) {
-                for c in whole {
+                for c in whole.into_iter().map(tag) {
                     if !out.iter().any(|o| same_place(o, &c)) {
                         out.push(c);
                     }
@@ -134,7 +141,7 @@ pub fn contacts(
             if unknown && p.dist >= deepest_labelled - 1e-12 * (1.0 + p.dist.abs()) {
                 continue;
             }
-            let c = Contact {
+            let c = tag(Contact {
                 point_a: point_from_parry(sa.transform_point(p.local_p1)),
                 point_b: point_from_parry(sb.transform_point(p.local_p2)),
                 normal,
@@ -142,13 +149,25 @@ pub fn contacts(
                 kind: kind(fa, fb),
                 feature_a: fa,
                 feature_b: fb,
-            };
+            });
             if !out.iter().any(|o| same_place(o, &c)) {
                 out.push(c);
             }
         }
     }
     Ok(out)
+}
+
+/// A piece's feature as a feature of its compound: the piece number in the id's upper 16 bits (pieces and their
+/// features number fewer than 65536).
+fn in_piece(f: Feature, piece: u32) -> Feature {
+    let id = |i: u32| (piece << 16) | (i & 0xffff);
+    match f {
+        Feature::Vertex(i) => Feature::Vertex(id(i)),
+        Feature::Edge(i) => Feature::Edge(id(i)),
+        Feature::Face(i) => Feature::Face(id(i)),
+        other => other,
+    }
 }
 
 /// Whether two contacts sit at the same place (to 1e-9 relative).

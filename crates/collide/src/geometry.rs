@@ -6,7 +6,7 @@ use crate::shape::Shape;
 use nalgebra::Isometry3;
 use parry3d_f64::math::{Pose, Rotation, Vector};
 use parry3d_f64::shape::{
-    Ball, Capsule, ConvexPolyhedron, Cuboid, Cylinder, HalfSpace, Shape as ParryShape, TriMesh, Triangle,
+    Ball, Capsule, Compound, ConvexPolyhedron, Cuboid, Cylinder, HalfSpace, Shape as ParryShape, TriMesh, Triangle,
 };
 
 /// A parry shape borrowed or built from one of ours.
@@ -17,6 +17,7 @@ pub(crate) enum ParryView<'a> {
     Cylinder(Cylinder),
     Hull(&'a ConvexPolyhedron),
     Mesh(&'a TriMesh),
+    Compound(&'a Compound),
     HalfSpace(HalfSpace),
 }
 
@@ -29,6 +30,8 @@ impl<'a> ParryView<'a> {
             Shape::Cylinder { half_height, radius } => ParryView::Cylinder(Cylinder::new(*half_height, *radius)),
             Shape::ConvexHull(h) => ParryView::Hull(&h.polyhedron),
             Shape::TriMesh(m) => ParryView::Mesh(&m.mesh),
+            Shape::Mesh(m) => ParryView::Mesh(&m.exact),
+            Shape::Decomposed(d) => ParryView::Compound(&d.compound),
             Shape::HalfSpace { normal } => ParryView::HalfSpace(HalfSpace::new(to_parry(normal))),
         }
     }
@@ -41,6 +44,7 @@ impl<'a> ParryView<'a> {
             ParryView::Cylinder(s) => s,
             ParryView::Hull(s) => *s,
             ParryView::Mesh(s) => *s,
+            ParryView::Compound(s) => *s,
             ParryView::HalfSpace(s) => s,
         }
     }
@@ -49,6 +53,14 @@ impl<'a> ParryView<'a> {
     pub(crate) fn triangle(&self, index: u32) -> Option<Triangle> {
         match self {
             ParryView::Mesh(m) if (index as usize) < m.indices().len() => Some(m.triangle(index)),
+            _ => None,
+        }
+    }
+
+    /// Convex piece `index` of a compound; `None` for other shapes.
+    pub(crate) fn piece(&self, index: u32) -> Option<&'a dyn ParryShape> {
+        match self {
+            ParryView::Compound(c) => c.shapes().get(index as usize).map(|(_, s)| s.as_ref()),
             _ => None,
         }
     }

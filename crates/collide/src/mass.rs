@@ -52,6 +52,8 @@ impl Shape {
                 });
             }
             Shape::ConvexHull(h) => h.polyhedron.mass_properties(density),
+            Shape::Mesh(m) => return Ok(m.unit),
+            Shape::Decomposed(d) => return Ok(d.mesh.unit),
             Shape::TriMesh(_) | Shape::HalfSpace { .. } => {
                 return Err(ShapeError::new(
                     "shape",

@@ -22,6 +22,9 @@ impl Shape {
             }
             Shape::ConvexHull(h) => h.polyhedron.to_trimesh(),
             Shape::TriMesh(m) => (m.mesh.vertices().to_vec(), m.mesh.indices().to_vec()),
+            // a mesh is drawn as given, not as its convex pieces
+            Shape::Mesh(m) => return (m.vertices().to_vec(), m.triangles().to_vec()),
+            Shape::Decomposed(d) => return (d.mesh.vertices().to_vec(), d.mesh.triangles().to_vec()),
             Shape::HalfSpace { normal } => {
                 let (u, v) = orthonormal_pair(normal);
                 let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];

@@ -1,8 +1,10 @@
-//! Shapes: sphere, box, capsule, cylinder (both along the body's z axis), convex hull, static triangle mesh and
-//! half-space, validated on construction.
+//! Shapes: sphere, box, capsule, cylinder (both along the body's z axis), convex hull, closed mesh (exact, or
+//! decomposed into convex pieces to move), static triangle mesh and half-space, validated on construction.
 
 use crate::convert::{point_from_parry, point_to_parry};
+use crate::decompose::{Decomposed, Decomposition};
 use crate::error::{positive, ShapeError};
+use crate::surface_mesh::Mesh;
 use nalgebra::{Point3, Unit, Vector3};
 use parry3d_f64::shape::{ConvexPolyhedron, TriMesh as ParryTriMesh};
 use std::sync::Arc;
@@ -65,6 +67,10 @@ pub enum Shape {
     ConvexHull(ConvexHull),
     /// A triangle mesh (static only).
     TriMesh(TriMesh),
+    /// A closed mesh, its exact triangles (a static body keeps them; a dynamic one is given its decomposition).
+    Mesh(Mesh),
+    /// A closed mesh decomposed into convex pieces, its mass properties the mesh's.
+    Decomposed(Decomposed),
     /// The half-space below the plane through the origin with this outward normal (a ground; static only).
     HalfSpace { normal: Unit<Vector3<f64>> },
 }
@@ -139,6 +145,30 @@ impl Shape {
         Ok(Shape::TriMesh(TriMesh { mesh: Arc::new(mesh) }))
     }
 
+    /// A closed mesh as a shape (its exact triangles).
+    pub fn mesh(mesh: Mesh) -> Shape {
+        Shape::Mesh(mesh)
+    }
+
+    /// A closed mesh's approximate convex decomposition (cached per process).
+    pub fn decomposed(mesh: &Mesh, params: &Decomposition) -> Result<Shape, ShapeError> {
+        Ok(Shape::Decomposed(Decomposed::new(mesh, params)?))
+    }
+
+    /// The convex hull of a mesh's vertices.
+    pub fn hull_of(mesh: &Mesh) -> Result<Shape, ShapeError> {
+        Self::convex_hull(mesh.vertices()).map_err(|e| ShapeError::new("mesh", format!("its hull: {}", e.reason)))
+    }
+
+    /// The closed mesh a shape was made from (a mesh or its decomposition).
+    pub fn source_mesh(&self) -> Option<&Mesh> {
+        match self {
+            Shape::Mesh(m) => Some(m),
+            Shape::Decomposed(d) => Some(&d.mesh),
+            _ => None,
+        }
+    }
+
     /// A half-space with the given outward normal (normalised here; it must be finite and nonzero).
     pub fn half_space(normal: Vector3<f64>) -> Result<Shape, ShapeError> {
         let n = normal.norm();
@@ -162,6 +192,8 @@ impl Shape {
             Shape::Cylinder { .. } => "cylinder",
             Shape::ConvexHull(_) => "convex hull",
             Shape::TriMesh(_) => "triangle mesh",
+            Shape::Mesh(_) => "mesh",
+            Shape::Decomposed(_) => "decomposed mesh",
             Shape::HalfSpace { .. } => "half-space",
         }
     }
