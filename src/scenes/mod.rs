@@ -1,6 +1,7 @@
 //! Built-in scenes: a cloth pinned at two corners, and a heavy top spinning on a pivot; with contact (in
 //! `contact.rs`) a bouncing ball, a tumbling box, a row of dominoes, a pyramid of boxes and a cloth draping over a
-//! sphere. Examples, benchmarks, tests and the Python module's default job start from them.
+//! sphere; and (in `meshes.rs`) meshes built in code: a ball in a cup, a ring on a peg, a chair, a rolling torus, a
+//! pile of meshes. Examples, benchmarks, tests and the Python module's default job start from them.
 
 #[cfg(feature = "contact")]
 mod benchmark;
@@ -8,6 +9,8 @@ mod benchmark;
 mod contact;
 #[cfg(feature = "contact")]
 pub mod joints;
+#[cfg(feature = "contact")]
+pub mod meshes;
 mod registry;
 #[cfg(feature = "contact")]
 pub use benchmark::Benchmark;

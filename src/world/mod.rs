@@ -231,11 +231,15 @@ impl World {
     /// Everything the world's steps have cost so far.
     pub fn report(&self) -> WorldReport {
         let mut r = self.totals.clone();
+        // each mesh is decomposed once however many bodies carry it
+        let mut seen = std::collections::BTreeSet::new();
         for c in self.bodies.iter().flat_map(|(_, b)| b.colliders.iter()) {
             if let tumble_collide::Shape::Decomposed(d) = &c.shape {
                 r.mesh_pieces += d.pieces().len();
-                r.decomposition_seconds += d.seconds();
-                r.stages.mark(crate::plan::Stage::MeshDecomposition);
+                if seen.insert(d.key()) {
+                    r.decomposition_seconds += d.seconds();
+                    r.stages.mark(crate::plan::Stage::MeshDecomposition);
+                }
             }
         }
         r

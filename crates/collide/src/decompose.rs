@@ -156,6 +156,11 @@ impl Decomposed {
         &self.pieces
     }
 
+    /// The digest of mesh and parameters (equal for decompositions of the same mesh with the same parameters).
+    pub fn key(&self) -> u64 {
+        self.params.digest(&self.mesh)
+    }
+
     /// Seconds the decomposition took when it ran (the first time in this process, or as saved).
     pub fn seconds(&self) -> f64 {
         self.seconds
