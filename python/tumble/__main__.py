@@ -38,6 +38,11 @@ SCENES: dict[str, tuple[Callable[[], World], float, str]] = {
     "cradle": (scenes.newtons_cradle, 3.0, "Newton's cradle, the first ball pulled out and let go"),
     "door": (scenes.door, 3.0, "a door swung open by its hinge's motor to its limit"),
     "ragdoll": (scenes.ragdoll, 3.0, "a ragdoll of ten parts pushed down a flight of stairs"),
+    "ball-in-cup": (scenes.ball_in_cup, 3.0, "a ball dropped into a cup of one non-convex mesh, staying in"),
+    "ring-on-peg": (scenes.ring_on_peg, 3.0, "a ring (a torus mesh) tossed onto a peg, sliding down around it"),
+    "chair": (scenes.chair, 2.0, "a chair of one non-convex mesh standing on its four legs"),
+    "torus-roll": (scenes.torus_roll, 3.0, "a torus mesh rolling on its edge"),
+    "mesh-pile": (scenes.mesh_pile, 3.0, "fifty meshes of five kinds dropped in a pile (fast mode)"),
 }
 
 

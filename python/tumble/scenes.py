@@ -141,3 +141,30 @@ def benchmark(name: str = "slide", degrees: float = 35.0) -> World:
     if name not in BENCHMARKS:
         raise ValueError(f"name: expected one of {', '.join(BENCHMARKS)}, got {name!r}")
     return World._rust_scene("benchmark", which=BENCHMARKS.index(name) + 1, degrees=degrees)
+
+
+def ball_in_cup(fast: bool = False, hull: bool = False) -> World:
+    """A 3 cm rubber ball dropped into a ceramic cup (one non-convex mesh, decomposed) standing on the floor; it
+    stays in. ``hull=True`` gives the cup its convex hull, and the ball lands on the lid (accurate mode, or fast)."""
+    return World._rust_scene("ball_in_cup", fast=int(fast), hull=int(hull))
+
+
+def ring_on_peg(fast: bool = False) -> World:
+    """A wooden ring (a torus mesh) tossed onto a static peg (an exact cylinder mesh); it slides down around it."""
+    return World._rust_scene("ring_on_peg", fast=int(fast))
+
+
+def chair(fast: bool = False) -> World:
+    """A chair of one non-convex mesh set down on its four legs."""
+    return World._rust_scene("chair", fast=int(fast))
+
+
+def torus_roll(fast: bool = False) -> World:
+    """A rubber torus standing on edge, rolling along x at 1 m/s."""
+    return World._rust_scene("torus_roll", fast=int(fast))
+
+
+def mesh_pile(count: int = 50, fast: bool = True, hull: bool = False) -> World:
+    """``count`` meshes of five kinds (cup, ring, stool, pebble, peg) dropped in a loose column (fast mode by
+    default); ``hull=True`` gives each its convex hull."""
+    return World._rust_scene("mesh_pile", count=count, fast=int(fast), hull=int(hull))

@@ -7,7 +7,7 @@ use crate::error::WorldError;
 use crate::world::World;
 
 /// The built-in scenes' names.
-pub const NAMES: [&str; 14] = [
+pub const NAMES: [&str; 19] = [
     "cloth",
     "spinning_top",
     "bouncing_ball",
@@ -22,6 +22,11 @@ pub const NAMES: [&str; 14] = [
     "door",
     "ragdoll",
     "benchmark",
+    "ball_in_cup",
+    "ring_on_peg",
+    "chair",
+    "torus_roll",
+    "mesh_pile",
 ];
 
 /// Largest count a scene parameter may take (particles a side, dominoes, pyramid layers).
@@ -61,6 +66,15 @@ impl<'a> Params<'a> {
             return Err(WorldError::invalid(key, format!("must be a whole number from 1 to {MAX_COUNT}, got {v}")));
         }
         Ok(v as usize)
+    }
+
+    /// A yes-or-no parameter given as 0 or 1, or `false`.
+    fn flag(&mut self, key: &'static str) -> Result<bool, WorldError> {
+        match self.number(key, 0.0)? {
+            v if v == 0.0 => Ok(false),
+            v if v == 1.0 => Ok(true),
+            v => Err(WorldError::invalid(key, format!("must be 0 or 1, got {v}"))),
+        }
     }
 
     /// An error naming the first parameter the scene did not take.
@@ -155,6 +169,27 @@ fn jointed(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>, W
     Ok(world)
 }
 
+/// The mesh scenes (`meshes.rs`): `fast=1` runs fast mode at 1/240 s (accurate mode otherwise); `hull=1` gives
+/// the cup, or the pile's meshes, their convex hulls.
+#[cfg(feature = "contact")]
+fn mesh_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>, WorldError> {
+    use super::meshes;
+    let mode = if p.flag("fast")? { crate::mode::Mode::fast(1.0 / 240.0) } else { crate::mode::Mode::default() };
+    let hull = if matches!(name, "ball_in_cup" | "mesh_pile") { p.flag("hull")? } else { false };
+    let count = if name == "mesh_pile" { p.count("count", 50)? } else { 0 };
+    p.finish(name)?;
+    if !make {
+        return Ok(None);
+    }
+    Ok(Some(match name {
+        "ball_in_cup" => meshes::ball_in_cup(mode, hull)?.0,
+        "ring_on_peg" => meshes::ring_on_peg(mode)?.0,
+        "chair" => meshes::chair(mode)?.0,
+        "torus_roll" => meshes::torus_roll(mode)?.0,
+        _ => meshes::mesh_pile(mode, count, hull)?.0,
+    }))
+}
+
 fn unknown(name: &str) -> WorldError {
     WorldError::invalid("name", format!("unknown scene {name:?}; expected one of {}", NAMES.join(", ")))
 }
@@ -229,6 +264,7 @@ fn contact_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<Wor
                 None
             }
         }
+        "ball_in_cup" | "ring_on_peg" | "chair" | "torus_roll" | "mesh_pile" => return mesh_scene(name, p, make),
         "benchmark" => {
             // the scenes accurate mode is compared with CENIC on (`benchmark.rs`), by number
             use super::Benchmark;
