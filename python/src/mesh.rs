@@ -173,12 +173,22 @@ pub fn decomposition_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Deco
 /// `add_body`'s shape arguments: the shape given first (or as `shape=`, by keyword), and for a mesh how it collides
 /// (`shape="decomposed" | "hull" | "exact"`, `decomposition=`).
 pub fn shape_args(
-    geometry: Option<PyRef<'_, PyShape>>,
+    geometry: Option<&Bound<'_, PyAny>>,
     shape: Option<&Bound<'_, PyAny>>,
     decomposition: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(Option<Shape>, Option<tumble::MeshShape>)> {
     let decomposition = decomposition_arg(decomposition)?;
     let shape = shape.filter(|s| !s.is_none());
+    // the first argument is `shape` to the caller (a keyword `shape=` may hold it instead)
+    let geometry = match geometry.filter(|g| !g.is_none()) {
+        Some(g) => Some(g.extract::<PyRef<'_, PyShape>>().map_err(|_| {
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "invalid argument `shape`: expected a Shape (Sphere, Box, Mesh, ...), got {}",
+                repr(g)
+            ))
+        })?),
+        None => None,
+    };
     let (geometry, name) = match (geometry, shape) {
         (g, None) => (g.map(|g| g.shape.clone()), None),
         (None, Some(s)) => match s.extract::<PyRef<'_, PyShape>>() {

@@ -177,7 +177,7 @@ impl PyWorld {
     fn add_body(
         &mut self,
         py: Python<'_>,
-        geometry: Option<PyRef<'_, PyShape>>,
+        geometry: Option<&Bound<'_, PyAny>>,
         density: Option<f64>,
         mass: Option<f64>,
         inertia: Option<&Bound<'_, PyAny>>,

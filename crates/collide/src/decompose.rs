@@ -106,6 +106,14 @@ impl Decomposed {
         Self::from_pieces(mesh, params, &points, seconds)
     }
 
+    /// The decomposition computed afresh, neither read from nor written to the cache (what benchmarks time).
+    pub fn uncached(mesh: &Mesh, params: &Decomposition) -> Result<Decomposed, ShapeError> {
+        params.check()?;
+        let start = Instant::now();
+        let points = vhacd(mesh, params);
+        Self::from_pieces(mesh, params, &points, start.elapsed().as_secs_f64())
+    }
+
     /// A decomposition whose pieces are given as point sets (as a saved world has them): each piece is their hull.
     pub fn from_pieces(
         mesh: &Mesh,
