@@ -1,5 +1,6 @@
 //! A fuzz suite over the Rust API (proptest): random programs of world calls, with good, extreme and bad values
-//! (NaN, infinities, 5e-324, 1e308, negative and zero sizes, stale handles), joints of every kind and option
+//! (NaN, infinities, 5e-324, 1e308, negative and zero sizes, stale handles), meshes (decomposed, as hulls, and
+//! meshes that bound no solid), joints of every kind and option
 //! between bodies and the world, in both modes. After every call the
 //! world must be finite if the call succeeded and bit for bit unchanged if it failed; no call may panic; a program
 //! rerun on a fresh world must end in the same bits; its last world saved and loaded must continue as a copy of it.
@@ -119,7 +120,7 @@ fn op() -> impl Strategy<Value = Op> {
     prop_oneof![
         3 => (num(0.01, 10.0), vec3(-2.0, 2.0), vec3(-3.0, 3.0), prop_oneof![Just(0.0), num(0.01, 0.3)], prop_oneof![Just(0.0), num(0.0, 2.0)])
             .prop_map(|(mass, pos, vel, radius, damping)| Op::Particle { mass, pos, vel, radius, damping }),
-        4 => (0u8..4, num(0.05, 0.6), num(10.0, 3000.0), vec3(-2.0, 3.0), vec3(-3.0, 3.0), vec3(-3.0, 3.0), vec3(-10.0, 10.0), num(0.0, 1.0), num(0.0, 1.0))
+        4 => (0u8..7, num(0.05, 0.6), num(10.0, 3000.0), vec3(-2.0, 3.0), vec3(-3.0, 3.0), vec3(-3.0, 3.0), vec3(-10.0, 10.0), num(0.0, 1.0), num(0.0, 1.0))
             .prop_map(|(kind, size, density, pos, turn, vel, spin, e, mu)| Op::Body { kind, size, density, pos, turn, vel, spin, e, mu }),
         1 => (num(-1.0, 1.0), num(0.0, 1.0), num(0.0, 1.0)).prop_map(|(height, e, mu)| Op::Ground { height, e, mu }),
         2 => (0usize..8, 0usize..8, num(1.0, 1e6), num(0.0, 10.0)).prop_map(|(a, b, k, c)| Op::Spring { a, b, k, c }),
@@ -166,9 +167,22 @@ fn apply(w: &mut World, made: &mut Made, op: &Op) -> Result<(), WorldError> {
                 0 => Shape::sphere(size),
                 1 => Shape::cuboid(Vector3::new(size, 0.7 * size, 1.3 * size)),
                 2 => Shape::capsule(size, 0.5 * size),
-                _ => Shape::cylinder(size, 0.8 * size),
+                3 => Shape::cylinder(size, 0.8 * size),
+                // a torus mesh: decomposed (coarsely, to keep programs quick) or as its hull
+                4 | 5 => Ok(Shape::mesh(tumble::Mesh::torus_mesh(size, 0.3 * size, 8)?)),
+                // a mesh that bounds no solid: one triangle, or a torus with a triangle missing
+                _ => {
+                    let t = tumble::Mesh::torus_mesh(0.2, 0.05, 8)?;
+                    let (vertices, triangles) = if size > 0.3 {
+                        (t.vertices()[..3].to_vec(), vec![[0, 1, 2]])
+                    } else {
+                        (t.vertices().to_vec(), t.triangles()[1..].to_vec())
+                    };
+                    Ok(Shape::mesh(tumble::Mesh::new(&vertices, &triangles, "bad")?))
+                }
             }?;
             let q = UnitQuaternion::from_euler_angles(turn[0], turn[1], turn[2]);
+            let coarse = tumble::Decomposition { resolution: 16, max_pieces: 8, concavity: 0.02 };
             let b = RigidBodyBuilder::from_shape(shape, density)
                 .position(v(pos))
                 .orientation(q)
@@ -176,6 +190,11 @@ fn apply(w: &mut World, made: &mut Made, op: &Op) -> Result<(), WorldError> {
                 .angular_velocity(v(spin))
                 .restitution(e)
                 .friction(mu);
+            let b = match kind {
+                4 => b.mesh_shape(tumble::MeshShape::Decomposed(coarse)),
+                5 => b.mesh_shape(tumble::MeshShape::Hull),
+                _ => b,
+            };
             made.bodies.push(w.add_body(b)?);
         }
         Op::Ground { height, e, mu } => {

@@ -153,7 +153,7 @@ def hull_points(draw, hostile: bool):
 @st.composite
 def shapes(draw, hostile: bool, valid_type: bool = False, static: bool = True):
     """A shape constructor call (TriMesh only if `static`); hostile: with bad arguments, or not a shape at all."""
-    kind = draw(st.integers(0, 5 if static else 4))
+    kind = draw(st.integers(0, 6 if static else 5))
     npos = draw(st.sampled_from([99, 0]))
     size = {"wide": (1e-3, 50.0)}
     if kind == 0:
@@ -166,6 +166,13 @@ def shapes(draw, hostile: bool, valid_type: bool = False, static: bool = True):
                             ("radius", draw(scalar(0.05, 0.5, hostile, **size)))), npos)
     if kind == 4:
         return ShapeX("ConvexHull", (("points", draw(hull_points(hostile))),), npos)
+    if kind == 5:  # a closed mesh (a moving body decomposes it); an open one, or worse, is refused by name
+        scale = draw(scalar(0.1, 1.0, hostile, **size))
+        meshes = [(8, st.just((TETRA_V, TETRA_T))), (2, st.just((QUAD_V, QUAD_T)))]
+        v, t = pick(draw, *(meshes + ([(6, st.sampled_from(BAD_MESHES))] if hostile else [])))
+        if isinstance(scale, float) and (v is TETRA_V):
+            v = [tuple(scale * c for c in p) for p in v]
+        return ShapeX("Mesh", (("vertices", v), ("triangles", t)), npos)
     if hostile and not valid_type and draw(st.integers(0, 3)) == 0:
         return draw(st.sampled_from([Raw('"sphere"'), 1.0, Raw("tumble.World()"), Raw("tumble.Sphere")]))
     meshes = [(8, st.sampled_from([(TETRA_V, TETRA_T), (QUAD_V, QUAD_T)])),

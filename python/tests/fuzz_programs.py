@@ -158,6 +158,7 @@ SIGNATURES = {
     "Cylinder": "half_height radius",
     "ConvexHull": "points",
     "TriMesh": "vertices triangles",
+    "Mesh": "vertices triangles name mesh",
     "cloth": "n size mass stiffness damping pin_stiffness",
     "spinning_top": "",
     "bouncing_ball": "restitution radius height",

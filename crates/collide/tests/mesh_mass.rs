@@ -211,3 +211,31 @@ fn split_vertices_at_one_place_are_one_vertex() {
     let m = Mesh::new(&split, &tris, "split").unwrap();
     assert!((m.volume() - 1.0).abs() < 1e-15);
 }
+
+#[test]
+fn too_many_triangles_are_refused_before_any_work() {
+    // Ten million and one triangles (120 MB of indices) over three vertices: refused by count, not checked one by one.
+    let v = [Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0)];
+    let t = vec![[0u32, 1, 2]; tumble_collide::MAX_TRIANGLES + 1];
+    let e = Mesh::new(&v, &t, "huge").unwrap_err();
+    assert!(e.reason.contains("more than the 10000000 allowed"), "{}", e.reason);
+    // a decomposition refuses more than a million (its voxelisation visits each), offering the hull
+    let big = Mesh::torus_mesh(0.1, 0.03, 710).unwrap();
+    assert!(big.triangles().len() > tumble_collide::MAX_DECOMPOSED_TRIANGLES);
+    let e = Shape::decomposed(&big, &Default::default()).unwrap_err();
+    assert!(e.reason.contains("hull"), "{}", e.reason);
+}
+
+#[test]
+fn tiny_and_huge_meshes_keep_finite_mass_properties() {
+    // A 1 nm and a 1e8 m torus: the sums are scaled by the reference point, so both come out to the closed form's
+    // discretisation error (as the 0.5 m one), not to overflow or underflow.
+    for scale in [1e-9, 1.0, 1e8] {
+        let m = Mesh::torus_mesh(0.5 * scale, 0.12 * scale, 64).unwrap();
+        let p = Shape::mesh(m).mass_properties(1000.0).unwrap();
+        let v = 2.0 * PI * PI * 0.5 * 0.12 * 0.12 * scale.powi(3);
+        assert!(p.inertia.iter().all(|x| x.is_finite()));
+        let step = 2.0 * PI / 64.0;
+        assert!((p.mass / 1000.0 - v).abs() / v < step * step, "scale {scale:e}: {} vs {v}", p.mass / 1000.0);
+    }
+}
