@@ -1,5 +1,5 @@
 //! Contact reduction for the velocity-level steps (fast mode, accurate mode's contact steps): at most four points
-//! per collider pair, chosen to keep the deepest point and the largest support area (the quadrilateral of greatest
+//! per collider pair and contact plane (a decomposed mesh touches along several), chosen to keep the deepest point and the largest support area (the quadrilateral of greatest
 //! area among the manifold's points, greedily), and to hold the centre of mass of the body the contact carries
 //! wherever the whole contact polygon holds it (a prism on its face stands on the points that hold it up).
 
@@ -37,7 +37,12 @@ pub(crate) fn reduce(found: Vec<FoundContact>, states: &[BodyState]) -> Vec<Foun
     for members in &groups {
         members.iter().for_each(|&i| keep[i] = false);
     }
-    for members in &groups {
+    for cluster in groups.iter().flat_map(|members| normal_clusters(&found, members)) {
+        if cluster.len() <= MAX_POINTS {
+            cluster.iter().for_each(|&i| keep[i] = true);
+            continue;
+        }
+        let members = &cluster;
         let points: Vec<Point3<f64>> = members.iter().map(|&i| found[i].contact.point).collect();
         let deepest = (0..members.len())
             .min_by(|&a, &b| found[members[a]].contact.distance.total_cmp(&found[members[b]].contact.distance))
@@ -49,6 +54,24 @@ pub(crate) fn reduce(found: Vec<FoundContact>, states: &[BodyState]) -> Vec<Foun
         }
     }
     found.into_iter().zip(keep).filter_map(|(f, k)| k.then_some(f)).collect()
+}
+
+/// Normals within this angle's cosine (10 degrees) are one contact plane.
+const SAME_PLANE: f64 = 0.984_807_753_012_208;
+
+/// A pair's contacts split by normal, in the order found: a convex pair's share one normal (one group), a
+/// decomposed mesh's come from several pieces, each touching along its own normal, and each plane is reduced alone
+/// (reduced together, the four points kept would cover one piece and leave the others' contacts out of the step).
+fn normal_clusters(found: &[FoundContact], members: &[usize]) -> Vec<Vec<usize>> {
+    let mut clusters: Vec<(Vector3<f64>, Vec<usize>)> = Vec::new();
+    for &i in members {
+        let n = found[i].contact.normal.into_inner();
+        match clusters.iter_mut().find(|(m, _)| m.dot(&n) >= SAME_PLANE) {
+            Some((_, c)) => c.push(i),
+            None => clusters.push((n, vec![i])),
+        }
+    }
+    clusters.into_iter().map(|(_, c)| c).collect()
 }
 
 /// The centres of mass of the dynamic bodies of a contact of `a` and `b` along `normal` (from A to B), the one the

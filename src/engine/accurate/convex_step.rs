@@ -61,7 +61,7 @@ pub(crate) fn actors_with_forces(
 }
 
 /// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed
-/// times h, plus what the applied forces add, plus the contact distance), at most four points a pair.
+/// times h, plus what the applied forces add, plus the contact distance), at most four points a pair and plane.
 pub fn contacts_in_reach(
     cx: &mut ContactStages<'_>,
     model: &Model,
@@ -70,6 +70,20 @@ pub fn contacts_in_reach(
     t: f64,
     h: f64,
 ) -> Result<Vec<FoundContact>, OdeError> {
+    Ok(every_contact_in_reach(cx, model, states, y, t, h)?.0)
+}
+
+/// `contacts_in_reach`'s contacts, and every contact found before the reduction to four a pair and plane: the
+/// points a step does not hold (a rolling hull's vertex coming round, a piece's corner) but whose sinking its
+/// error must see.
+pub fn every_contact_in_reach(
+    cx: &mut ContactStages<'_>,
+    model: &Model,
+    states: &[BodyState],
+    y: &[f64],
+    t: f64,
+    h: f64,
+) -> Result<(Vec<FoundContact>, Vec<FoundContact>), OdeError> {
     let clock = Instant::now();
     let statics = cx.scene.static_poses.clone();
     let poses = actor_poses(model.layout, y, &statics);
@@ -78,15 +92,14 @@ pub fn contacts_in_reach(
         *r += s.force.norm() * s.inv_mass * h * h;
     }
     let checks = cx.scene.checks;
-    let found = cx.scene.find(&poses, &reach, cx.settings.contact_distance).map_err(|e| failure(t, e))?;
-    let found: Vec<FoundContact> = reduce(found, states)
-        .into_iter()
-        .filter(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic())
-        .collect();
+    let every = cx.scene.find(&poses, &reach, cx.settings.contact_distance).map_err(|e| failure(t, e))?;
+    let moving = |f: &FoundContact| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic();
+    let found: Vec<FoundContact> = reduce(every.clone(), states).into_iter().filter(moving).collect();
+    let every: Vec<FoundContact> = every.into_iter().filter(moving).collect();
     cx.report.collision_checks += cx.scene.checks - checks;
     cx.report.stages.mark(Stage::CollisionDetection);
     cx.report.collision_seconds += clock.elapsed().as_secs_f64();
-    Ok(found)
+    Ok((found, every))
 }
 
 /// One step of h from (t, y) with the actors `states` (from `actors_with_forces` at y) and the contacts

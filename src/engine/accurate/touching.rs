@@ -17,7 +17,9 @@
 //! integrator takes over.
 
 use super::contact_stages::ContactStages;
-use super::convex_step::{actors_with_forces, contacts_in_reach, convex_step, ConvexStep, ANSWER_SHARE};
+use super::convex_step::{
+    actors_with_forces, contacts_in_reach, convex_step, every_contact_in_reach, ConvexStep, ANSWER_SHARE,
+};
 use super::drift::correct_drift;
 use super::failure;
 use super::free_flight::{copy_free, free_flight, involved, links, FreeFlight};
@@ -162,10 +164,10 @@ pub fn touching_steps(
             break Err(e);
         }
         let mut states = held(system, &statics, t, &y, &phase.sleep)?;
-        let mut found = contacts_in_reach(cx, &system.model, &states, &y, t, h)?;
+        let (mut found, mut every) = every_contact_in_reach(cx, &system.model, &states, &y, t, h)?;
         while phase.sleep.wake_touched(&found, actors) {
             states = held(system, &statics, t, &y, &phase.sleep)?;
-            found = contacts_in_reach(cx, &system.model, &states, &y, t, h)?;
+            (found, every) = every_contact_in_reach(cx, &system.model, &states, &y, t, h)?;
         }
         if found.is_empty() {
             if phase.sleep.count() == 0 {
@@ -185,7 +187,7 @@ pub fn touching_steps(
             cx.report.qp_solves += correct_drift(&system.model, &mut y, &states, &sunk, cx.solver, t)?;
             cx.report.stages.mark(crate::plan::Stage::Impulses);
             states = actors_with_forces(system, &statics, t, &y)?;
-            found = contacts_in_reach(cx, &system.model, &states, &y, t, h)?;
+            (found, every) = every_contact_in_reach(cx, &system.model, &states, &y, t, h)?;
         }
         cx.report.max_penetration = cx.report.max_penetration.max(cx.memory.penetration);
         let work = *cx.solve_work;
@@ -220,8 +222,9 @@ pub fn touching_steps(
         let model = &system.model;
         let mut extrapolated = second.y.clone();
         extrapolate(model, &mut extrapolated, &whole.y);
+        // (every contact in reach, those the reduction left out of the step included)
         let (sink_halves, sink_extrapolated) =
-            (sinking(model, &found, &y, &second.y), sinking(model, &found, &y, &extrapolated));
+            (sinking(model, &every, &y, &second.y), sinking(model, &every, &y, &extrapolated));
         let extrapolating =
             whole.pressing == second.pressing && sink_extrapolated <= sink_halves + 1e-3 * cx.memory.scales.tolerance;
         let smooth = extrapolating && *pressed == pressed_before && stop == 0.0;

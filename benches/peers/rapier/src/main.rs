@@ -5,10 +5,12 @@
 //! all 600, the steps alone timed; penetration the largest over the last 100); a stack of 10 cubes of half extent 0.25 m, density 500, friction
 //! 0.6, dt 1/240, 10 s (largest displacement); a slide (half extent 0.2 m, density 500, 2 m/s, mu 0.5, dt 1/240,
 //! 2 s; stop distance against v^2 / (2 mu g)); a resting cube of half extent 0.5 m for 10 s; a bullet (5 cm sphere
-//! at 1000 m/s against a 1 cm static wall, dt 1/60).
+//! at 1000 m/s against a 1 cm static wall, dt 1/60). `meshes`: the 50-mesh pile (`meshes.rs`).
 
 use rapier3d_f64::prelude::*;
 use std::time::Instant;
+
+mod meshes;
 
 const G: f64 = 9.81;
 
@@ -183,6 +185,10 @@ mod joints {
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "meshes") {
+        meshes::table();
+        return;
+    }
     if args.iter().any(|a| a == "joints") {
         joints::table(args.iter().any(|a| a == "multibody"));
         return;
