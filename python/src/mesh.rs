@@ -76,6 +76,16 @@ impl PyMesh {
         meshes.into_iter().map(|m| new_mesh(py, m)).collect()
     }
 
+    /// The solid swept by turning `profile` ((r, z) points, r >= 0) about the z axis in `segments` steps: a
+    /// profile from the axis back to the axis bounds a solid (a cup, a sphere), any other is closed from its last
+    /// point to its first (a torus).
+    #[staticmethod]
+    #[pyo3(signature = (profile, segments = 48, name = ""))]
+    fn revolve(py: Python<'_>, profile: &Bound<'_, PyAny>, segments: u32, name: &str) -> PyResult<Py<PyMesh>> {
+        let profile = crate::convert::rows::<2>("profile", profile)?;
+        new_mesh(py, tumble::Mesh::revolve(&profile, segments, name).map_err(shape_err)?)
+    }
+
     /// The vertices (V, 3), as given.
     #[getter]
     fn vertices<'py>(self_: PyRef<'py, Self>, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

@@ -57,3 +57,10 @@ def test_fast_mode_examples_run_and_write_their_outputs(name, tmp_path):
     stem = name.replace("_", "-")
     assert (tmp_path / f"{stem}.glb").stat().st_size > 1000
     assert (tmp_path / f"{stem}.png").exists()
+
+
+def test_the_ball_stays_in_the_cup_and_not_on_its_hull(tmp_path):
+    stdout = run_example("ball_in_cup", tmp_path, "--duration", "2")
+    assert "decomposed: the ball ends at" in stdout and "in the cup" in stdout.split("decomposed:")[1].split("\n")[0]
+    assert "out of it" in stdout.split("hull:")[1].split("\n")[0], stdout
+    assert (tmp_path / "cup.obj").exists() and (tmp_path / "ball-in-cup.glb").stat().st_size > 1000

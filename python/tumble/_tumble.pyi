@@ -135,6 +135,9 @@ class Mesh(Shape):
         """An OBJ, STL, PLY, glTF or GLB file's meshes merged, placed by the file's transforms, scaled by ``scale``
         (file units to metres), the file's ``up`` axis turned to +z."""
     @staticmethod
+    def revolve(profile: npt.ArrayLike, segments: int = 48, name: str = "") -> Mesh:
+        """The solid swept by turning (r, z) points about z: axis to axis bounds a solid, else the loop is closed."""
+    @staticmethod
     def load_all(path: str | os.PathLike[str], scale: float = 1.0, up: Literal["y", "z"] = "z") -> list[Mesh]:
         """A file's meshes one by one (as ``load``, not merged)."""
     @property
