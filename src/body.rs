@@ -8,13 +8,17 @@ use crate::mesh_shape::MeshShape;
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use tumble_collide::Shape;
 
-/// A rigid body in a world. Its position is that of its centre of mass; build one with [`RigidBodyBuilder`].
+/// A rigid body in a world. Its position is that of its centre of mass, its axes those its shapes are given in; the
+/// origin of that modelled frame sits at `origin_offset` in the body frame. Build one with [`RigidBodyBuilder`].
 #[derive(Clone, Debug)]
 pub struct RigidBody {
     pub(crate) mass: f64,
     pub(crate) inertia: Matrix3<f64>,
     pub(crate) inv_inertia: Matrix3<f64>,
     pub(crate) colliders: Vec<Collider>,
+    /// Where the modelled frame's origin (the first shape's frame) sits in the body frame: minus the centre of mass
+    /// in the shapes' coordinates (zero for a body given by mass and inertia).
+    pub(crate) origin: Vector3<f64>,
     pub(crate) position: Vector3<f64>,
     pub(crate) orientation: UnitQuaternion<f64>,
     pub(crate) momentum: Vector3<f64>,
@@ -46,6 +50,16 @@ impl RigidBody {
     /// Centre-of-mass position x.
     pub fn position(&self) -> Vector3<f64> {
         self.position
+    }
+    /// World position of the modelled frame's origin: where the shapes' coordinates (a mesh's or a hull's vertices,
+    /// the first shape of a body of colliders) have their origin, `x + R origin_offset`.
+    pub fn origin(&self) -> Vector3<f64> {
+        self.position + self.orientation * self.origin
+    }
+    /// Where the modelled frame's origin sits in the body frame (minus the centre of mass in the shapes'
+    /// coordinates).
+    pub fn origin_offset(&self) -> Vector3<f64> {
+        self.origin
     }
     /// Orientation q (body to world).
     pub fn orientation(&self) -> UnitQuaternion<f64> {
@@ -135,6 +149,8 @@ pub struct RigidBodyBuilder {
     restitution: f64,
     friction: f64,
     mesh_shape: Option<MeshShape>,
+    /// The modelled frame's origin in the body frame, as a saved world has it.
+    origin: Option<Vector3<f64>>,
 }
 
 impl RigidBodyBuilder {
@@ -155,6 +171,7 @@ impl RigidBodyBuilder {
             restitution: Material::default().restitution,
             friction: Material::default().friction,
             mesh_shape: None,
+            origin: None,
         }
     }
 
@@ -195,9 +212,16 @@ impl RigidBodyBuilder {
         self.mesh_shape = Some(choice);
         self
     }
-    /// Initial centre-of-mass position.
+    /// Initial position: of the modelled frame's origin for a body of a mesh or of several colliders (the mesh sits
+    /// where it was modelled, its centre of mass an offset inside), of the centre of mass for every other body.
     pub fn position(mut self, p: Vector3<f64>) -> Self {
         self.position = p;
+        self
+    }
+    /// The modelled frame's origin in the body frame, as saved (a loaded world keeps it; bodies built otherwise
+    /// have it from their shapes).
+    pub(crate) fn origin_offset(mut self, o: Vector3<f64>) -> Self {
+        self.origin = Some(o);
         self
     }
     /// Initial orientation.
@@ -254,6 +278,10 @@ impl RigidBodyBuilder {
             check_finite("offset", pose.rotation.coords.iter())?;
             limits::vector("offset", &pose.translation.vector, limits::COORDINATE, "m")?;
         }
+        // a body of a mesh or of several colliders is placed by its modelled frame
+        let by_origin = !self.is_static
+            && self.inertia.is_none()
+            && (matches!(self.shape, Some(Shape::Mesh(_))) || !self.extra.is_empty());
         self.resolve_meshes()?;
         let (mass, inertia, offset) = if self.is_static {
             (f64::INFINITY, Matrix3::identity(), Vector3::zeros())
@@ -286,12 +314,15 @@ impl RigidBodyBuilder {
             let r = self.orientation.to_rotation_matrix();
             (mass * self.velocity, r.matrix() * inertia * r.matrix().transpose() * self.angular_velocity)
         };
+        let position = if by_origin { self.position - self.orientation * offset } else { self.position };
+        limits::vector("position", &position, limits::COORDINATE, "m")?;
         Ok(RigidBody {
             mass,
             inertia,
             inv_inertia,
             colliders,
-            position: self.position,
+            origin: self.origin.unwrap_or(offset),
+            position,
             orientation: self.orientation,
             momentum,
             angular_momentum,

@@ -238,3 +238,44 @@ fn a_mesh_body_weighs_what_its_solid_does() {
     let b = w.add_body(RigidBodyBuilder::from_shape(Shape::mesh(cup), 2400.0)).unwrap();
     assert!((w.body(b).unwrap().mass() - 2400.0 * solid * inscribed).abs() < 1e-9);
 }
+
+#[test]
+fn a_mesh_body_is_placed_by_its_modelled_frame() {
+    // A cup given position p and orientation q: every vertex v lands at p + R v, as the cup was modelled (its base at
+    // its origin); the centre of mass sits at p + R c inside it. Only rounding separates them (1e-15 m: a few roundings
+    // of coordinates under 1 m, whose ulp is 1.1e-16).
+    let cup = meshes::cup().unwrap();
+    let c = Shape::mesh(cup.clone()).mass_properties(2400.0).unwrap().local_com;
+    let p = Vector3::new(0.3, -0.2, 0.5);
+    let q = UnitQuaternion::from_euler_angles(0.4, -0.3, 1.2);
+    let mut w = World::new();
+    let h =
+        w.add_body(RigidBodyBuilder::from_shape(Shape::mesh(cup.clone()), 2400.0).position(p).orientation(q)).unwrap();
+    let b = w.body(h).unwrap();
+    assert!((b.origin() - p).norm() < 1e-15, "{}", b.origin());
+    assert!((b.position() - (p + q * c)).norm() < 1e-15);
+    let placed = b.pose() * b.colliders()[0].offset;
+    for v in cup.vertices() {
+        assert!((placed * v - (Point3::from(p) + q * v.coords)).norm() < 1e-15);
+    }
+    // a body of colliders too: the second ball 1 m above the first, the body given the first's place
+    let ball = Shape::sphere(0.1).unwrap();
+    let h = w
+        .add_body(
+            RigidBodyBuilder::from_shape(ball.clone(), 1000.0)
+                .collider(ball, nalgebra::Isometry3::translation(0.0, 0.0, 1.0))
+                .position(Vector3::new(0.0, 0.0, 2.0)),
+        )
+        .unwrap();
+    let b = w.body(h).unwrap();
+    let centres: Vec<f64> = b.colliders().iter().map(|k| (b.pose() * k.offset).translation.vector.z).collect();
+    assert_eq!(centres, vec![2.0, 3.0]);
+    assert_eq!(b.position().z, 2.5);
+    // a single shape is placed by its centre of mass, as before (a box's is its origin)
+    let h = w.add_body(RigidBodyBuilder::from_shape(Shape::sphere(0.1).unwrap(), 1000.0).position(p)).unwrap();
+    assert_eq!(w.body(h).unwrap().position(), p);
+    // and the frame survives saving
+    let loaded = World::from_json(&w.to_json().unwrap()).unwrap();
+    let origins = |w: &World| w.bodies().map(|(_, b)| b.origin()).collect::<Vec<_>>();
+    assert_eq!(origins(&loaded), origins(&w));
+}

@@ -131,6 +131,12 @@ impl PyWorld {
         rows(py, w.body_count(), w.bodies().map(|(_, b)| b.position().into()))
     }
 
+    /// (B, 3) positions of the bodies' modelled frames' origins.
+    fn _body_origins<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.r();
+        rows(py, w.body_count(), w.bodies().map(|(_, b)| b.origin().into()))
+    }
+
     /// (B, 4) body orientations (w, x, y, z).
     fn _body_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let w = self.r();

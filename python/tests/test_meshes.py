@@ -174,15 +174,18 @@ def test_bad_files_are_refused_by_name(tmp_path: Path) -> None:
         tumble.Mesh.load(open_cube, scale=-1.0)
 
 
-def world_vertices(mesh: tumble.Mesh, position: np.ndarray, wxyz: np.ndarray) -> np.ndarray:
-    """The mesh's vertices where a body of it at (position, orientation) puts them: the body frame's origin is the
-    centre of mass, so a vertex sits at R (v - com) + x."""
+def rotation(wxyz: np.ndarray) -> np.ndarray:
     w, x, y, z = wxyz
-    r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                  [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                  [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def world_vertices(mesh: tumble.Mesh, position: np.ndarray, wxyz: np.ndarray) -> np.ndarray:
+    """The mesh's vertices where a body of it with its centre of mass at `position`, turned by `wxyz`, puts them:
+    the centre of mass is the body frame's origin, so a vertex sits at R (v - com) + x."""
     com = mesh.mass_properties(1.0)["center_of_mass"]
-    return (mesh.vertices - com) @ r.T + position
+    return (mesh.vertices - com) @ rotation(wxyz).T + position
 
 
 # float32 (glTF's only vertex and key type, USD's points) rounds each value by half an ulp, 6e-8 of it: at most
@@ -194,7 +197,9 @@ def tossed_cup(tmp_path: Path) -> tuple[tumble.Run, tumble.Mesh]:
     mesh = tumble.Mesh(*tumble.Shape.triangle_mesh(tumble.Cylinder(0.04, 0.03), subdivisions=12), name="tin")
     w = tumble.World(mode="fast", dt=1 / 240)
     w.add_ground()
-    w.add_body(mesh, density=800.0, position=(0.0, 0.0, 0.1), angular_velocity=(1.0, 2.0, 0.5))
+    h = w.add_body(mesh, density=800.0, position=(0.0, 0.0, 0.1), angular_velocity=(1.0, 2.0, 0.5))
+    # placed by its modelled frame: the mesh's origin where it was put
+    np.testing.assert_array_equal(w.bodies.origins[w.bodies.handles.index(h)], [0.0, 0.0, 0.1])
     return w.run(duration=0.5, frame_interval=1 / 30), mesh
 
 
@@ -219,11 +224,12 @@ def test_the_exported_gltf_draws_the_users_mesh_at_the_simulated_poses(tmp_path:
     by_target = {(c.target.node, c.target.path): animation.samplers[c.sampler] for c in animation.channels}
     t = read(by_target[(node, "translation")].output, 3).astype(float)
     q = read(by_target[(node, "rotation")].output, 4).astype(float)
+    # the node's pivot is the mesh's own origin (its vertices as modelled), not the centre of mass
+    np.testing.assert_allclose(local, mesh.vertices, atol=FLOAT32, rtol=0)
     for frame in (0, len(t) // 2, len(t) - 1):
-        wxyz = q[frame][[3, 0, 1, 2]]
+        x, y, z, w = q[frame]
+        theirs = local @ rotation(np.array([w, x, y, z])).T + t[frame]
         mine = world_vertices(mesh, run.body_positions[frame, 1], run.body_orientations[frame, 1])
-        theirs = world_vertices(tumble.Mesh(local + mesh.mass_properties(1.0)["center_of_mass"], mesh.triangles),
-                                t[frame], wxyz)
         np.testing.assert_allclose(theirs, mine, atol=FLOAT32, rtol=0)
 
 
@@ -235,6 +241,9 @@ def test_the_exported_usd_draws_the_users_mesh_at_the_simulated_poses(tmp_path: 
     prim = stage.GetPrimAtPath("/World/body_1/collider_0/mesh")
     points = np.array(UsdGeom.Mesh(prim).GetPointsAttr().Get(), dtype=float)
     assert len(points) == len(mesh.vertices), "the user's mesh, not its pieces"
+    # the body's pivot is the mesh's origin: at the start, where it was placed
+    body = UsdGeom.Xformable(stage.GetPrimAtPath("/World/body_1")).ComputeLocalToWorldTransform(Usd.TimeCode(0))
+    np.testing.assert_allclose(np.array(body.ExtractTranslation()), [0.0, 0.0, 0.1], atol=1e-15)
     for frame in (0, len(run.times) // 2, len(run.times) - 1):
         m = np.array(UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(frame)))
         theirs = np.c_[points, np.ones(len(points))] @ m  # row vectors

@@ -26,7 +26,7 @@ import numpy as np
 import numpy.typing as npt
 import pygltflib as g
 
-from ._mesh import MARKER, body_mesh, shape_mesh
+from ._mesh import MARKER, body_mesh, pivoted, shape_mesh
 
 if TYPE_CHECKING:
     from ._run import Run
@@ -220,6 +220,8 @@ def _bodies(w: Writer, run: Run, frames: np.ndarray, root: int, size: float) -> 
     nodes = []
     for b in range(positions.shape[1]):
         colliders = run.shapes[b] if b < len(run.shapes) else []
+        wxyz = run.body_orientations[frames][:, b]
+        colliders, placed = pivoted(colliders, positions[:, b], wxyz)
         static = any(s.kind in STATIC_ONLY for s, _, _ in colliders) or (
             len(frames) > 1 and b not in linked and not run.body_velocities[frames, b].any()
             and not run.body_angular_velocities[frames, b].any()
@@ -234,9 +236,9 @@ def _bodies(w: Writer, run: Run, frames: np.ndarray, root: int, size: float) -> 
                 material = w.material(*PALETTE[sum(1 for s, _ in meshes if not s) % len(PALETTE)])
             meshes[key] = _collider_mesh(w, colliders, material, size,
                                          f"{'static ' if static else ''}body mesh {len(meshes)}")
-        nodes.append(w.node(f"body {b}", root, meshes[key], translation=positions[0, b], rotation=orientations[0, b]))
+        nodes.append(w.node(f"body {b}", root, meshes[key], translation=placed[0], rotation=orientations[0, b]))
         if not static:
-            w.animate(nodes[-1], "translation", positions[:, b])
+            w.animate(nodes[-1], "translation", placed)
             w.animate(nodes[-1], "rotation", orientations[:, b])
     return nodes
 

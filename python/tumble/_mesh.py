@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
-from ._geometry import rotation_matrix
+from ._geometry import rotation_matrices, rotation_matrix
 
 if TYPE_CHECKING:
     from ._tumble import Shape
@@ -75,3 +75,19 @@ def half_space_plane(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
     normal = np.cross(c - a, d - a)
     unit: np.ndarray = normal / np.linalg.norm(normal)
     return v.mean(axis=0), unit
+
+
+# The shapes of bodies placed by their modelled frame (with a body of several colliders).
+MODELLED = ("mesh", "decomposed mesh")
+
+
+def pivoted(colliders: list[Any], positions: np.ndarray, orientations: np.ndarray) -> tuple[list[Any], np.ndarray]:
+    """A body's colliders and its frames' positions (F, 3) moved so that the exported pivot is the body's modelled
+    frame, not its centre of mass: for a body of a mesh or of several colliders, the first collider's frame (where
+    the mesh's coordinates have their origin) becomes the node's origin, each collider offset by as much, and the
+    positions moved to it along the orientations (F, 4) (w, x, y, z). Other bodies come back as they are."""
+    if not colliders or (len(colliders) == 1 and colliders[0][0].kind not in MODELLED):
+        return colliders, positions
+    pivot = np.asarray(colliders[0][1], dtype=float)
+    moved = [(s, np.asarray(p, dtype=float) - pivot, q) for s, p, q in colliders]
+    return moved, positions + rotation_matrices(orientations) @ pivot

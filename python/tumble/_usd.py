@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ._install import install_hint
+from ._mesh import pivoted
 from ._mesh import shape_mesh as mesh_of
 
 if TYPE_CHECKING:
@@ -78,8 +79,10 @@ def export(run: "Run", path: Path) -> Path:
         return xform
 
     for b in range(run.body_positions.shape[1]):
-        xform = animated(f"body_{b}", run.body_positions[:, b], run.body_orientations[:, b])
         colliders = run.shapes[b] if b < len(run.shapes) else []
+        # the pivot at the body's modelled frame (a mesh's origin), not its centre of mass
+        colliders, placed = pivoted(colliders, run.body_positions[:, b], run.body_orientations[:, b])
+        xform = animated(f"body_{b}", placed, run.body_orientations[:, b])
         for c, (shape, offset, orientation) in enumerate(colliders):
             key = shape.__reduce__()[1][0]  # the shape's JSON: equal shapes share one mesh
             part = UsdGeom.Xform.Define(stage, xform.GetPath().AppendChild(f"collider_{c}"))

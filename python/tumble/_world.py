@@ -62,6 +62,12 @@ class BodiesView:
         return self._world._body_positions()
 
     @property
+    def origins(self) -> np.ndarray:
+        """(B, 3) positions of the modelled frames' origins: where a mesh's (or a hull's, or the first collider's)
+        coordinates have their origin. A body of a mesh or of several colliders is placed by it."""
+        return self._world._body_origins()
+
+    @property
     def orientations(self) -> np.ndarray:
         """(B, 4) orientations as quaternions (w, x, y, z)."""
         return self._world._body_orientations()

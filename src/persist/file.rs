@@ -201,6 +201,9 @@ pub struct BodyFile {
     /// The state `reset` returns to: position, orientation (w, x, y, z), momentum, angular momentum.
     #[serde(default)]
     pub start: Option<BodyStartFile>,
+    /// Where the modelled frame's origin sits in the body frame (as saved; absent, it comes from the shapes).
+    #[serde(default)]
+    pub origin: Option<[f64; 3]>,
 }
 
 /// A spring's end.

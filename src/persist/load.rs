@@ -118,6 +118,10 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
     };
     both("velocity", b.velocity.is_some(), b.momentum.is_some())?;
     both("angular_velocity", b.angular_velocity.is_some(), b.angular_momentum.is_some())?;
+    if let Some(o) = b.origin {
+        limits::vector("origin", &v3(o), limits::COORDINATE, "m")?;
+        builder = builder.origin_offset(v3(o));
+    }
     // the position is put in exactly by `exact_fields`, within the bound of states a file may hold
     Ok(builder
         .orientation(quaternion("orientation", b.orientation)?)

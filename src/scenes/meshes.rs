@@ -27,8 +27,8 @@ fn world(mode: Mode) -> Result<World, WorldError> {
     Ok(w)
 }
 
-/// A body of `shape` at `density`, turned by `turn`, its centre of mass above (x, y) and its lowest point `gap`
-/// above z = `floor`.
+/// A body of a mesh at `density`, turned by `turn`, its modelled origin above (x, y) and its lowest point `gap`
+/// above z = `floor` (a mesh body is placed by its modelled frame).
 fn dropped(
     shape: Shape,
     density: f64,
@@ -37,9 +37,7 @@ fn dropped(
     floor: f64,
     gap: f64,
 ) -> Result<RigidBodyBuilder, WorldError> {
-    let com = turn * shape.mass_properties(density)?.local_com;
-    // the shape's frame sits at -com from the centre of mass
-    let low = shape.aabb(&nalgebra::Isometry3::from_parts((-com).into(), turn))?.min.z;
+    let low = shape.aabb(&nalgebra::Isometry3::from_parts(nalgebra::Translation3::identity(), turn))?.min.z;
     Ok(RigidBodyBuilder::from_shape(shape, density)
         .position(Vector3::new(x, y, floor + gap - low))
         .orientation(turn)
