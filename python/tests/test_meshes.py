@@ -153,6 +153,15 @@ def test_a_gltf_gives_each_mesh_at_its_node_and_load_merges_them(tmp_path: Path)
     np.testing.assert_allclose(each[1].vertices.min(axis=0), [3, 0, 0])
     merged = tumble.Mesh.load(path)
     assert merged.volume == pytest.approx(2.0, rel=1e-12) and len(merged.triangles) == 24
+    # the same as a binary GLB
+    pygltflib = pytest.importorskip("pygltflib")
+    doc = pygltflib.GLTF2().load(str(path))
+    doc.convert_buffers(pygltflib.BufferFormat.BINARYBLOB)
+    doc.save_binary(str(tmp_path / "two.glb"))
+    glb = tumble.Mesh.load_all(tmp_path / "two.glb", scale=0.5, up="y")
+    assert len(glb) == 2 and glb[1].volume == pytest.approx(0.125, rel=1e-12)
+    # y up: the node's +x translation stays along x, scaled
+    np.testing.assert_allclose(glb[1].vertices.min(axis=0), [1.5, -0.5, 0.0], atol=1e-15)
 
 
 def test_bad_files_are_refused_by_name(tmp_path: Path) -> None:

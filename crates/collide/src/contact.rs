@@ -6,7 +6,7 @@
 use crate::aabb::check_pose;
 use crate::convert::{from_parry, point_from_parry};
 use crate::error::ShapeError;
-use crate::face_contact::long_face_contacts;
+use crate::face_contact::{hull_plane_contacts, long_face_contacts};
 use crate::geometry::ParryView;
 use crate::proximity::unsupported_pair;
 use crate::shape::Shape;
@@ -123,6 +123,14 @@ pub fn contacts(
             ..c
         };
         let planar = part_a.as_halfspace().is_some() || part_b.as_halfspace().is_some();
+        if let Some(all) = planar.then(|| hull_plane_contacts(part_a, &sa, part_b, &sb, normal, prediction)).flatten() {
+            for c in all.into_iter().map(tag) {
+                if !out.iter().any(|o| same_place(o, &c)) {
+                    out.push(c);
+                }
+            }
+            continue;
+        }
         if !m.points.is_empty() || planar {
             if let Some(whole) = long_face_contacts(part_a, &sa, part_b, &sb, normal, prediction) {
                 for c in whole.into_iter().map(tag) {

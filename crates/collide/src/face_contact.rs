@@ -88,6 +88,73 @@ fn side(shape: &dyn ParryShape, pose: &Pose, dir: Vector3<f64>) -> Option<Side> 
     }))
 }
 
+/// The contacts of a convex hull and a half-space (parts `a` and `b` in either order, at their world poses) along
+/// `normal` (world, from A toward B): the vertices closer to the plane than `prediction` of the hull's face that
+/// holds its lowest vertex and faces the plane most, on the plane's face. parry's manifold takes the face whose
+/// normal is nearest the plane's wherever it is, and on an irregular hull (a decomposition's pieces, a rounded
+/// blob's hull) that face need not hold the lowest vertex: a tilted piece's deepest corner went unseen. `None` for
+/// other pairs.
+pub(crate) fn hull_plane_contacts(
+    a: &dyn ParryShape,
+    pose_a: &Pose,
+    b: &dyn ParryShape,
+    pose_b: &Pose,
+    normal: Unit<Vector3<f64>>,
+    prediction: f64,
+) -> Option<Vec<Contact>> {
+    let (hull, hull_pose, plane, plane_pose, hull_is_a) =
+        match (a.as_convex_polyhedron(), b.as_halfspace(), a.as_halfspace(), b.as_convex_polyhedron()) {
+            (Some(h), Some(p), _, _) => (h, pose_a, p, pose_b, true),
+            (_, _, Some(p), Some(h)) => (h, pose_b, p, pose_a, false),
+            _ => return None,
+        };
+    let m = from_parry(plane_pose.rotation * plane.normal);
+    let offset = m.dot(&from_parry(plane_pose.translation));
+    let n = normal.into_inner();
+    // the lowest vertex, and of its faces the one turned most toward the plane
+    let down = hull_pose.rotation.inverse() * to_parry(&-m);
+    let points = hull.points();
+    let lowest =
+        (0..points.len()).fold(0, |best, i| if points[i].dot(down) > points[best].dot(down) { i } else { best });
+    let vertex = &hull.vertices()[lowest];
+    let first = vertex.first_adj_face_or_edge as usize;
+    let around = &hull.faces_adj_to_vertex()[first..first + vertex.num_adj_faces_or_edge as usize];
+    let faces = hull.faces();
+    let chosen = around.get(best_face(around.iter().map(|&f| faces[f as usize].normal.dot(down))));
+    let ids: Vec<u32> = match chosen {
+        Some(&f) => {
+            let f = &faces[f as usize];
+            let range = f.first_vertex_or_edge as usize..(f.first_vertex_or_edge + f.num_vertices_or_edges) as usize;
+            hull.vertices_adj_to_face()[range].to_vec()
+        }
+        None => vec![lowest as u32],
+    };
+    let mut out = Vec::new();
+    for i in ids {
+        let q = point_from_parry(*hull_pose * points[i as usize]);
+        let height = m.dot(&q.coords) - offset;
+        if height > prediction {
+            continue;
+        }
+        let on_plane = q - m * height;
+        let (point_a, point_b, feature_a, feature_b) = if hull_is_a {
+            (q, on_plane, Feature::Vertex(i), Feature::Face(0))
+        } else {
+            (on_plane, q, Feature::Face(0), Feature::Vertex(i))
+        };
+        out.push(Contact {
+            point_a,
+            point_b,
+            normal,
+            distance: n.dot(&(point_b - point_a)),
+            kind: kind(feature_a, feature_b),
+            feature_a,
+            feature_b,
+        });
+    }
+    Some(out)
+}
+
 /// The contacts of parts `a` at `pose_a` and `b` at `pose_b` (parry shapes and world poses) along `normal` (world,
 /// from A toward B) closer than `prediction`, when one of them is a hull whose face toward the other has more than
 /// four vertices; `None` when parry's own manifold is whole.

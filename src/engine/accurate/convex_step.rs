@@ -62,6 +62,7 @@ pub(crate) fn actors_with_forces(
 
 /// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed
 /// times h, plus what the applied forces add, plus the contact distance), at most four points a pair and plane.
+#[cfg(test)]
 pub fn contacts_in_reach(
     cx: &mut ContactStages<'_>,
     model: &Model,

@@ -17,9 +17,7 @@
 //! integrator takes over.
 
 use super::contact_stages::ContactStages;
-use super::convex_step::{
-    actors_with_forces, contacts_in_reach, convex_step, every_contact_in_reach, ConvexStep, ANSWER_SHARE,
-};
+use super::convex_step::{actors_with_forces, convex_step, every_contact_in_reach, ConvexStep, ANSWER_SHARE};
 use super::drift::correct_drift;
 use super::failure;
 use super::free_flight::{copy_free, free_flight, involved, links, FreeFlight};
@@ -195,7 +193,7 @@ pub fn touching_steps(
         if let Err(e) = budget.charge((*cx.solve_work - work).saturating_sub(1), t) {
             break Err(e);
         }
-        let Some((mut whole, mut second, involved)) = doubled? else {
+        let Some((mut whole, mut second, involved, sunk_late)) = doubled? else {
             // clarabel could not answer to its tolerance: a smaller step changes the problem
             cx.report.contact_rejected += 1;
             phase.h = 0.25 * h;
@@ -224,7 +222,7 @@ pub fn touching_steps(
         extrapolate(model, &mut extrapolated, &whole.y);
         // (every contact in reach, those the reduction left out of the step included)
         let (sink_halves, sink_extrapolated) =
-            (sinking(model, &every, &y, &second.y), sinking(model, &every, &y, &extrapolated));
+            (sinking(model, &every, &y, &second.y).max(sunk_late), sinking(model, &every, &y, &extrapolated));
         let extrapolating =
             whole.pressing == second.pressing && sink_extrapolated <= sink_halves + 1e-3 * cx.memory.scales.tolerance;
         let smooth = extrapolating && *pressed == pressed_before && stop == 0.0;
@@ -408,8 +406,9 @@ fn watch_touching(cx: &ContactStages<'_>, phase: &mut TouchingPhase, t: f64) -> 
 }
 
 /// One step of h taken whole and as two halves (the first half on the whole step's contacts, the second on its
-/// own), with the actors their contacts involve (`free_flight::involved`); `None` if clarabel could not answer
-/// one of them.
+/// own), with the actors their contacts involve (`free_flight::involved`) and how deep the second half sinks any
+/// contact in reach at the middle (a polyhedron's vertex that came round to face the other shape by then, which the
+/// start's contacts do not show); `None` if clarabel could not answer one of them.
 #[allow(clippy::too_many_arguments)]
 fn doubled_step(
     cx: &mut ContactStages<'_>,
@@ -421,7 +420,7 @@ fn doubled_step(
     t: f64,
     y: &[f64],
     h: f64,
-) -> Result<Option<(ConvexStep, ConvexStep, Vec<bool>)>, OdeError> {
+) -> Result<Option<(ConvexStep, ConvexStep, Vec<bool>, f64)>, OdeError> {
     let lagged = &phase.lagged;
     // each solve starts from the last: the whole step from the last step's forces, the halves from the whole's
     let Some(whole) = convex_step(cx, &system.model, states, found, (lagged, &phase.warm), t, y, h)? else {
@@ -432,13 +431,14 @@ fn doubled_step(
     };
     let mid = t + 0.5 * h;
     let states = held(system, statics, mid, &first.y, &phase.sleep)?;
-    let later = contacts_in_reach(cx, &system.model, &states, &first.y, mid, 0.5 * h)?;
+    let (later, every) = every_contact_in_reach(cx, &system.model, &states, &first.y, mid, 0.5 * h)?;
     let warm = (&first.forces, &first.wrenches);
     let Some(second) = convex_step(cx, &system.model, &states, &later, warm, mid, &first.y, 0.5 * h)? else {
         return Ok(None);
     };
     let involved = involved(&system.model, &[found, &later]);
-    Ok(Some((whole, second, involved)))
+    let sunk = sinking(&system.model, &every, &first.y, &second.y);
+    Ok(Some((whole, second, involved, sunk)))
 }
 
 /// The sum of a convex step's contact force magnitudes (N), from its `wrenches`.
