@@ -133,12 +133,18 @@ pub fn contacts(
         }
         if !m.points.is_empty() || planar {
             if let Some(whole) = long_face_contacts(part_a, &sa, part_b, &sb, normal, prediction) {
+                // the faces parry's normal picks may not be the touching ones (an irregular hull's): then parry's
+                // own points, nearer, are kept besides
+                let nearest = whole.iter().map(|c| c.distance).fold(f64::INFINITY, f64::min);
+                let parry = m.points.iter().map(|p| p.dist).fold(f64::INFINITY, f64::min);
                 for c in whole.into_iter().map(tag) {
                     if !out.iter().any(|o| same_place(o, &c)) {
                         out.push(c);
                     }
                 }
-                continue;
+                if nearest <= parry + 1e-9 * (1.0 + parry.abs()) {
+                    continue;
+                }
             }
         }
         let labelled = m.points.iter().filter(|p| !p.fid1.is_unknown() || !p.fid2.is_unknown());
