@@ -344,13 +344,7 @@ impl RigidBodyBuilder {
                 format!("\"{}\" applies to a mesh, and the body has none", c.name()),
             ));
         }
-        let one = |s: &Shape| {
-            if matches!(s, Shape::Mesh(_)) {
-                MeshShape::resolve(s, choice, self.is_static)
-            } else {
-                Ok(s.clone())
-            }
-        };
+        let one = |s: &Shape| MeshShape::resolve(s, choice, self.is_static);
         let shape = self.shape.as_ref().map(one).transpose()?;
         let extra = self.extra.iter().map(|(s, pose)| Ok((one(s)?, *pose))).collect::<Result<Vec<_>, WorldError>>()?;
         self.shape = shape;

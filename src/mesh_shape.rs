@@ -49,18 +49,10 @@ impl MeshShape {
     }
 
     /// The shape a body carries for `shape`: a closed mesh becomes its decomposition (moving bodies, by default),
-    /// its hull, or stays exact (static bodies, by default); other shapes are kept, and a choice given for one is
-    /// an error.
+    /// its hull, or stays exact (static bodies, by default); other shapes are kept as they are (a choice given for a
+    /// body without a mesh is the builder's error).
     pub(crate) fn resolve(shape: &Shape, choice: Option<&MeshShape>, is_static: bool) -> Result<Shape, WorldError> {
-        let Shape::Mesh(mesh) = shape else {
-            if let Some(c) = choice {
-                return Err(WorldError::invalid(
-                    "shape",
-                    format!("\"{}\" applies to a mesh, not to a {} (it is used as it is)", c.name(), shape.kind()),
-                ));
-            }
-            return Ok(shape.clone());
-        };
+        let Shape::Mesh(mesh) = shape else { return Ok(shape.clone()) };
         let default = if is_static { MeshShape::Exact } else { MeshShape::Decomposed(Decomposition::default()) };
         Ok(match choice.copied().unwrap_or(default) {
             MeshShape::Decomposed(params) => Shape::decomposed(mesh, &params)?,

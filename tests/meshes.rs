@@ -285,32 +285,13 @@ fn a_self_intersecting_mesh_is_taken_as_its_winding_counts_it_and_runs_clean() {
     // Two unit-ish cubes overlapping by half, their surfaces merged: closed and manifold, so accepted; the divergence
     // theorem counts the shared half twice (volume 2 x 0.1^3, to rounding), and a body of it drops and settles in
     // both modes, finite.
-    let cube = |dx: f64| -> (Vec<Point3<f64>>, Vec<[u32; 3]>) {
-        let v = (0..8)
-            .map(|i| {
-                Point3::new(0.1 * ((i & 1) as f64) + dx, 0.1 * (((i >> 1) & 1) as f64), 0.1 * (((i >> 2) & 1) as f64))
-            })
-            .collect();
-        let t = vec![
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ];
-        (v, t)
-    };
-    let (mut v, mut t) = cube(0.0);
-    let (v2, t2) = cube(0.05);
-    t.extend(t2.iter().map(|tri| tri.map(|k| k + 8)));
-    v.extend(v2);
+    let cell = Mesh::from_cells(&[[0, 0, 0]], 0.1, "cube").unwrap();
+    let shifted: Vec<Point3<f64>> = cell.vertices().iter().map(|p| p + Vector3::new(0.05, 0.0, 0.0)).collect();
+    let mut v = cell.vertices().to_vec();
+    v.extend(shifted);
+    let n = cell.vertices().len() as u32;
+    let mut t = cell.triangles().to_vec();
+    t.extend(cell.triangles().iter().map(|tri| tri.map(|k| k + n)));
     let mesh = Mesh::new(&v, &t, "overlap").unwrap();
     assert!((mesh.volume() - 2e-3).abs() < 1e-15, "{}", mesh.volume());
     for (name, mode) in modes() {

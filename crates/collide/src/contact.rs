@@ -131,7 +131,7 @@ pub fn contacts(
             }
             continue;
         }
-        if !m.points.is_empty() || planar {
+        if !m.points.is_empty() {
             if let Some(whole) = long_face_contacts(part_a, &sa, part_b, &sb, normal, prediction) {
                 // the faces parry's normal picks may not be the touching ones (an irregular hull's): then parry's
                 // own points, nearer, are kept besides

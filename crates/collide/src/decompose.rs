@@ -5,7 +5,7 @@
 use crate::convert::{point_from_parry, point_to_parry};
 use crate::error::ShapeError;
 use crate::shape::{ConvexHull, Shape};
-use crate::surface_mesh::{Fnv, Mesh};
+use crate::surface_mesh::{label, Fnv, Mesh};
 use nalgebra::Point3;
 use parry3d_f64::math::Pose;
 use parry3d_f64::shape::{Compound, SharedShape};
@@ -69,6 +69,8 @@ pub struct Decomposed {
     pub(crate) compound: Arc<Compound>,
     /// Seconds the decomposition took when it ran (the first time in a process).
     pub(crate) seconds: f64,
+    /// The digest of mesh and parameters.
+    key: u64,
 }
 
 /// Piece point sets and the time taken, by digest of mesh and parameters.
@@ -78,25 +80,13 @@ static CACHE: Mutex<Cache> = Mutex::new(BTreeMap::new());
 impl Decomposed {
     /// The decomposition of `mesh` with `params`, from this process's cache when it was made before.
     pub fn new(mesh: &Mesh, params: &Decomposition) -> Result<Decomposed, ShapeError> {
-        params.check()?;
-        if mesh.triangles.len() > MAX_DECOMPOSED_TRIANGLES {
-            return Err(ShapeError::new(
-                "mesh",
-                format!(
-                    "{} triangles are more than the {MAX_DECOMPOSED_TRIANGLES} a decomposition takes: simplify the \
-                     mesh, or use its convex hull (shape=\"hull\")",
-                    mesh.triangles.len()
-                ),
-            ));
-        }
         let key = params.digest(mesh);
         let cached = CACHE.lock().map(|c| c.get(&key).cloned()).unwrap_or(None);
         let (points, seconds) = match cached {
             Some(hit) => hit,
             None => {
-                let start = Instant::now();
-                let points = Arc::new(vhacd(mesh, params));
-                let made = (points, start.elapsed().as_secs_f64());
+                let (points, seconds) = compute(mesh, params)?;
+                let made = (Arc::new(points), seconds);
                 if let Ok(mut c) = CACHE.lock() {
                     c.insert(key, made.clone());
                 }
@@ -108,10 +98,8 @@ impl Decomposed {
 
     /// The decomposition computed afresh, neither read from nor written to the cache (what benchmarks time).
     pub fn uncached(mesh: &Mesh, params: &Decomposition) -> Result<Decomposed, ShapeError> {
-        params.check()?;
-        let start = Instant::now();
-        let points = vhacd(mesh, params);
-        Self::from_pieces(mesh, params, &points, start.elapsed().as_secs_f64())
+        let (points, seconds) = compute(mesh, params)?;
+        Self::from_pieces(mesh, params, &points, seconds)
     }
 
     /// A decomposition whose pieces are given as point sets (as a saved world has them): each piece is their hull.
@@ -135,7 +123,7 @@ impl Decomposed {
                 format!(
                     "the decomposition of {} has no solid piece: raise `resolution`, or use its convex hull \
                      (shape=\"hull\")",
-                    if mesh.name.is_empty() { "the mesh".to_string() } else { format!("mesh \"{}\"", mesh.name) }
+                    label(&mesh.name)
                 ),
             ));
         }
@@ -146,6 +134,7 @@ impl Decomposed {
             pieces: Arc::new(hulls),
             compound: Arc::new(Compound::new(parts)),
             seconds,
+            key: params.digest(mesh),
         })
     }
 
@@ -166,13 +155,31 @@ impl Decomposed {
 
     /// The digest of mesh and parameters (equal for decompositions of the same mesh with the same parameters).
     pub fn key(&self) -> u64 {
-        self.params.digest(&self.mesh)
+        self.key
     }
 
     /// Seconds the decomposition took when it ran (the first time in this process, or as saved).
     pub fn seconds(&self) -> f64 {
         self.seconds
     }
+}
+
+/// The pieces' point sets and the seconds they took, after the parameters' and the mesh's size are checked.
+fn compute(mesh: &Mesh, params: &Decomposition) -> Result<(Vec<Vec<Point3<f64>>>, f64), ShapeError> {
+    params.check()?;
+    if mesh.triangles.len() > MAX_DECOMPOSED_TRIANGLES {
+        return Err(ShapeError::new(
+            "mesh",
+            format!(
+                "{} triangles are more than the {MAX_DECOMPOSED_TRIANGLES} a decomposition takes: simplify the mesh, \
+                 or use its convex hull (shape=\"hull\")",
+                mesh.triangles.len()
+            ),
+        ));
+    }
+    let start = Instant::now();
+    let points = vhacd(mesh, params);
+    Ok((points, start.elapsed().as_secs_f64()))
 }
 
 /// The point sets of the pieces, each the vertices of the exact hull of the mesh's triangles in one voxel part.

@@ -12,14 +12,7 @@ use parry3d_f64::shape::{PolygonalFeature, Shape as ParryShape};
 /// Faces of more vertices than this are cut short by parry's polygonal features.
 const PARRY_FACE_VERTICES: usize = 4;
 
-/// What one shape shows the other along the normal.
-enum Side {
-    /// A half-space's plane: points x with `normal . x = offset` (world), the normal pointing out of the shape.
-    Plane { normal: Vector3<f64>, offset: f64 },
-    /// A convex polygon, segment or point (world), its vertices in order.
-    Polygon(Polygon),
-}
-
+/// What one shape shows the other along the normal: a convex polygon, segment or point (world), its vertices in order.
 struct Polygon {
     points: Vec<Point3<f64>>,
     /// The feature of each vertex.
@@ -44,8 +37,8 @@ fn best_face(dots: impl Iterator<Item = f64>) -> usize {
 }
 
 /// The feature of `shape` at `pose` that faces `dir` (world), or `None` for shapes this does not handle (rounded
-/// ones, composites).
-fn side(shape: &dyn ParryShape, pose: &Pose, dir: Vector3<f64>) -> Option<Side> {
+/// ones, composites, half-spaces: a hull against a half-space is `hull_plane_contacts`').
+fn side(shape: &dyn ParryShape, pose: &Pose, dir: Vector3<f64>) -> Option<Polygon> {
     let local = pose.rotation.inverse() * to_parry(&dir);
     if let Some(hull) = shape.as_convex_polyhedron() {
         let f = best_face(hull.faces().iter().map(|f| f.normal.dot(local)));
@@ -53,16 +46,15 @@ fn side(shape: &dyn ParryShape, pose: &Pose, dir: Vector3<f64>) -> Option<Side> 
         let range =
             face.first_vertex_or_edge as usize..(face.first_vertex_or_edge + face.num_vertices_or_edges) as usize;
         let vids = &hull.vertices_adj_to_face()[range.clone()];
-        return Some(Side::Polygon(Polygon {
+        return Some(Polygon {
             points: vids.iter().map(|&v| point_from_parry(pose * hull.points()[v as usize])).collect(),
             vertices: vids.iter().map(|&v| Feature::Vertex(v)).collect(),
             edges: hull.edges_adj_to_face()[range].iter().map(|&e| Feature::Edge(e)).collect(),
             face: Feature::Face(f as u32),
-        }));
+        });
     }
-    if let Some(h) = shape.as_halfspace() {
-        let normal = from_parry(pose.rotation * h.normal);
-        return Some(Side::Plane { normal, offset: normal.dot(&from_parry(pose.translation)) });
+    if shape.as_halfspace().is_some() {
+        return None;
     }
     let (pfm, radius) = shape.as_polygonal_feature_map()?;
     if radius != 0.0 {
@@ -80,12 +72,12 @@ fn side(shape: &dyn ParryShape, pose: &Pose, dir: Vector3<f64>) -> Option<Side> 
         parry3d_f64::shape::FeatureId::Face(i) => Feature::Face(i),
         _ => Feature::Unknown,
     };
-    Some(Side::Polygon(Polygon {
+    Some(Polygon {
         points: feature.vertices[..n].iter().map(|&p| point_from_parry(pose * p)).collect(),
         vertices: feature.vids[..n].iter().map(|&v| code(v)).collect(),
         edges: feature.eids[..n].iter().map(|&e| code(e)).collect(),
         face: code(feature.fid),
-    }))
+    })
 }
 
 /// The contacts of a convex hull and a half-space (parts `a` and `b` in either order, at their world poses) along
@@ -170,7 +162,7 @@ pub(crate) fn long_face_contacts(
     if !(long_face(a, pose_a, n) || long_face(b, pose_b, -n)) {
         return None;
     }
-    let (sa, sb) = (side(a, pose_a, n)?, side(b, pose_b, -n)?);
+    let (pa, pb) = (side(a, pose_a, n)?, side(b, pose_b, -n)?);
     let mut out = Vec::new();
     let mut push = |point_a: Point3<f64>, point_b: Point3<f64>, feature_a: Feature, feature_b: Feature| {
         let distance = n.dot(&(point_b - point_a));
@@ -186,28 +178,13 @@ pub(crate) fn long_face_contacts(
             });
         }
     };
-    match (&sa, &sb) {
-        (Side::Plane { normal: m, offset }, Side::Polygon(p)) => {
-            for (q, &f) in p.points.iter().zip(&p.vertices) {
-                push(q - m * (m.dot(&q.coords) - offset), *q, Feature::Face(0), f);
-            }
-        }
-        (Side::Polygon(p), Side::Plane { normal: m, offset }) => {
-            for (q, &f) in p.points.iter().zip(&p.vertices) {
-                push(*q, q - m * (m.dot(&q.coords) - offset), f, Feature::Face(0));
-            }
-        }
-        (Side::Polygon(pa), Side::Polygon(pb)) => {
-            let frame = Frame::across(n);
-            let (qa, qb) = (frame.flatten(&pa.points), frame.flatten(&pb.points));
-            let scale = pa.points.iter().chain(&pb.points).map(|p| p.coords.amax()).fold(1e-300, f64::max);
-            let eps = 1e-9 * scale;
-            for q in overlap(&qa, &qb, eps) {
-                let (Some(xa), Some(xb)) = (frame.lift(q, pa, &qa), frame.lift(q, pb, &qb)) else { return None };
-                push(xa, xb, label(q, pa, &qa, eps), label(q, pb, &qb, eps));
-            }
-        }
-        (Side::Plane { .. }, Side::Plane { .. }) => return None,
+    let frame = Frame::across(n);
+    let (qa, qb) = (frame.flatten(&pa.points), frame.flatten(&pb.points));
+    let scale = pa.points.iter().chain(&pb.points).map(|p| p.coords.amax()).fold(1e-300, f64::max);
+    let eps = 1e-9 * scale;
+    for q in overlap(&qa, &qb, eps) {
+        let (Some(xa), Some(xb)) = (frame.lift(q, &pa, &qa), frame.lift(q, &pb, &qb)) else { return None };
+        push(xa, xb, label(q, &pa, &qa, eps), label(q, &pb, &qb, eps));
     }
     Some(out)
 }

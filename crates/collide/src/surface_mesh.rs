@@ -30,7 +30,7 @@ impl Mesh {
     /// `name` in messages. Vertices at the same place are one vertex of the surface (as files that split vertices
     /// along seams have them). Every check's error names the mesh and what is wrong, and suggests its hull.
     pub fn new(vertices: &[Point3<f64>], triangles: &[[u32; 3]], name: &str) -> Result<Mesh, ShapeError> {
-        let label = if name.is_empty() { "the mesh".to_string() } else { format!("mesh \"{name}\"") };
+        let label = label(name);
         let bad = |reason: String| ShapeError::new("mesh", format!("{label} {reason}"));
         let hint = "; its convex hull (shape=\"hull\") needs no closed surface";
         for (i, p) in vertices.iter().enumerate() {
@@ -120,6 +120,15 @@ impl Mesh {
             t.iter().for_each(|&k| h.add(k as u64));
         }
         h.0
+    }
+}
+
+/// How messages name a mesh: `mesh "cup"`, or `the mesh` when it has no name.
+pub(crate) fn label(name: &str) -> String {
+    if name.is_empty() {
+        "the mesh".to_string()
+    } else {
+        format!("mesh \"{name}\"")
     }
 }
 

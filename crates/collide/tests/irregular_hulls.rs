@@ -7,22 +7,15 @@
 mod common;
 
 use common::Rng;
-use nalgebra::{Isometry3, Point3, Vector3};
-use tumble_collide::{contacts, distance, Decomposed, Mesh, Shape};
+use nalgebra::{Isometry3, Vector3};
+use tumble_collide::{contacts, distance, Decomposed, Shape};
 
+/// The convex pieces of three random blobs (`common::blob`, bumps up to 30%, 0.2 m across).
 fn pieces(rng: &mut Rng) -> Vec<Shape> {
-    let sphere = Mesh::sphere_mesh(1.0, 20).unwrap();
     let mut out = Vec::new();
     for _ in 0..3 {
-        let k: Vec<(Vector3<f64>, f64)> = (0..4).map(|_| (rng.vector(3.0), rng.range(-0.3, 0.3))).collect();
-        let v: Vec<Point3<f64>> = sphere
-            .vertices()
-            .iter()
-            .map(|p| {
-                Point3::from(p.coords * 0.1 * (1.0 + k.iter().map(|(f, a)| a * f.dot(&p.coords).sin()).sum::<f64>()))
-            })
-            .collect();
-        let d = Decomposed::new(&Mesh::new(&v, sphere.triangles(), "blob").unwrap(), &Default::default()).unwrap();
+        let mesh = common::blob(rng, 20, 0.3, |_| (0.1, Isometry3::identity()));
+        let d = Decomposed::new(&mesh, &Default::default()).unwrap();
         out.extend(d.pieces().iter().map(|h| Shape::ConvexHull(h.clone())));
     }
     out

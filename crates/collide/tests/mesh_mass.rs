@@ -87,22 +87,9 @@ fn a_meshed_box_is_exact() {
     assert!(tensor_error(&p.inertia, d) <= 1e-12, "{}", p.inertia);
 }
 
-/// A random star-shaped blob: a sphere mesh whose vertices are pushed out by a smooth random radius, moved and
-/// turned; closed and outward by construction.
-pub fn blob(rng: &mut Rng, segments: u32) -> Mesh {
-    let sphere = Mesh::sphere_mesh(1.0, segments).unwrap();
-    let k: Vec<(Vector3<f64>, f64)> = (0..4).map(|_| (rng.vector(3.0), rng.range(-0.25, 0.25))).collect();
-    let scale = rng.range(0.05, 2.0);
-    let pose = rng.pose(1.0);
-    let vertices: Vec<Point3<f64>> = sphere
-        .vertices()
-        .iter()
-        .map(|p| {
-            let r = 1.0 + k.iter().map(|(f, a)| a * f.dot(&p.coords).sin()).sum::<f64>();
-            pose * Point3::from(p.coords * r * scale)
-        })
-        .collect();
-    Mesh::new(&vertices, sphere.triangles(), "blob").unwrap()
+/// A random blob (`common::blob`) of up to 25% bumps, 0.05 to 2 across, moved and turned.
+fn blob(rng: &mut Rng, segments: u32) -> Mesh {
+    common::blob(rng, segments, 0.25, |rng| (rng.range(0.05, 2.0), rng.pose(1.0)))
 }
 
 #[test]

@@ -60,23 +60,10 @@ pub(crate) fn actors_with_forces(
     system.model.step_actors(t, y, &dy, statics, &[])
 }
 
-/// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed
-/// times h, plus what the applied forces add, plus the contact distance), at most four points a pair and plane.
-#[cfg(test)]
-pub fn contacts_in_reach(
-    cx: &mut ContactStages<'_>,
-    model: &Model,
-    states: &[BodyState],
-    y: &[f64],
-    t: f64,
-    h: f64,
-) -> Result<Vec<FoundContact>, OdeError> {
-    Ok(every_contact_in_reach(cx, model, states, y, t, h)?.0)
-}
-
-/// `contacts_in_reach`'s contacts, and every contact found before the reduction to four a pair and plane: the
-/// points a step does not hold (a rolling hull's vertex coming round, a piece's corner) but whose sinking its
-/// error must see.
+/// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed times h,
+/// plus what the applied forces add, plus the contact distance), at most four points a pair and plane; and every
+/// contact found before that reduction: the points a step does not hold (a rolling hull's vertex coming round, a
+/// piece's corner) but whose sinking its error must see.
 pub fn every_contact_in_reach(
     cx: &mut ContactStages<'_>,
     model: &Model,

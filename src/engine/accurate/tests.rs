@@ -235,7 +235,8 @@ fn a_convex_step_carries_a_resting_cubes_weight_and_slows_a_sliding_one_at_mu_g(
         let y = integrator.state().to_vec();
         let statics = stages.scene.static_poses.clone();
         let states = super::convex_step::actors_with_forces(system, &statics, 0.0, &y).unwrap();
-        let found = super::convex_step::contacts_in_reach(&mut stages, &system.model, &states, &y, 0.0, h).unwrap();
+        let found =
+            super::convex_step::every_contact_in_reach(&mut stages, &system.model, &states, &y, 0.0, h).unwrap().0;
         assert_eq!(found.len(), 4);
         // the lagged friction bound from the weight shared by the corners
         let lagged: BTreeMap<_, _> = found.iter().map(|f| (f.key, 4.0 * G / 4.0)).collect();

@@ -1,8 +1,8 @@
-//! Shared test helpers: a seeded generator (SplitMix64) and random poses and shapes drawn from it.
+//! Shared test helpers: a seeded generator (SplitMix64) and random poses, shapes and closed blobs drawn from it.
 #![allow(dead_code)]
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
-use tumble_collide::Shape;
+use tumble_collide::{Mesh, Shape};
 
 /// SplitMix64: small, seeded, reproducible.
 pub struct Rng(pub u64);
@@ -68,4 +68,27 @@ impl Rng {
             }
         }
     }
+}
+
+/// A random star-shaped blob: a sphere mesh of `segments` whose vertices are pushed out by a smooth random radius
+/// (four sine terms of up to `amplitude`), then scaled and placed by what `place` draws; closed and outward by
+/// construction.
+pub fn blob(
+    rng: &mut Rng,
+    segments: u32,
+    amplitude: f64,
+    place: impl FnOnce(&mut Rng) -> (f64, Isometry3<f64>),
+) -> Mesh {
+    let sphere = Mesh::sphere_mesh(1.0, segments).unwrap();
+    let k: Vec<(Vector3<f64>, f64)> = (0..4).map(|_| (rng.vector(3.0), rng.range(-amplitude, amplitude))).collect();
+    let (scale, pose) = place(rng);
+    let vertices: Vec<Point3<f64>> = sphere
+        .vertices()
+        .iter()
+        .map(|p| {
+            let r = 1.0 + k.iter().map(|(f, a)| a * f.dot(&p.coords).sin()).sum::<f64>();
+            pose * Point3::from(p.coords * r * scale)
+        })
+        .collect();
+    Mesh::new(&vertices, sphere.triangles(), "blob").unwrap()
 }
