@@ -1,5 +1,6 @@
-//! The peer comparison's scenes in tumble's fast mode (issue 13): a pile of N cubes, a stack of 10, a sliding box,
-//! a resting box and a bullet, each measured as the comparison asks, one markdown row each. The same scene
+//! The peer comparison's scenes in tumble's fast mode: a pile of N cubes, a stack of 10, a sliding box, a resting
+//! box and a bullet, each measured as the comparison asks (the stack's and the resting box's time a step too: the
+//! fixed cost of a step), one markdown row each. The same scene
 //! definitions are in `benches/peers/` for Rapier, MuJoCo and PyBullet.
 //!
 //! cargo run --release --example fast_scenes -- [soft|exact] [pile sizes, e.g. 100 1000] [--substeps N]
@@ -39,10 +40,11 @@ fn pile(n: usize, solver: FastSolver, sleep: bool, threads: usize) -> (f64, f64)
     let penetration = run.penetration.iter().fold(0.0f64, |m, p| m.max(*p));
     let r = w.report();
     eprintln!(
-        "pile {n}, sleep {sleep}: finding contacts {:.3} ms, solving {:.3} ms a step; {:.0} pushing contacts and {:.1} islands a step; \
-         solver residual {:.1e} m/s",
+        "pile {n}, sleep {sleep}: finding contacts {:.3} ms, solving {:.3} ms (building the rows {:.3} ms) a step; {:.0} pushing \
+         contacts and {:.1} islands a step; solver residual {:.1e} m/s",
         r.collision_seconds * 1e3 / 600.0,
         r.contact_seconds * 1e3 / 600.0,
+        r.program_seconds * 1e3 / 600.0,
         r.impulses as f64 / 600.0,
         r.islands as f64 / 600.0,
         r.contact_residual
@@ -50,17 +52,20 @@ fn pile(n: usize, solver: FastSolver, sleep: bool, threads: usize) -> (f64, f64)
     (clock.elapsed().as_secs_f64() * 1e3 / 600.0, penetration)
 }
 
-/// Largest displacement of any body over `seconds`.
-fn displacement(w: &mut World, bodies: &[BodyHandle], seconds: f64, dt: f64) -> f64 {
+/// Largest displacement of any body over `seconds`, and the time of a step (us; the steps alone timed).
+fn displacement(w: &mut World, bodies: &[BodyHandle], seconds: f64, dt: f64) -> (f64, f64) {
     let start: Vec<_> = bodies.iter().map(|&b| w.body(b).unwrap().position()).collect();
-    let mut worst = 0.0f64;
-    for _ in 0..(seconds / dt).round() as usize {
+    let (mut worst, mut spent) = (0.0f64, 0.0);
+    let steps = (seconds / dt).round() as usize;
+    for _ in 0..steps {
+        let clock = Instant::now();
         w.step(dt).unwrap();
+        spent += clock.elapsed().as_secs_f64();
         for (&b, s) in bodies.iter().zip(&start) {
             worst = worst.max((w.body(b).unwrap().position() - s).norm());
         }
     }
-    worst
+    (worst, spent * 1e6 / steps as f64)
 }
 
 fn main() {
@@ -110,7 +115,9 @@ fn main() {
     let mut w = world(dt, solver, false, 0.6);
     let stack: Vec<_> =
         (0..10).map(|k| cube(&mut w, 0.25, 500.0, Vector3::new(0.0, 0.0, 0.25 + 0.5 * k as f64), 0.6)).collect();
-    println!("| stack of 10: largest displacement in 10 s | {:.3} mm |", displacement(&mut w, &stack, 10.0, dt) * 1e3);
+    let (moved, us) = displacement(&mut w, &stack, 10.0, dt);
+    println!("| stack of 10: largest displacement in 10 s | {:.3} mm |", moved * 1e3);
+    println!("| stack of 10: us a step | {us:.2} us |");
     // slide: half extent 0.2 m, density 500, 2 m/s, mu 0.5, dt 1/240, 2 s
     let mut w = world(dt, solver, false, 0.5);
     let b = w
@@ -129,7 +136,9 @@ fn main() {
     // rest: half extent 0.5 m, 10 s
     let mut w = world(dt, solver, false, 0.5);
     let b = cube(&mut w, 0.5, 1000.0, Vector3::new(0.0, 0.0, 0.5), 0.5);
-    println!("| rest: largest displacement in 10 s | {:.2e} m |", displacement(&mut w, &[b], 10.0, dt));
+    let (moved, us) = displacement(&mut w, &[b], 10.0, dt);
+    println!("| rest: largest displacement in 10 s | {moved:.2e} m |");
+    println!("| rest: us a step | {us:.2} us |");
     // bullet: a 5 cm sphere at 1000 m/s against a 1 cm static wall, dt 1/60
     let mut w = world(1.0 / 60.0, solver, false, 0.5);
     w.add_body(

@@ -49,9 +49,10 @@ pub struct WorldReport {
     pub collision_seconds: f64,
     /// Wall time spent in contact solves (s).
     pub contact_seconds: f64,
-    /// Of `contact_seconds`, the time spent building accurate mode's contact programs (s): their rows and
-    /// Jacobians, the Newton method's sparse Hessian structure and clarabel's matrices, summed over islands (on
-    /// several threads it can pass the wall time).
+    /// Of `contact_seconds`, the time spent building the contact programs (s): accurate mode's rows and
+    /// Jacobians, the Newton method's sparse Hessian structure and clarabel's matrices; fast mode's soft rows (the
+    /// constraint axes and effective masses of every contact, joint and spring), summed over islands (on several
+    /// threads it can pass the wall time).
     pub program_seconds: f64,
     /// Contact steps accepted (accurate mode while bodies touch).
     pub contact_steps: usize,

@@ -19,7 +19,8 @@ class Report:
     ``max_penetration``, ``contact_residual`` (fast mode's soft step: the largest distance in m/s of a step's end
     from the exact contact conditions), ``step_error`` (fast mode with ``step_doubling=True``: the largest difference
     in metres between a step and its two halves; ``None`` without), ``collision_seconds``, ``contact_seconds`` and its share
-    ``program_seconds``, building accurate mode's contact programs: zero wherever a stage never ran); ``energy_change`` (J, every mode: the change of kinetic plus gravity's and the
+    ``program_seconds``, building the contact programs: accurate mode's, and fast mode's soft rows: zero wherever a
+    stage never ran); ``energy_change`` (J, every mode: the change of kinetic plus gravity's and the
     springs' potential energy over the steps reported; friction, damping and restitution below one take energy out,
     so without loads that do work a rise is the method's error) and ``energy_gain`` (fast mode: the largest rise over
     one step, the energy a step added; ``None`` in the other modes);

@@ -5,14 +5,18 @@
 
 use crate::body::RigidBody;
 use crate::collider::{Collider, Material};
+use crate::engine::contact_pairs::{ContactPairs, Found, Pair};
+use crate::engine::contact_reduction::{reduce, reduce_indices};
 use crate::engine::found_contact::{feature_code, ContactKey, FoundContact};
-use crate::engine::manifold_cache::ManifoldCache;
 use crate::handle::Arena;
 use crate::model::layout::Layout;
 use crate::particle::Particle;
 use crate::spring::BodyHandle;
 use nalgebra::{Isometry3, Point3, Vector3};
 use tumble_collide::{contacts, Aabb, ContactKind, Shape, SortAndSweep};
+
+/// Pairs from which the narrow phase is shared out among the workers.
+const PARALLEL_PAIRS: usize = 256;
 
 /// Who carries a collider: actors are numbered particles first, then dynamic bodies, then static bodies, which is
 /// the order of the body arrays handed to tumble-contact.
@@ -186,21 +190,22 @@ impl ColliderSet {
         let grown: Vec<f64> = margins.iter().map(|m| m + 0.5 * base).collect();
         let boxes = self.boxes(poses, &grown)?;
         let pairs = self.broad_pairs(&boxes)?;
-        Ok(self.pair_contacts(&pairs, poses, |a, b| grown[a] + grown[b], None))
+        Ok(self.pair_contacts(&pairs, poses, |a, b| grown[a] + grown[b]))
     }
 
-    /// Fast mode's contacts of a step of h: the broad phase on boxes grown by how far each actor can move (`reach`)
-    /// plus half of `base`, and each pair's manifold within how far the two can close on each other in the step:
-    /// their relative speed plus both spins' reach, times h, plus `base`. Bodies moving together (a stack falling,
-    /// a row of boxes landing side by side) are not joined by contacts they cannot close. Pairs that barely moved
-    /// reuse their manifolds of `cache`, if given.
+    /// Fast mode's contacts of a step of h, reduced (`contact_reduction.rs`): the broad phase on boxes grown by how
+    /// far each actor can move (`reach`) plus half of `base`, and each pair's manifold within how far the two can
+    /// close on each other in the step: their relative speed plus both spins' reach, times h, plus `base`. Bodies
+    /// moving together (a stack falling, a row of boxes landing side by side) are not joined by contacts they cannot
+    /// close. With `store`, pairs that barely moved reuse their manifolds and reductions (`contact_pairs.rs`),
+    /// and the pairs are shared out among `threads` workers.
     pub fn find_closing(
         &mut self,
         poses: &[Isometry3<f64>],
         states: &[tumble_contact::BodyState],
-        h: f64,
-        base: f64,
-        cache: Option<&mut ManifoldCache>,
+        (h, base): (f64, f64),
+        store: Option<&mut ContactPairs>,
+        threads: usize,
     ) -> Result<Vec<FoundContact>, String> {
         let (reach, spin) = self.reach_and_spin(states, h);
         let grown: Vec<f64> = reach.iter().map(|m| m + 0.5 * base).collect();
@@ -214,7 +219,10 @@ impl ColliderSet {
             // never more than the two reaches (the old bound), so an unknown actor cannot widen it
             ((relative * h + spin[a] + spin[b]).min(reach[a] + reach[b])) + base
         };
-        Ok(self.pair_contacts(&pairs, poses, closing, cache))
+        Ok(match store {
+            Some(store) => self.kept_pair_contacts(&pairs, poses, closing, (store, states), threads),
+            None => reduce(self.pair_contacts(&pairs, poses, closing), states),
+        })
     }
 
     /// The pairs of colliders (first one moving) whose boxes, swept from `from` to `to` and grown by each actor's
@@ -245,80 +253,158 @@ impl ColliderSet {
         Ok(pairs)
     }
 
-    /// The contacts of the collider pairs `pairs` at `poses`, each pair within `prediction(actor_a, actor_b)`;
-    /// pairs that barely moved reuse their manifolds of `cache`, if given, which keeps this call's.
+    /// The contacts of the collider pairs `pairs` at `poses`, each pair within `prediction(actor_a, actor_b)`, every
+    /// manifold computed and kept whole.
     pub fn pair_contacts(
         &mut self,
         pairs: &[(usize, usize)],
         poses: &[Isometry3<f64>],
         prediction: impl Fn(usize, usize) -> f64,
-        mut cache: Option<&mut ManifoldCache>,
     ) -> Vec<FoundContact> {
         let mut out = Vec::with_capacity(self.found_last + self.found_last / 8);
         for &(i, j) in pairs {
             let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
             let (ia, ib) = (self.index(ca.actor), self.index(cb.actor));
             let (pa, pb) = (poses[ia] * ca.offset, poses[ib] * cb.offset);
-            let mut checks = 0;
-            let mut compute = |p: f64| {
-                checks += 1;
-                contacts(&ca.shape, &pa, &cb.shape, &pb, p)
-            };
-            let found = match cache.as_deref_mut() {
-                Some(cache) => cache.contacts(
-                    (i, j),
-                    (&ca.shape, &pa, ca.radius),
-                    (&cb.shape, &pb, cb.radius),
-                    prediction(ia, ib),
-                    compute,
-                ),
-                None => compute(prediction(ia, ib)),
-            };
-            self.checks += checks;
-            let Ok(found) = found else { continue };
+            self.checks += 1;
+            let Ok(found) = contacts(&ca.shape, &pa, &cb.shape, &pb, prediction(ia, ib)) else { continue };
             let material = ca.material.combine(&cb.material);
-            for c in found {
-                let motion = match c.kind {
-                    ContactKind::FaceVertex => tumble_contact::NormalMotion::WithA,
-                    ContactKind::Curved
-                        if matches!(ca.shape, Shape::Sphere { .. })
-                            && matches!(cb.shape, Shape::Sphere { .. })
-                            && ca.offset.translation.vector == Vector3::zeros()
-                            && cb.offset.translation.vector == Vector3::zeros() =>
-                    {
-                        tumble_contact::NormalMotion::BetweenCentres
-                    }
-                    // vertex-face, and edge-edge (whose edges parry does not hand us): the normal turns with B
-                    _ => tumble_contact::NormalMotion::WithB,
-                };
-                // The contact point: the vertex (or curved point) that carries it.
-                let point = match c.kind {
-                    ContactKind::FaceVertex => c.point_b,
-                    ContactKind::VertexFace => c.point_a,
-                    _ => Point3::from((c.point_a.coords + c.point_b.coords) * 0.5),
-                };
-                let contact = tumble_contact::Contact {
-                    a: ia,
-                    b: ib,
-                    point,
-                    normal: c.normal,
-                    distance: c.distance,
-                    restitution: material.restitution,
-                    friction: material.friction,
-                    normal_motion: motion,
-                };
-                let key = ContactKey {
-                    colliders: (i as u32, j as u32),
-                    features: (feature_code(c.feature_a), feature_code(c.feature_b)),
-                };
-                out.push(FoundContact { contact, key, point_a: c.point_a, point_b: c.point_b });
-            }
-        }
-        if let Some(cache) = cache {
-            cache.finish();
+            out.extend(found.into_iter().map(|c| self.found_contact((i, j), (ia, ib), material, c)));
         }
         self.found_last = out.len();
         out
+    }
+
+    /// `pair_contacts` with the pairs kept across steps (`store`), each pair's contacts reduced (the actors
+    /// `states` give the reduction its centres of mass), on up to `threads` workers: the pairs are shared out in
+    /// order, and their contacts come back in pair order whatever the number.
+    pub fn kept_pair_contacts(
+        &mut self,
+        pairs: &[(usize, usize)],
+        poses: &[Isometry3<f64>],
+        prediction: impl Fn(usize, usize) -> f64 + Sync,
+        (store, states): (&mut ContactPairs, &[tumble_contact::BodyState]),
+        threads: usize,
+    ) -> Vec<FoundContact> {
+        let mut entries = store.open(pairs);
+        // below this many pairs, one worker is quicker than sharing them out; 0 threads: one per core
+        let threads = match threads {
+            _ if pairs.len() < PARALLEL_PAIRS => 1,
+            0 => tumble_contact::cores(),
+            t => t,
+        };
+        let workers = tumble_contact::Workers::new(threads);
+        let shares = workers.count;
+        let n = entries.len();
+        let bounds: Vec<usize> = (0..=shares).map(|t| n * t / shares).collect();
+        type Share = (Vec<FoundContact>, Vec<(Found, bool)>, usize);
+        let slots: Vec<std::sync::Mutex<Share>> = (0..shares).map(|_| Default::default()).collect();
+        {
+            let mut rest = &mut entries[..];
+            let mut parts: Vec<std::sync::Mutex<&mut [Pair]>> = Vec::with_capacity(shares);
+            for t in 0..shares {
+                let (mine, tail) = rest.split_at_mut(bounds[t + 1] - bounds[t]);
+                parts.push(std::sync::Mutex::new(mine));
+                rest = tail;
+            }
+            let this = &*self;
+            workers.run(|t| {
+                let mut part = parts[t].lock().unwrap_or_else(|e| e.into_inner());
+                let share = this.share_contacts(&mut part, poses, &prediction, states, n);
+                *slots[t].lock().unwrap_or_else(|e| e.into_inner()) = share;
+            });
+        }
+        let mut shares = slots.into_iter().map(|slot| slot.into_inner().unwrap_or_else(|e| e.into_inner()));
+        let (mut out, mut tallies, checks) = shares.next().expect("one worker at least");
+        self.checks += checks;
+        for (found, tally, checks) in shares {
+            out.extend(found);
+            tallies.extend(tally);
+            self.checks += checks;
+        }
+        store.close(entries, tallies.into_iter());
+        self.found_last = out.len();
+        out
+    }
+
+    /// One worker's share of `kept_pair_contacts`: its pairs' reduced contacts, how each was found, and the
+    /// narrow-phase tests it ran.
+    fn share_contacts(
+        &self,
+        entries: &mut [Pair],
+        poses: &[Isometry3<f64>],
+        prediction: &impl Fn(usize, usize) -> f64,
+        states: &[tumble_contact::BodyState],
+        pairs: usize,
+    ) -> (Vec<FoundContact>, Vec<(Found, bool)>, usize) {
+        // room for as many as the share found last step, roughly (a growing list would copy them)
+        let mut out = Vec::with_capacity(self.found_last * entries.len() / pairs.max(1) + 16);
+        let (mut tally, mut checks) = (Vec::with_capacity(entries.len()), 0);
+        let mut pair_found = Vec::new();
+        for entry in entries {
+            let (i, j) = entry.pair();
+            let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
+            let (ia, ib) = (self.index(ca.actor), self.index(cb.actor));
+            let (pa, pb) = (poses[ia] * ca.offset, poses[ib] * cb.offset);
+            let compute = |p: f64| {
+                checks += 1;
+                contacts(&ca.shape, &pa, &cb.shape, &pb, p)
+            };
+            let shapes = ((&ca.shape, &pa, ca.radius), (&cb.shape, &pb, cb.radius));
+            let Ok((found, how)) = entry.contacts(shapes.0, shapes.1, prediction(ia, ib), compute) else { continue };
+            let material = ca.material.combine(&cb.material);
+            pair_found.clear();
+            pair_found.extend(found.into_iter().map(|c| self.found_contact((i, j), (ia, ib), material, c)));
+            let (kept, kept_choice) = entry.choose(&pair_found, |f| reduce_indices(f, states));
+            out.extend(kept.into_iter().map(|k| pair_found[k]));
+            tally.push((how, kept_choice));
+        }
+        (out, tally, checks)
+    }
+
+    /// A contact of parry's between colliders `pair` of actors `actors` as tumble-contact takes it.
+    fn found_contact(
+        &self,
+        pair: (usize, usize),
+        (ia, ib): (usize, usize),
+        material: Material,
+        c: tumble_collide::Contact,
+    ) -> FoundContact {
+        let (ca, cb) = (&self.colliders[pair.0], &self.colliders[pair.1]);
+        let motion = match c.kind {
+            ContactKind::FaceVertex => tumble_contact::NormalMotion::WithA,
+            ContactKind::Curved
+                if matches!(ca.shape, Shape::Sphere { .. })
+                    && matches!(cb.shape, Shape::Sphere { .. })
+                    && ca.offset.translation.vector == Vector3::zeros()
+                    && cb.offset.translation.vector == Vector3::zeros() =>
+            {
+                tumble_contact::NormalMotion::BetweenCentres
+            }
+            // vertex-face, and edge-edge (whose edges parry does not hand us): the normal turns with B
+            _ => tumble_contact::NormalMotion::WithB,
+        };
+        // The contact point: the vertex (or curved point) that carries it.
+        let point = match c.kind {
+            ContactKind::FaceVertex => c.point_b,
+            ContactKind::VertexFace => c.point_a,
+            _ => Point3::from((c.point_a.coords + c.point_b.coords) * 0.5),
+        };
+        let contact = tumble_contact::Contact {
+            a: ia,
+            b: ib,
+            point,
+            normal: c.normal,
+            distance: c.distance,
+            restitution: material.restitution,
+            friction: material.friction,
+            normal_motion: motion,
+        };
+        let key = ContactKey {
+            colliders: (pair.0 as u32, pair.1 as u32),
+            features: (feature_code(c.feature_a), feature_code(c.feature_b)),
+        };
+        FoundContact { contact, key, point_a: c.point_a, point_b: c.point_b }
     }
 
     /// Gives every collider of actor `actor` (its index in the body arrays) `material`.

@@ -19,8 +19,25 @@ pub(crate) const MAX_POINTS: usize = 4;
 /// the other first) that the whole polygon holds, they are chosen again to hold it (`support_polygon::hold`).
 /// `states` are the actors' (indexed as the contacts' bodies; statics may be missing).
 pub(crate) fn reduce(found: Vec<FoundContact>, states: &[BodyState]) -> Vec<FoundContact> {
+    if found.len() <= MAX_POINTS {
+        return found;
+    }
+    let kept = reduce_indices(&found, states);
+    if kept.len() == found.len() {
+        return found;
+    }
+    let mut keep = vec![false; found.len()];
+    kept.into_iter().for_each(|k| keep[k] = true);
+    found.into_iter().zip(keep).filter_map(|(f, k)| k.then_some(f)).collect()
+}
+
+/// The indices (in order) of the contacts `reduce` keeps.
+pub(crate) fn reduce_indices(found: &[FoundContact], states: &[BodyState]) -> Vec<usize> {
+    if found.len() <= MAX_POINTS {
+        return (0..found.len()).collect();
+    }
     // The scene gives each pair's contacts together, pairs in order: then the groups are runs, found without a map.
-    let groups: Vec<Vec<usize>> = match pair_runs(&found, |f| f.key.colliders) {
+    let groups: Vec<Vec<usize>> = match pair_runs(found, |f| f.key.colliders) {
         Some(runs) => runs.into_iter().filter(|r| r.len() > MAX_POINTS).map(|r| r.collect()).collect(),
         None => {
             let mut groups: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
@@ -31,13 +48,13 @@ pub(crate) fn reduce(found: Vec<FoundContact>, states: &[BodyState]) -> Vec<Foun
         }
     };
     if groups.is_empty() {
-        return found;
+        return (0..found.len()).collect();
     }
     let mut keep = vec![true; found.len()];
     for members in &groups {
         members.iter().for_each(|&i| keep[i] = false);
     }
-    for cluster in groups.iter().flat_map(|members| normal_clusters(&found, members)) {
+    for cluster in groups.iter().flat_map(|members| normal_clusters(found, members)) {
         if cluster.len() <= MAX_POINTS {
             cluster.iter().for_each(|&i| keep[i] = true);
             continue;
@@ -53,7 +70,7 @@ pub(crate) fn reduce(found: Vec<FoundContact>, states: &[BodyState]) -> Vec<Foun
             keep[members[k]] = true;
         }
     }
-    found.into_iter().zip(keep).filter_map(|(f, k)| k.then_some(f)).collect()
+    (0..found.len()).filter(|&k| keep[k]).collect()
 }
 
 /// Normals within this angle's cosine (10 degrees) are one contact plane.

@@ -11,6 +11,8 @@ mod budget;
 #[cfg(feature = "contact")]
 pub(crate) mod collider_set;
 #[cfg(feature = "contact")]
+mod contact_pairs;
+#[cfg(feature = "contact")]
 mod contact_reduction;
 mod core;
 #[cfg(feature = "contact")]
@@ -19,8 +21,6 @@ pub(crate) mod fast;
 pub(crate) mod found_contact;
 #[cfg(feature = "contact")]
 pub(crate) mod last_contacts;
-#[cfg(feature = "contact")]
-mod manifold_cache;
 mod memory;
 #[cfg(feature = "contact")]
 mod semi_implicit;

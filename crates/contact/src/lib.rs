@@ -89,3 +89,4 @@ pub use resting::{contact_wrenches, resting_forces, RestingForces};
 pub use simultaneous::{collision_impulses, Impulses};
 pub use soft::{soft_step, SoftImpulse, SoftProblem, SoftSettings, SoftSpring, SoftStep};
 pub use spring::{SpringLaw, COINCIDENT};
+pub use threads::{cores, Workers};

@@ -47,7 +47,7 @@ pub(super) fn collision_time(
     let touching0: BTreeSet<(u32, u32)> = if candidate.is_empty() {
         BTreeSet::new()
     } else {
-        let found0 = cx.scene.pair_contacts(&candidate, poses0, |_, _| delta, None);
+        let found0 = cx.scene.pair_contacts(&candidate, poses0, |_, _| delta);
         found0.iter().filter(|f| f.contact.distance <= delta).map(|f| f.key.colliders).collect()
     };
     // In a pair that has resting contacts, a contact parry names differently (it may renumber the features of
@@ -83,7 +83,7 @@ pub(super) fn collision_time(
             cx.report.stages.mark(Stage::Bisection);
             let y = step.state_at(mid)?;
             let poses = actor_poses(step.system().model.layout, &y, &statics);
-            let found = cx.scene.pair_contacts(&fresh, &poses, |_, _| delta, None);
+            let found = cx.scene.pair_contacts(&fresh, &poses, |_, _| delta);
             if found.iter().any(|f| hits(f, &cx.memory.resting_keys)) {
                 hi = mid;
             } else {

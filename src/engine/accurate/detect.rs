@@ -82,7 +82,7 @@ fn detect_stages(cx: &mut ContactStages<'_>, step: &mut StepView<'_, AccurateSys
     if pairs.is_empty() {
         return Ok(None);
     }
-    let found1 = cx.scene.pair_contacts(&pairs, &poses1, |_, _| delta, None);
+    let found1 = cx.scene.pair_contacts(&pairs, &poses1, |_, _| delta);
     // A resting contact that sank past the contact distance has drifted; any other contact that interpenetrates
     // at all is a collision.
     let drift = drifted(&found1, &cx.memory.resting_keys, delta);

@@ -7,7 +7,6 @@
 use super::applied_forces::actors;
 use super::failure;
 use super::step::StepContext;
-use crate::engine::contact_reduction::reduce;
 use crate::engine::found_contact::FoundContact;
 use crate::error::WorldError;
 use crate::plan::Stage;
@@ -29,9 +28,9 @@ pub(super) fn find_contacts(
     }
     let poses = scene.poses(&cx.memory.y);
     let checks = scene.checks;
-    let cache = cx.memory.manifolds.as_mut();
+    let store = cx.memory.pairs.as_mut();
     let mut found =
-        reduce(scene.find_closing(&poses, states, h, cx.settings.margin, cache).map_err(|e| failure(t, e))?, states);
+        scene.find_closing(&poses, states, (h, cx.settings.margin), store, cx.threads).map_err(|e| failure(t, e))?;
     if cx.memory.sleep.wake_touched(&found, dynamic) {
         // The woken actors' own contacts (with the floor under them, say) were left out as inert: find again.
         for a in 0..dynamic {
@@ -39,11 +38,10 @@ pub(super) fn find_contacts(
         }
         *states = actors(cx)?;
         let scene = cx.scene.as_deref_mut().expect("checked above");
-        let cache = cx.memory.manifolds.as_mut();
-        found = reduce(
-            scene.find_closing(&poses, states, h, cx.settings.margin, cache).map_err(|e| failure(t, e))?,
-            states,
-        );
+        let store = cx.memory.pairs.as_mut();
+        found = scene
+            .find_closing(&poses, states, (h, cx.settings.margin), store, cx.threads)
+            .map_err(|e| failure(t, e))?;
     }
     let scene = cx.scene.as_deref_mut().expect("checked above");
     cx.report.collision_checks += scene.checks - checks;

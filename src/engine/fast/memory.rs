@@ -1,12 +1,12 @@
 //! Fast mode's memory: everything its steps carry from one to the next (time, state, each contact's last impulses,
-//! the joints' warm starts, sleep, the manifolds kept across steps, the last step's contacts). It is one type: a
+//! the joints' warm starts, sleep, the contact pairs kept across steps, the last step's contacts). It is one type: a
 //! copy is what a failed call (or the step-doubling estimate) puts back, serialized it is what a file holds, and
 //! given back it is checked here first.
 
 use super::sleep::Sleep;
+use crate::engine::contact_pairs::ContactPairs;
 use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;
-use crate::engine::manifold_cache::ManifoldCache;
 use std::collections::BTreeMap;
 
 /// What fast mode carries from step to step.
@@ -18,21 +18,19 @@ pub(crate) struct FastMemory {
     pub y: Vec<f64>,
     /// Each contact's normal impulse of the last step (ordered: the warm start sums them in key order).
     pub previous: BTreeMap<ContactKey, f64>,
-    /// The soft solver's impulses of the last step, by contact (sorted by key).
-    pub warm: Vec<(ContactKey, tumble_contact::SoftImpulse)>,
     /// Each joint's row impulses of the last step.
     pub joint_warm: Vec<tumble_contact::JointImpulse>,
     pub sleep: Sleep,
     /// Largest penetration among the contacts of the last step.
     pub penetration: f64,
-    /// Manifolds kept across steps (the soft solver reuses those of pairs that barely moved), or none.
-    pub manifolds: Option<ManifoldCache>,
+    /// The soft solver's contact pairs kept across steps (manifolds, reductions and impulses), or none.
+    pub pairs: Option<ContactPairs>,
     /// The contacts of the last step, with their impulses.
     pub last_contacts: Vec<LastContact>,
 }
 
 /// What a fast-mode memory must fit: the state's length, the dynamic actors, all actors, the colliders, the joints,
-/// and whether the engine keeps manifolds.
+/// and whether the engine keeps contact pairs.
 #[derive(Clone, Copy)]
 pub(crate) struct Fit {
     pub dim: usize,
@@ -40,7 +38,7 @@ pub(crate) struct Fit {
     pub all_actors: usize,
     pub colliders: usize,
     pub joints: usize,
-    pub keeps_manifolds: bool,
+    pub keeps_pairs: bool,
 }
 
 impl FastMemory {
@@ -52,20 +50,16 @@ impl FastMemory {
             (self.y.len() == fit.dim, "its state has another length"),
             (self.y.iter().all(|v| v.is_finite()) && self.origin.is_finite(), "its state is not finite"),
             (self.sleep.fits(fit.actors), "its sleep does not fit the actors"),
-            (
-                self.previous.keys().all(keys_fit) && self.warm.iter().all(|(k, _)| keys_fit(k)),
-                "a contact names no collider",
-            ),
-            (self.warm.windows(2).all(|w| w[0].0 < w[1].0), "its warm starts are out of order"),
+            (self.previous.keys().all(keys_fit), "a contact names no collider"),
             (self.joint_warm.len() == fit.joints, "its joints are not the scene's"),
             (self.joint_warm.iter().all(|j| j.0.iter().all(|p| p.is_finite())), "a joint's impulse is not finite"),
             (
-                self.manifolds.is_some() == fit.keeps_manifolds,
-                "it keeps manifolds where this solver does not, or none where it does",
+                self.pairs.is_some() == fit.keeps_pairs,
+                "it keeps contact pairs where this solver does not, or none where it does",
             ),
             (
-                self.manifolds.as_ref().is_none_or(|m| m.fits(fit.colliders)),
-                "its kept manifolds do not fit the colliders",
+                self.pairs.as_ref().is_none_or(|m| m.fits(fit.colliders)),
+                "its kept contact pairs do not fit the colliders or are out of order",
             ),
             (
                 self.last_contacts.iter().all(|c| c.a < fit.all_actors && c.b < fit.all_actors),

@@ -72,17 +72,16 @@ impl FastEngine {
     ) -> Self {
         let Compiled { model, rows } = compiled;
         let actors = model.layout.particles + model.layout.bodies;
-        // the soft step reuses the manifolds of pairs that barely moved; the exact solver computes every one
-        let keeps_manifolds = scene.is_some() && matches!(settings.solver, FastSolver::Soft(_));
+        // the soft step keeps its contact pairs across steps; the exact solver computes every one
+        let keeps_pairs = scene.is_some() && matches!(settings.solver, FastSolver::Soft(_));
         let memory = FastMemory {
             origin: t,
             steps: 0,
             previous: BTreeMap::new(),
-            warm: Vec::new(),
             joint_warm: vec![Default::default(); model.joints.len()],
             sleep: Sleep::new(actors),
             penetration: 0.0,
-            manifolds: keeps_manifolds.then(Default::default),
+            pairs: keeps_pairs.then(Default::default),
             last_contacts: Vec::new(),
             y,
         };
@@ -175,7 +174,7 @@ impl FastEngine {
             all_actors: self.scene.as_ref().map_or(actors, |sc| sc.actors()),
             colliders: self.scene.as_ref().map_or(0, |sc| sc.colliders.len()),
             joints: self.model.joints.len(),
-            keeps_manifolds: self.scene.is_some() && matches!(self.settings.solver, FastSolver::Soft(_)),
+            keeps_pairs: self.scene.is_some() && matches!(self.settings.solver, FastSolver::Soft(_)),
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Fast mode, third stage with the soft solver: new velocities and poses from Catto's soft step (tumble-contact's
 //! `soft_step`: substeps, soft contacts in hertz, Coulomb friction), each contact started from its impulses of the
-//! last step (matched by feature key; a contact new to a pair that touched takes the pair's mean), and the
-//! impulses kept for the next step. The substeps move the bodies themselves, so this stage also gives the poses.
+//! last step (kept by its collider pair, `contact_pairs.rs`: matched by features; a contact new to a pair that
+//! touched takes the pair's mean), and the impulses kept for the next step. The substeps move the bodies themselves, so this stage also gives the poses.
 //! Joints, springs and the particles' anchor pulls go in as the soft step's links: the springs are evaluated at
 //! every substep (as forces evaluated once a step and spread over the substeps they were not symplectic: an
 //! undamped spring gained energy at any step, and the cloth drape diverged).
@@ -9,7 +9,7 @@
 use super::failure;
 use super::solve_velocities::count_impulses;
 use super::step::StepContext;
-use crate::engine::found_contact::{pair_runs, ContactKey, FoundContact};
+use crate::engine::found_contact::FoundContact;
 use crate::engine::last_contacts::LastContact;
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
@@ -19,53 +19,8 @@ use crate::plan::Stage;
 use nalgebra::{Point3, Vector3};
 use std::time::Instant;
 use tumble_contact::{
-    soft_step, BodyState, Contact, Joint, SoftImpulse, SoftProblem, SoftSettings, SoftSpring, SoftStep, SpringLaw,
+    soft_step, BodyState, Contact, Joint, SoftProblem, SoftSettings, SoftSpring, SoftStep, SpringLaw,
 };
-
-/// Each contact's impulses from the last step: its own if it was there, else its pair's mean, else none.
-/// `previous` is sorted by key (so a pair's contacts are neighbours, summed in key order).
-fn warm_impulses(previous: &[(ContactKey, SoftImpulse)], found: &[FoundContact]) -> Vec<SoftImpulse> {
-    found
-        .iter()
-        .map(|f| match previous.binary_search_by(|(k, _)| k.cmp(&f.key)) {
-            Ok(k) => previous[k].1,
-            Err(_) => {
-                let start = previous.partition_point(|(k, _)| k.colliders < f.key.colliders);
-                let pair = previous[start..].iter().take_while(|(k, _)| k.colliders == f.key.colliders);
-                let (mut sum, mut n) = (SoftImpulse::default(), 0usize);
-                for (_, p) in pair {
-                    sum.normal += p.normal;
-                    sum.tangent += p.tangent;
-                    n += 1;
-                }
-                if n == 0 {
-                    SoftImpulse::default()
-                } else {
-                    SoftImpulse { normal: sum.normal / n as f64, tangent: sum.tangent / n as f64 }
-                }
-            }
-        })
-        .collect()
-}
-
-/// The step's impulses by contact key, sorted (a key found twice keeps its last impulse).
-fn by_key(found: &[FoundContact], impulses: &[SoftImpulse]) -> Vec<(ContactKey, SoftImpulse)> {
-    let mut out: Vec<(ContactKey, SoftImpulse)> = found.iter().map(|f| f.key).zip(impulses.iter().copied()).collect();
-    match pair_runs(&out, |e| e.0.colliders) {
-        // pairs already in order (the scene gives them so): sort each pair's few contacts in place (stably)
-        Some(runs) => runs.into_iter().for_each(|r| out[r].sort_by_key(|e| e.0)),
-        None => out.sort_by_key(|e| e.0),
-    }
-    // keep the last of equal keys, as a map built in contact order would
-    let mut kept: Vec<(ContactKey, SoftImpulse)> = Vec::with_capacity(out.len());
-    for entry in out {
-        match kept.last_mut() {
-            Some(last) if last.0 == entry.0 => *last = entry,
-            _ => kept.push(entry),
-        }
-    }
-    kept
-}
 
 /// The soft step of h for the actors `states` with contacts `found`.
 pub(super) fn soft_solve(
@@ -77,7 +32,8 @@ pub(super) fn soft_solve(
 ) -> Result<SoftStep, WorldError> {
     let clock = Instant::now();
     let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
-    let warm = warm_impulses(&cx.memory.warm, found);
+    // contacts come from a scene, whose soft step keeps its pairs
+    let warm = cx.memory.pairs.as_ref().map_or_else(Vec::new, |kept| kept.warm(found));
     let settings = SoftSettings {
         substeps: soft.substeps,
         iterations: soft.iterations,
@@ -97,11 +53,14 @@ pub(super) fn soft_solve(
     if !joints.is_empty() {
         cx.report.stages.mark(Stage::Joints);
     }
-    cx.memory.warm = by_key(found, &out.impulses);
+    if let Some(kept) = cx.memory.pairs.as_mut() {
+        kept.keep(found, &out.impulses);
+    }
     cx.memory.last_contacts = LastContact::from_found(found, out.normal_impulses.iter().copied(), h);
     if !found.is_empty() {
         cx.report.contact_residual = cx.report.contact_residual.max(out.residual);
         cx.report.islands += out.islands;
+        cx.report.program_seconds += out.prepare_seconds;
         cx.report.stages.mark(Stage::ContactSoftStep);
         count_impulses(cx, states, &contacts, &out.normal_impulses);
     }

@@ -138,9 +138,10 @@ fn the_soft_step_carries_a_resting_cubes_weight_over_the_step() {
         (total - m * G * H).abs() / (m * G * H)
     );
     assert!((total - m * G * H).abs() < 1e-12 * m * G * H, "{total} against m g h = {}", m * G * H);
-    // the stage keeps each contact's impulses for the next step, sorted by key, and the step's contacts
-    assert_eq!(cx.memory.warm.len(), 4);
-    assert!(cx.memory.warm.windows(2).all(|p| p[0].0 < p[1].0));
+    // the stage keeps each contact's impulses for the next step with its pair, and the step's contacts
+    let kept = cx.memory.pairs.as_ref().unwrap();
+    assert_eq!(kept.kept_impulses(), 4);
+    assert!(kept.fits(usize::MAX), "pairs and impulses in order");
     assert_eq!(cx.memory.last_contacts.len(), 4);
 }
 

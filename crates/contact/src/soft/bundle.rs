@@ -199,7 +199,7 @@ impl Gathered {
 }
 
 /// The island's bodies as sweeps reach them: by index through a pointer, so that threads sweeping different
-/// bundles of one colour can share them (`parallel.rs`): such bundles touch different moving bodies, and bodies that
+/// bundles of one colour can share them (`stages.rs`): such bundles touch different moving bodies, and bodies that
 /// do not move are read, never written.
 #[derive(Clone, Copy)]
 pub(crate) struct MoverPtr(*mut Mover, usize);
@@ -254,13 +254,8 @@ pub(crate) fn avx2() -> bool {
 }
 
 /// One sweep over the bundles in order: normal rows with the soft bias or rigid, then friction (Coulomb's circle)
-/// if asked. Returns the largest change of a normal impulse.
-pub(crate) fn sweep(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], movers: &mut [Mover], s: Sweep) -> f64 {
-    // SAFETY: the bodies are this thread's alone.
-    unsafe { sweep_shared(bundles, frictions, MoverPtr::from_raw(movers.as_mut_ptr(), movers.len()), s) }
-}
-
-/// `sweep` through shared bodies. SAFETY: no other thread reaches the bundles' moving bodies meanwhile, nor writes
+/// if asked, through shared bodies; returns the largest change of a normal impulse.
+/// SAFETY: no other thread reaches the bundles' moving bodies meanwhile, nor writes
 /// their other bodies.
 pub(crate) unsafe fn sweep_shared(
     bundles: &mut [Bundle],
@@ -339,13 +334,8 @@ unsafe fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], 
     change.0.iter().fold(0.0f64, |m, c| m.max(*c))
 }
 
-/// Applies every point's carried impulses (normal, then the two tangents), bundle by bundle.
-pub(crate) fn warm_start(bundles: &[Bundle], frictions: &[FrictionBundle], movers: &mut [Mover]) {
-    // SAFETY: the bodies are this thread's alone.
-    unsafe { warm_start_shared(bundles, frictions, MoverPtr::from_raw(movers.as_mut_ptr(), movers.len())) }
-}
-
-/// `warm_start` through shared bodies. SAFETY: as `sweep_shared`.
+/// Applies every point's carried impulses (normal, then the two tangents), bundle by bundle, through shared bodies.
+/// SAFETY: as `sweep_shared`.
 pub(crate) unsafe fn warm_start_shared(bundles: &[Bundle], frictions: &[FrictionBundle], movers: MoverPtr) {
     #[cfg(target_arch = "x86_64")]
     if avx2() {

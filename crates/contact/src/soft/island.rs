@@ -5,14 +5,14 @@
 //! colour by colour (`colour.rs`), those of a colour sharing no moving body, so that they are swept eight at a time
 //! (`bundle.rs`) with the bits of one at a time.
 
-use super::bundle::{self, Arms, Bundle, FrictionBundle, Sweep, P, W};
+use super::bundle::{Arms, Bundle, FrictionBundle, Sweep, P, W};
 use super::colour::{colours, COLOURS};
 use super::geometry;
 use super::joints::{JointSet, JointSweep};
-use super::parallel::{self, Substeps};
 use super::row::{Mover, RowInfo};
 use super::softness::Softness;
 use super::springs::SpringSet;
+use super::stages::{self, Passes, Substeps};
 use super::{SoftImpulse, SoftSettings};
 use crate::body::BodyState;
 use crate::contact::tangents;
@@ -41,10 +41,6 @@ pub(crate) struct Island {
 /// Mass ratio above which an island's passes sweep until the impulses settle (a heavy body on a light one needs many
 /// Gauss-Seidel sweeps to pass its weight down: one or two leave it jittering at centimetres a second).
 const MASS_RATIO: f64 = 10.0;
-/// Most sweeps of one pass of such an island.
-const MAX_SWEEPS: usize = 64;
-/// A pass has converged when no impulse changed by more than this fraction of the largest.
-const SETTLED: f64 = 1e-4;
 
 /// Whether the bodies of an island (their inverse masses) need sweeps until its impulses settle: a largest over
 /// smallest mass of its moving bodies above `MASS_RATIO`.
@@ -178,9 +174,8 @@ impl Island {
             .flat_map(|(k, bu)| (0..bu.lanes).flat_map(move |l| (0..bu.count[l]).map(move |p| (k, l, p))))
     }
 
-    /// The substeps of a step of h.
-    /// The substeps of a step of h, on `threads` threads (graph colour by graph colour, `parallel.rs`) if more than
-    /// one and the island's passes are of a fixed number of sweeps; the same bits on any number.
+    /// The substeps of a step of h on up to `threads` workers (one stage list, `stages.rs`): the same bits on any
+    /// number.
     pub fn solve(&mut self, h: f64, s: &SoftSettings, threads: usize) {
         let n = s.substeps.max(1);
         let hs = h / n as f64;
@@ -188,52 +183,26 @@ impl Island {
         let soft = Softness::new(hertz, s.damping_ratio, hs);
         let stiff = Softness::new(2.0 * hertz, s.damping_ratio, hs);
         let rigid = Softness::new(s.joint_hertz.min(0.5 / hs), s.joint_damping_ratio, hs);
-        let (biased_joints, relax_joints) = (JointSweep { hs, rigid: Some(rigid) }, JointSweep { hs, rigid: None });
-        if threads > 1 && !self.converge && self.joints.is_empty() && self.springs.is_empty() {
-            let biased = Sweep { hs, soft: Some((&soft, &stiff)), max_push: s.max_push_out, friction: false };
-            let relax = Sweep { soft: None, friction: true, ..biased };
-            let island = Substeps {
-                movers: &mut self.movers,
-                bundles: &mut self.bundles,
-                frictions: &mut self.frictions,
-                arms: &self.arms,
-                infos: &mut self.infos,
-                colours: &self.colours,
-            };
-            parallel::substeps(island, n, hs, (s.iterations.max(1), biased, relax), threads);
-            self.restitution(s.bounce_threshold);
-            return;
-        }
-        for _ in 0..n {
-            if !self.springs.is_empty() {
-                self.springs.apply(&mut self.movers, hs);
-            }
-            for m in &mut self.movers {
-                m.integrate_velocity(hs);
-            }
-            if !self.joints.is_empty() {
-                self.joints.prepare(&self.movers);
-                self.joints.warm_start(&mut self.movers);
-            }
-            bundle::warm_start(&self.bundles, &self.frictions, &mut self.movers);
-            let biased = Sweep { hs, soft: Some((&soft, &stiff)), max_push: s.max_push_out, friction: false };
-            self.pass(s.iterations, biased, biased_joints);
-            for m in &mut self.movers {
-                m.integrate_position(hs);
-            }
-            if !self.joints.is_empty() {
-                self.joints.prepare(&self.movers);
-            }
-            geometry::update_gaps(&mut self.bundles, &self.arms, &self.movers);
-            self.pass(s.iterations, Sweep { soft: None, friction: true, ..biased }, relax_joints);
-            for bu in &self.bundles {
-                for l in 0..bu.lanes {
-                    for p in 0..bu.count[l] {
-                        self.infos[bu.info[l][p]].step_normal += bu.rows[p].normal[l];
-                    }
-                }
-            }
-        }
+        let biased = Sweep { hs, soft: Some((&soft, &stiff)), max_push: s.max_push_out, friction: false };
+        let passes = Passes {
+            iterations: s.iterations.max(1),
+            biased,
+            relax: Sweep { soft: None, friction: true, ..biased },
+            biased_joints: JointSweep { hs, rigid: Some(rigid) },
+            relax_joints: JointSweep { hs, rigid: None },
+        };
+        let island = Substeps {
+            movers: &mut self.movers,
+            bundles: &mut self.bundles,
+            frictions: &mut self.frictions,
+            arms: &self.arms,
+            infos: &mut self.infos,
+            colours: &self.colours,
+            joints: &mut self.joints,
+            springs: &mut self.springs,
+            converge: self.converge,
+        };
+        stages::substeps(island, n, hs, passes, threads);
         self.restitution(s.bounce_threshold);
     }
 
@@ -260,27 +229,6 @@ impl Island {
             }
         }
         worst.max(self.joints.residual(&self.movers))
-    }
-
-    /// `iterations` sweeps, joints before contacts; for an island of a large mass ratio, on until they settle (at
-    /// most `MAX_SWEEPS`).
-    fn pass(&mut self, iterations: usize, how: Sweep, joints: JointSweep) {
-        let extra = if self.converge { MAX_SWEEPS } else { 0 };
-        for k in 0..iterations.max(1) + extra {
-            let mut change = 0.0f64;
-            if !self.joints.is_empty() {
-                change = self.joints.sweep(&mut self.movers, joints);
-            }
-            change = change.max(bundle::sweep(&mut self.bundles, &mut self.frictions, &mut self.movers, how));
-            if extra > 0 && k + 1 >= iterations.max(1) {
-                let contacts =
-                    self.bundles.iter().flat_map(|bu| bu.rows.iter().flat_map(|r| r.normal)).fold(0.0f64, f64::max);
-                let largest = contacts.max(self.joints.largest());
-                if change <= SETTLED * largest {
-                    break;
-                }
-            }
-        }
     }
 
     /// Newton's restitution for contacts that closed faster than the threshold and pushed: the normal velocity is

@@ -18,10 +18,10 @@ mod colour;
 mod geometry;
 mod island;
 mod joints;
-mod parallel;
 mod row;
 mod softness;
 mod springs;
+mod stages;
 mod wide;
 
 use crate::body::BodyState;
@@ -127,7 +127,7 @@ pub struct SoftImpulse {
 }
 
 /// What a soft step gives.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct SoftStep {
     /// Each body's velocities at the step's end.
     pub velocities: Vec<BodyVelocity>,
@@ -147,6 +147,23 @@ pub struct SoftStep {
     /// contact, separating speed of a contact that pushes while apart, or slip of a contact sticking inside its
     /// friction bound. Zero for the exact answer; what the sweeps left unsolved otherwise.
     pub residual: f64,
+    /// Time spent building the rows (s: each group's bodies, bundles, constraint axes and effective masses, joints
+    /// and springs), summed over the groups (on several threads it can pass the wall time).
+    pub prepare_seconds: f64,
+}
+
+/// Two steps are equal when their answers are: the time they took is not part of it.
+impl PartialEq for SoftStep {
+    fn eq(&self, o: &SoftStep) -> bool {
+        self.velocities == o.velocities
+            && self.displacements == o.displacements
+            && self.rotations == o.rotations
+            && self.impulses == o.impulses
+            && self.normal_impulses == o.normal_impulses
+            && self.joint_impulses == o.joint_impulses
+            && self.islands == o.islands
+            && self.residual.to_bits() == o.residual.to_bits()
+    }
 }
 
 thread_local! {
@@ -210,10 +227,11 @@ struct Solved {
     contacts: Vec<(usize, SoftImpulse, f64)>,
     joints: Vec<(usize, JointImpulse)>,
     residual: f64,
+    prepare_seconds: f64,
 }
 
 impl Solved {
-    fn of(members: &[usize], island: &Island, group: &Group, bodies: &[BodyState]) -> Solved {
+    fn of(members: &[usize], island: &Island, group: &Group, bodies: &[BodyState], prepare_seconds: f64) -> Solved {
         let moved = members.iter().zip(&island.movers).filter(|(&b, _)| bodies[b].is_dynamic());
         let mut contacts = Vec::with_capacity(group.contacts.len());
         for (bu, fr) in island.bundles.iter().zip(&island.frictions) {
@@ -230,6 +248,7 @@ impl Solved {
             contacts,
             joints: group.joints.iter().copied().zip(island.joints.impulses.iter().copied()).collect(),
             residual: island.residual(),
+            prepare_seconds,
         }
     }
 }
@@ -339,6 +358,7 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
         joint_impulses: vec![JointImpulse::default(); joints.len()],
         islands: 0,
         residual: 0.0,
+        prepare_seconds: 0.0,
     };
     let pairs: Vec<(usize, usize)> =
         joints.iter().map(|j| (j.a, j.b)).chain(springs.iter().map(|s| (s.a, s.b))).collect();
@@ -354,6 +374,7 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
     let groups = batches(islands, bodies, contacts, joints);
     let solve = |(group, converge): &(Group, bool), threads: usize| -> Result<Solved, ContactError> {
         LOCAL.with(|slots| {
+            let clock = std::time::Instant::now();
             let slots = &mut *slots.borrow_mut();
             if slots.len() < bodies.len() {
                 slots.resize(bodies.len(), usize::MAX);
@@ -391,10 +412,11 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
             for &b in &members {
                 slots[b] = usize::MAX;
             }
+            let prepare_seconds = clock.elapsed().as_secs_f64();
             island.solve(h, settings, threads);
             // only what the step gives is kept: an island's rows (kilobytes a manifold) are dropped here, so that
             // a step over many islands never holds all their rows at once
-            Ok(Solved::of(&members, &island, group, bodies))
+            Ok(Solved::of(&members, &island, group, bodies, prepare_seconds))
         })
     };
     // a soft row costs tens of nanoseconds a sweep: threads pay from about a thousand contacts (measured: the pile of
@@ -402,9 +424,7 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
     // a group of many contacts is solved on all the threads, graph colour by graph colour; the others island by
     // island on them
     let threads = if settings.threads == 0 { cores() } else { settings.threads };
-    let whole = |(g, converge): &(Group, bool)| {
-        threads > 1 && g.contacts.len() >= COLOUR_THREADS && !converge && g.joints.is_empty() && g.springs.is_empty()
-    };
+    let whole = |(g, _): &(Group, bool)| threads > 1 && g.contacts.len() >= COLOUR_THREADS;
     let rows = contacts.len() + joints.len() + springs.len();
     let size = |(g, _): &(Group, bool)| g.contacts.len() + g.joints.len() + g.springs.len();
     let solved: Vec<Result<Solved, ContactError>> = if groups.iter().any(whole) {
@@ -422,6 +442,7 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
     for result in solved {
         let solved = result?;
         out.residual = out.residual.max(solved.residual);
+        out.prepare_seconds += solved.prepare_seconds;
         for (b, v, dp, dq) in solved.bodies {
             velocities[b] = Some(v);
             out.displacements[b] = dp;

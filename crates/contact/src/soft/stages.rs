@@ -1,20 +1,23 @@
-//! One large island's substeps on several threads, graph colour by graph colour (Box2D v3's way): every thread runs
-//! the same list of stages, each on its share (a colour's bundles, a range of bodies), and waits for the others at a
-//! barrier before the next. A colour's manifolds share no moving body and bodies that do not move are never written
-//! (`bundle.rs`), so the threads never write the same memory, and each bundle's arithmetic is the one-thread
-//! arithmetic in the same colour order: the answer is the same bit for bit on any thread count.
+//! An island's substeps as one list of stages run by one scheduler, on one worker or many (Box2D v3's way): every
+//! worker runs the same list, each stage on its share (a colour's bundles, a range of bodies, or all of it on worker
+//! 0 for the stages that are not split: springs, joints, the step's sums), and waits for the others at a barrier
+//! before the next. A colour's manifolds share no moving body and bodies that do not move are never written
+//! (`bundle.rs`), so the workers never write the same memory, and each bundle's arithmetic is the one-worker
+//! arithmetic in the same colour order: the answer is the same bit for bit on any number of workers. The workers
+//! are the kept pool's (`threads.rs`); on one, the barriers are a counter.
 //!
-//! What it buys is small on two cores: the 1,000-cube pile (one island, 6-9 colours of about 20 bundles) solves in
-//! 3.2-3.6 ms a step on two threads against 3.6-3.8 with its islands alone spread (alternating runs); a colour's
-//! sweep is a few microseconds, so the barriers and the parts still on one thread (building the rows, restitution)
-//! take much of the rest.
+//! Per substep: springs, velocities, joints' rows and warm start, the contacts' warm start colour by colour, the
+//! biased passes, positions, joints' rows and the gaps, the relaxing passes, the step's impulses summed. A pass is
+//! `iterations` sweeps (joints, then the contacts colour by colour); an island of a large mass ratio sweeps on until
+//! its impulses settle, every worker taking the same decision from the largest change of each.
 
 use super::bundle::{self, Arms, Bundle, FrictionBundle, MoverPtr, Sweep};
 use super::geometry;
+use super::joints::{JointSet, JointSweep};
 use super::row::{Mover, RowInfo};
+use super::springs::SpringSet;
 use std::ops::Range;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 /// A barrier that spins (the waits are microseconds), yielding the core after a while so that more threads than
 /// cores still progress. A thread that panics poisons it (`Poison`), and the others then panic instead of waiting
 /// for it forever.
@@ -110,49 +113,132 @@ impl<T> Shared<T> {
     }
 }
 
-/// What the threads share of an island for its substeps.
+/// Most sweeps of one pass of an island that sweeps until its impulses settle.
+pub(crate) const MAX_SWEEPS: usize = 64;
+/// A pass has converged when no impulse changed by more than this fraction of the largest.
+const SETTLED: f64 = 1e-4;
+
+/// What the workers share of an island for its substeps.
 pub(crate) struct Substeps<'a> {
     pub movers: &'a mut [Mover],
     pub bundles: &'a mut [Bundle],
     pub frictions: &'a mut [FrictionBundle],
     pub arms: &'a [Arms],
     pub infos: &'a mut [RowInfo],
-    /// The bundles of each colour, and whether it is the last colour (whose manifolds may share bodies: one thread
+    /// The bundles of each colour, and whether it is the last colour (whose manifolds may share bodies: one worker
     /// sweeps it).
     pub colours: &'a [(Range<usize>, bool)],
+    pub joints: &'a mut JointSet,
+    pub springs: &'a mut SpringSet,
+    /// Whether its passes sweep on until the impulses settle.
+    pub converge: bool,
 }
 
-/// The substeps (each: integrate velocities, warm start, `biased` passes, integrate positions, the gaps, `relax`
-/// passes, the step's impulses summed) on `threads` threads.
-pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: (usize, Sweep, Sweep), threads: usize) {
-    let (iterations, biased, relax) = passes;
+/// How the passes sweep: `iterations` sweeps each, biased then relaxing, for the contacts and the joints.
+#[derive(Clone, Copy)]
+pub(crate) struct Passes<'a> {
+    pub iterations: usize,
+    pub biased: Sweep<'a>,
+    pub relax: Sweep<'a>,
+    pub biased_joints: JointSweep,
+    pub relax_joints: JointSweep,
+}
+
+/// One value that only worker 0 reaches, between barriers.
+struct Serial<T>(*mut T);
+
+// SAFETY: only worker 0 dereferences it, between barriers.
+unsafe impl<T: Send> Send for Serial<T> {}
+unsafe impl<T: Send> Sync for Serial<T> {}
+
+impl<T> Serial<T> {
+    /// The value. SAFETY: only worker 0 calls it, between barriers, or every worker reads while none writes.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn get(&self) -> &mut T {
+        &mut *self.0
+    }
+}
+
+/// The substeps of `hs` (`n` of them) on up to `threads` workers.
+pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, threads: usize) {
+    let workers = crate::threads::Workers::new(threads);
+    let threads = workers.count;
     let barrier = SpinBarrier::new(threads);
     let movers = Shared::new(island.movers);
     let pointer = MoverPtr::from_raw(movers.0, movers.1);
     let (bundles, frictions) = (Shared::new(island.bundles), Shared::new(island.frictions));
     let infos = Shared::new(island.infos);
-    let (arms, colours) = (island.arms, island.colours);
+    let (arms, colours, converge) = (island.arms, island.colours, island.converge);
+    let (has_joints, has_springs) = (!island.joints.is_empty(), !island.springs.is_empty());
+    let (joints, springs) = (Serial(island.joints as *mut JointSet), Serial(island.springs as *mut SpringSet));
+    let changes: Vec<AtomicU64> = (0..threads).map(|_| AtomicU64::new(0)).collect();
     let all_movers = 0..movers.1;
     let all_bundles = 0..bundles.1;
-    let run = |t: usize| {
+    let run = |t: usize, threads: usize| {
         let _poison = Poison(&barrier);
         // SAFETY (every block below): each stage reaches disjoint shares (`share`) of the bodies or of a colour's
-        // bundles, reads bodies through `pointer` only where no thread writes them (other colours' are behind a
-        // barrier; static and kinematic bodies are never written), and ends at the barrier.
-        let sweep_colours = |how: Sweep| {
-            for (range, last) in colours {
-                let mine = colour_share(range, *last, t, threads);
-                unsafe {
-                    bundle::sweep_shared(bundles.range(mine.clone()), frictions.range(mine), pointer, how);
+        // bundles, or worker 0 reaches all of it, reads bodies through `pointer` only where no worker writes them
+        // (other colours' are behind a barrier; static and kinematic bodies are never written), and ends at the
+        // barrier.
+        let pass = |how: Sweep, joint_how: JointSweep| {
+            let extra = if converge { MAX_SWEEPS } else { 0 };
+            for k in 0..passes.iterations + extra {
+                let mut change = 0.0f64;
+                if has_joints {
+                    if t == 0 {
+                        change = unsafe { joints.get().sweep(movers.range(all_movers.clone()), joint_how) };
+                    }
+                    barrier.wait();
                 }
-                barrier.wait();
+                for (range, last) in colours {
+                    let mine = colour_share(range, *last, t, threads);
+                    let swept = unsafe {
+                        bundle::sweep_shared(bundles.range(mine.clone()), frictions.range(mine), pointer, how)
+                    };
+                    change = change.max(swept);
+                    barrier.wait();
+                }
+                if extra > 0 && k + 1 >= passes.iterations {
+                    changes[t].store(change.to_bits(), Ordering::Relaxed);
+                    barrier.wait();
+                    let change = changes[..threads]
+                        .iter()
+                        .map(|c| f64::from_bits(c.load(Ordering::Relaxed)))
+                        .fold(0.0, f64::max);
+                    let contacts = unsafe { bundles.all() }
+                        .iter()
+                        .flat_map(|bu| bu.rows.iter().flat_map(|r| r.normal))
+                        .fold(0.0f64, f64::max);
+                    let largest = if has_joints { contacts.max(unsafe { joints.get().largest() }) } else { contacts };
+                    // every worker has read before any writes again
+                    barrier.wait();
+                    if change <= SETTLED * largest {
+                        break;
+                    }
+                }
             }
         };
         for _ in 0..n {
+            if has_springs {
+                if t == 0 {
+                    unsafe { springs.get().apply(movers.range(all_movers.clone()), hs) };
+                }
+                barrier.wait();
+            }
             for m in unsafe { movers.range(share(&all_movers, t, threads)) } {
                 m.integrate_velocity(hs);
             }
             barrier.wait();
+            if has_joints {
+                if t == 0 {
+                    unsafe {
+                        let joints = joints.get();
+                        joints.prepare(movers.all());
+                        joints.warm_start(movers.range(all_movers.clone()));
+                    }
+                }
+                barrier.wait();
+            }
             for (range, last) in colours {
                 let mine = colour_share(range, *last, t, threads);
                 unsafe {
@@ -160,22 +246,21 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: (usize, Swee
                 }
                 barrier.wait();
             }
-            for _ in 0..iterations {
-                sweep_colours(biased);
-            }
+            pass(passes.biased, passes.biased_joints);
             for m in unsafe { movers.range(share(&all_movers, t, threads)) } {
                 m.integrate_position(hs);
             }
             barrier.wait();
+            if has_joints && t == 0 {
+                unsafe { joints.get().prepare(movers.all()) };
+            }
             let mine = share(&all_bundles, t, threads);
             unsafe {
                 let (mine_bundles, mine_arms) = (bundles.range(mine.clone()), &arms[mine]);
                 geometry::update_gaps(mine_bundles, mine_arms, movers.all());
             }
             barrier.wait();
-            for _ in 0..iterations {
-                sweep_colours(relax);
-            }
+            pass(passes.relax, passes.relax_joints);
             if t == 0 {
                 unsafe {
                     let infos = infos.range(0..infos.1);
@@ -191,13 +276,7 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: (usize, Swee
             barrier.wait();
         }
     };
-    std::thread::scope(|scope| {
-        for t in 1..threads {
-            let run = &run;
-            scope.spawn(move || run(t));
-        }
-        run(0);
-    });
+    workers.run(|t| run(t, threads));
 }
 
 #[cfg(test)]
