@@ -1,8 +1,8 @@
 //! Contact benchmarks: fast mode's time per step for 100, 1,000, 5,000 and 10,000 boxes falling into a pile with
 //! the soft step (the default solver), and 100 with the exact cone program for the ratio; accurate
 //! mode on the bouncing ball, on a column of ten cubes and on twenty cubes dropped in a pile (the wall time of the
-//! first simulated 0.5 s, printed per simulated second); the share of that time spent finding contacts and solving
-//! them is printed from the world's report, with the substeps, clarabel solves, contact steps and events; and a
+//! first simulated 0.5 s, printed per simulated second); the share of that time spent finding contacts, preparing
+//! the rows, solving and the rest is printed from the world's report, with the substeps, clarabel solves, contact steps and events; and a
 //! contact step's time split on the 20-cube pile and ten dominoes (`accurate_step_split`).
 //!
 //! Run: `cargo bench --bench contact`. The pile: cubes of edge 0.5 m on a k x k grid (0.6 m apart) in L layers
@@ -27,12 +27,18 @@ fn pile(side: usize, layers: usize, exact: bool) -> World {
 fn share(name: &str, w: &World, before: &tumble::WorldReport, seconds: f64) {
     let r = w.report();
     let wall = seconds;
+    let finding = r.collision_seconds - before.collision_seconds;
+    let solving = r.contact_seconds - before.contact_seconds;
+    let preparing = (r.program_seconds - before.program_seconds).min(solving);
     println!(
-        "{name}: {} steps in {:.3} s; finding contacts {:.0}%, solving them {:.0}% ({} clarabel solves, {} islands, {} asleep)",
+        "{name}: {} steps in {:.3} s; finding contacts {:.0}%, preparing the rows {:.0}%, solving {:.0}%, the rest {:.0}% \
+         ({} clarabel solves, {} islands, {} asleep)",
         r.integrator.steps - before.integrator.steps,
         wall,
-        100.0 * (r.collision_seconds - before.collision_seconds) / wall,
-        100.0 * (r.contact_seconds - before.contact_seconds) / wall,
+        100.0 * finding / wall,
+        100.0 * preparing / wall,
+        100.0 * (solving - preparing) / wall,
+        100.0 * (wall - finding - solving).max(0.0) / wall,
         r.qp_solves - before.qp_solves,
         r.islands - before.islands,
         r.sleepers

@@ -355,7 +355,7 @@ fn a_failed_call_leaves_no_hidden_state_behind() {
         },
         1.0,
     );
-    // fast mode: kept manifolds. A cube turned 45 degrees on another, spinning slowly on it without friction: the
+    // fast mode: kept contact pairs (manifolds, the reduction's choice, impulses). A cube turned 45 degrees on another, spinning slowly on it without friction: the
     // edges cross at points that move along them, so a manifold is kept for some steps (the pair turns 1e-4 of its
     // size in about four) and then computed again; a cache left as the failed call had it would be renewed at other
     // steps, and give other contacts.

@@ -210,7 +210,6 @@ impl ColliderSet {
         let (reach, spin) = self.reach_and_spin(states, h);
         let grown: Vec<f64> = reach.iter().map(|m| m + 0.5 * base).collect();
         let boxes = self.boxes(poses, &grown)?;
-        let pairs = self.broad_pairs(&boxes)?;
         let closing = |a: usize, b: usize| {
             let relative = match (states.get(a), states.get(b)) {
                 (Some(x), Some(y)) => (x.velocity - y.velocity).norm(),
@@ -219,6 +218,17 @@ impl ColliderSet {
             // never more than the two reaches (the old bound), so an unknown actor cannot widen it
             ((relative * h + spin[a] + spin[b]).min(reach[a] + reach[b])) + base
         };
+        // Two colliders whose own boxes (the grown ones less the growth) are farther apart than the pair can close
+        // have no contact within reach: left out before the narrow phase (a falling tower's neighbours, moving
+        // together, overlap only by their growth). Exact: the shapes are at least as far apart as their boxes.
+        let actor: Vec<usize> = self.colliders.iter().map(|c| self.index(c.actor)).collect();
+        let within_reach = |i: usize, j: usize| {
+            let (ia, ib) = (actor[i], actor[j]);
+            let (a, b) = (&boxes[i], &boxes[j]);
+            let gap = (0..3).map(|k| (b.min[k] - a.max[k]).max(a.min[k] - b.max[k])).fold(f64::MIN, f64::max);
+            !(gap - grown[ia] - grown[ib] > closing(ia, ib))
+        };
+        let pairs = self.broad_pairs_where(&boxes, within_reach)?;
         Ok(match store {
             Some(store) => self.kept_pair_contacts(&pairs, poses, closing, (store, states), threads),
             None => reduce(self.pair_contacts(&pairs, poses, closing), states),
@@ -241,11 +251,20 @@ impl ColliderSet {
     /// The overlapping pairs that may touch, sorted: the order the broad phase found them in depends on its
     /// history (columns, insertion sorts), and must not reach the contact solves.
     fn broad_pairs(&mut self, boxes: &[Aabb]) -> Result<Vec<(usize, usize)>, String> {
+        self.broad_pairs_where(boxes, |_, _| true)
+    }
+
+    /// `broad_pairs`, of those that `keep` too.
+    fn broad_pairs_where(
+        &mut self,
+        boxes: &[Aabb],
+        keep: impl Fn(usize, usize) -> bool,
+    ) -> Result<Vec<(usize, usize)>, String> {
         let pairs = self.broad.update(boxes).map_err(|e| e.to_string())?.to_vec();
         let mut pairs: Vec<(usize, usize)> = pairs
             .into_iter()
             .map(|(i, j)| (i as usize, j as usize))
-            .filter(|&(i, j)| self.may_touch(i, j))
+            .filter(|&(i, j)| self.may_touch(i, j) && keep(i, j))
             // Keep the moving actor as A when one side is static.
             .map(|(i, j)| if matches!(self.colliders[i].actor, Actor::Static(_)) { (j, i) } else { (i, j) })
             .collect();
