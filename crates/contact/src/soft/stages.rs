@@ -51,6 +51,10 @@ impl SpinBarrier {
 
     /// Returns once every thread has called it (the writes of each before its call are seen by all after).
     pub fn wait(&self) {
+        if self.threads == 1 {
+            // alone: nobody to wait for (a few atomics a stage add up over a step's islands)
+            return;
+        }
         let generation = self.generation.load(Ordering::Acquire);
         if self.arrived.fetch_add(1, Ordering::AcqRel) + 1 == self.threads {
             self.arrived.store(0, Ordering::Relaxed);
