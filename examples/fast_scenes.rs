@@ -5,7 +5,6 @@
 //!
 //! cargo run --release --example fast_scenes -- [soft|exact] [pile sizes, e.g. 100 1000] [--substeps N]
 //!     [--iterations K] [--hertz F] [--threads T]
-//! cargo run --release --example fast_scenes -- --resting N [--threads T]   (N cubes at rest: us a step per cube)
 
 use nalgebra::Vector3;
 use std::time::Instant;
@@ -69,30 +68,6 @@ fn displacement(w: &mut World, bodies: &[BodyHandle], seconds: f64, dt: f64) -> 
     (worst, spent * 1e6 / steps as f64)
 }
 
-/// The process's peak resident memory (MB), from /proc (Linux; none elsewhere).
-fn peak_memory_mb() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb / 1024.0)
-}
-
-/// `n` cubes of half extent 0.5 m resting on the floor on a square grid 1.2 m apart (none touching another), kept
-/// awake, dt 1/60: us a step per cube over 60 steps after 10, and the process's peak memory.
-fn resting(n: usize, solver: FastSolver, threads: usize) -> (f64, Option<f64>) {
-    let mut w = world(1.0 / 60.0, solver, false, 0.5);
-    w.set_threads(threads).unwrap();
-    let side = (n as f64).sqrt().ceil() as usize;
-    for k in 0..n {
-        let at = Vector3::new(1.2 * (k / side) as f64, 1.2 * (k % side) as f64, 0.5);
-        cube(&mut w, 0.5, 1000.0, at, 0.5);
-    }
-    w.step(10.0 / 60.0).unwrap();
-    let clock = Instant::now();
-    w.step(1.0).unwrap();
-    (clock.elapsed().as_secs_f64() * 1e6 / 60.0 / n as f64, peak_memory_mb())
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut soft = SoftSolver::default();
@@ -111,14 +86,6 @@ fn main() {
         soft.contact_hertz = args[k + 1].parse().expect("a stiffness in hertz");
     }
     let solver = if args.iter().any(|a| a == "exact") { FastSolver::exact() } else { FastSolver::Soft(soft) };
-    if let Some(k) = args.iter().position(|a| a == "--resting") {
-        let n: usize = args[k + 1].parse().expect("a number of cubes");
-        let (us, peak) = resting(n, solver, threads);
-        let peak = peak.map_or("not known".to_string(), |mb| format!("{mb:.0} MB"));
-        println!("| tumble fast ({}) | value |\n|---|---|", solver.name());
-        println!("| {n} resting cubes, awake: us a step per cube / peak memory | {us:.3} us / {peak} |");
-        return;
-    }
     let sizes: Vec<usize> = args
         .iter()
         .enumerate()

@@ -226,7 +226,7 @@ impl ColliderSet {
             let (ia, ib) = (actor[i], actor[j]);
             let (a, b) = (&boxes[i], &boxes[j]);
             let gap = (0..3).map(|k| (b.min[k] - a.max[k]).max(a.min[k] - b.max[k])).fold(f64::MIN, f64::max);
-            !(gap - grown[ia] - grown[ib] > closing(ia, ib))
+            !(gap + grown[ia] + grown[ib] > closing(ia, ib))
         };
         let pairs = self.broad_pairs_where(&boxes, within_reach)?;
         Ok(match store {
@@ -359,7 +359,7 @@ impl ColliderSet {
         // room for as many as the share found last step, roughly (a growing list would copy them)
         let mut out = Vec::with_capacity(self.found_last * entries.len() / pairs.max(1) + 16);
         let (mut tally, mut checks) = (Vec::with_capacity(entries.len()), 0);
-        let mut pair_found = Vec::new();
+        let mut kept = Vec::new();
         for entry in entries {
             let (i, j) = entry.pair();
             let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
@@ -372,10 +372,14 @@ impl ColliderSet {
             let shapes = ((&ca.shape, &pa, ca.radius), (&cb.shape, &pb, cb.radius));
             let Ok((found, how)) = entry.contacts(shapes.0, shapes.1, prediction(ia, ib), compute) else { continue };
             let material = ca.material.combine(&cb.material);
-            pair_found.clear();
-            pair_found.extend(found.into_iter().map(|c| self.found_contact((i, j), (ia, ib), material, c)));
-            let (kept, kept_choice) = entry.choose(&pair_found, |f| reduce_indices(f, states));
-            out.extend(kept.into_iter().map(|k| pair_found[k]));
+            let start = out.len();
+            out.extend(found.into_iter().map(|c| self.found_contact((i, j), (ia, ib), material, c)));
+            let kept_choice = entry.choose(&out[start..], |f| reduce_indices(f, states), &mut kept);
+            // the kept ones moved up in order (each to a place at or before its own), the rest cut off
+            for (slot, &k) in kept.iter().enumerate() {
+                out[start + slot] = out[start + k];
+            }
+            out.truncate(start + kept.len());
             tally.push((how, kept_choice));
         }
         (out, tally, checks)

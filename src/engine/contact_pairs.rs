@@ -13,6 +13,7 @@
 //! this way. Pairs with a curved contact (spheres, capsules, cylinders' rims), whose points slide over the surface
 //! as they turn, are always computed.
 
+use crate::engine::contact_reduction::MAX_POINTS;
 use crate::engine::found_contact::FoundContact;
 use nalgebra::{Isometry3, Point3, Unit, UnitQuaternion, Vector3};
 use tumble_collide::{Contact, ContactKind, Shape};
@@ -43,11 +44,18 @@ struct Manifold {
     points: Vec<Local>,
 }
 
-/// The reduction's last choice: which of the manifold's points were within reach, and which of those it kept.
+/// The reduction's last choice: which of the manifold's points were within reach, the deepest, and which it kept.
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug, PartialEq)]
 struct Chosen {
     carried: Vec<u32>,
+    /// The deepest of them (the reduction's first point), by its place among the carried.
+    deepest: usize,
     kept: Vec<u32>,
+}
+
+/// The place of the deepest of `found` (the first of equals, as the reduction takes it).
+fn deepest(found: &[FoundContact]) -> usize {
+    (0..found.len()).min_by(|&a, &b| found[a].contact.distance.total_cmp(&found[b].contact.distance)).unwrap_or(0)
 }
 
 /// What a collider pair keeps from one step to the next.
@@ -127,15 +135,19 @@ impl Pair {
             let turn = m.relative.rotation.angle_to(&relative.rotation);
             let motion = (relative.translation.vector - m.relative.translation.vector).norm() + turn * size;
             if m.flipped == flipped && motion < reuse && prediction + motion <= m.prediction {
+                // which points were carried matters only where the reduction chooses among more than four
+                let choosing = m.points.len() > MAX_POINTS && keeps_choice(shape_a, shape_b);
                 let mut found = Vec::with_capacity(m.points.len());
-                let mut carried = Vec::with_capacity(m.points.len());
+                let mut carried = Vec::with_capacity(if choosing { m.points.len() } else { 0 });
                 for (k, l) in m.points.iter().enumerate() {
                     if let Some(c) = carry(l, pose_a, pose_b, prediction) {
                         found.push(c);
-                        carried.push(k as u32);
+                        if choosing {
+                            carried.push(k as u32);
+                        }
                     }
                 }
-                self.carried = keeps_choice(shape_a, shape_b).then_some(carried);
+                self.carried = choosing.then_some(carried);
                 return Ok((found, Found::Reused));
             }
         }
@@ -159,37 +171,48 @@ impl Pair {
                 .collect();
             Box::new(Manifold { relative, flipped, prediction: enlarged, points })
         });
-        let (mut found, mut carried) = (Vec::with_capacity(all.len()), Vec::with_capacity(all.len()));
+        let choosing = all.len() > MAX_POINTS && self.manifold.is_some() && keeps_choice(shape_a, shape_b);
+        let mut found = Vec::with_capacity(all.len());
+        let mut carried = Vec::with_capacity(if choosing { all.len() } else { 0 });
         for (k, c) in all.into_iter().enumerate() {
             if c.distance <= prediction {
                 found.push(c);
-                carried.push(k as u32);
+                if choosing {
+                    carried.push(k as u32);
+                }
             }
         }
-        if self.manifold.is_some() && keeps_choice(shape_a, shape_b) {
-            self.carried = Some(carried);
-        }
+        self.carried = choosing.then_some(carried);
         Ok((found, Found::Computed))
     }
 
-    /// The reduction of this step's contacts `found` (those `contacts` gave, in its order): the last step's choice
-    /// if the same points of the same manifold were carried (and whether it was), else `reduce`'s (indices into
-    /// `found`), kept for the next step.
+    /// The reduction of this step's contacts `found` (those `contacts` gave, in its order), into `kept` (indices
+    /// into `found`, increasing): none is left out of four or fewer; else the last step's choice if the same points
+    /// of the same manifold were carried (returns whether it was), else `reduce`'s, kept for the next step.
     pub fn choose(
         &mut self,
         found: &[FoundContact],
         reduce: impl FnOnce(&[FoundContact]) -> Vec<usize>,
-    ) -> (Vec<usize>, bool) {
+        kept: &mut Vec<usize>,
+    ) -> bool {
+        kept.clear();
         let carried = self.carried.take();
+        if found.len() <= MAX_POINTS {
+            self.chosen = None;
+            kept.extend(0..found.len());
+            return false;
+        }
         if let (Some(carried), Some(chosen), Some(_)) = (&carried, &self.chosen, &self.manifold) {
-            if *carried == chosen.carried {
-                return (chosen.kept.iter().map(|&k| k as usize).collect(), true);
+            if *carried == chosen.carried && deepest(found) == chosen.deepest {
+                kept.extend(chosen.kept.iter().map(|&k| k as usize));
+                return true;
             }
         }
-        let kept = reduce(found);
-        self.chosen =
-            carried.map(|carried| Box::new(Chosen { carried, kept: kept.iter().map(|&k| k as u32).collect() }));
-        (kept, false)
+        kept.extend(reduce(found));
+        let deepest = deepest(found);
+        self.chosen = carried
+            .map(|carried| Box::new(Chosen { carried, deepest, kept: kept.iter().map(|&k| k as u32).collect() }));
+        false
     }
 }
 
@@ -227,7 +250,9 @@ impl ContactPairs {
             (None, _) => true,
             (Some(c), Some(m)) => {
                 let n = m.points.len() as u32;
-                c.carried.iter().all(|&k| k < n) && c.kept.iter().all(|&k| (k as usize) < c.carried.len())
+                c.carried.iter().all(|&k| k < n)
+                    && c.kept.iter().all(|&k| (k as usize) < c.carried.len())
+                    && c.deepest < c.carried.len()
             }
             (Some(_), None) => false,
         };
