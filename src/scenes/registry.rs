@@ -68,7 +68,8 @@ impl<'a> Params<'a> {
         Ok(v as usize)
     }
 
-    /// A yes-or-no parameter given as 0 or 1, or `false`.
+    /// A yes-or-no parameter given as 0 or 1, or `false` (the mesh scenes' only, which need contact).
+    #[cfg(feature = "contact")]
     fn flag(&mut self, key: &'static str) -> Result<bool, WorldError> {
         match self.number(key, 0.0)? {
             v if v == 0.0 => Ok(false),

@@ -148,6 +148,19 @@ pub(crate) struct Passes<'a> {
     pub relax_joints: JointSweep,
 }
 
+/// The stages of a sweep over the colours: one a colour on several workers; on one, a single stage over all the
+/// bundles (the colours are consecutive runs of them, so it is the same arithmetic in the same order, without a call
+/// a colour).
+fn colour_stages<'c>(
+    colours: &'c [(Range<usize>, bool)],
+    all: &Range<usize>,
+    threads: usize,
+) -> impl Iterator<Item = (Range<usize>, bool)> + 'c {
+    let whole = (threads == 1).then(|| (all.clone(), true));
+    let each = (threads > 1).then(|| colours.iter().cloned()).into_iter().flatten();
+    whole.into_iter().chain(each)
+}
+
 /// One value that only worker 0 reaches, between barriers.
 struct Serial<T>(*mut T);
 
@@ -194,8 +207,8 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
                     }
                     barrier.wait();
                 }
-                for (range, last) in colours {
-                    let mine = colour_share(range, *last, t, threads);
+                for (range, last) in colour_stages(colours, &all_bundles, threads) {
+                    let mine = colour_share(&range, last, t, threads);
                     let swept = unsafe {
                         bundle::sweep_shared(bundles.range(mine.clone()), frictions.range(mine), pointer, how)
                     };
@@ -243,8 +256,8 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
                 }
                 barrier.wait();
             }
-            for (range, last) in colours {
-                let mine = colour_share(range, *last, t, threads);
+            for (range, last) in colour_stages(colours, &all_bundles, threads) {
+                let mine = colour_share(&range, last, t, threads);
                 unsafe {
                     bundle::warm_start_shared(bundles.range(mine.clone()), frictions.range(mine), pointer);
                 }
