@@ -5,7 +5,7 @@
 //! colour by colour (`colour.rs`), those of a colour sharing no moving body, so that they are swept eight at a time
 //! (`bundle.rs`) with the bits of one at a time.
 
-use super::bundle::{Arms, Bundle, FrictionBundle, Sweep, P, W};
+use super::bundle::{self, Arms, Bundle, FrictionBundle, Sweep, P, W};
 use super::colour::{colours, COLOURS};
 use super::geometry;
 use super::joints::{JointSet, JointSweep};
@@ -87,10 +87,8 @@ impl Island {
         }
         // sized once: bundles are kilobytes, and a growing vector would copy them
         let count = slots.last().map_or(0, |&(k, _)| k + 1);
-        let (mut bundles, mut frictions, mut arms) = (Vec::new(), Vec::new(), Vec::new());
-        bundles.resize_with(count, Bundle::default);
-        frictions.resize_with(count, FrictionBundle::default);
-        arms.resize_with(count, Arms::default);
+        let (mut bundles, mut frictions, mut arms): (Vec<Bundle>, Vec<FrictionBundle>, Vec<Arms>) =
+            (bundle::zeroed(count), bundle::zeroed(count), bundle::zeroed(count));
         for (&(_, m), &(k, l)) in order.iter().zip(&slots) {
             let (bu, fr, arm) = (&mut bundles[k], &mut frictions[k], &mut arms[k]);
             bu.lanes = l + 1;
