@@ -14,8 +14,11 @@ pub fn cores() -> usize {
 
 /// The pool of `helpers` threads (kept for the process: threads are started once, not every step), or none if it
 /// cannot be started (then the caller works alone).
+/// The kept pools, by their number of threads.
+type Pools = Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>>;
+
 fn pool(helpers: usize) -> Option<Arc<rayon::ThreadPool>> {
-    static POOLS: OnceLock<Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>>> = OnceLock::new();
+    static POOLS: OnceLock<Pools> = OnceLock::new();
     let pools = POOLS.get_or_init(|| Mutex::new(Vec::new()));
     let mut pools = pools.lock().unwrap_or_else(|e| e.into_inner());
     if let Some((_, p)) = pools.iter().find(|(n, _)| *n == helpers) {
@@ -80,8 +83,8 @@ pub(crate) fn in_parallel_by<G: Sync, T: Send>(
     order.sort_by_key(|&g| std::cmp::Reverse(size(&groups[g])));
     let next = std::sync::atomic::AtomicUsize::new(0);
     let workers = Workers::new(threads);
-    let done: Vec<Mutex<Vec<(usize, Result<T, ContactError>)>>> =
-        (0..workers.count).map(|_| Mutex::new(Vec::new())).collect();
+    type Solved<T> = Mutex<Vec<(usize, Result<T, ContactError>)>>;
+    let done: Vec<Solved<T>> = (0..workers.count).map(|_| Mutex::new(Vec::new())).collect();
     workers.run(|t| {
         let mut mine = Vec::new();
         loop {
