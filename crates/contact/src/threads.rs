@@ -12,11 +12,11 @@ pub fn cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
-/// The pool of `helpers` threads (kept for the process: threads are started once, not every step), or none if it
-/// cannot be started (then the caller works alone).
 /// The kept pools, by their number of threads.
 type Pools = Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>>;
 
+/// The pool of `helpers` threads (kept for the process: threads are started once, not every step), or none if it
+/// cannot be started (then the caller works alone).
 fn pool(helpers: usize) -> Option<Arc<rayon::ThreadPool>> {
     static POOLS: OnceLock<Pools> = OnceLock::new();
     let pools = POOLS.get_or_init(|| Mutex::new(Vec::new()));
