@@ -5,7 +5,7 @@
 
 use crate::body::RigidBody;
 use crate::collider::{Collider, Material};
-use crate::engine::contact_pairs::{ContactPairs, Found, Pair};
+use crate::engine::contact_pairs::{ContactPairs, Pair};
 use crate::engine::contact_reduction::{reduce, reduce_indices};
 use crate::engine::found_contact::{feature_code, ContactKey, FoundContact};
 use crate::handle::Arena;
@@ -316,7 +316,7 @@ impl ColliderSet {
         let shares = workers.count;
         let n = entries.len();
         let bounds: Vec<usize> = (0..=shares).map(|t| n * t / shares).collect();
-        type Share = (Vec<FoundContact>, Vec<(Found, bool)>, usize);
+        type Share = (Vec<FoundContact>, usize);
         let slots: Vec<std::sync::Mutex<Share>> = (0..shares).map(|_| Default::default()).collect();
         {
             let mut rest = &mut entries[..];
@@ -334,20 +334,18 @@ impl ColliderSet {
             });
         }
         let mut shares = slots.into_iter().map(|slot| slot.into_inner().unwrap_or_else(|e| e.into_inner()));
-        let (mut out, mut tallies, checks) = shares.next().expect("one worker at least");
+        let (mut out, checks) = shares.next().expect("one worker at least");
         self.checks += checks;
-        for (found, tally, checks) in shares {
+        for (found, checks) in shares {
             out.extend(found);
-            tallies.extend(tally);
             self.checks += checks;
         }
-        store.close(entries, tallies.into_iter());
+        store.close(entries);
         self.found_last = out.len();
         out
     }
 
-    /// One worker's share of `kept_pair_contacts`: its pairs' reduced contacts, how each was found, and the
-    /// narrow-phase tests it ran.
+    /// One worker's share of `kept_pair_contacts`: its pairs' reduced contacts and the narrow-phase tests it ran.
     fn share_contacts(
         &self,
         entries: &mut [Pair],
@@ -355,10 +353,10 @@ impl ColliderSet {
         prediction: &impl Fn(usize, usize) -> f64,
         states: &[tumble_contact::BodyState],
         pairs: usize,
-    ) -> (Vec<FoundContact>, Vec<(Found, bool)>, usize) {
+    ) -> (Vec<FoundContact>, usize) {
         // room for as many as the share found last step, roughly (a growing list would copy them)
         let mut out = Vec::with_capacity(self.found_last * entries.len() / pairs.max(1) + 16);
-        let (mut tally, mut checks) = (Vec::with_capacity(entries.len()), 0);
+        let mut checks = 0;
         let mut kept = Vec::new();
         for entry in entries {
             let (i, j) = entry.pair();
@@ -369,20 +367,19 @@ impl ColliderSet {
                 checks += 1;
                 contacts(&ca.shape, &pa, &cb.shape, &pb, p)
             };
-            let shapes = ((&ca.shape, &pa, ca.radius), (&cb.shape, &pb, cb.radius));
-            let Ok((found, how)) = entry.contacts(shapes.0, shapes.1, prediction(ia, ib), compute) else { continue };
+            let (a, b) = ((&ca.shape, &pa, ca.radius), (&cb.shape, &pb, cb.radius));
+            let Ok((found, _)) = entry.contacts(a, b, prediction(ia, ib), compute) else { continue };
             let material = ca.material.combine(&cb.material);
             let start = out.len();
             out.extend(found.into_iter().map(|c| self.found_contact((i, j), (ia, ib), material, c)));
-            let kept_choice = entry.choose(&out[start..], |f| reduce_indices(f, states), &mut kept);
+            entry.choose(&out[start..], |f| reduce_indices(f, states), &mut kept);
             // the kept ones moved up in order (each to a place at or before its own), the rest cut off
             for (slot, &k) in kept.iter().enumerate() {
                 out[start + slot] = out[start + k];
             }
             out.truncate(start + kept.len());
-            tally.push((how, kept_choice));
         }
-        (out, tally, checks)
+        (out, checks)
     }
 
     /// A contact of parry's between colliders `pair` of actors `actors` as tumble-contact takes it.

@@ -13,7 +13,7 @@
 //! this way. Pairs with a curved contact (spheres, capsules, cylinders' rims), whose points slide over the surface
 //! as they turn, are always computed.
 
-use crate::engine::contact_reduction::MAX_POINTS;
+use crate::engine::contact_reduction::{deepest, MAX_POINTS};
 use crate::engine::found_contact::FoundContact;
 use nalgebra::{Isometry3, Point3, Unit, UnitQuaternion, Vector3};
 use tumble_collide::{Contact, ContactKind, Shape};
@@ -53,11 +53,6 @@ struct Chosen {
     kept: Vec<u32>,
 }
 
-/// The place of the deepest of `found` (the first of equals, as the reduction takes it).
-fn deepest(found: &[FoundContact]) -> usize {
-    (0..found.len()).min_by(|&a, &b| found[a].contact.distance.total_cmp(&found[b].contact.distance)).unwrap_or(0)
-}
-
 /// What a collider pair keeps from one step to the next.
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(crate) struct Pair {
@@ -85,10 +80,6 @@ pub(crate) enum Found {
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub(crate) struct ContactPairs {
     pairs: Vec<Pair>,
-    /// Pairs whose manifold was reused, and computed, since the store was made; reductions kept.
-    pub reused: usize,
-    pub computed: usize,
-    pub kept_choices: usize,
 }
 
 /// Whether a pair of these shapes keeps the reduction's choice while it carries the same points: not a decomposed
@@ -137,17 +128,9 @@ impl Pair {
             if m.flipped == flipped && motion < reuse && prediction + motion <= m.prediction {
                 // which points were carried matters only where the reduction chooses among more than four
                 let choosing = m.points.len() > MAX_POINTS && keeps_choice(shape_a, shape_b);
-                let mut found = Vec::with_capacity(m.points.len());
-                let mut carried = Vec::with_capacity(if choosing { m.points.len() } else { 0 });
-                for (k, l) in m.points.iter().enumerate() {
-                    if let Some(c) = carry(l, pose_a, pose_b, prediction) {
-                        found.push(c);
-                        if choosing {
-                            carried.push(k as u32);
-                        }
-                    }
-                }
-                self.carried = choosing.then_some(carried);
+                let carried = m.points.iter().map(|l| carry(l, pose_a, pose_b, prediction));
+                let (found, carried) = within_reach(carried, m.points.len(), choosing);
+                self.carried = carried;
                 return Ok((found, Found::Reused));
             }
         }
@@ -172,47 +155,40 @@ impl Pair {
             Box::new(Manifold { relative, flipped, prediction: enlarged, points })
         });
         let choosing = all.len() > MAX_POINTS && self.manifold.is_some() && keeps_choice(shape_a, shape_b);
-        let mut found = Vec::with_capacity(all.len());
-        let mut carried = Vec::with_capacity(if choosing { all.len() } else { 0 });
-        for (k, c) in all.into_iter().enumerate() {
-            if c.distance <= prediction {
-                found.push(c);
-                if choosing {
-                    carried.push(k as u32);
-                }
-            }
-        }
-        self.carried = choosing.then_some(carried);
+        let n = all.len();
+        let (found, carried) =
+            within_reach(all.into_iter().map(|c| (c.distance <= prediction).then_some(c)), n, choosing);
+        self.carried = carried;
         Ok((found, Found::Computed))
     }
 
     /// The reduction of this step's contacts `found` (those `contacts` gave, in its order), into `kept` (indices
     /// into `found`, increasing): none is left out of four or fewer; else the last step's choice if the same points
-    /// of the same manifold were carried (returns whether it was), else `reduce`'s, kept for the next step.
+    /// of the same manifold were carried, else `reduce`'s, kept for the next step.
     pub fn choose(
         &mut self,
         found: &[FoundContact],
         reduce: impl FnOnce(&[FoundContact]) -> Vec<usize>,
         kept: &mut Vec<usize>,
-    ) -> bool {
+    ) {
         kept.clear();
         let carried = self.carried.take();
         if found.len() <= MAX_POINTS {
             self.chosen = None;
             kept.extend(0..found.len());
-            return false;
+            return;
         }
+        let now_deepest = deepest(found.iter().map(|f| f.contact.distance));
         if let (Some(carried), Some(chosen), Some(_)) = (&carried, &self.chosen, &self.manifold) {
-            if *carried == chosen.carried && deepest(found) == chosen.deepest {
+            if *carried == chosen.carried && now_deepest == chosen.deepest {
                 kept.extend(chosen.kept.iter().map(|&k| k as usize));
-                return true;
+                return;
             }
         }
         kept.extend(reduce(found));
-        let deepest = deepest(found);
-        self.chosen = carried
-            .map(|carried| Box::new(Chosen { carried, deepest, kept: kept.iter().map(|&k| k as u32).collect() }));
-        false
+        self.chosen = carried.map(|carried| {
+            Box::new(Chosen { carried, deepest: now_deepest, kept: kept.iter().map(|&k| k as u32).collect() })
+        });
     }
 }
 
@@ -230,17 +206,18 @@ impl ContactPairs {
             .collect()
     }
 
-    /// Ends a step's search: its pairs (as `open` gave them, in order) become the ones kept; how each pair's
-    /// contacts were found is tallied.
-    pub fn close(&mut self, pairs: Vec<Pair>, found: impl Iterator<Item = (Found, bool)>) {
-        for (how, kept_choice) in found {
-            match how {
-                Found::Reused => self.reused += 1,
-                Found::Computed => self.computed += 1,
-            }
-            self.kept_choices += kept_choice as usize;
-        }
+    /// Ends a step's search: its pairs (as `open` gave them, in order) become the ones kept.
+    pub fn close(&mut self, pairs: Vec<Pair>) {
         self.pairs = pairs;
+    }
+
+    /// The place of `pair` in the kept list, searched forward from `k` (which it advances): the callers ask for
+    /// the pairs of contacts sorted by pair.
+    fn find_from(&self, k: &mut usize, pair: (usize, usize)) -> Option<usize> {
+        while *k < self.pairs.len() && self.pairs[*k].pair < pair {
+            *k += 1;
+        }
+        (*k < self.pairs.len() && self.pairs[*k].pair == pair).then_some(*k)
     }
 
     /// Whether it fits a scene of `colliders` colliders: pairs in range and sorted, every kept choice within its
@@ -268,14 +245,8 @@ impl ContactPairs {
         found
             .iter()
             .map(|f| {
-                let pair = (f.key.colliders.0 as usize, f.key.colliders.1 as usize);
-                while k < self.pairs.len() && self.pairs[k].pair < pair {
-                    k += 1;
-                }
-                let warm = match self.pairs.get(k) {
-                    Some(p) if p.pair == pair => &p.warm[..],
-                    _ => return SoftImpulse::default(),
-                };
+                let Some(at) = self.find_from(&mut k, pair_of(f)) else { return SoftImpulse::default() };
+                let warm = &self.pairs[at].warm;
                 match warm.binary_search_by(|(features, _)| features.cmp(&f.key.features)) {
                     Ok(i) => warm[i].1,
                     Err(_) if warm.is_empty() => SoftImpulse::default(),
@@ -301,11 +272,8 @@ impl ContactPairs {
             p.warm.clear();
         }
         for (f, &impulse) in found.iter().zip(impulses) {
-            let pair = (f.key.colliders.0 as usize, f.key.colliders.1 as usize);
-            while k < self.pairs.len() && self.pairs[k].pair < pair {
-                k += 1;
-            }
-            let Some(p) = self.pairs.get_mut(k).filter(|p| p.pair == pair) else { continue };
+            let Some(at) = self.find_from(&mut k, pair_of(f)) else { continue };
+            let p = &mut self.pairs[at];
             match p.warm.binary_search_by(|(features, _)| features.cmp(&f.key.features)) {
                 Ok(i) => p.warm[i].1 = impulse,
                 Err(i) => p.warm.insert(i, (f.key.features, impulse)),
@@ -319,6 +287,30 @@ impl ContactPairs {
     pub fn kept_impulses(&self) -> usize {
         self.pairs.iter().map(|p| p.warm.len()).sum()
     }
+}
+
+/// The collider pair of a found contact.
+fn pair_of(f: &FoundContact) -> (usize, usize) {
+    (f.key.colliders.0 as usize, f.key.colliders.1 as usize)
+}
+
+/// The contacts of `candidates` within reach (the `Some`s), and, if `choosing`, their places among the candidates.
+fn within_reach(
+    candidates: impl Iterator<Item = Option<Contact>>,
+    capacity: usize,
+    choosing: bool,
+) -> (Vec<Contact>, Option<Vec<u32>>) {
+    let mut found = Vec::with_capacity(capacity);
+    let mut carried = Vec::with_capacity(if choosing { capacity } else { 0 });
+    for (k, c) in candidates.enumerate() {
+        if let Some(c) = c {
+            found.push(c);
+            if choosing {
+                carried.push(k as u32);
+            }
+        }
+    }
+    (found, choosing.then_some(carried))
 }
 
 /// A kept contact where its bodies now are, if within `prediction`.

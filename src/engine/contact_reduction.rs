@@ -61,9 +61,7 @@ pub(crate) fn reduce_indices(found: &[FoundContact], states: &[BodyState]) -> Ve
         }
         let members = &cluster;
         let points: Vec<Point3<f64>> = members.iter().map(|&i| found[i].contact.point).collect();
-        let deepest = (0..members.len())
-            .min_by(|&a, &b| found[members[a]].contact.distance.total_cmp(&found[members[b]].contact.distance))
-            .expect("a group has members");
+        let deepest = deepest(members.iter().map(|&i| found[i].contact.distance));
         let c = &found[members[0]].contact;
         let targets = centres(c.a, c.b, c.normal.into_inner(), states);
         for k in hold(&points, deepest, select(&points, deepest), &targets, &c.normal) {
@@ -71,6 +69,11 @@ pub(crate) fn reduce_indices(found: &[FoundContact], states: &[BodyState]) -> Ve
         }
     }
     (0..found.len()).filter(|&k| keep[k]).collect()
+}
+
+/// The place of the deepest of these gaps (the first of equals; 0 if none): the reduction's first point.
+pub(crate) fn deepest(gaps: impl Iterator<Item = f64>) -> usize {
+    gaps.enumerate().min_by(|a, b| a.1.total_cmp(&b.1)).map_or(0, |(k, _)| k)
 }
 
 /// Normals within this angle's cosine (10 degrees) are one contact plane.

@@ -72,8 +72,7 @@ impl FastEngine {
     ) -> Self {
         let Compiled { model, rows } = compiled;
         let actors = model.layout.particles + model.layout.bodies;
-        // the soft step keeps its contact pairs across steps; the exact solver computes every one
-        let keeps_pairs = scene.is_some() && matches!(settings.solver, FastSolver::Soft(_));
+        let keeps_pairs = keeps_pairs(scene.is_some(), &settings);
         let memory = FastMemory {
             origin: t,
             steps: 0,
@@ -174,7 +173,7 @@ impl FastEngine {
             all_actors: self.scene.as_ref().map_or(actors, |sc| sc.actors()),
             colliders: self.scene.as_ref().map_or(0, |sc| sc.colliders.len()),
             joints: self.model.joints.len(),
-            keeps_pairs: self.scene.is_some() && matches!(self.settings.solver, FastSolver::Soft(_)),
+            keeps_pairs: keeps_pairs(self.scene.is_some(), &self.settings),
         }
     }
 }
@@ -312,6 +311,12 @@ impl Engine for FastEngine {
     fn boxed_clone(&self) -> Box<dyn Engine> {
         Box::new(self.clone())
     }
+}
+
+/// Whether the engine keeps contact pairs across steps: the soft step does, where colliders can touch; the exact
+/// solver computes every pair every step.
+fn keeps_pairs(has_scene: bool, settings: &FastSettings) -> bool {
+    has_scene && matches!(settings.solver, FastSolver::Soft(_))
 }
 
 /// The method name a fast-mode report carries.

@@ -1,7 +1,8 @@
 //! Fast mode, third stage with the soft solver: new velocities and poses from Catto's soft step (tumble-contact's
 //! `soft_step`: substeps, soft contacts in hertz, Coulomb friction), each contact started from its impulses of the
 //! last step (kept by its collider pair, `contact_pairs.rs`: matched by features; a contact new to a pair that
-//! touched takes the pair's mean), and the impulses kept for the next step. The substeps move the bodies themselves, so this stage also gives the poses.
+//! touched takes the pair's mean), and the impulses kept for the next step. The substeps move the bodies
+//! themselves, so this stage also gives the poses.
 //! Joints, springs and the particles' anchor pulls go in as the soft step's links: the springs are evaluated at
 //! every substep (as forces evaluated once a step and spread over the substeps they were not symplectic: an
 //! undamped spring gained energy at any step, and the cloth drape diverged).

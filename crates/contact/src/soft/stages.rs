@@ -148,19 +148,6 @@ pub(crate) struct Passes<'a> {
     pub relax_joints: JointSweep,
 }
 
-/// The stages of a sweep over the colours: one a colour on several workers; on one, a single stage over all the
-/// bundles (the colours are consecutive runs of them, so it is the same arithmetic in the same order, without a call
-/// a colour).
-fn colour_stages<'c>(
-    colours: &'c [(Range<usize>, bool)],
-    all: &Range<usize>,
-    threads: usize,
-) -> impl Iterator<Item = (Range<usize>, bool)> + 'c {
-    let whole = (threads == 1).then(|| (all.clone(), true));
-    let each = (threads > 1).then(|| colours.iter().cloned()).into_iter().flatten();
-    whole.into_iter().chain(each)
-}
-
 /// One value that only worker 0 reaches, between barriers.
 struct Serial<T>(*mut T);
 
@@ -191,7 +178,11 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
     let changes: Vec<AtomicU64> = (0..threads).map(|_| AtomicU64::new(0)).collect();
     let all_movers = 0..movers.1;
     let all_bundles = 0..bundles.1;
-    let run = |t: usize, threads: usize| {
+    // the stages of a sweep: one a colour on several workers; on one, a single stage over all the bundles (the
+    // colours are consecutive runs of them: the same arithmetic in the same order, without a call a colour)
+    let whole = [(all_bundles.clone(), true)];
+    let colour_stages: &[(Range<usize>, bool)] = if threads == 1 { &whole } else { colours };
+    let run = |t: usize| {
         let _poison = Poison(&barrier);
         // SAFETY (every block below): each stage reaches disjoint shares (`share`) of the bodies or of a colour's
         // bundles, or worker 0 reaches all of it, reads bodies through `pointer` only where no worker writes them
@@ -207,8 +198,8 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
                     }
                     barrier.wait();
                 }
-                for (range, last) in colour_stages(colours, &all_bundles, threads) {
-                    let mine = colour_share(&range, last, t, threads);
+                for (range, last) in colour_stages {
+                    let mine = colour_share(range, *last, t, threads);
                     let swept = unsafe {
                         bundle::sweep_shared(bundles.range(mine.clone()), frictions.range(mine), pointer, how)
                     };
@@ -256,8 +247,8 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
                 }
                 barrier.wait();
             }
-            for (range, last) in colour_stages(colours, &all_bundles, threads) {
-                let mine = colour_share(&range, last, t, threads);
+            for (range, last) in colour_stages {
+                let mine = colour_share(range, *last, t, threads);
                 unsafe {
                     bundle::warm_start_shared(bundles.range(mine.clone()), frictions.range(mine), pointer);
                 }
@@ -293,7 +284,7 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
             barrier.wait();
         }
     };
-    workers.run(|t| run(t, threads));
+    workers.run(run);
 }
 
 #[cfg(test)]
