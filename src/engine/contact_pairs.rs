@@ -16,6 +16,8 @@
 use crate::engine::contact_reduction::{deepest, MAX_POINTS};
 use crate::engine::found_contact::FoundContact;
 use nalgebra::{Isometry3, Point3, Unit, UnitQuaternion, Vector3};
+use smallvec::SmallVec;
+use std::sync::Arc;
 use tumble_collide::{Contact, ContactKind, Shape};
 use tumble_contact::SoftImpulse;
 
@@ -57,11 +59,13 @@ struct Chosen {
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(crate) struct Pair {
     pair: (usize, usize),
-    /// (Boxed, as is the choice: a step moves every pair's entry, and most pairs of a pile have neither.)
-    manifold: Option<Box<Manifold>>,
-    /// Its contacts' impulses of the last step, by their features (sorted).
-    warm: Vec<((u64, u64), SoftImpulse)>,
-    chosen: Option<Box<Chosen>>,
+    /// (Shared, as is the choice: a step moves every pair's entry, most pairs of a pile have neither, and a call's
+    /// copy of the memory, put back if it fails, then costs a count, not a copy: both are replaced, never changed.)
+    manifold: Option<Arc<Manifold>>,
+    /// Its contacts' impulses of the last step, by their features (sorted; held in place up to a reduced pair's
+    /// four, so that copying the memory allocates nothing for them).
+    warm: SmallVec<[((u64, u64), SoftImpulse); MAX_POINTS]>,
+    chosen: Option<Arc<Chosen>>,
     /// This step's search: the manifold's points carried (when it has a manifold).
     #[serde(skip)]
     carried: Option<Vec<u32>>,
@@ -95,7 +99,7 @@ fn polyhedral(s: &Shape) -> bool {
 
 impl Pair {
     fn new(pair: (usize, usize)) -> Pair {
-        Pair { pair, manifold: None, warm: Vec::new(), chosen: None, carried: None }
+        Pair { pair, manifold: None, warm: SmallVec::new(), chosen: None, carried: None }
     }
 
     /// The collider pair.
@@ -152,7 +156,7 @@ impl Pair {
                     }
                 })
                 .collect();
-            Box::new(Manifold { relative, flipped, prediction: enlarged, points })
+            Arc::new(Manifold { relative, flipped, prediction: enlarged, points })
         });
         let choosing = all.len() > MAX_POINTS && self.manifold.is_some() && keeps_choice(shape_a, shape_b);
         let n = all.len();
@@ -187,7 +191,7 @@ impl Pair {
         }
         kept.extend(reduce(found));
         self.chosen = carried.map(|carried| {
-            Box::new(Chosen { carried, deepest: now_deepest, kept: kept.iter().map(|&k| k as u32).collect() })
+            Arc::new(Chosen { carried, deepest: now_deepest, kept: kept.iter().map(|&k| k as u32).collect() })
         });
     }
 }
