@@ -27,9 +27,69 @@ pub struct RigidBody {
     pub(crate) angular_damping: f64,
     pub(crate) material: Material,
     pub(crate) is_static: bool,
+    /// What the user calls it and how it is drawn: kept by files, copies and runs, written by the exporters.
+    pub(crate) look: Look,
+}
+
+/// A body's name and colour, for people and the tools they take a run into; no part of the physics.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Look {
+    /// Its name (glTF node, USD prim, viewer label); none: the exporters call it by its place.
+    pub name: Option<String>,
+    /// Its colour as linear RGBA, each in [0, 1]; none: the exporters' palette.
+    pub color: Option<[f64; 4]>,
+}
+
+/// Longest name a body may have (characters).
+pub const MAX_NAME: usize = 256;
+
+impl Look {
+    /// A colour from RGB (opaque) or RGBA components, as the bindings and files take it.
+    pub fn color_of(components: &[f64]) -> Result<[f64; 4], WorldError> {
+        match *components {
+            [r, g, b] => Ok([r, g, b, 1.0]),
+            [r, g, b, a] => Ok([r, g, b, a]),
+            _ => Err(WorldError::invalid(
+                "color",
+                format!("expected 3 (RGB) or 4 (RGBA) numbers, got {}", components.len()),
+            )),
+        }
+    }
+
+    /// Checks the name (1 to `MAX_NAME` characters, no control characters) and the colour (each component in [0, 1]).
+    pub(crate) fn check(&self) -> Result<(), WorldError> {
+        if let Some(name) = &self.name {
+            let count = name.chars().count();
+            if count == 0 || count > MAX_NAME || name.chars().any(char::is_control) {
+                return Err(WorldError::invalid(
+                    "name",
+                    format!("must be 1 to {MAX_NAME} characters without control characters, got {name:?}"),
+                ));
+            }
+        }
+        if let Some(c) = self.color {
+            if !c.iter().all(|v| (0.0..=1.0).contains(v)) {
+                return Err(WorldError::invalid(
+                    "color",
+                    format!("must be linear RGBA with each component in [0, 1], got {c:?}"),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl RigidBody {
+    /// Its name, if it was given one.
+    pub fn name(&self) -> Option<&str> {
+        self.look.name.as_deref()
+    }
+
+    /// Its colour (linear RGBA), if it was given one.
+    pub fn color(&self) -> Option<[f64; 4]> {
+        self.look.color
+    }
+
     /// Mass M (infinite for a static body).
     pub fn mass(&self) -> f64 {
         if self.is_static {
@@ -151,6 +211,7 @@ pub struct RigidBodyBuilder {
     mesh_shape: Option<MeshShape>,
     /// The modelled frame's origin in the body frame, as a saved world has it.
     origin: Option<Vector3<f64>>,
+    look: Look,
 }
 
 impl RigidBodyBuilder {
@@ -172,6 +233,7 @@ impl RigidBodyBuilder {
             friction: Material::default().friction,
             mesh_shape: None,
             origin: None,
+            look: Look::default(),
         }
     }
 
@@ -260,6 +322,20 @@ impl RigidBodyBuilder {
         self
     }
 
+    /// Its name (1 to 256 characters): the glTF node's, the USD prim's (made a valid, unique identifier there) and
+    /// the viewer's label.
+    pub fn name(mut self, name: impl Into<String>) -> Self {
+        self.look.name = Some(name.into());
+        self
+    }
+
+    /// Its colour, linear RGBA with each component in [0, 1] (alpha 1: opaque): the glTF material's base colour,
+    /// the USD meshes' display colour, the viewer's.
+    pub fn color(mut self, rgba: [f64; 4]) -> Self {
+        self.look.color = Some(rgba);
+        self
+    }
+
     /// Resolves the mass properties and checks every field.
     pub(crate) fn build(mut self) -> Result<RigidBody, WorldError> {
         limits::vector("position", &self.position, limits::COORDINATE, "m")?;
@@ -274,6 +350,7 @@ impl RigidBodyBuilder {
         limits::non_negative("angular_damping", self.angular_damping, limits::STIFFNESS, "N m s")?;
         let material = Material { restitution: self.restitution, friction: self.friction };
         material.check()?;
+        self.look.check()?;
         for (_, pose) in &self.extra {
             check_finite("offset", pose.rotation.coords.iter())?;
             limits::vector("offset", &pose.translation.vector, limits::COORDINATE, "m")?;
@@ -330,6 +407,7 @@ impl RigidBodyBuilder {
             angular_damping: self.angular_damping,
             material,
             is_static: self.is_static,
+            look: self.look,
         })
     }
 

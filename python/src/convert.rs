@@ -44,6 +44,15 @@ pub fn opt_vec3(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<V
     obj.filter(|o| !o.is_none()).map(|o| vec3(name, o)).transpose()
 }
 
+/// An optional colour: 3 (RGB, opaque) or 4 (RGBA) numbers, linear, each in [0, 1] (checked by the world).
+pub fn opt_color(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<[f64; 4]>> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else { return Ok(None) };
+    let v: Vec<f64> = obj
+        .extract()
+        .map_err(|_| invalid(name, format!("expected 3 or 4 numbers (RGB or RGBA), got {}", repr(obj))))?;
+    tumble::Look::color_of(&v).map(Some).map_err(world_error)
+}
+
 /// A quaternion given as (w, x, y, z), normalised; it must be finite and nonzero.
 pub fn quat(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<UnitQuaternion<f64>> {
     let q: [f64; 4] =

@@ -168,11 +168,13 @@ impl PyWorld {
 
     /// Adds a rigid body: from a shape and a density (or a total mass), or from a mass and a 3x3 inertia tensor.
     /// A `Mesh` moves as its convex decomposition (`decomposition={"resolution", "max_pieces", "concavity"}`), or
-    /// as its hull with `shape="hull"`; a static one keeps its exact triangles (`shape="exact"`).
+    /// as its hull with `shape="hull"`; a static one keeps its exact triangles (`shape="exact"`). `name` (1 to 256
+    /// characters) and `color` (RGB or RGBA, linear, each in [0, 1]) travel with the body into files, copies and
+    /// runs, and name and colour it in glTF, USD and the viewer.
     #[pyo3(signature = (geometry = None, /, density = None, mass = None, inertia = None, position = None,
                         orientation = None, velocity = None, angular_velocity = None, restitution = None,
                         friction = None, r#static = false, linear_damping = 0.0, angular_damping = 0.0,
-                        colliders = None, shape = None, decomposition = None))]
+                        colliders = None, shape = None, decomposition = None, name = None, color = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -193,6 +195,8 @@ impl PyWorld {
         colliders: Option<&Bound<'_, PyAny>>,
         shape: Option<&Bound<'_, PyAny>>,
         decomposition: Option<&Bound<'_, PyAny>>,
+        name: Option<String>,
+        color: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyBodyHandle> {
         let (geometry, mesh_shape) = crate::mesh::shape_args(geometry, shape, decomposition)?;
         let shape = geometry;
@@ -252,6 +256,12 @@ impl PyWorld {
             b = b.mesh_shape(choice);
         }
         b = b.linear_damping(linear_damping).angular_damping(angular_damping);
+        if let Some(name) = name {
+            b = b.name(name);
+        }
+        if let Some(rgba) = crate::convert::opt_color("color", color)? {
+            b = b.color(rgba);
+        }
         let mut guard = self.r();
         let world: &mut tumble::World = &mut guard;
         // a mesh's decomposition can take seconds: other Python threads run meanwhile

@@ -137,6 +137,16 @@ impl PyWorld {
         rows(py, w.body_count(), w.bodies().map(|(_, b)| b.origin().into()))
     }
 
+    /// Each body's name (None where it has none), in row order.
+    fn _body_names(&self) -> Vec<Option<String>> {
+        self.r().bodies().map(|(_, b)| b.name().map(str::to_owned)).collect()
+    }
+
+    /// Each body's colour as linear RGBA (None where it has none), in row order.
+    fn _body_colors(&self) -> Vec<Option<[f64; 4]>> {
+        self.r().bodies().map(|(_, b)| b.color()).collect()
+    }
+
     /// (B, 4) body orientations (w, x, y, z).
     fn _body_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let w = self.r();

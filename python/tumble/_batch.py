@@ -88,5 +88,5 @@ def rollout(
     finally:
         if isinstance(shown, Progress):
             shown.close()
-    shapes, links = world._body_shapes(), world._links()
-    return Batch([Run.from_dict(d, shapes, links) for d in data])
+    shapes, links, looks = world._body_shapes(), world._links(), (world._body_names(), world._body_colors())
+    return Batch([Run.from_dict(d, shapes, links, looks=looks) for d in data])

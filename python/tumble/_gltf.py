@@ -9,9 +9,10 @@ velocities zero at every frame) and that no spring or joint holds.
 Meshes are shared: bodies whose collider sets are identical (the same shapes, compared by their JSON from
 ``Shape.__reduce__``, at exactly the same offsets and orientations) and alike static or dynamic use one mesh, so a
 row of twenty dominoes carries one domino mesh; particles share one small sphere, springs and joints one thin
-cylinder (``_gltf_links``). Materials are plain, named pbrMetallicRoughness colours: static bodies grey and
-double-sided (the ground is a finite square), dynamic bodies a palette colour per distinct collider set, particles,
-springs and joints one colour each.
+cylinder (``_gltf_links``). A body's node carries its name (``add_body(name=...)``, else "body N"). Materials are
+plain, named pbrMetallicRoughness colours: a body given a colour has it (bodies of one colour share the material,
+blended where alpha is below 1), other static bodies are grey and double-sided (the ground is a finite square),
+other dynamic bodies a palette colour per distinct collider set; particles, springs and joints one colour each.
 
 Keyframe times are strictly increasing in float32 (frames that would repeat a time are dropped) and a run that
 diverged is written up to its last frame whose poses are all finite, so the file has no NaN or infinity."""
@@ -100,10 +101,11 @@ class Writer:
         return index
 
     def material(self, name: str, rgba: tuple[float, ...], double_sided: bool = False) -> int:
-        """The material named ``name`` (made once): a plain, rough, non-metallic base colour."""
+        """The material named ``name`` (made once): a plain, rough, non-metallic base colour (blended where its
+        alpha is below 1)."""
         if name not in self.materials:
             self.gltf.materials.append(g.Material(
-                name=name, doubleSided=double_sided,
+                name=name, doubleSided=double_sided, alphaMode="BLEND" if rgba[3] < 1.0 else "OPAQUE",
                 pbrMetallicRoughness=g.PbrMetallicRoughness(baseColorFactor=list(rgba), metallicFactor=0.0,
                                                             roughnessFactor=0.8)))
             self.materials[name] = len(self.gltf.materials) - 1
@@ -226,17 +228,22 @@ def _bodies(w: Writer, run: Run, frames: np.ndarray, root: int, size: float) -> 
             len(frames) > 1 and b not in linked and not run.body_velocities[frames, b].any()
             and not run.body_angular_velocities[frames, b].any()
             and bool((positions[:, b] == positions[0, b]).all() and (orientations[:, b] == orientations[0, b]).all()))
-        # identical collider sets: the same shapes (their JSON) at exactly the same offsets and orientations
-        key = (static, tuple((s.__reduce__()[1][0], tuple(map(float, p)), tuple(map(float, q)))
-                             for s, p, q in colliders))
+        # identical collider sets: the same shapes (their JSON) at exactly the same offsets and orientations, and
+        # the same colour where one was given
+        color = run.color(b)
+        key = (static, color, tuple((s.__reduce__()[1][0], tuple(map(float, p)), tuple(map(float, q)))
+                                    for s, p, q in colliders))
         if key not in meshes:
-            if static:
+            if color is not None:  # the body's own colour, a material named by it, shared by bodies of that colour
+                label = "colour " + " ".join(f"{c:.4g}" for c in color) + (" (static)" if static else "")
+                material = w.material(label, color, double_sided=static)
+            elif static:
                 material = w.material(*STATIC, double_sided=True)
             else:  # the palette's next colour for each distinct dynamic collider set
-                material = w.material(*PALETTE[sum(1 for s, _ in meshes if not s) % len(PALETTE)])
+                material = w.material(*PALETTE[sum(1 for s, c, _ in meshes if not s and c is None) % len(PALETTE)])
             meshes[key] = _collider_mesh(w, colliders, material, size,
                                          f"{'static ' if static else ''}body mesh {len(meshes)}")
-        nodes.append(w.node(f"body {b}", root, meshes[key], translation=placed[0], rotation=orientations[0, b]))
+        nodes.append(w.node(run.label(b), root, meshes[key], translation=placed[0], rotation=orientations[0, b]))
         if not static:
             w.animate(nodes[-1], "translation", placed)
             w.animate(nodes[-1], "rotation", orientations[:, b])

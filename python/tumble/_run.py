@@ -41,7 +41,9 @@ class Run:
     penetration among the contacts at each frame; ``contact_events`` the times of accurate mode's contact events
     (collisions located by bisection); ``contact_counts`` (F,) how many contacts each frame has and
     ``contact_points`` (C, 2, 3) each contact's point and normal, frame after frame (``contacts(frame)`` picks a
-    frame's). ``links`` lists the springs and joints to draw (``link_segments``), ``name`` the scene's name."""
+    frame's). ``links`` lists the springs and joints to draw (``link_segments``), ``name`` the scene's name;
+    ``names`` and ``colors`` each body's name and linear RGBA colour as given to ``add_body`` (None where not given),
+    which the exporters and the viewer use."""
 
     times: np.ndarray
     particle_positions: np.ndarray
@@ -67,16 +69,29 @@ class Run:
     shapes: list[Colliders] = field(default_factory=list, repr=False)
     links: list[Link] = field(default_factory=list, repr=False)
     name: str = ""
+    names: list[str | None] = field(default_factory=list, repr=False)
+    colors: list[tuple[float, float, float, float] | None] = field(default_factory=list, repr=False)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], shapes: list[Colliders] | None = None, links: list[Any] | None = None,
-                  name: str = "") -> "Run":
+                  name: str = "", looks: tuple[list[Any], list[Any]] | None = None) -> "Run":
         data = dict(data)
         data["report"] = Report(data["report"])
         data["contact_counts"] = np.asarray(data["contact_counts"], dtype=np.int64)
         from ._geometry import normal_links  # noqa: PLC0415
 
-        return cls(**data, shapes=shapes or [], links=normal_links(links or []), name=name)
+        names, colors = looks or ([], [])
+        return cls(**data, shapes=shapes or [], links=normal_links(links or []), name=name, names=list(names),
+                   colors=[None if c is None else tuple(map(float, c)) for c in colors])
+
+    def label(self, body: int) -> str:
+        """Body ``body``'s name (its column in the arrays), or ``"body N"`` where it was given none."""
+        name = self.names[body] if body < len(self.names) else None
+        return name if name is not None else f"body {body}"
+
+    def color(self, body: int) -> tuple[float, float, float, float] | None:
+        """Body ``body``'s linear RGBA colour, or None where it was given none."""
+        return self.colors[body] if body < len(self.colors) else None
 
     def contacts(self, frame: int) -> np.ndarray:
         """The contacts at ``frame`` as a (C, 2, 3) array: each contact's point and unit normal."""
@@ -116,7 +131,8 @@ class Run:
         np.savez_compressed(path, **{name: getattr(self, name) for name in ARRAYS},
                             particles=handles(self.particles), bodies=handles(self.bodies),
                             report=np.array(json.dumps(report)), shapes=np.array(json.dumps(shapes)),
-                            links=np.array(json.dumps(self.links)), name=np.array(self.name))
+                            links=np.array(json.dumps(self.links)), name=np.array(self.name),
+                            looks=np.array(json.dumps([self.names, self.colors])))
         return path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
 
     @classmethod
@@ -136,8 +152,9 @@ class Run:
             shapes = [[(_shape_from_json(s), p, q) for s, p, q in body] for body in json.loads(str(data["shapes"]))]
             links = normal_links(json.loads(str(data["links"])))
             name = str(data["name"])
+            names, colors = json.loads(str(data["looks"])) if "looks" in data else ([], [])
         return cls(**arrays, report=report, particles=particles, bodies=bodies, shapes=shapes, links=links,
-                   name=name)
+                   name=name, names=names, colors=[None if c is None else tuple(c) for c in colors])
 
     def to_csv(self, path: str | Path) -> Path:
         """Writes the per-frame scalars as CSV, a row a frame: time, kinetic, potential and total energy, momentum

@@ -1,8 +1,10 @@
 """USD export of a run through usd-core (``pip install "./python[usd]"``): one Xform prim per body carrying its
 colliders as meshes (each identical shape written once, under the abstract class prim /Shapes, and referenced), one
 per particle carrying a small sphere, with translation and orientation time-sampled at every frame (time codes are
-frames, at the run's frame rate). The stage states metres and z up, tumble's own units and axes, so no root
-transform is needed."""
+frames, at the run's frame rate). A body's prim is named by its name (made a valid, unique identifier), else
+body_N, and a body given a colour has it as its meshes' display colour and opacity; collider meshes are not to be
+subdivided (``subdivisionScheme = "none"``). The stage states metres and z up, tumble's own units and axes, so no
+root transform is needed."""
 
 from __future__ import annotations
 
@@ -36,6 +38,26 @@ def _frame_rate(times: np.ndarray) -> float:
     return 1.0 / step if step > 0 else 24.0
 
 
+def prim_names(names: list[str | None], valid: Any, reserved: set[str]) -> list[str]:
+    """Each body's prim name: its own name made a USD identifier (a character that cannot be in one becomes "_",
+    a leading digit gets a "_" before it), else "body_N"; a name taken before, or ``reserved`` (the particles'),
+    gets "_2", "_3"... after it."""
+    out: list[str] = []
+    taken: set[str] = set(reserved)
+    for b, name in enumerate(names):
+        base = f"body_{b}" if name is None else "".join(c if c.isascii() and (c.isalnum() or c == "_") else "_"
+                                                         for c in name)
+        if not base or base[0].isdigit():
+            base = "_" + base
+        unique, k = base, 1
+        while unique in taken or not valid(unique):
+            k += 1
+            unique = f"{base}_{k}"
+        taken.add(unique)
+        out.append(unique)
+    return out
+
+
 def export(run: "Run", path: Path) -> Path:
     if path.suffix.lower() not in (".usda", ".usdc", ".usd"):
         raise ValueError(f"invalid argument `path`: USD files end in .usda, .usdc or .usd, got {path.name!r}")
@@ -64,6 +86,8 @@ def export(run: "Run", path: Path) -> Path:
             mesh.CreatePointsAttr([Gf.Vec3f(*map(float, p)) for p in vertices])
             mesh.CreateFaceVertexCountsAttr([3] * len(triangles))
             mesh.CreateFaceVertexIndicesAttr([int(i) for i in triangles.reshape(-1)])
+            # collision geometry is flat-faced: importers that subdivide by default (Catmull-Clark) would round it
+            mesh.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
             meshes[key] = mesh.GetPath()
         return meshes[key]
 
@@ -78,11 +102,14 @@ def export(run: "Run", path: Path) -> Path:
                 orient.Set(Gf.Quatd(w, x, y, z), Usd.TimeCode(k))
         return xform
 
+    names = prim_names([run.names[b] if b < len(run.names) else None for b in range(run.body_positions.shape[1])],
+                       Sdf.Path.IsValidIdentifier, {f"particle_{i}" for i in range(run.particle_positions.shape[1])})
     for b in range(run.body_positions.shape[1]):
         colliders = run.shapes[b] if b < len(run.shapes) else []
         # the pivot at the body's modelled frame (a mesh's origin), not its centre of mass
         colliders, placed = pivoted(colliders, run.body_positions[:, b], run.body_orientations[:, b])
-        xform = animated(f"body_{b}", placed, run.body_orientations[:, b])
+        xform = animated(names[b], placed, run.body_orientations[:, b])
+        color = run.color(b)
         for c, (shape, offset, orientation) in enumerate(colliders):
             key = shape.__reduce__()[1][0]  # the shape's JSON: equal shapes share one mesh
             part = UsdGeom.Xform.Define(stage, xform.GetPath().AppendChild(f"collider_{c}"))
@@ -90,8 +117,12 @@ def export(run: "Run", path: Path) -> Path:
             w, x, y, z = map(float, orientation)
             part.AddOrientOp(UsdGeom.XformOp.PrecisionDouble).Set(Gf.Quatd(w, x, y, z))
             # a typeless prim under the collider takes the shared mesh (its type and points) by reference
-            stage.DefinePrim(part.GetPath().AppendChild("mesh")).GetReferences().AddInternalReference(
-                shape_mesh(shape, key))
+            prim = stage.DefinePrim(part.GetPath().AppendChild("mesh"))
+            prim.GetReferences().AddInternalReference(shape_mesh(shape, key))
+            if color is not None:  # the body's colour (and opacity) over the shared mesh's, on this instance only
+                gprim = UsdGeom.Gprim(prim)
+                gprim.CreateDisplayColorAttr([Gf.Vec3f(*color[:3])])
+                gprim.CreateDisplayOpacityAttr([float(color[3])])
     if run.particle_positions.shape[1]:
         from ._tumble import Sphere  # noqa: PLC0415
 

@@ -325,4 +325,5 @@ def snapshot(world: "World") -> "Run":
         penetration=np.array([max(0.0, -float(gaps.min())) if len(gaps) else 0.0]), contact_events=empty,
         contact_counts=np.array([len(points)], dtype=np.int64), contact_points=np.stack([points, normals], axis=1),
         report=world.report, particles=world.particles.handles, bodies=world.bodies.handles,
-        shapes=world._body_shapes(), links=normal_links(world._links()))
+        shapes=world._body_shapes(), links=normal_links(world._links()), names=world.bodies.names,
+        colors=world.bodies.colors)

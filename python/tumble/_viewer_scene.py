@@ -50,6 +50,19 @@ def _nice(x: float) -> float:
     return max(m * p for m in (1.0, 2.0, 5.0) if m * p <= x)
 
 
+def body_colors(run: "Run", bodies: int) -> np.ndarray:
+    """(B, 3) sRGB colours (uint8) of the bodies: a body's own (given linear, as glTF and USD take it) or the
+    palette's by its row."""
+    out = PALETTE[np.arange(bodies) % len(PALETTE)].copy()
+    for b in range(bodies):
+        rgba = run.color(b)
+        if rgba is not None:
+            linear = np.asarray(rgba[:3], dtype=float)
+            srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
+            out[b] = np.round(255 * np.clip(srgb, 0.0, 1.0)).astype(np.uint8)
+    return out
+
+
 class Scene:
     """A run's scene on a viser server: the nodes built once, then posed at any frame by ``pose``."""
 
@@ -85,7 +98,7 @@ class Scene:
             handle = scene.add_batched_meshes_simple(
                 f"/bodies/{shape.kind}_{i}", meshes[key][0], meshes[key][1],
                 batched_wxyzs=np.tile((1.0, 0.0, 0.0, 0.0), (len(rows), 1)), batched_positions=np.zeros((len(rows), 3)),
-                batched_colors=PALETTE[rows % len(PALETTE)], lod="off")
+                batched_colors=body_colors(run, bodies)[rows], lod="off")
             self.groups.append((handle, rows, offsets, rotations))
         bare = np.array([b for b in range(bodies) if not shapes[b]], dtype=np.int64)
         self.axes = None if not len(bare) else (scene.add_batched_axes(

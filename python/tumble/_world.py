@@ -68,6 +68,16 @@ class BodiesView:
         return self._world._body_origins()
 
     @property
+    def names(self) -> list[str | None]:
+        """Each body's name as given to ``add_body(name=...)`` (None where none was given)."""
+        return self._world._body_names()
+
+    @property
+    def colors(self) -> list[tuple[float, float, float, float] | None]:
+        """Each body's linear RGBA colour as given to ``add_body(color=...)`` (None where none was given)."""
+        return [None if c is None else tuple(c) for c in self._world._body_colors()]
+
+    @property
     def orientations(self) -> np.ndarray:
         """(B, 4) orientations as quaternions (w, x, y, z)."""
         return self._world._body_orientations()
@@ -172,6 +182,10 @@ class World(_World):
             )
         return self._add_joint(**joint._fields())
 
+    def _looks(self) -> tuple[list[str | None], list[Any]]:
+        """The bodies' names and colours, in row order, as a run keeps them."""
+        return self._body_names(), self._body_colors()
+
     def __copy__(self) -> "World":
         """A copy: objects, settings, state, the engine's memory and report; it answers to this world's handles
         and continues bit for bit as this world would (force callbacks are shared)."""
@@ -246,12 +260,12 @@ class World(_World):
         except SimulationError as error:
             partial = getattr(error, "_partial", None)
             if partial is not None:
-                error.run = Run.from_dict(partial, self._body_shapes(), self._links())
+                error.run = Run.from_dict(partial, self._body_shapes(), self._links(), looks=self._looks())
             raise
         finally:
             if isinstance(shown, Progress):
                 shown.close()
-        return Run.from_dict(data, self._body_shapes(), self._links())
+        return Run.from_dict(data, self._body_shapes(), self._links(), looks=self._looks())
 
     def show(
         self,

@@ -204,6 +204,11 @@ pub struct BodyFile {
     /// Where the modelled frame's origin sits in the body frame (as saved; absent, it comes from the shapes).
     #[serde(default)]
     pub origin: Option<[f64; 3]>,
+    /// Its name and colour (linear RGBA), if given.
+    #[serde(default)]
+    pub name: Option<String>,
+    #[serde(default)]
+    pub color: Option<[f64; 4]>,
 }
 
 /// A spring's end.

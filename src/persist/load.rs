@@ -122,6 +122,12 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
         limits::vector("origin", &v3(o), limits::COORDINATE, "m")?;
         builder = builder.origin_offset(v3(o));
     }
+    if let Some(name) = &b.name {
+        builder = builder.name(name.clone());
+    }
+    if let Some(rgba) = b.color {
+        builder = builder.color(rgba);
+    }
     // the position is put in exactly by `exact_fields`, within the bound of states a file may hold
     Ok(builder
         .orientation(quaternion("orientation", b.orientation)?)
