@@ -245,6 +245,7 @@ def test_the_exported_gltf_draws_the_users_mesh_at_the_simulated_poses(tmp_path:
 def test_the_exported_usd_draws_the_users_mesh_at_the_simulated_poses(tmp_path: Path) -> None:
     pytest.importorskip("pxr", reason="usd-core is the `usd` extra")
     from pxr import Usd, UsdGeom
+    from tumble._usd import time_codes
     run, mesh = tossed_cup(tmp_path)
     stage = Usd.Stage.Open(str(run.export_usd(tmp_path / "cup.usdc")))
     prim = stage.GetPrimAtPath("/World/body_1/collider_0/mesh")
@@ -254,7 +255,8 @@ def test_the_exported_usd_draws_the_users_mesh_at_the_simulated_poses(tmp_path: 
     body = UsdGeom.Xformable(stage.GetPrimAtPath("/World/body_1")).ComputeLocalToWorldTransform(Usd.TimeCode(0))
     np.testing.assert_allclose(np.array(body.ExtractTranslation()), [0.0, 0.0, 0.1], atol=1e-15)
     for frame in (0, len(run.times) // 2, len(run.times) - 1):
-        m = np.array(UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(frame)))
+        code = float(time_codes(run.times)[frame])
+        m = np.array(UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(code)))
         theirs = np.c_[points, np.ones(len(points))] @ m  # row vectors
         mine = world_vertices(mesh, run.body_positions[frame, 1], run.body_orientations[frame, 1])
         np.testing.assert_allclose(theirs[:, :3], mine, atol=FLOAT32, rtol=0)

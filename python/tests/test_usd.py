@@ -10,6 +10,8 @@ import tumble
 pxr = pytest.importorskip("pxr", reason="usd-core is the `usd` extra")
 from pxr import Usd, UsdGeom  # noqa: E402
 
+from tumble._usd import time_codes  # noqa: E402
+
 
 def a_run() -> tumble.Run:
     w = tumble.World(mode="fast", dt=1 / 240)
@@ -29,8 +31,10 @@ def test_a_run_reads_back_from_usd_with_its_poses(tmp_path, suffix):
     stage = Usd.Stage.Open(str(path))
     assert UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.z
     assert UsdGeom.GetStageMetersPerUnit(stage) == 1.0
-    assert stage.GetTimeCodesPerSecond() == pytest.approx(60.0)
-    assert stage.GetEndTimeCode() == len(run.times) - 1
+    # time codes of 24 a second (USD's default, what Blender plays them at), frames at the run's 60 a second
+    assert stage.GetTimeCodesPerSecond() == 24.0 and stage.GetFramesPerSecond() == pytest.approx(60.0)
+    assert stage.GetEndTimeCode() == pytest.approx((run.times[-1] - run.times[0]) * 24.0, rel=1e-15)
+    code = time_codes(run.times)
     bodies = run.body_positions.shape[1]
     # the ground's half-space and the boxes' one shape and the sphere: three meshes (plus the particle's)
     shapes = stage.GetPrimAtPath("/Shapes").GetAllChildren()
@@ -38,7 +42,7 @@ def test_a_run_reads_back_from_usd_with_its_poses(tmp_path, suffix):
     for frame in (0, len(run.times) // 2, len(run.times) - 1):
         for b in range(bodies):
             prim = stage.GetPrimAtPath(f"/World/body_{b}")
-            m = UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(frame))
+            m = UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(float(code[frame])))
             # a 4x4 row-vector matrix: the translation is its last row
             t = np.array(m.ExtractTranslation())
             assert np.allclose(t, run.body_positions[frame, b], rtol=0, atol=1e-12), (frame, b)
@@ -48,7 +52,7 @@ def test_a_run_reads_back_from_usd_with_its_poses(tmp_path, suffix):
             # the same rotation (q and -q are one), to the rounding of a matrix round trip
             assert min(np.abs(theirs - mine).max(), np.abs(theirs + mine).max()) < 1e-9, (frame, b)
         prim = stage.GetPrimAtPath("/World/particle_0")
-        t = np.array(UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(frame)).ExtractTranslation())
+        t = np.array(UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(float(code[frame]))).ExtractTranslation())
         assert np.allclose(t, run.particle_positions[frame, 0], rtol=0, atol=1e-12)
     # a collider's mesh resolves through its reference: a box is 8 corners and 12 triangles
     mesh = UsdGeom.Mesh(stage.GetPrimAtPath("/World/body_1/collider_0/mesh"))
@@ -58,3 +62,27 @@ def test_a_run_reads_back_from_usd_with_its_poses(tmp_path, suffix):
 def test_a_wrong_suffix_is_refused_by_name(tmp_path):
     with pytest.raises(ValueError, match="path"):
         a_run().export_usd(tmp_path / "run.glb")
+
+
+def test_a_60_fps_run_lasts_as_long_in_a_24_fps_blender_scene(tmp_path):
+    """Blender's USD importer reads time codes as frames of its scene: at 24 time codes a second a run plays at its
+    own speed in Blender's default 24 fps scene. A ball dropped from 1 m, recorded at 60 frames a second for 1 s,
+    imported with ``bpy``: at each of the scene's frames f it is where the run had it at f / 24 s (float32 in
+    Blender's matrices: 1e-6 m), and the animation ends at frame 24."""
+    bpy = pytest.importorskip("bpy", reason="Blender as a module is the `blender` extra")
+    w = tumble.World(mode="fast", dt=1 / 240)
+    w.add_ground()
+    w.add_body(tumble.Sphere(radius=0.1), density=500.0, position=(0.0, 0.0, 1.0), name="ball")
+    run = w.run(duration=1.0, frame_interval=1 / 60)
+    path = run.export_usd(tmp_path / "drop.usda")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.fps, scene.render.fps_base = 24, 1.0
+    bpy.ops.wm.usd_import(filepath=str(path), set_frame_range=True)
+    ball = bpy.data.objects["ball"]
+    assert scene.frame_end == 24
+    for f in (0, 6, 10, 12, 24):  # frames 6 and 12 fall on the run's frames 15 and 30, 10 on 25
+        scene.frame_set(f)
+        k = int(round(f / 24 * 60))
+        assert abs(run.times[k] - run.times[0] - f / 24) < 1e-12
+        np.testing.assert_allclose(np.array(ball.matrix_world.translation), run.body_positions[k, 1], atol=1e-6)

@@ -1,7 +1,8 @@
 """USD export of a run through usd-core (``pip install "./python[usd]"``): one Xform prim per body carrying its
 colliders as meshes (each identical shape written once, under the abstract class prim /Shapes, and referenced), one
-per particle carrying a small sphere, with translation and orientation time-sampled at every frame (time codes are
-frames, at the run's frame rate). A body's prim is named by its name (made a valid, unique identifier), else
+per particle carrying a small sphere, with translation and orientation time-sampled at every frame (at time codes
+of 24 a second, USD's default, so that a run plays at its own speed in Blender's default 24 fps scene and in tools
+that honour timeCodesPerSecond; framesPerSecond is the run's frame rate). A body's prim is named by its name (made a valid, unique identifier), else
 body_N, and a body given a colour has it as its meshes' display colour and opacity; collider meshes are not to be
 subdivided (``subdivisionScheme = "none"``). The stage states metres and z up, tumble's own units and axes, so no
 root transform is needed."""
@@ -28,6 +29,17 @@ def _pxr() -> tuple[Any, Any, Any, Any]:
     except ImportError:
         raise ImportError(f"USD export needs usd-core: {install_hint('usd')}") from None
     return Gf, Sdf, Usd, UsdGeom
+
+
+# Time codes a second: USD's default, which tools that read time codes as frames (Blender's importer) play at their
+# default 24 frames a second; tools that honour timeCodesPerSecond play any rate. framesPerSecond is the run's.
+TIME_CODES_PER_SECOND = 24.0
+
+
+def time_codes(times: np.ndarray) -> np.ndarray:
+    """The time code of each frame: seconds since the run's first frame, times ``TIME_CODES_PER_SECOND``."""
+    times = np.asarray(times, dtype=float)
+    return (times - times[0]) * TIME_CODES_PER_SECOND if len(times) else times
 
 
 def _frame_rate(times: np.ndarray) -> float:
@@ -65,11 +77,11 @@ def export(run: "Run", path: Path) -> Path:
     stage = Usd.Stage.CreateNew(str(path))
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
     UsdGeom.SetStageMetersPerUnit(stage, 1.0)
-    rate = _frame_rate(run.times)
-    stage.SetTimeCodesPerSecond(rate)
-    stage.SetFramesPerSecond(rate)
+    codes = time_codes(run.times)
+    stage.SetTimeCodesPerSecond(TIME_CODES_PER_SECOND)
+    stage.SetFramesPerSecond(_frame_rate(run.times))
     stage.SetStartTimeCode(0)
-    stage.SetEndTimeCode(max(0, len(run.times) - 1))
+    stage.SetEndTimeCode(float(codes[-1]) if len(codes) else 0.0)
     stage.SetMetadata("comment", f"tumble run: {len(run.times)} frames from t = {run.times[0]!r} s")
     root = UsdGeom.Xform.Define(stage, "/World")
     stage.SetDefaultPrim(root.GetPrim())
@@ -96,10 +108,10 @@ def export(run: "Run", path: Path) -> Path:
         translate = xform.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble)
         orient = xform.AddOrientOp(UsdGeom.XformOp.PrecisionDouble) if orientations is not None else None
         for k in range(len(run.times)):
-            translate.Set(Gf.Vec3d(*map(float, positions[k])), Usd.TimeCode(k))
+            translate.Set(Gf.Vec3d(*map(float, positions[k])), Usd.TimeCode(float(codes[k])))
             if orient is not None and orientations is not None:
                 w, x, y, z = map(float, orientations[k])
-                orient.Set(Gf.Quatd(w, x, y, z), Usd.TimeCode(k))
+                orient.Set(Gf.Quatd(w, x, y, z), Usd.TimeCode(float(codes[k])))
         return xform
 
     names = prim_names([run.names[b] if b < len(run.names) else None for b in range(run.body_positions.shape[1])],
