@@ -33,6 +33,12 @@ ARRAYS = (
 )
 
 
+def rgba(c: Any) -> tuple[float, float, float, float]:
+    """A colour's four components as floats."""
+    r, g, b, a = map(float, c)
+    return (r, g, b, a)
+
+
 @dataclass(repr=False)
 class Run:
     """Frames of a run. Arrays are frame-major: ``particle_positions`` is (F, P, 3), ``body_orientations``
@@ -82,7 +88,7 @@ class Run:
 
         names, colors = looks or ([], [])
         return cls(**data, shapes=shapes or [], links=normal_links(links or []), name=name, names=list(names),
-                   colors=[None if c is None else tuple(map(float, c)) for c in colors])
+                   colors=[None if c is None else rgba(c) for c in colors])
 
     def label(self, body: int) -> str:
         """Body ``body``'s name (its column in the arrays), or ``"body N"`` where it was given none."""
@@ -154,7 +160,7 @@ class Run:
             name = str(data["name"])
             names, colors = json.loads(str(data["looks"])) if "looks" in data else ([], [])
         return cls(**arrays, report=report, particles=particles, bodies=bodies, shapes=shapes, links=links,
-                   name=name, names=names, colors=[None if c is None else tuple(c) for c in colors])
+                   name=name, names=names, colors=[None if c is None else rgba(c) for c in colors])
 
     def to_csv(self, path: str | Path) -> Path:
         """Writes the per-frame scalars as CSV, a row a frame: time, kinetic, potential and total energy, momentum

@@ -75,7 +75,9 @@ class BodiesView:
     @property
     def colors(self) -> list[tuple[float, float, float, float] | None]:
         """Each body's linear RGBA colour as given to ``add_body(color=...)`` (None where none was given)."""
-        return [None if c is None else tuple(c) for c in self._world._body_colors()]
+        from ._run import rgba  # noqa: PLC0415
+
+        return [None if c is None else rgba(c) for c in self._world._body_colors()]
 
     @property
     def orientations(self) -> np.ndarray:

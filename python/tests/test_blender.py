@@ -1,0 +1,285 @@
+"""The Blender bake (``tumble.blender``), headless with Blender as a module (the ``blender`` extra): scenes built
+through Blender's own operators, baked with tumble, their keyframes against a tumble world of the same scene built
+directly in Python; each mapped setting changing the bake as the same change in tumble does; what cannot be mapped
+refused naming the object and the setting; the add-on's operator. Keyframes are float32 in Blender (F-curve points),
+so poses are compared to float32's rounding: 2e-7 of the coordinate's size (the issue's 1e-9 m is below float32's
+resolution at a metre)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import tumble
+
+bpy = pytest.importorskip("bpy", reason="Blender as a module is the `blender` extra")
+import tumble.blender as tb  # noqa: E402
+
+FPS, SUBSTEPS = 60, 10
+DT = 1.0 / FPS / SUBSTEPS
+FLOAT32 = 2e-7  # relative: a keyframe value rounded to float32 (half an ulp is 6e-8 of it), with margin
+
+
+def f32(x: float) -> float:
+    """``x`` as Blender holds it (its properties, locations and vertices are float32)."""
+    return float(np.float32(x))
+
+
+def empty_scene(frames: int = 60):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.fps, scene.render.fps_base = FPS, 1.0
+    bpy.ops.rigidbody.world_add()
+    scene.rigidbody_world.point_cache.frame_start = 1
+    scene.rigidbody_world.point_cache.frame_end = frames
+    scene.rigidbody_world.substeps_per_frame = SUBSTEPS
+    return scene
+
+
+def blender_body(kind, name, location, shape, size=1.0, **settings):
+    """A mesh made by Blender's primitive operator, made a rigid body by Blender's operator."""
+    add = {"cube": bpy.ops.mesh.primitive_cube_add, "plane": bpy.ops.mesh.primitive_plane_add,
+           "sphere": bpy.ops.mesh.primitive_uv_sphere_add}[kind]
+    add(**({"radius": size} if kind == "sphere" else {"size": size}), location=location)
+    obj = bpy.context.active_object
+    obj.name = name
+    bpy.ops.rigidbody.object_add(type="PASSIVE" if kind == "plane" else "ACTIVE")
+    obj.rigid_body.collision_shape = shape
+    for key, value in settings.items():
+        setattr(obj.rigid_body, key, value)
+    return obj
+
+
+def ground(restitution=0.0, friction=0.5):
+    return blender_body("plane", "ground", (0, 0, 0), "BOX", size=20.0, restitution=restitution, friction=friction)
+
+
+def python_world():
+    return tumble.World(mode="fast", dt=DT, gravity=(0.0, 0.0, f32(-9.81)))  # Blender's gravity, in float32
+
+
+def python_ground(w, restitution=0.0, friction=0.5):
+    # Blender's 20 m plane as a box collider: a 1 m slab under the face
+    return w.add_body(tumble.Box(half_extents=(10.0, 10.0, 0.5)), static=True, position=(0.0, 0.0, -0.5),
+                      restitution=restitution, friction=friction**2)
+
+
+def damping(mass, inertia_moment, linear=0.04, angular=0.1):
+    """Blender's default damping, as exponential decays (Bullet: v *= (1 - d) each second)."""
+    return {"linear_damping": -mass * math.log(1 - linear), "angular_damping": -inertia_moment * math.log(1 - angular)}
+
+
+def keyed(obj, frames):
+    """The object's baked world positions at ``frames``."""
+    scene = bpy.context.scene
+    out = []
+    for f in frames:
+        scene.frame_set(int(f))
+        out.append(tuple(obj.matrix_world.translation))
+    return np.array(out)
+
+
+def assert_keyed_like(obj, run, column, frames):
+    got = keyed(obj, frames)
+    want = run.body_positions[np.asarray(frames) - 1, column]
+    np.testing.assert_allclose(got, want, rtol=0, atol=FLOAT32 * max(1.0, np.abs(want).max()))
+
+
+def test_a_bouncing_ball_bakes_as_the_same_world_built_in_python():
+    scene = empty_scene(90)
+    ground(restitution=1.0)
+    ball = blender_body("sphere", "ball", (0, 0, 1), "SPHERE", size=0.1, restitution=0.8, mass=0.5)
+    report = tb.bake(scene)
+    assert report.bake_simulating_seconds > 0 and report.steps == 89 * SUBSTEPS
+    assert not scene.rigidbody_world.enabled, "the world is switched off so that the keyframes play"
+    # the same scene in Python: Blender's products of restitution (0.8 x 1.0) and friction (0.5 x 0.5)
+    w = python_world()
+    python_ground(w, restitution=0.0)  # the larger of 0.0 and 0.8 is Bullet's 0.8 x 1.0
+    sphere = tumble.Sphere(radius=0.1)
+    moment = sphere.mass_properties(1.0)["inertia"][0][0] * 0.5 / sphere.mass_properties(1.0)["mass"]
+    b = w.add_body(sphere, mass=0.5, position=(0.0, 0.0, 1.0), restitution=0.8, friction=0.25,
+                   **damping(0.5, moment))
+    run = w.run(89 / FPS, 1 / FPS)
+    assert_keyed_like(ball, run, w.bodies.row(b), range(1, 91))
+    assert keyed(ball, [1])[0][2] == pytest.approx(1.0)
+    # it bounced: up again after the first impact (about frame 27)
+    z = keyed(ball, range(1, 91))[:, 2]
+    assert z.argmin() < 40 and z[60] > z[z.argmin()] + 0.2
+
+
+def test_a_stack_of_cubes_bakes_as_the_same_world_built_in_python():
+    scene = empty_scene(60)
+    ground()
+    cubes = [blender_body("cube", f"cube {k}", (0, 0, 0.5 + k * 1.0), "BOX", mass=2.0) for k in range(3)]
+    tb.bake(scene)
+    w = python_world()
+    python_ground(w)
+    box = tumble.Box(half_extents=(0.5, 0.5, 0.5))
+    moment = 2.0 / 6.0  # m a^2 / 6 for a unit cube
+    hs = [w.add_body(box, mass=2.0, position=(0.0, 0.0, 0.5 + k), friction=0.25, **damping(2.0, moment))
+          for k in range(3)]
+    run = w.run(59 / FPS, 1 / FPS)
+    for obj, h in zip(cubes, hs):
+        assert_keyed_like(obj, run, w.bodies.row(h), range(1, 61))
+
+
+def test_a_hinged_door_bakes_as_the_same_world_built_in_python():
+    scene = empty_scene(60)
+    frame = blender_body("cube", "frame", (0, 0, 2), "BOX", size=0.05)
+    frame.rigid_body.type = "PASSIVE"
+    door = blender_body("cube", "door", (0.8, 0, 2), "BOX", size=1.0, mass=5.0)
+    bpy.ops.object.empty_add(location=(0.25, 0, 2))
+    hinge = bpy.context.active_object
+    hinge.name = "hinge"
+    bpy.ops.rigidbody.constraint_add(type="HINGE")
+    hinge.rigid_body_constraint.object1, hinge.rigid_body_constraint.object2 = frame, door
+    hinge.rotation_euler = (math.pi / 2, 0, 0)  # its z along the world's -y: the door swings down about y
+    report = tb.bake(scene)
+    assert any("disable collisions" in n for n in report.bake_notes), "the passive end's collisions are said"
+    x = keyed(door, range(1, 61))
+    assert x[-1, 2] < x[0, 2] - 0.3, "the door swung down"
+    # its centre stays 0.55 m from the hinge's line (the soft step's joints hold to a millimetre)
+    np.testing.assert_allclose(np.linalg.norm((x - (0.25, 0.0, 2.0))[:, [0, 2]], axis=1), 0.55, atol=1e-3)
+    # the same door in Python: the hinge's anchors in each body's frame, its axis in the frame's (the empty's z as
+    # Blender's matrix holds it: float32, so a few 1e-8 off the world's -y)
+    w = python_world()
+    f = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
+    d = w.add_body(tumble.Box(half_extents=(0.5, 0.5, 0.5)), mass=5.0, position=(f32(0.8), 0.0, 2.0), friction=0.25,
+                   **damping(5.0, 5.0 / 6.0, f32(0.04), f32(0.1)))
+    axis = tuple(float(v) for v in hinge.matrix_world.decompose()[1].to_matrix().col[2])
+    w.add_joint(tumble.Hinge(f, d, anchor_a=(0.25, 0.0, 0.0), anchor_b=(0.25 - f32(0.8), 0.0, 0.0), axis=axis))
+    run = w.run(59 / FPS, 1 / FPS)
+    assert_keyed_like(door, run, w.bodies.row(d), range(1, 61))
+
+
+def test_a_chain_of_point_constraints_holds_together():
+    scene = empty_scene(60)
+    top = blender_body("cube", "anchor", (0, 0, 3), "BOX", size=0.1)
+    top.rigid_body.type = "PASSIVE"
+    links = [blender_body("sphere", f"link {k}", (0.2 * (k + 1), 0, 3), "SPHERE", size=0.05, mass=0.2)
+             for k in range(4)]
+    for k, (a, b) in enumerate(zip([top] + links[:-1], links)):
+        bpy.ops.object.empty_add(location=(0.2 * k + 0.1, 0, 3))
+        pin = bpy.context.active_object
+        pin.name = f"pin {k}"
+        bpy.ops.rigidbody.constraint_add(type="POINT")
+        pin.rigid_body_constraint.object1, pin.rigid_body_constraint.object2 = a, b
+    tb.bake(scene)
+    ends = [keyed(o, range(1, 61)) for o in links]
+    # the first link stays 0.1 m from its pin on the fixed anchor, and neighbours no farther than their two pins'
+    # 0.1 m each apart (the soft step's joints hold to a millimetre)
+    np.testing.assert_allclose(np.linalg.norm(ends[0] - (0.1, 0.0, 3.0), axis=1), 0.1, atol=1e-3)
+    for a, b in zip(ends, ends[1:]):
+        assert (np.linalg.norm(a - b, axis=1) <= 0.2 + 1e-3).all()
+    assert ends[-1][:, 2].min() < 3.0 - 0.5, "the chain swung down"
+
+
+@pytest.mark.parametrize("setting, value, python", [
+    ("mass", 3.0, "mass"), ("friction", 0.2, "friction"), ("restitution", 0.5, "restitution"),
+    ("linear_damping", 0.3, "linear_damping"),
+])
+def test_each_setting_changes_the_bake_as_the_same_change_in_tumble(setting, value, python):
+    """A box thrown along a floor: one Blender setting changed gives the world built in Python with tumble's
+    mapping of it (friction squared, restitution as the larger, damping as a decay)."""
+    def blender_run(**settings):
+        scene = empty_scene(60)
+        ground(restitution=1.0)
+        box = blender_body("cube", "box", (0, 0, 0.6), "BOX", size=0.4, **{"mass": 1.0, **settings})
+        box.rigid_body.angular_damping = 0.0
+        mapped = tb.world_from_scene(scene)
+        w = mapped.world
+        w.set_body_state(mapped.handles["box"], velocity=(2.0, 0.0, -1.0))
+        return w.run(1.0, 1 / FPS), w.bodies.row(mapped.handles["box"])
+
+    def python_run(**settings):
+        # Blender's properties are float32: the same numbers as Blender holds them
+        given = {"mass": 1.0, "friction": 0.5, "restitution": 0.0, "linear_damping": 0.04, **settings}
+        mass, mu, e, d = (float(np.float32(given[k])) for k in ("mass", "friction", "restitution", "linear_damping"))
+        w = python_world()
+        python_ground(w)
+        h = w.add_body(tumble.Box(half_extents=(f32(0.2),) * 3), mass=mass, position=(0.0, 0.0, f32(0.6)),
+                       velocity=(2.0, 0.0, -1.0), friction=mu**2, restitution=e * 1.0,
+                       linear_damping=-mass * math.log(1 - d))
+        return w.run(1.0, 1 / FPS), w.bodies.row(h)
+
+    (before, rb), (after, ra) = blender_run(), blender_run(**{setting: value})
+    (want_before, pb), (want_after, pa) = python_run(), python_run(**{python: value})
+    np.testing.assert_array_equal(before.body_positions[:, rb], want_before.body_positions[:, pb])
+    np.testing.assert_array_equal(after.body_positions[:, ra], want_after.body_positions[:, pa])
+    # the change matters (a body's mass alone does not change its own fall and slide: its momentum it does)
+    moved = np.abs(after.body_positions[:, ra] - before.body_positions[:, rb]).max()
+    pushed = np.abs(after.momentum - before.momentum).max()
+    assert (pushed if setting == "mass" else moved) > 1e-3, "the change matters"
+
+
+def test_shapes_map_to_tumbles():
+    scene = empty_scene(10)
+    blender_body("cube", "box", (0, 0, 1), "BOX", size=0.5)
+    for shape in ("SPHERE", "CAPSULE", "CYLINDER", "CONE", "CONVEX_HULL", "MESH"):
+        blender_body("cube", shape.lower(), (2, 0, 1), shape, size=0.5)
+    mapped = tb.world_from_scene(scene)
+    assert sorted(mapped.handles) == sorted(["box", "sphere", "capsule", "cylinder", "cone", "convex_hull", "mesh"])
+    assert any("cone" in n for n in mapped.notes), "the cone's approximation is said"
+    # a cube as a hull and as a mesh has the box's mass properties: same centre, same origin
+    rows = {n: mapped.world.bodies.row(h) for n, h in mapped.handles.items()}
+    for n in ("convex_hull", "mesh"):
+        np.testing.assert_allclose(mapped.world.bodies.positions[rows[n]], (2.0, 0.0, 1.0), atol=1e-12)
+
+
+@pytest.mark.parametrize("change, named", [
+    (lambda o, s: setattr(o.rigid_body, "kinematic", True), "box: animated"),
+    (lambda o, s: setattr(o.rigid_body, "collision_shape", "COMPOUND"), "box: collision shape"),
+    (lambda o, s: setattr(o.rigid_body, "use_start_deactivated", True), "box: start deactivated"),
+])
+def test_what_cannot_be_mapped_is_refused_naming_object_and_setting(change, named):
+    scene = empty_scene(10)
+    ground()
+    box = blender_body("cube", "box", (0, 0, 1), "BOX")
+    change(box, scene)
+    with pytest.raises(tb.BlenderSceneError) as caught:
+        tb.bake(scene)
+    assert any(p.startswith(named) for p in caught.value.problems), caught.value.problems
+    assert scene.rigidbody_world.enabled and box.animation_data is None, "nothing was written"
+
+
+def test_constraints_tumble_lacks_and_breaking_are_refused():
+    scene = empty_scene(10)
+    a = blender_body("cube", "a", (0, 0, 1), "BOX")
+    b = blender_body("cube", "b", (1.5, 0, 1), "BOX")
+    for name, kind, breaking in (("generic", "GENERIC", False), ("breakable", "FIXED", True)):
+        bpy.ops.object.empty_add(location=(0.75, 0, 1))
+        pin = bpy.context.active_object
+        pin.name = name
+        bpy.ops.rigidbody.constraint_add(type=kind)
+        c = pin.rigid_body_constraint
+        c.object1, c.object2, c.use_breaking = a, b, breaking
+    with pytest.raises(tb.BlenderSceneError) as caught:
+        tb.world_from_scene(scene)
+    problems = caught.value.problems
+    assert any(p.startswith("generic: constraint type") for p in problems), problems
+    assert any(p.startswith("breakable: breakable") for p in problems), problems
+
+
+def test_bounciness_blender_combines_that_tumble_cannot_is_refused():
+    scene = empty_scene(10)
+    ground(restitution=0.5)
+    blender_body("cube", "a", (0, 0, 1), "BOX", restitution=0.6)
+    blender_body("cube", "b", (3, 0, 1), "BOX", restitution=0.8)
+    # Bullet's pairs: ground-a 0.3, ground-b 0.4, a-b 0.48. The larger of a pair's: ground-a asks both <= 0.3, so
+    # ground-b asks b = 0.4, and then a-b is 0.4, not 0.48
+    with pytest.raises(tb.BlenderSceneError, match="bounciness"):
+        tb.world_from_scene(scene)
+
+
+def test_the_add_on_bakes_from_its_operator():
+    scene = empty_scene(30)
+    ground()
+    box = blender_body("cube", "box", (0, 0, 2), "BOX")
+    tb.register()
+    try:
+        assert bpy.ops.tumble.bake("EXEC_DEFAULT", frame_start=1, frame_end=30) == {"FINISHED"}
+    finally:
+        tb.unregister()
+    curves = box.animation_data.action
+    assert curves is not None
+    assert keyed(box, [30])[0][2] < 2.0 - 0.5, "the box fell"

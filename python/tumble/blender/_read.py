@@ -1,0 +1,304 @@
+"""A Blender scene's rigid body world read into a tumble world: bodies (active, passive), their shapes from the
+evaluated mesh and the object's scale, mass, friction, bounciness and damping, the constraints tumble has, gravity,
+unit scale, frame rate and frame range. What tumble cannot take as Blender defines it is collected, each item
+naming the object and the setting, and raised together (``BlenderSceneError``): never a silent guess.
+
+How Blender's settings map (Blender's rigid bodies are Bullet's):
+- Friction: Bullet combines a pair's frictions as their product, tumble as the geometric mean, so a body's friction f
+  is given to tumble as f^2 (exact for every pair).
+- Bounciness: Bullet combines restitutions as their product, tumble takes the larger. Each body is given its own
+  restitution times the smallest of the bodies it can touch, and every pair that can touch is checked to get
+  Bullet's product; a scene where no such choice exists is refused, naming the pair.
+- Damping: Bullet scales velocities by (1 - d) each second, an exponential decay at -ln(1 - d) per second; tumble's
+  damping forces give exactly that decay with c = -m ln(1 - d) (linear) and, for a body whose principal moments are
+  equal, c = -I ln(1 - d) (angular). A body of unequal moments with angular damping gets the mean moment: said in
+  the notes.
+- Shapes: box, sphere, capsule, cylinder (along the object's z, sized by its dimensions, centred at its origin, as
+  Blender builds them), convex hull and mesh (the evaluated mesh's vertices, scaled); a cone as the convex hull of a
+  64-sided cone (said in the notes). Bullet's collision margin is not copied: tumble's shapes are exact.
+- Time: a frame is time_scale / fps seconds; the frame range is the rigid body cache's."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+Array = npt.NDArray[np.float64]
+
+CONE_SIDES = 64
+
+
+class BlenderSceneError(ValueError):
+    """The scene's rigid body world has settings tumble cannot take as Blender defines them; ``problems`` lists each
+    as "object: setting: why"."""
+
+    def __init__(self, problems: list[str]) -> None:
+        self.problems = problems
+        super().__init__("tumble cannot bake this rigid body world as Blender defines it:\n- " + "\n- ".join(problems))
+
+
+@dataclass
+class Mapped:
+    """What ``world_from_scene`` gives: the world, each rigid body object's handle (by object name), the moving
+    objects in bake order, each body's offset from its centre of mass to the object's origin (body frame), the frame
+    range and the time of a frame, and the notes on approximations made."""
+
+    world: Any
+    handles: dict[str, Any]
+    moving: list[str]
+    origins: dict[str, Array]
+    frame_start: int
+    frame_end: int
+    frame_time: float
+    notes: list[str] = field(default_factory=list)
+
+
+def _decay(d: float) -> float:
+    """Bullet's damping d (velocity kept each second: 1 - d) as an exponential decay rate (1/s)."""
+    return -math.log(1.0 - d)
+
+
+def _shape(obj: Any, depsgraph: Any, problems: list[str], notes: list[str]) -> Any:
+    """The tumble shape of ``obj``'s collision shape, in the object's frame (scaled, unrotated), or (shape, offset)
+    where it does not sit at the origin."""
+    import tumble  # noqa: PLC0415
+
+    rb = obj.rigid_body
+    scale = np.array(obj.matrix_world.to_scale(), dtype=float)
+    # Blender sizes primitive shapes by the object's bounding box (with its scale), centred at its origin
+    corners = np.array([tuple(c) for c in obj.bound_box], dtype=float) * scale if obj.bound_box else np.zeros((8, 3))
+    size = corners.max(axis=0) - corners.min(axis=0)
+    kind = rb.collision_shape
+    if kind == "BOX":
+        flat = size < 1e-9
+        if flat.sum() == 1 and rb.type == "PASSIVE":  # a plane as the ground: solid below its face, 1 m deep
+            notes.append(f"{obj.name}: collision shape: the flat box is a 1 m deep slab under its face")
+            axis = int(np.argmax(flat))
+            half = np.where(flat, 0.5, size / 2)
+            offset = np.zeros(3)
+            offset[axis] = -0.5
+            return tumble.Box(half_extents=tuple(half)), tuple(offset)
+        return tumble.Box(half_extents=tuple(size / 2))
+    if kind == "SPHERE":
+        return tumble.Sphere(radius=float(size.max() / 2))
+    radius, height = float(max(size[0], size[1]) / 2), float(size[2])
+    if kind == "CAPSULE":
+        return tumble.Capsule(half_height=max(height / 2 - radius, 1e-9), radius=radius)
+    if kind == "CYLINDER":
+        return tumble.Cylinder(half_height=height / 2, radius=radius)
+    if kind == "CONE":
+        notes.append(f"{obj.name}: collision shape: the cone is a {CONE_SIDES}-sided pyramid's hull")
+        angles = np.linspace(0.0, 2 * np.pi, CONE_SIDES, endpoint=False)
+        base = np.c_[radius * np.cos(angles), radius * np.sin(angles), np.full(CONE_SIDES, -height / 2)]
+        return tumble.ConvexHull(np.vstack([base, [0.0, 0.0, height / 2]]))
+    if kind in ("CONVEX_HULL", "MESH"):
+        evaluated = obj.evaluated_get(depsgraph) if rb.mesh_source != "BASE" else obj
+        mesh = evaluated.to_mesh()
+        try:
+            vertices = np.array([tuple(v.co) for v in mesh.vertices], dtype=float) * scale
+            mesh.calc_loop_triangles()
+            triangles = np.array([tuple(t.vertices) for t in mesh.loop_triangles], dtype=np.int64)
+        finally:
+            evaluated.to_mesh_clear()
+        if kind == "CONVEX_HULL":
+            return tumble.ConvexHull(vertices)
+        return tumble.Mesh(vertices, triangles, name=obj.name)
+    problems.append(f"{obj.name}: collision shape: {kind} is not one tumble takes (box, sphere, capsule, cylinder, "
+                    "cone, convex hull, mesh)")
+    return None
+
+
+def _restitutions(bodies: list[tuple[str, float, bool, tuple[bool, ...]]], problems: list[str]) -> dict[str, float]:
+    """Each body's tumble restitution so that the larger of a pair's is Bullet's product for every pair that can
+    touch (at least one moving, a collision collection in common); a pair left unmatched is a problem."""
+    def touch(a: Any, b: Any) -> bool:
+        return (not a[2] or not b[2]) and any(x and y for x, y in zip(a[3], b[3]))
+
+    out = {}
+    for a in bodies:
+        partners = [b[1] for b in bodies if b is not a and touch(a, b)]
+        out[a[0]] = a[1] * min(partners, default=1.0)
+    for i, a in enumerate(bodies):
+        for b in bodies[i + 1:]:
+            if touch(a, b) and abs(max(out[a[0]], out[b[0]]) - a[1] * b[1]) > 1e-12:
+                problems.append(f"{a[0]} and {b[0]}: bounciness: Blender's product {a[1] * b[1]:g} of {a[1]:g} and "
+                                f"{b[1]:g} cannot be had with the other pairs' (tumble takes a pair's larger)")
+    return out
+
+
+def _damping(obj: Any, shape: Any, mass: float, notes: list[str]) -> dict[str, float]:
+    """tumble's damping coefficients for Bullet's linear and angular damping of ``obj`` (module docstring)."""
+    rb = obj.rigid_body
+    unit = shape.mass_properties(1.0)
+    moments = np.linalg.eigvalsh(np.asarray(unit["inertia"], dtype=float) * (mass / unit["mass"]))
+    if rb.angular_damping > 0 and moments.max() - moments.min() > 1e-9 * moments.max():
+        notes.append(f"{obj.name}: angular damping: its principal moments differ, so tumble's damping torque "
+                     "decays each axis's spin at its own rate about Bullet's (the mean moment taken)")
+    return {"linear_damping": mass * _decay(rb.linear_damping),
+            "angular_damping": float(moments.mean()) * _decay(rb.angular_damping)}
+
+
+def _conjugate(wxyz: tuple[float, ...]) -> tuple[float, ...]:
+    """The inverse rotation of a unit quaternion (w, x, y, z)."""
+    return (wxyz[0], -wxyz[1], -wxyz[2], -wxyz[3])
+
+
+def _to_body(wxyz: tuple[float, ...], v: Array) -> Array:
+    """The world vector ``v`` in the frame of orientation ``wxyz``."""
+    w, x, y, z = wxyz
+    r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                  [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                  [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    out: Array = r.T @ v
+    return out
+
+
+def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
+    """The tumble world of ``scene``'s rigid body world (the current scene by default). ``world_options`` go to
+    ``tumble.World`` (default: fast mode at Blender's own step, ``time_scale / fps / substeps_per_frame``). Raises
+    ``BlenderSceneError`` listing everything that cannot be mapped."""
+    import bpy  # noqa: PLC0415
+
+    import tumble  # noqa: PLC0415
+
+    scene = scene or bpy.context.scene
+    # transforms set since the last redraw are in the objects' matrices only after an update
+    (bpy.context.view_layer if scene == bpy.context.scene else scene.view_layers[0]).update()
+    rbw = scene.rigidbody_world
+    if rbw is None or rbw.collection is None:
+        raise BlenderSceneError([f"{scene.name}: rigid body world: the scene has none (or no collection in it)"])
+    problems: list[str] = []
+    notes: list[str] = []
+    unit = float(scene.unit_settings.scale_length) or 1.0
+    fps = scene.render.fps / scene.render.fps_base
+    frame_time = rbw.time_scale / fps
+    weights = rbw.effector_weights
+    gravity = np.array(scene.gravity, dtype=float) * unit * weights.gravity * weights.all if scene.use_gravity \
+        else np.zeros(3)
+    options = {"mode": "fast", "dt": frame_time / rbw.substeps_per_frame, **world_options}
+    objects = sorted((o for o in rbw.collection.objects if o.rigid_body is not None), key=lambda o: o.name)
+    sleeping = {o.rigid_body.use_deactivation for o in objects if o.rigid_body.type == "ACTIVE"}
+    if len(sleeping) > 1:
+        problems.append(f"{scene.name}: deactivation: some bodies may sleep and others not (tumble sleeps a whole "
+                        "world or none)")
+    if sleeping == {True} and options.get("mode") == "fast" and "sleep" not in world_options:
+        options["sleep"] = True
+    world = tumble.World(gravity=tuple(gravity), **options)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    entries = [(o.name, float(o.rigid_body.restitution), o.rigid_body.type == "PASSIVE",
+                tuple(o.rigid_body.collision_collections)) for o in objects]
+    restitution = _restitutions(entries, problems)
+    handles, moving, origins = {}, [], {}
+    for obj in objects:
+        rb = obj.rigid_body
+        static = rb.type == "PASSIVE"
+        for setting, bad in (("animated", rb.kinematic), ("dynamic", not rb.enabled and not static),
+                             ("start deactivated", rb.use_start_deactivated and not static),
+                             ("parent", obj.parent is not None)):
+            if bad:
+                problems.append(f"{obj.name}: {setting}: not taken yet (tumble bakes free active and passive bodies)")
+        try:
+            shape = _shape(obj, depsgraph, problems, notes)
+        except ValueError as error:
+            problems.append(f"{obj.name}: collision shape: {error}")
+            continue
+        if shape is None:
+            continue
+        shape, offset = shape if isinstance(shape, tuple) else (shape, (0.0, 0.0, 0.0))
+        location, rotation, _ = obj.matrix_world.decompose()
+        position = tuple(float(x) * unit for x in location)
+        orientation = tuple(float(x) for x in rotation)  # (w, x, y, z)
+        material = {"friction": float(rb.friction) ** 2, "restitution": restitution[obj.name]}
+        if not static:
+            material.update(_damping(obj, shape, float(rb.mass), notes))
+        try:
+            # Blender places its shapes by the object's origin; tumble a mesh by its own origin, any other shape by
+            # its centre of mass (the shape's, plus its offset), so that is put where the origin places it
+            if isinstance(shape, tumble.Mesh):
+                at = np.array(position)
+            else:
+                centre = np.asarray(shape.mass_properties(1.0)["center_of_mass"], dtype=float) + np.array(offset)
+                at = np.array(position) + _to_body(_conjugate(orientation), centre)
+            kwargs: dict[str, Any] = dict(position=tuple(at), orientation=orientation, **material)
+            if static:
+                handle = world.add_body(shape, static=True, **kwargs)
+            else:
+                handle = world.add_body(shape, mass=float(rb.mass), **kwargs)
+            row = world.bodies.row(handle)
+            if np.abs(np.asarray(world.bodies.positions[row]) - at).max() > 1e-9 * (1 + np.abs(at).max()):
+                raise ValueError("the body could not be placed at the object's origin")
+        except ValueError as error:
+            problems.append(f"{obj.name}: {error}")
+            continue
+        handles[obj.name] = handle
+        if not static:
+            moving.append(obj.name)
+            row = world.bodies.row(handle)
+            com = world.bodies.positions[row]
+            # the object's origin from the centre of mass, in the body frame
+            origins[obj.name] = _to_body(orientation, np.array(position) - np.asarray(com))
+    _constraints(world, scene, rbw, handles, problems, notes)
+    if problems:
+        raise BlenderSceneError(problems)
+    cache = rbw.point_cache
+    return Mapped(world, handles, moving, origins, cache.frame_start, cache.frame_end, frame_time, notes)
+
+
+def _constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], problems: list[str],
+                 notes: list[str]) -> None:
+    """The rigid body world's constraints as tumble joints: fixed as a weld, point as a ball, hinge about the
+    constraint object's z (its z angle limits as the hinge's), slider along its x (its x limits), each anchored at
+    the constraint object's origin."""
+    import tumble  # noqa: PLC0415
+
+    unit = float(scene.unit_settings.scale_length) or 1.0
+    kinds = {"FIXED": tumble.Weld, "POINT": tumble.Ball, "HINGE": tumble.Hinge, "SLIDER": tumble.Slider}
+    objects = sorted((o for o in rbw.constraints.objects if o.rigid_body_constraint is not None),
+                     key=lambda o: o.name) if rbw.constraints is not None else []
+    for obj in objects:
+        c = obj.rigid_body_constraint
+        if not c.enabled:
+            continue
+        before = len(problems)
+        if c.type not in kinds:
+            problems.append(f"{obj.name}: constraint type: {c.type} is not one tumble takes yet (fixed, point, "
+                            "hinge, slider)")
+        if c.use_breaking:
+            problems.append(f"{obj.name}: breakable: tumble's joints do not break")
+        if not c.disable_collisions:
+            problems.append(f"{obj.name}: disable collisions: tumble's jointed bodies never touch each other")
+        ends = []
+        for which in (c.object1, c.object2):
+            if which is None or which.name not in handles:
+                problems.append(f"{obj.name}: objects: {which.name if which else 'none'} is not a rigid body of "
+                                "the world")
+            else:
+                ends.append(handles[which.name])
+        if len(problems) > before:
+            continue
+        if any(o.rigid_body.type == "PASSIVE" for o in (c.object1, c.object2)):
+            notes.append(f"{obj.name}: disable collisions: tumble keeps a joint's moving body touching a passive one "
+                         "(only two moving bodies a joint joins never touch)")
+        location, rotation, _ = obj.matrix_world.decompose()
+        pivot = np.array(location, dtype=float) * unit
+        rows = [world.bodies.row(h) for h in ends]
+        poses = [(world.bodies.positions[r], tuple(world.bodies.orientations[r])) for r in rows]
+        anchors = [_to_body(q, pivot - x) for x, q in poses]
+        fields: dict[str, Any] = {"anchor_a": tuple(anchors[0]), "anchor_b": tuple(anchors[1])}
+        turn = np.array(rotation.to_matrix(), dtype=float)
+        if c.type == "HINGE":
+            fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 2]))
+            if c.use_limit_ang_z:
+                fields["limits"] = (float(c.limit_ang_z_lower), float(c.limit_ang_z_upper))
+        elif c.type == "SLIDER":
+            fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 0]))
+            if c.use_limit_lin_x:
+                fields["limits"] = (float(c.limit_lin_x_lower) * unit, float(c.limit_lin_x_upper) * unit)
+        try:
+            world.add_joint(kinds[c.type](ends[0], ends[1], **fields))
+        except ValueError as error:
+            problems.append(f"{obj.name}: {error}")
