@@ -166,11 +166,14 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
     import tumble  # noqa: PLC0415
 
     scene = scene or bpy.context.scene
-    # transforms set since the last redraw are in the objects' matrices only after an update
-    (bpy.context.view_layer if scene == bpy.context.scene else scene.view_layers[0]).update()
     rbw = scene.rigidbody_world
     if rbw is None or rbw.collection is None:
         raise BlenderSceneError([f"{scene.name}: rigid body world: the scene has none (or no collection in it)"])
+    # the scene as it starts: at the cache's first frame Blender's simulation (or an earlier bake's keyframes) puts
+    # the bodies where they were set up, wherever the timeline stood; transforms set since the last redraw are in
+    # the objects' matrices only after an update
+    scene.frame_set(rbw.point_cache.frame_start)
+    (bpy.context.view_layer if scene == bpy.context.scene else scene.view_layers[0]).update()
     problems: list[str] = []
     notes: list[str] = []
     unit = float(scene.unit_settings.scale_length) or 1.0
