@@ -29,6 +29,8 @@ pub struct RigidBody {
     pub(crate) is_static: bool,
     /// What the user calls it and how it is drawn: kept by files, copies and runs, written by the exporters.
     pub(crate) look: Look,
+    /// Its collision groups: two bodies touch only if their groups share a bit (all bits by default).
+    pub(crate) groups: u32,
 }
 
 /// A body's name and colour, for people and the tools they take a run into; no part of the physics.
@@ -39,6 +41,9 @@ pub struct Look {
     /// Its colour as linear RGBA, each in [0, 1]; none: the exporters' palette.
     pub color: Option<[f64; 4]>,
 }
+
+/// Every collision group: a body's by default.
+pub const ALL_GROUPS: u32 = u32::MAX;
 
 /// Longest name a body may have (characters).
 pub const MAX_NAME: usize = 256;
@@ -88,6 +93,11 @@ impl RigidBody {
     /// Its colour (linear RGBA), if it was given one.
     pub fn color(&self) -> Option<[f64; 4]> {
         self.look.color
+    }
+
+    /// Its collision groups (a bit each): it touches only bodies whose groups share a bit with its own.
+    pub fn collision_groups(&self) -> u32 {
+        self.groups
     }
 
     /// Mass M (infinite for a static body).
@@ -212,6 +222,7 @@ pub struct RigidBodyBuilder {
     /// The modelled frame's origin in the body frame, as a saved world has it.
     origin: Option<Vector3<f64>>,
     look: Look,
+    groups: u32,
 }
 
 impl RigidBodyBuilder {
@@ -234,6 +245,7 @@ impl RigidBodyBuilder {
             mesh_shape: None,
             origin: None,
             look: Look::default(),
+            groups: ALL_GROUPS,
         }
     }
 
@@ -329,6 +341,14 @@ impl RigidBodyBuilder {
         self
     }
 
+    /// Its collision groups, a bit each (all 32 by default): two bodies touch only if their groups share a bit,
+    /// in both modes (as Blender's collision collections and Bullet's groups; 0 touches nothing). Particles are in
+    /// every group.
+    pub fn collision_groups(mut self, groups: u32) -> Self {
+        self.groups = groups;
+        self
+    }
+
     /// Its colour, linear RGBA with each component in [0, 1] (alpha 1: opaque): the glTF material's base colour,
     /// the USD meshes' display colour, the viewer's.
     pub fn color(mut self, rgba: [f64; 4]) -> Self {
@@ -408,6 +428,7 @@ impl RigidBodyBuilder {
             material,
             is_static: self.is_static,
             look: self.look,
+            groups: self.groups,
         })
     }
 

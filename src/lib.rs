@@ -39,7 +39,7 @@ pub mod scenes;
 mod spring;
 mod world;
 
-pub use body::{Look, RigidBody, RigidBodyBuilder, MAX_NAME};
+pub use body::{Look, RigidBody, RigidBodyBuilder, ALL_GROUPS, MAX_NAME};
 pub use collider::{Collider, Material};
 pub use error::WorldError;
 pub use handle::Handle;

@@ -170,11 +170,13 @@ impl PyWorld {
     /// A `Mesh` moves as its convex decomposition (`decomposition={"resolution", "max_pieces", "concavity"}`), or
     /// as its hull with `shape="hull"`; a static one keeps its exact triangles (`shape="exact"`). `name` (1 to 256
     /// characters) and `color` (RGB or RGBA, linear, each in [0, 1]) travel with the body into files, copies and
-    /// runs, and name and colour it in glTF, USD and the viewer.
+    /// runs, and name and colour it in glTF, USD and the viewer. `collision_groups` (an int of 32 bits, all by
+    /// default): two bodies touch only if their groups share a bit.
     #[pyo3(signature = (geometry = None, /, density = None, mass = None, inertia = None, position = None,
                         orientation = None, velocity = None, angular_velocity = None, restitution = None,
                         friction = None, r#static = false, linear_damping = 0.0, angular_damping = 0.0,
-                        colliders = None, shape = None, decomposition = None, name = None, color = None))]
+                        colliders = None, shape = None, decomposition = None, name = None, color = None,
+                        collision_groups = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -197,6 +199,7 @@ impl PyWorld {
         decomposition: Option<&Bound<'_, PyAny>>,
         name: Option<String>,
         color: Option<&Bound<'_, PyAny>>,
+        collision_groups: Option<u32>,
     ) -> PyResult<PyBodyHandle> {
         let (geometry, mesh_shape) = crate::mesh::shape_args(geometry, shape, decomposition)?;
         let shape = geometry;
@@ -261,6 +264,9 @@ impl PyWorld {
         }
         if let Some(rgba) = crate::convert::opt_color("color", color)? {
             b = b.color(rgba);
+        }
+        if let Some(groups) = collision_groups {
+            b = b.collision_groups(groups);
         }
         let mut guard = self.r();
         let world: &mut tumble::World = &mut guard;

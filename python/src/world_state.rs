@@ -142,6 +142,11 @@ impl PyWorld {
         self.r().bodies().map(|(_, b)| b.name().map(str::to_owned)).collect()
     }
 
+    /// Each body's collision groups, in row order.
+    fn _body_collision_groups(&self) -> Vec<u32> {
+        self.r().bodies().map(|(_, b)| b.collision_groups()).collect()
+    }
+
     /// Each body's colour as linear RGBA (None where it has none), in row order.
     fn _body_colors(&self) -> Vec<Option<[f64; 4]>> {
         self.r().bodies().map(|(_, b)| b.color()).collect()

@@ -283,3 +283,21 @@ def test_the_add_on_bakes_from_its_operator():
     curves = box.animation_data.action
     assert curves is not None
     assert keyed(box, [30])[0][2] < 2.0 - 0.5, "the box fell"
+
+
+def test_collision_collections_are_collision_groups():
+    """A box only in collection 2 falls through a ground only in collection 1; in both, it lands."""
+    def drop(collections):
+        scene = empty_scene(60)
+        floor = ground()
+        box = blender_body("cube", "box", (0, 0, 1), "BOX", size=0.5)
+        floor.rigid_body.collision_collections = [k == 0 for k in range(20)]
+        box.rigid_body.collision_collections = [k in collections for k in range(20)]
+        mapped = tb.world_from_scene(scene)
+        assert mapped.world.bodies.collision_groups[mapped.world.bodies.row(mapped.handles["box"])] == \
+            sum(1 << k for k in collections)
+        tb.bake(scene)
+        return keyed(box, [60])[0][2]
+
+    assert drop({1}) < -1.0, "no collection in common: through the ground"
+    assert drop({0, 1}) == pytest.approx(0.25, abs=1e-3), "collection 1 in common: on the ground"

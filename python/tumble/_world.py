@@ -73,6 +73,11 @@ class BodiesView:
         return self._world._body_names()
 
     @property
+    def collision_groups(self) -> list[int]:
+        """Each body's collision groups (32 bits; two bodies touch only if theirs share a bit)."""
+        return self._world._body_collision_groups()
+
+    @property
     def colors(self) -> list[tuple[float, float, float, float] | None]:
         """Each body's linear RGBA colour as given to ``add_body(color=...)`` (None where none was given)."""
         from ._run import rgba  # noqa: PLC0415

@@ -39,6 +39,8 @@ pub(crate) struct SceneCollider {
     pub reach: f64,
     /// Radius of a ball about the shape's own origin that holds it (infinite for a half-space).
     pub radius: f64,
+    /// Its actor's collision groups: two colliders touch only if theirs share a bit.
+    pub groups: u32,
 }
 
 /// The colliders of a world and a broad phase that persists from call to call.
@@ -59,10 +61,11 @@ pub(crate) struct ColliderSet {
     pub joined: Vec<(usize, usize)>,
 }
 
-fn collider_entry(actor: Actor, c: &Collider, material: Material) -> SceneCollider {
+fn collider_entry(actor: Actor, c: &Collider, b: &RigidBody) -> SceneCollider {
     let radius = c.shape.bounding_radius();
     let reach = c.offset.translation.vector.norm() + radius;
-    SceneCollider { actor, shape: c.shape.clone(), offset: c.offset, material, reach, radius }
+    let (material, groups) = (b.material, b.groups);
+    SceneCollider { actor, shape: c.shape.clone(), offset: c.offset, material, reach, radius, groups }
 }
 
 impl ColliderSet {
@@ -85,18 +88,19 @@ impl ColliderSet {
                     material: p.material,
                     reach: p.radius,
                     radius: p.radius,
+                    groups: crate::body::ALL_GROUPS,
                 });
             }
         }
         for (j, &h) in dynamic.iter().enumerate() {
             let b = bodies.get(h).expect("live");
-            colliders.extend(b.colliders.iter().map(|c| collider_entry(Actor::Body(j), c, b.material)));
+            colliders.extend(b.colliders.iter().map(|c| collider_entry(Actor::Body(j), c, b)));
         }
         let mut static_poses = Vec::new();
         for (_, b) in bodies.iter().filter(|(_, b)| b.is_static) {
             let s = static_poses.len();
             static_poses.push(b.pose());
-            colliders.extend(b.colliders.iter().map(|c| collider_entry(Actor::Static(s), c, b.material)));
+            colliders.extend(b.colliders.iter().map(|c| collider_entry(Actor::Static(s), c, b)));
         }
         let moving = colliders.iter().filter(|c| !matches!(c.actor, Actor::Static(_))).count();
         if moving == 0 || colliders.len() < 2 {
@@ -148,8 +152,12 @@ impl ColliderSet {
         crate::model::actor_poses(self.layout, y, &self.static_poses)
     }
 
-    /// Whether two colliders may touch at all: not on one actor, not both static or asleep, not two particles.
+    /// Whether two colliders may touch at all: not on one actor, not both static or asleep, not two particles, in a
+    /// collision group of both.
     fn may_touch(&self, a: usize, b: usize) -> bool {
+        if self.colliders[a].groups & self.colliders[b].groups == 0 {
+            return false;
+        }
         let (x, y) = (self.colliders[a].actor, self.colliders[b].actor);
         if self.inert[self.index(x)] && self.inert[self.index(y)] {
             return false;

@@ -204,6 +204,9 @@ pub struct BodyFile {
     /// Where the modelled frame's origin sits in the body frame (as saved; absent, it comes from the shapes).
     #[serde(default)]
     pub origin: Option<[f64; 3]>,
+    /// Its collision groups (a bit each), if not all of them.
+    #[serde(default)]
+    pub collision_groups: Option<u32>,
     /// Its name and colour (linear RGBA), if given.
     #[serde(default)]
     pub name: Option<String>,

@@ -122,6 +122,9 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
         limits::vector("origin", &v3(o), limits::COORDINATE, "m")?;
         builder = builder.origin_offset(v3(o));
     }
+    if let Some(groups) = b.collision_groups {
+        builder = builder.collision_groups(groups);
+    }
     if let Some(name) = &b.name {
         builder = builder.name(name.clone());
     }

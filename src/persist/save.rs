@@ -103,6 +103,7 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
             friction: b.material.friction,
             start: w.starts.body(h.index()).map(|(x, q, p, l)| (v3(&x), q4(&q), v3(&p), v3(&l))),
             origin: (b.origin != Vector3::zeros()).then(|| v3(&b.origin)),
+            collision_groups: (b.groups != crate::body::ALL_GROUPS).then_some(b.groups),
             name: b.look.name.clone(),
             color: b.look.color,
         })

@@ -16,6 +16,7 @@ How Blender's settings map (Blender's rigid bodies are Bullet's):
 - Shapes: box, sphere, capsule, cylinder (along the object's z, sized by its dimensions, centred at its origin, as
   Blender builds them), convex hull and mesh (the evaluated mesh's vertices, scaled); a cone as the convex hull of a
   64-sided cone (said in the notes). Bullet's collision margin is not copied: tumble's shapes are exact.
+- Collision collections: tumble's collision groups, a bit each (two bodies touch if they share one, as in Blender).
 - Time: a frame is time_scale / fps seconds; the frame range is the rigid body cache's."""
 
 from __future__ import annotations
@@ -215,7 +216,9 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
         location, rotation, _ = obj.matrix_world.decompose()
         position = tuple(float(x) * unit for x in location)
         orientation = tuple(float(x) for x in rotation)  # (w, x, y, z)
-        material = {"friction": float(rb.friction) ** 2, "restitution": restitution[obj.name]}
+        groups = sum(1 << k for k, on in enumerate(rb.collision_collections) if on)
+        material = {"friction": float(rb.friction) ** 2, "restitution": restitution[obj.name],
+                    "collision_groups": groups}
         if not static:
             material.update(_damping(obj, shape, float(rb.mass), notes))
         try:
