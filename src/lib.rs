@@ -25,6 +25,7 @@ mod handle;
 mod joint;
 mod limits;
 mod load;
+mod look;
 mod mesh_shape;
 mod mode;
 mod model;
@@ -39,10 +40,11 @@ pub mod scenes;
 mod spring;
 mod world;
 
-pub use body::{Look, RigidBody, RigidBodyBuilder, ALL_GROUPS, MAX_NAME};
+pub use body::{RigidBody, RigidBodyBuilder, ALL_GROUPS};
 pub use collider::{Collider, Material};
 pub use error::WorldError;
 pub use handle::Handle;
+pub use look::{Look, MAX_NAME};
 /// The ranges of accepted values.
 pub mod limit {
     pub use crate::limits::{COORDINATE, FORCE, GRAVITY, INERTIA, MASS, SPEED, STIFFNESS, TIME};
