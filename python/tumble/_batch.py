@@ -10,7 +10,7 @@ import numpy as np
 
 from ._errors import named_arguments
 from ._progress import Progress, progress as _progress
-from ._run import Run
+from ._run import Run, looks_of
 from ._tumble import State, World, _rollout
 
 # The per-frame arrays of a run, stacked (N, F, ...) over a batch.
@@ -88,5 +88,5 @@ def rollout(
     finally:
         if isinstance(shown, Progress):
             shown.close()
-    shapes, links, looks = world._body_shapes(), world._links(), (world._body_names(), world._body_colors())
+    shapes, links, looks = world._body_shapes(), world._links(), looks_of(world)
     return Batch([Run.from_dict(d, shapes, links, looks=looks) for d in data])

@@ -39,6 +39,11 @@ def rgba(c: Any) -> tuple[float, float, float, float]:
     return (r, g, b, a)
 
 
+def looks_of(world: Any) -> tuple[list[str | None], list[Any]]:
+    """A world's bodies' names and colours, in row order, as a run keeps them."""
+    return world._body_names(), world._body_colors()
+
+
 @dataclass(repr=False)
 class Run:
     """Frames of a run. Arrays are frame-major: ``particle_positions`` is (F, P, 3), ``body_orientations``

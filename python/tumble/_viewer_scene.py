@@ -91,6 +91,7 @@ class Scene:
         size = self.size
 
         self.groups: list[tuple[Any, np.ndarray, np.ndarray, np.ndarray]] = []
+        colours = body_colors(run, bodies)
         for i, (key, (shape, members)) in enumerate(groups.items()):
             rows = np.array([b for b, _, _ in members], dtype=np.int64)
             offsets = np.array([o for _, o, _ in members], dtype=float).reshape(-1, 3)
@@ -98,7 +99,7 @@ class Scene:
             handle = scene.add_batched_meshes_simple(
                 f"/bodies/{shape.kind}_{i}", meshes[key][0], meshes[key][1],
                 batched_wxyzs=np.tile((1.0, 0.0, 0.0, 0.0), (len(rows), 1)), batched_positions=np.zeros((len(rows), 3)),
-                batched_colors=body_colors(run, bodies)[rows], lod="off")
+                batched_colors=colours[rows], lod="off")
             self.groups.append((handle, rows, offsets, rotations))
         bare = np.array([b for b in range(bodies) if not shapes[b]], dtype=np.int64)
         self.axes = None if not len(bare) else (scene.add_batched_axes(

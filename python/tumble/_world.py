@@ -11,7 +11,7 @@ import numpy as np
 from ._errors import as_path, named_arguments, renamed
 from ._progress import Progress, progress as _progress
 from ._report import Report
-from ._run import Run
+from ._run import Run, looks_of
 from ._joints import Joint
 from ._tumble import BodyHandle, JointHandle, ParticleHandle, SimulationError, World as _World
 
@@ -189,10 +189,6 @@ class World(_World):
             )
         return self._add_joint(**joint._fields())
 
-    def _looks(self) -> tuple[list[str | None], list[Any]]:
-        """The bodies' names and colours, in row order, as a run keeps them."""
-        return self._body_names(), self._body_colors()
-
     def __copy__(self) -> "World":
         """A copy: objects, settings, state, the engine's memory and report; it answers to this world's handles
         and continues bit for bit as this world would (force callbacks are shared)."""
@@ -267,12 +263,12 @@ class World(_World):
         except SimulationError as error:
             partial = getattr(error, "_partial", None)
             if partial is not None:
-                error.run = Run.from_dict(partial, self._body_shapes(), self._links(), looks=self._looks())
+                error.run = Run.from_dict(partial, self._body_shapes(), self._links(), looks=looks_of(self))
             raise
         finally:
             if isinstance(shown, Progress):
                 shown.close()
-        return Run.from_dict(data, self._body_shapes(), self._links(), looks=self._looks())
+        return Run.from_dict(data, self._body_shapes(), self._links(), looks=looks_of(self))
 
     def show(
         self,

@@ -10,24 +10,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-Array = npt.NDArray[np.float64]
+from tumble._geometry import rotation_matrices
 
 from ._read import world_from_scene
 
-
-def _quaternion_product(a: Array, b: Array) -> Array:
-    """Products a b of quaternions (..., 4) as (w, x, y, z)."""
-    aw, ax, ay, az = np.moveaxis(a, -1, 0)
-    bw, bx, by, bz = np.moveaxis(b, -1, 0)
-    return np.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], axis=-1)
-
-
-def _rotate(q: Array, v: Array) -> Array:
-    """The vector ``v`` turned by each quaternion of ``q`` (F, 4)."""
-    p = np.concatenate([np.zeros((len(q), 1)), np.tile(v, (len(q), 1))], axis=1)
-    conj = q * np.array([1.0, -1.0, -1.0, -1.0])
-    return _quaternion_product(_quaternion_product(q, p), conj)[:, 1:]
+Array = npt.NDArray[np.float64]
 
 
 def _curves(obj: Any) -> Any:
@@ -82,7 +69,7 @@ def bake(scene: Any = None, frame_start: int | None = None, frame_end: int | Non
         obj = scene.objects[name]
         column = run.bodies.index(mapped.handles[name])
         wxyz = run.body_orientations[:, column]
-        origin = run.body_positions[:, column] + _rotate(wxyz, mapped.origins[name])
+        origin = run.body_positions[:, column] + rotation_matrices(wxyz) @ mapped.origins[name]
         bag = _curves(obj)
         _write(bag, "location", frames, origin / unit)
         if obj.rotation_mode == "QUATERNION":

@@ -28,6 +28,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from tumble._geometry import rotation_matrix
+
 Array = npt.NDArray[np.float64]
 
 CONE_SIDES = 64
@@ -143,18 +145,9 @@ def _damping(obj: Any, shape: Any, mass: float, notes: list[str]) -> dict[str, f
             "angular_damping": float(moments.mean()) * _decay(rb.angular_damping)}
 
 
-def _conjugate(wxyz: tuple[float, ...]) -> tuple[float, ...]:
-    """The inverse rotation of a unit quaternion (w, x, y, z)."""
-    return (wxyz[0], -wxyz[1], -wxyz[2], -wxyz[3])
-
-
 def _to_body(wxyz: tuple[float, ...], v: Array) -> Array:
     """The world vector ``v`` in the frame of orientation ``wxyz``."""
-    w, x, y, z = wxyz
-    r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                  [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                  [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
-    out: Array = r.T @ v
+    out: Array = rotation_matrix(np.asarray(wxyz, dtype=float)).T @ v
     return out
 
 
@@ -228,7 +221,7 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
                 at = np.array(position)
             else:
                 centre = np.asarray(shape.mass_properties(1.0)["center_of_mass"], dtype=float) + np.array(offset)
-                at = np.array(position) + _to_body(_conjugate(orientation), centre)
+                at = np.array(position) + rotation_matrix(np.array(orientation)) @ centre
             kwargs: dict[str, Any] = dict(position=tuple(at), orientation=orientation, **material)
             if static:
                 handle = world.add_body(shape, static=True, **kwargs)
