@@ -3,10 +3,12 @@
 
 use crate::collider::{compound_mass, Collider, Material};
 use crate::error::{check_finite, check_scalar, WorldError};
+use crate::keyframes::Keyframes;
 use crate::limits;
 use crate::look::Look;
 use crate::mesh_shape::MeshShape;
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
+use std::sync::Arc;
 use tumble_collide::Shape;
 
 /// A rigid body in a world. Its position is that of its centre of mass, its axes those its shapes are given in; the
@@ -32,6 +34,17 @@ pub struct RigidBody {
     pub(crate) look: Look,
     /// Its collision groups: two bodies touch only if their groups share a bit (all bits by default).
     pub(crate) groups: u32,
+    /// A kinematic body's path and its velocities now.
+    pub(crate) kinematic: Option<Kinematic>,
+}
+
+/// A kinematic body's path and where along it the body is: its velocities at the world's time (the engines keep
+/// them in the state, as a dynamic body's momenta).
+#[derive(Clone, Debug)]
+pub(crate) struct Kinematic {
+    pub path: Arc<Keyframes>,
+    pub velocity: Vector3<f64>,
+    pub angular_velocity: Vector3<f64>,
 }
 
 /// Every collision group: a body's by default.
@@ -53,9 +66,9 @@ impl RigidBody {
         self.groups
     }
 
-    /// Mass M (infinite for a static body).
+    /// Mass M (infinite for a static or kinematic body).
     pub fn mass(&self) -> f64 {
-        if self.is_static {
+        if self.is_static || self.kinematic.is_some() {
             f64::INFINITY
         } else {
             self.mass
@@ -98,7 +111,9 @@ impl RigidBody {
     }
     /// Velocity v = P / M.
     pub fn velocity(&self) -> Vector3<f64> {
-        if self.is_static {
+        if let Some(k) = &self.kinematic {
+            k.velocity
+        } else if self.is_static {
             Vector3::zeros()
         } else {
             self.momentum / self.mass
@@ -106,6 +121,9 @@ impl RigidBody {
     }
     /// Angular velocity w = I(t)^-1 L.
     pub fn angular_velocity(&self) -> Vector3<f64> {
+        if let Some(k) = &self.kinematic {
+            return k.angular_velocity;
+        }
         if self.is_static {
             return Vector3::zeros();
         }
@@ -144,6 +162,23 @@ impl RigidBody {
     pub fn is_static(&self) -> bool {
         self.is_static
     }
+    /// Whether the body is kinematic: it follows its keyframes, pushes what it touches and is never pushed back.
+    pub fn is_kinematic(&self) -> bool {
+        self.kinematic.is_some()
+    }
+    /// A kinematic body's path.
+    pub fn keyframes(&self) -> Option<&Keyframes> {
+        self.kinematic.as_ref().map(|k| &*k.path)
+    }
+    /// Puts a kinematic body where its path has it at time t, with the velocities it moves on at.
+    pub(crate) fn follow(&mut self, t: f64) {
+        if let Some(k) = &mut self.kinematic {
+            let pose = k.path.pose_at(t);
+            self.position = pose.translation.vector;
+            self.orientation = pose.rotation;
+            (k.velocity, k.angular_velocity) = k.path.velocity_at(t);
+        }
+    }
     /// Coefficient of restitution (used by contact).
     pub fn restitution(&self) -> f64 {
         self.material.restitution
@@ -176,6 +211,9 @@ pub struct RigidBodyBuilder {
     origin: Option<Vector3<f64>>,
     look: Look,
     groups: u32,
+    keyframes: Option<Keyframes>,
+    /// Whether a position or orientation was given (a kinematic body has its pose from its keyframes).
+    posed: bool,
 }
 
 impl RigidBodyBuilder {
@@ -199,6 +237,8 @@ impl RigidBodyBuilder {
             origin: None,
             look: Look::default(),
             groups: ALL_GROUPS,
+            keyframes: None,
+            posed: false,
         }
     }
 
@@ -222,6 +262,13 @@ impl RigidBodyBuilder {
         RigidBodyBuilder { shape, is_static: true, ..Self::empty() }
     }
 
+    /// A kinematic body: it follows `keyframes` (the poses of its shapes' frame, as a static body's), pushes the
+    /// bodies it touches with its velocity and is never pushed back (Blender's "Animated", MuJoCo's mocap bodies,
+    /// Rapier's kinematic bodies). It has no mass; a position, orientation, velocity or damping does not apply.
+    pub fn kinematic(shape: Option<Shape>, keyframes: Keyframes) -> Self {
+        RigidBodyBuilder { shape, keyframes: Some(keyframes), ..Self::empty() }
+    }
+
     /// Sets the collision shape of a body whose mass and inertia were given directly.
     pub fn shape(mut self, shape: Shape) -> Self {
         self.shape = Some(shape);
@@ -243,6 +290,7 @@ impl RigidBodyBuilder {
     /// where it was modelled, its centre of mass an offset inside), of the centre of mass for every other body.
     pub fn position(mut self, p: Vector3<f64>) -> Self {
         self.position = p;
+        self.posed = true;
         self
     }
     /// The modelled frame's origin in the body frame, as saved (a loaded world keeps it; bodies built otherwise
@@ -254,6 +302,7 @@ impl RigidBodyBuilder {
     /// Initial orientation.
     pub fn orientation(mut self, q: UnitQuaternion<f64>) -> Self {
         self.orientation = q;
+        self.posed = true;
         self
     }
     /// Initial velocity of the centre of mass.
@@ -315,9 +364,13 @@ impl RigidBodyBuilder {
         check_finite("orientation", self.orientation.coords.iter())?;
         limits::vector("velocity", &self.velocity, limits::SPEED, "m/s")?;
         limits::vector("angular_velocity", &self.angular_velocity, limits::SPEED, "rad/s")?;
-        if self.is_static {
+        let immovable = self.is_static || self.keyframes.is_some();
+        if immovable {
             still("velocity", &self.velocity)?;
             still("angular_velocity", &self.angular_velocity)?;
+        }
+        if self.keyframes.is_some() {
+            self.kinematic_applies()?;
         }
         limits::non_negative("linear_damping", self.linear_damping, limits::STIFFNESS, "N s/m")?;
         limits::non_negative("angular_damping", self.angular_damping, limits::STIFFNESS, "N m s")?;
@@ -329,15 +382,12 @@ impl RigidBodyBuilder {
             limits::vector("offset", &pose.translation.vector, limits::COORDINATE, "m")?;
         }
         // a body of a mesh or of several colliders is placed by its modelled frame
-        let by_origin = !self.is_static
+        let by_origin = !immovable
             && self.inertia.is_none()
             && (matches!(self.shape, Some(Shape::Mesh(_))) || !self.extra.is_empty());
         self.resolve_meshes()?;
-        let (mass, inertia, offset) = if self.is_static {
-            (f64::INFINITY, Matrix3::identity(), Vector3::zeros())
-        } else {
-            self.mass_properties()?
-        };
+        let (mass, inertia, offset) =
+            if immovable { (f64::INFINITY, Matrix3::identity(), Vector3::zeros()) } else { self.mass_properties()? };
         let shift = Isometry3::translation(offset.x, offset.y, offset.z);
         let mut colliders: Vec<Collider> =
             self.shape.iter().map(|s| Collider { shape: s.clone(), offset: shift }).collect();
@@ -350,7 +400,7 @@ impl RigidBodyBuilder {
                 ));
             }
         }
-        let inv_inertia = if self.is_static {
+        let inv_inertia = if immovable {
             Matrix3::zeros()
         } else {
             let source = if self.density.is_some() { "density" } else { "mass" };
@@ -358,7 +408,7 @@ impl RigidBodyBuilder {
             limits::inertia(if self.inertia.is_some() { "inertia" } else { source }, &inertia)?;
             check_inertia(&inertia)?
         };
-        let (momentum, angular_momentum) = if self.is_static {
+        let (momentum, angular_momentum) = if immovable {
             (Vector3::zeros(), Vector3::zeros())
         } else {
             let r = self.orientation.to_rotation_matrix();
@@ -382,7 +432,33 @@ impl RigidBodyBuilder {
             is_static: self.is_static,
             look: self.look,
             groups: self.groups,
+            kinematic: self.keyframes.map(|k| Kinematic {
+                path: Arc::new(k),
+                velocity: Vector3::zeros(),
+                angular_velocity: Vector3::zeros(),
+            }),
         })
+    }
+
+    /// A kinematic body's settings: what follows from its keyframes may not be given as well.
+    fn kinematic_applies(&self) -> Result<(), WorldError> {
+        let why = "does not apply to a kinematic body, which follows its keyframes";
+        if self.posed {
+            let name = if self.position != Vector3::zeros() { "position" } else { "orientation" };
+            return Err(WorldError::invalid(name, why));
+        }
+        for (name, given) in [
+            ("mass", self.mass.is_some()),
+            ("inertia", self.inertia.is_some()),
+            ("density", self.density.is_some()),
+            ("linear_damping", self.linear_damping != 0.0),
+            ("angular_damping", self.angular_damping != 0.0),
+        ] {
+            if given {
+                return Err(WorldError::invalid(name, why));
+            }
+        }
+        Ok(())
     }
 
     /// Gives each closed mesh the collision geometry chosen (`MeshShape::resolve`); a choice with no mesh to apply

@@ -23,6 +23,7 @@ mod engine;
 mod error;
 mod handle;
 mod joint;
+mod keyframes;
 mod limits;
 mod load;
 mod look;
@@ -44,6 +45,7 @@ pub use body::{RigidBody, RigidBodyBuilder, ALL_GROUPS};
 pub use collider::{Collider, Material};
 pub use error::WorldError;
 pub use handle::Handle;
+pub use keyframes::Keyframes;
 pub use look::{Look, MAX_NAME};
 /// The ranges of accepted values.
 pub mod limit {

@@ -54,6 +54,8 @@ pub(crate) struct ColliderSet {
     pub checks: usize,
     /// Actors that cannot move this step (static, or asleep): pairs of two are not tested.
     pub inert: Vec<bool>,
+    /// Actors nothing can push (static and kinematic): pairs of two are not tested.
+    immovable: Vec<bool>,
     /// Contacts the last call found: room made for as many (a growing list of contacts would copy them).
     found_last: usize,
     /// Pairs of actors a joint joins directly (sorted, lower index first): they never touch (a joint's bodies
@@ -108,6 +110,13 @@ impl ColliderSet {
         }
         let actors = layout.particles + layout.bodies + static_poses.len();
         let inert = (0..actors).map(|a| a >= layout.particles + layout.bodies).collect();
+        let immovable = (0..actors)
+            .map(|a| match a.checked_sub(layout.particles) {
+                Some(j) if j < layout.bodies => bodies.get(dynamic[j]).expect("live").kinematic.is_some(),
+                Some(_) => true,
+                None => false,
+            })
+            .collect();
         Some(ColliderSet {
             colliders,
             static_poses,
@@ -115,6 +124,7 @@ impl ColliderSet {
             broad: SortAndSweep::new(),
             checks: 0,
             inert,
+            immovable,
             found_last: 0,
             joined: Vec::new(),
         })
@@ -152,14 +162,16 @@ impl ColliderSet {
         crate::model::actor_poses(self.layout, y, &self.static_poses)
     }
 
-    /// Whether two colliders may touch at all: not on one actor, not both static or asleep, not two particles, in a
+    /// Whether two colliders may touch at all: not on one actor, not both static or asleep, not both static or
+    /// kinematic, not two particles, in a
     /// collision group of both.
     fn may_touch(&self, a: usize, b: usize) -> bool {
         if self.colliders[a].groups & self.colliders[b].groups == 0 {
             return false;
         }
         let (x, y) = (self.colliders[a].actor, self.colliders[b].actor);
-        if self.inert[self.index(x)] && self.inert[self.index(y)] {
+        let (i, j) = (self.index(x), self.index(y));
+        if (self.inert[i] && self.inert[j]) || (self.immovable[i] && self.immovable[j]) {
             return false;
         }
         if !self.joined.is_empty() {

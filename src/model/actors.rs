@@ -62,6 +62,11 @@ impl Model {
                 continue;
             }
             let k = &self.kin[j];
+            if b.kinematic.is_some() {
+                // immovable, and moving along its path
+                out.push(BodyState { velocity: k.velocity, angular_velocity: k.omega, ..BodyState::fixed(x) });
+                continue;
+            }
             let inertia = k.rot * b.inertia * k.rot.transpose();
             let mut s = BodyState::rigid(b.mass, inertia, x);
             s.inv_inertia = k.rot * b.inv_inertia * k.rot.transpose();

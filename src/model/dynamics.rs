@@ -139,6 +139,7 @@ impl Model {
                 }
             }
         }
+        self.hold_kinematic(dp);
         Ok(())
     }
 

@@ -1,6 +1,6 @@
 //! Energy and momenta of a state: kinetic energy of particles and bodies (1/2 m v^2, 1/2 P^2 / M + 1/2 L . w);
 //! potential energy of gravity, springs and the particles' restoring terms; linear momentum; angular momentum
-//! about the origin.
+//! about the origin. Kinematic bodies, which nothing pushes, carry none of them.
 
 use crate::model::layout::{get3, get_quat};
 use crate::model::Model;
@@ -13,6 +13,7 @@ impl Model {
             self.particles.iter().enumerate().map(|(i, p)| 0.5 * p.mass * get3(y, l.pv(i)).norm_squared()).sum();
         // L . w = (R^T L) . I_body^-1 (R^T L): the angular momentum turned into the body frame by the quaternion.
         let bodies: f64 = (0..l.bodies)
+            .filter(|&j| self.bodies[j].kinematic.is_none())
             .map(|j| {
                 let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
                 let local = q.inverse_transform_vector(&get3(y, l.bl(j)));
@@ -31,7 +32,7 @@ impl Model {
             u -= p.mass * self.gravity.dot(&x);
             u += 0.5 * p.stiffness * (x - p.anchor).norm_squared();
         }
-        for (j, b) in self.bodies.iter().enumerate() {
+        for (j, b) in self.bodies.iter().enumerate().filter(|(_, b)| b.kinematic.is_none()) {
             u -= b.mass * self.gravity.dot(&get3(y, l.bx(j)));
         }
         if self.springs.is_empty() {
@@ -49,13 +50,16 @@ impl Model {
     pub(crate) fn momentum(&self, y: &[f64]) -> Vector3<f64> {
         let l = self.layout;
         let p: Vector3<f64> = self.particles.iter().enumerate().map(|(i, p)| get3(y, l.pv(i)) * p.mass).sum();
-        p + (0..l.bodies).map(|j| get3(y, l.bp(j))).sum::<Vector3<f64>>()
+        p + self.free_bodies().map(|j| get3(y, l.bp(j))).sum::<Vector3<f64>>()
     }
 
     pub(crate) fn angular_momentum(&self, y: &[f64]) -> Vector3<f64> {
         let l = self.layout;
         let p: Vector3<f64> =
             self.particles.iter().enumerate().map(|(i, p)| get3(y, l.px(i)).cross(&(get3(y, l.pv(i)) * p.mass))).sum();
-        p + (0..l.bodies).map(|j| get3(y, l.bx(j)).cross(&get3(y, l.bp(j))) + get3(y, l.bl(j))).sum::<Vector3<f64>>()
+        p + self
+            .free_bodies()
+            .map(|j| get3(y, l.bx(j)).cross(&get3(y, l.bp(j))) + get3(y, l.bl(j)))
+            .sum::<Vector3<f64>>()
     }
 }

@@ -74,8 +74,13 @@ impl Model {
                     q: UnitQuaternion::new_normalize(get_quat(y, l.bq(j))),
                     v: k.velocity,
                     w: k.omega,
-                    inv_mass: b.inv_mass,
-                    inv_inertia: k.rot * b.inv_inertia * k.rot.transpose(),
+                    // a kinematic end moves but takes no push
+                    inv_mass: if b.kinematic.is_some() { 0.0 } else { b.inv_mass },
+                    inv_inertia: if b.kinematic.is_some() {
+                        Matrix3::zeros()
+                    } else {
+                        k.rot * b.inv_inertia * k.rot.transpose()
+                    },
                 }
             }
             JointEnd::Fixed(p) => EndState {

@@ -7,6 +7,7 @@ mod dynamics;
 mod energy;
 mod jacobian;
 pub(crate) mod joints;
+mod kinematic;
 pub(crate) mod layout;
 
 #[cfg(feature = "contact")]
@@ -41,6 +42,10 @@ pub(crate) struct BodyProps {
     pub inv_inertia: Matrix3<f64>,
     pub linear_damping: f64,
     pub angular_damping: f64,
+    /// A kinematic body's path: its state rows hold its velocities (mass and inertia 1 in the model's
+    /// kinematics, so P = v and L = w) and its rates of momentum are zero; the contact and joint solves see it as
+    /// immovable and moving.
+    pub kinematic: Option<std::sync::Arc<crate::keyframes::Keyframes>>,
 }
 
 /// A spring end resolved to a state index, or to a fixed world point (static bodies included).
@@ -189,13 +194,25 @@ pub(crate) fn compile(
         .iter()
         .map(|&h| {
             let b = bodies.get(h).expect("live");
-            BodyProps {
-                mass: b.mass,
-                inv_mass: 1.0 / b.mass,
-                inertia: b.inertia,
-                inv_inertia: b.inv_inertia,
-                linear_damping: b.linear_damping,
-                angular_damping: b.angular_damping,
+            match &b.kinematic {
+                Some(k) => BodyProps {
+                    mass: 1.0,
+                    inv_mass: 1.0,
+                    inertia: Matrix3::identity(),
+                    inv_inertia: Matrix3::identity(),
+                    linear_damping: 0.0,
+                    angular_damping: 0.0,
+                    kinematic: Some(k.path.clone()),
+                },
+                None => BodyProps {
+                    mass: b.mass,
+                    inv_mass: 1.0 / b.mass,
+                    inertia: b.inertia,
+                    inv_inertia: b.inv_inertia,
+                    linear_damping: b.linear_damping,
+                    angular_damping: b.angular_damping,
+                    kinematic: None,
+                },
             }
         })
         .collect();
@@ -324,8 +341,16 @@ impl Rows {
             let b = bodies.get(h).expect("live");
             set3(&mut y, l.bx(j), &b.position);
             set_quat(&mut y, l.bq(j), &b.orientation);
-            set3(&mut y, l.bp(j), &b.momentum);
-            set3(&mut y, l.bl(j), &b.angular_momentum);
+            match &b.kinematic {
+                Some(k) => {
+                    set3(&mut y, l.bp(j), &k.velocity);
+                    set3(&mut y, l.bl(j), &k.angular_velocity);
+                }
+                None => {
+                    set3(&mut y, l.bp(j), &b.momentum);
+                    set3(&mut y, l.bl(j), &b.angular_momentum);
+                }
+            }
         }
         y
     }
@@ -342,8 +367,10 @@ impl Rows {
             let b = bodies.get_mut(h).expect("live");
             b.position = get3(y, l.bx(j));
             b.orientation = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
-            b.momentum = get3(y, l.bp(j));
-            b.angular_momentum = get3(y, l.bl(j));
+            match &mut b.kinematic {
+                Some(k) => (k.velocity, k.angular_velocity) = (get3(y, l.bp(j)), get3(y, l.bl(j))),
+                None => (b.momentum, b.angular_momentum) = (get3(y, l.bp(j)), get3(y, l.bl(j))),
+            }
         }
     }
 }

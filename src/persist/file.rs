@@ -212,6 +212,18 @@ pub struct BodyFile {
     pub name: Option<String>,
     #[serde(default)]
     pub color: Option<[f64; 4]>,
+    /// A kinematic body's path (its shapes' frame at each keyframe).
+    #[serde(default)]
+    pub keyframes: Option<KeyframesFile>,
+}
+
+/// Keyframed poses: times (s), positions (m) and orientations (w, x, y, z), one each a keyframe.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct KeyframesFile {
+    pub times: Vec<f64>,
+    pub positions: Vec<[f64; 3]>,
+    pub orientations: Vec<[f64; 4]>,
 }
 
 /// A spring's end.

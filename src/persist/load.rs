@@ -5,6 +5,7 @@ use super::file::*;
 use crate::body::RigidBodyBuilder;
 use crate::error::{check_finite, WorldError};
 use crate::joint::{JointBuilder, JointType};
+use crate::keyframes::Keyframes;
 use crate::limits;
 use crate::load::{Load, Target};
 use crate::mode::Mode;
@@ -83,6 +84,9 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
     let colliders =
         b.colliders.iter().enumerate().map(|(k, c)| collider(c).map_err(at("colliders", format!("colliders[{k}]"))));
     let colliders = colliders.collect::<Result<Vec<_>, _>>()?;
+    if let Some(k) = &b.keyframes {
+        return kinematic_builder(b, k, colliders);
+    }
     let mut builder = match (b.is_static, b.mass, b.inertia, b.density) {
         (true, None, None, None) => RigidBodyBuilder::fixed(None),
         (true, ..) => return Err(WorldError::invalid("static", "a static body has no mass, inertia or density")),
@@ -140,6 +144,33 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
         .angular_damping(b.angular_damping)
         .restitution(b.restitution)
         .friction(b.friction))
+}
+
+/// A kinematic body from its file: its path, colliders, look and material (its pose follows from the path).
+fn kinematic_builder(
+    b: &BodyFile,
+    k: &KeyframesFile,
+    colliders: Vec<(Shape, Isometry3<f64>)>,
+) -> Result<RigidBodyBuilder, WorldError> {
+    if b.is_static {
+        return Err(WorldError::invalid("keyframes", "a static body has no keyframes"));
+    }
+    let orientations = k.orientations.iter().map(|q| quaternion("keyframes", *q)).collect::<Result<Vec<_>, _>>()?;
+    let path = Keyframes::new(k.times.clone(), k.positions.iter().map(|p| v3(*p)).collect(), Some(orientations))?;
+    let mut builder = RigidBodyBuilder::kinematic(None, path);
+    for (s, pose) in colliders {
+        builder = builder.collider(s, pose);
+    }
+    if let Some(groups) = b.collision_groups {
+        builder = builder.collision_groups(groups);
+    }
+    if let Some(name) = &b.name {
+        builder = builder.name(name.clone());
+    }
+    if let Some(rgba) = b.color {
+        builder = builder.color(rgba);
+    }
+    Ok(builder.restitution(b.restitution).friction(b.friction))
 }
 
 /// The bound on positions and velocities a file may hold: beyond what a user may set (1e12 m, 1e12 m/s), since a
@@ -282,6 +313,8 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
         }
     }
     w.time = limits::in_range("time", f.time, -limits::TIME, limits::TIME, "s")?;
+    let t = w.time;
+    w.bodies.iter_mut().for_each(|(_, b)| b.follow(t));
     w.stepped = f.particles.iter().any(|p| p.start.is_some()) || f.bodies.iter().any(|b| b.start.is_some());
     Ok(w)
 }
@@ -293,6 +326,10 @@ fn exact_fields(w: &mut World, h: BodyHandle, f: &BodyFile) -> Result<(), WorldE
         for (c, written) in b.colliders.iter_mut().zip(&f.colliders) {
             c.offset.translation.vector = v3(written.position);
         }
+    }
+    if b.is_kinematic() {
+        // its pose is its path's at the world's time, put in once the time is read
+        return Ok(());
     }
     limits::vector("position", &v3(f.position), STATE, "m")?;
     b.position = v3(f.position);

@@ -70,7 +70,8 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
     let bodies = w
         .bodies
         .iter()
-        .map(|(h, b)| BodyFile {
+        .map(|(h, b)| (h, b, !b.is_static && !b.is_kinematic()))
+        .map(|(h, b, movable)| BodyFile {
             is_static: b.is_static,
             colliders: b
                 .colliders
@@ -81,8 +82,8 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
                     orientation: q4(&c.offset.rotation),
                 })
                 .collect(),
-            mass: (!b.is_static).then_some(b.mass),
-            inertia: (!b.is_static).then(|| {
+            mass: movable.then_some(b.mass),
+            inertia: movable.then(|| {
                 let i = b.inertia;
                 [
                     [i[(0, 0)], i[(0, 1)], i[(0, 2)]],
@@ -94,9 +95,9 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
             position: v3(&b.position),
             orientation: q4(&b.orientation),
             velocity: None,
-            momentum: (!b.is_static).then(|| v3(&b.momentum)),
+            momentum: movable.then(|| v3(&b.momentum)),
             angular_velocity: None,
-            angular_momentum: (!b.is_static).then(|| v3(&b.angular_momentum)),
+            angular_momentum: movable.then(|| v3(&b.angular_momentum)),
             linear_damping: b.linear_damping,
             angular_damping: b.angular_damping,
             restitution: b.material.restitution,
@@ -106,6 +107,11 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
             collision_groups: (b.groups != crate::body::ALL_GROUPS).then_some(b.groups),
             name: b.look.name.clone(),
             color: b.look.color,
+            keyframes: b.keyframes().map(|k| KeyframesFile {
+                times: k.times().to_vec(),
+                positions: k.positions().iter().map(v3).collect(),
+                orientations: k.orientations().iter().map(q4).collect(),
+            }),
         })
         .collect();
     let end = |a: &Attachment| match a {

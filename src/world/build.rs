@@ -22,7 +22,8 @@ impl World {
 
     /// Adds a rigid body.
     pub fn add_body(&mut self, body: RigidBodyBuilder) -> Result<BodyHandle, WorldError> {
-        let b = body.build()?;
+        let mut b = body.build()?;
+        b.follow(self.time);
         self.retire_engine();
         let h = self.bodies.insert(b);
         self.record_body_start(h);
@@ -73,6 +74,10 @@ impl World {
                 Some(b) if b.is_static => {
                     Err(WorldError::invalid("target", "a static body does not move: a load on it has no effect"))
                 }
+                Some(b) if b.is_kinematic() => Err(WorldError::invalid(
+                    "target",
+                    "a kinematic body follows its keyframes: a load on it has no effect",
+                )),
                 Some(_) => Ok(()),
             },
         }

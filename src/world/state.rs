@@ -48,6 +48,9 @@ impl World {
         limits::vector("velocity", &velocity, limits::SPEED, "m/s")?;
         limits::vector("angular_velocity", &angular_velocity, limits::SPEED, "rad/s")?;
         let b = self.bodies.get_mut(h).ok_or_else(|| unknown("body", h))?;
+        if b.is_kinematic() {
+            return Err(WorldError::invalid("body", "a kinematic body follows its keyframes: its state cannot be set"));
+        }
         if b.is_static {
             crate::body::still("velocity", &velocity)?;
             crate::body::still("angular_velocity", &angular_velocity)?;

@@ -198,6 +198,7 @@ impl World {
                 b.momentum = state.body_momenta[k];
                 b.angular_momentum = state.body_angular_momenta[k];
             }
+            b.follow(self.time);
         }
         self.drop_engine();
         Ok(())
@@ -269,6 +270,9 @@ impl World {
             }
         }
         self.time = 0.0;
+        for (_, b) in self.bodies.iter_mut() {
+            b.follow(0.0);
+        }
         self.stepped = false;
         self.failed_run = None;
         self.totals = WorldReport::new(self.settings.method.name());

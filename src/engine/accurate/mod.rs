@@ -313,6 +313,9 @@ impl Engine for AccurateEngine {
         run: Option<&mut Run>,
         budget: &mut Budget<'_>,
     ) -> Result<usize, WorldError> {
+        let (t_end, pause) = self.drive_kinematic(t_end, pause)?;
+        // (frames past an advance cut short at a keyframe wait for the next call)
+        let saves = &saves[..saves.partition_point(|&s| s <= t_end)];
         #[cfg(feature = "contact")]
         if self.contacts.is_some() {
             return self.advance_with_contacts(t_end, pause, saves, run, budget);
@@ -399,6 +402,25 @@ impl Engine for AccurateEngine {
 }
 
 impl AccurateEngine {
+    /// Puts the kinematic bodies on their path with the velocities they move at from now (a keyframe changes them:
+    /// the integration restarts there, and a touching phase carries on with them), and ends the advance at the next
+    /// keyframe, so no step straddles a change of velocity.
+    fn drive_kinematic(&mut self, t_end: f64, pause: f64) -> Result<(f64, f64), WorldError> {
+        let model = &self.system.model;
+        if !model.has_kinematic() {
+            return Ok((t_end, pause));
+        }
+        if let Some(integration) = &mut self.memory.integration {
+            let live = integration.live_mut();
+            let (t, mut y) = (live.time(), live.state().to_vec());
+            if model.drive_kinematic(t, &mut y, None) {
+                live.set_state(t, &y)?;
+            }
+        }
+        let stop = model.next_keyframe_after(self.time()).map_or(t_end, |k| k.min(t_end));
+        Ok((stop, pause.min(stop)))
+    }
+
     /// Wakes every sleeping island.
     #[cfg(feature = "contact")]
     fn wake_all(&mut self) {

@@ -131,6 +131,8 @@ impl Sleep {
         let calm_since: Vec<(usize, f64)> = (0..actors)
             .filter(|&a| member[a])
             .filter(|&a| speed(model, y, a) < resting_speed)
+            // a kinematic body with moving still to do is never calm
+            .filter(|&a| a < l.particles || !model.kinematic_moves_after(a - l.particles, t))
             .map(|a| (a, self.calm_since.iter().find(|(x, _)| *x == a).map_or(t, |(_, since)| *since)))
             .collect();
         self.calm_since = calm_since;

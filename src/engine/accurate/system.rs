@@ -74,6 +74,7 @@ impl OdeSystem for AccurateSystem {
         self.model.rates(t, y, dy, true)?;
         let q = self.model.layout.positions();
         self.add_forces(y, &mut dy[q..])?;
+        self.model.hold_kinematic(&mut dy[q..]);
         for &k in &self.frozen {
             dy[k] = 0.0;
         }

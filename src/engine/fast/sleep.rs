@@ -155,7 +155,12 @@ pub(super) fn update_sleep(
         .zip(v)
         .map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s })
         .collect();
-    let speeds = scene.reach(&moved, 1.0);
+    let mut speeds = scene.reach(&moved, 1.0);
+    // a kinematic body with moving still to do is never still
+    let p = cx.model.layout.particles;
+    for j in (0..cx.model.bodies.len()).filter(|&j| cx.model.kinematic_moves_after(j, cx.t_next)) {
+        speeds[p + j] = f64::INFINITY;
+    }
     cx.memory.sleep.update(found, &speeds, &cx.settings, h);
     cx.memory.sleep.freeze(&mut cx.memory.y, &cx.model);
     cx.report.stages.mark(Stage::Sleeping);

@@ -1,5 +1,5 @@
 //! One step of fast mode as a list of stages, one file each, run in order on the step's context (the engine's
-//! parts, borrowed for the step): the applied forces at the step's start (`applied_forces.rs`), the contacts found
+//! parts, borrowed for the step): the kinematic bodies put on their path, the applied forces at the step's start (`applied_forces.rs`), the contacts found
 //! with a margin (`find_contacts.rs`), the contact solve, either the soft step, which gives velocities and poses
 //! from its substeps (`soft_solve.rs`, the default), or the exact solver's velocities from one conic program per
 //! island (`solve_velocities.rs`) and positions from them by semi-implicit Euler; then the state's check, the
@@ -41,6 +41,8 @@ pub(super) struct StepContext<'a> {
 /// One step of size h, as its stages.
 pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<(), WorldError> {
     let clock = Instant::now();
+    // kinematic bodies onto their path, moving at what takes them to its pose at the step's end
+    cx.model.drive_kinematic(cx.t, &mut cx.memory.y, Some(h));
     let before = energy(cx.model, &cx.memory.y);
     let mut states = applied_forces(cx)?;
     let found = find_contacts(cx, &mut states, h)?;
