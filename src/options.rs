@@ -313,12 +313,25 @@ pub struct BodyOptions {
     pub inertia: Option<Matrix3<f64>>,
     /// A static body: no density, mass or inertia.
     pub is_static: bool,
+    /// A kinematic body's path: no density, mass or inertia either.
+    pub keyframes: Option<crate::Keyframes>,
 }
 
 impl BodyOptions {
     /// The builder these options describe (position, velocities and material are set on it after).
     pub fn builder(self) -> Result<RigidBodyBuilder, WorldError> {
-        let BodyOptions { shape, density, mass, inertia, is_static } = self;
+        let BodyOptions { shape, density, mass, inertia, is_static, keyframes } = self;
+        if let Some(path) = keyframes {
+            if is_static {
+                return Err(WorldError::invalid("keyframes", "a static body does not move: it has no keyframes"));
+            }
+            for (name, given) in [("density", density.is_some()), ("mass", mass.is_some()), ("inertia", inertia.is_some())] {
+                if given {
+                    return Err(WorldError::invalid(name, "a kinematic body follows its keyframes: it has no mass"));
+                }
+            }
+            return Ok(RigidBodyBuilder::kinematic(shape, path));
+        }
         if is_static {
             if density.is_some() || mass.is_some() || inertia.is_some() {
                 return Err(WorldError::invalid("static", "a static body has no density, mass or inertia"));

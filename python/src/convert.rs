@@ -118,3 +118,41 @@ pub fn array<'py>(py: Python<'py>, data: Vec<f64>, shape: &[usize]) -> PyResult<
     let flat: Bound<'py, PyArray1<f64>> = data.into_pyarray(py);
     Ok(flat.reshape(shape.to_vec())?.into_any())
 }
+
+/// A kinematic path from `(times, positions[, orientations])`: (K,) times, (K, 3) positions, (K, 4) orientations
+/// (w, x, y, z; normalised).
+pub fn keyframes(obj: &Bound<'_, PyAny>) -> PyResult<tumble::Keyframes> {
+    let parts: Vec<Bound<'_, PyAny>> = obj
+        .try_iter()
+        .and_then(|items| items.collect::<PyResult<Vec<_>>>())
+        .ok()
+        .filter(|p| p.len() == 2 || p.len() == 3)
+        .ok_or_else(|| invalid("keyframes", format!("expected (times, positions[, orientations]), got {}", repr(obj))))?;
+    let times: Vec<f64> = match parts[0].extract::<numpy::PyReadonlyArray1<'_, f64>>() {
+        Ok(a) => a.as_array().to_vec(),
+        Err(_) => parts[0]
+            .extract()
+            .map_err(|_| invalid("keyframes", format!("times: expected K numbers, got {}", repr(&parts[0]))))?,
+    };
+    let positions = rows::<3>("keyframes", &parts[1])?.into_iter().map(nalgebra::Vector3::from).collect();
+    let orientations = match parts.get(2).filter(|o| !o.is_none()) {
+        None => None,
+        Some(o) => Some(
+            rows::<4>("keyframes", o)?
+                .into_iter()
+                .map(|q| {
+                    let q = Quaternion::new(q[0], q[1], q[2], q[3]);
+                    let n = q.norm();
+                    if n.is_finite() && n > 0.0 {
+                        Ok(UnitQuaternion::new_normalize(q))
+                    } else {
+                        Err(invalid("keyframes", "orientations must be finite nonzero quaternions (w, x, y, z)"))
+                    }
+                })
+                .collect::<PyResult<Vec<_>>>()?,
+        ),
+    };
+    tumble::Keyframes::new(times, positions, orientations).map_err(|e| {
+        invalid("keyframes", e.to_string().trim_start_matches("invalid argument ").to_string())
+    })
+}

@@ -171,12 +171,15 @@ impl PyWorld {
     /// as its hull with `shape="hull"`; a static one keeps its exact triangles (`shape="exact"`). `name` (1 to 256
     /// characters) and `color` (RGB or RGBA, linear, each in [0, 1]) travel with the body into files, copies and
     /// runs, and name and colour it in glTF, USD and the viewer. `collision_groups` (an int of 32 bits, all by
-    /// default): two bodies touch only if their groups share a bit.
+    /// default): two bodies touch only if their groups share a bit. `keyframes=(times, positions[, orientations])`
+    /// ((K,), (K, 3), (K, 4) as w, x, y, z) makes it kinematic: it follows them (linearly, turning at a constant
+    /// rate between keyframes), pushes what it touches and is never pushed back; it has no mass, pose or velocity
+    /// of its own.
     #[pyo3(signature = (geometry = None, /, density = None, mass = None, inertia = None, position = None,
                         orientation = None, velocity = None, angular_velocity = None, restitution = None,
                         friction = None, r#static = false, linear_damping = 0.0, angular_damping = 0.0,
                         colliders = None, shape = None, decomposition = None, name = None, color = None,
-                        collision_groups = None))]
+                        collision_groups = None, keyframes = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -200,6 +203,7 @@ impl PyWorld {
         name: Option<String>,
         color: Option<&Bound<'_, PyAny>>,
         collision_groups: Option<u32>,
+        keyframes: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyBodyHandle> {
         let (geometry, mesh_shape) = crate::mesh::shape_args(geometry, shape, decomposition)?;
         let shape = geometry;
@@ -232,8 +236,10 @@ impl PyWorld {
             }
         }
         let inertia = inertia.filter(|i| !i.is_none()).map(|i| mat3("inertia", i)).transpose()?;
-        let mut b =
-            BodyOptions { shape, density, mass, inertia, is_static: r#static }.builder().map_err(world_error)?;
+        let keyframes = keyframes.filter(|k| !k.is_none()).map(crate::convert::keyframes).transpose()?;
+        let mut b = BodyOptions { shape, density, mass, inertia, is_static: r#static, keyframes }
+            .builder()
+            .map_err(world_error)?;
         if let Some(p) = opt_vec3("position", position)? {
             b = b.position(p);
         }

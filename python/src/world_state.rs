@@ -147,6 +147,11 @@ impl PyWorld {
         self.r().bodies().map(|(_, b)| b.collision_groups()).collect()
     }
 
+    /// Whether each body is kinematic, in row order.
+    fn _body_kinematic(&self) -> Vec<bool> {
+        self.r().bodies().map(|(_, b)| b.is_kinematic()).collect()
+    }
+
     /// Each body's colour as linear RGBA (None where it has none), in row order.
     fn _body_colors(&self) -> Vec<Option<[f64; 4]>> {
         self.r().bodies().map(|(_, b)| b.color()).collect()

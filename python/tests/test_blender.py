@@ -227,7 +227,7 @@ def test_shapes_map_to_tumbles():
 
 
 @pytest.mark.parametrize("change, named", [
-    (lambda o, s: setattr(o.rigid_body, "kinematic", True), "box: animated"),
+    (lambda o, s: setattr(o.rigid_body, "enabled", False), "box: dynamic"),
     (lambda o, s: setattr(o.rigid_body, "collision_shape", "COMPOUND"), "box: collision shape"),
     (lambda o, s: setattr(o.rigid_body, "use_start_deactivated", True), "box: start deactivated"),
 ])
@@ -301,3 +301,51 @@ def test_collision_collections_are_collision_groups():
 
     assert drop({1}) < -1.0, "no collection in common: through the ground"
     assert drop({0, 1}) == pytest.approx(0.25, abs=1e-3), "collection 1 in common: on the ground"
+
+
+def paddle_scene(animated=True):
+    """A 0.2 m box on the ground and a paddle keyframed (linear) from x = -1 at frame 1 to x = 1 at frame 61,
+    across the box: Blender's Animated rigid body."""
+    scene = empty_scene(90)
+    ground()
+    box = blender_body("cube", "box", (0, 0, 0.1), "BOX", size=0.2, restitution=0.0)
+    paddle = blender_body("cube", "paddle", (-1, 0, 0.2), "BOX", size=0.4, restitution=0.0, kinematic=animated)
+    paddle.scale = (0.1, 2.0, 1.0)
+    for frame, x in ((1, -1.0), (61, 1.0)):
+        paddle.location.x = x
+        paddle.keyframe_insert("location", frame=frame)
+    for curve in paddle.animation_data.action.layers[0].strips[0].channelbag(paddle.animation_data.action_slot).fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR"
+    return scene, box, paddle
+
+
+def test_an_animated_paddle_pushes_a_box_as_a_kinematic_body_in_tumble():
+    scene, box, paddle = paddle_scene()
+    mapped = tb.world_from_scene(scene)
+    assert mapped.world.bodies.kinematic[mapped.world.bodies.row(mapped.handles["paddle"])]
+    assert "paddle" not in mapped.moving, "an animated object keeps its own animation"
+    tb.bake(scene)
+    # the same scene in Python: the paddle (a 0.04 x 0.8 x 0.4 m box) along the same line, 2 m in 1 s
+    w = python_world()
+    python_ground(w)
+    b = w.add_body(tumble.Box(half_extents=(0.1, 0.1, 0.1)), mass=1.0, position=(0.0, 0.0, 0.1), restitution=0.0,
+                   friction=0.25, **damping(1.0, 1.0 * (0.2**2 + 0.2**2) / 12))
+    times = np.arange(90) / FPS
+    line = np.c_[np.clip(-1.0 + 2.0 * times, -1.0, 1.0), np.zeros(90), np.full(90, f32(0.2))]
+    w.add_body(tumble.Box(half_extents=(f32(0.2) * f32(0.1), f32(0.2) * 2.0, f32(0.2))), keyframes=(times, line),
+               restitution=0.0, friction=0.25)
+    run = w.run(89 / FPS, frame_interval=1.0 / FPS)
+    baked = keyed(box, range(1, 91))
+    assert baked[-1][0] > 0.5, "the paddle pushed the box along"
+    # the animated object's F-curves are Blender's own; the box's bake is the Python world's to float32 rounding
+    # (of the sampled path, and of Blender's sizes), grown by the push: 1e-5 m
+    assert np.abs(baked - run.body_positions[:, run.bodies.index(b)]).max() < 1e-5
+    assert keyed(paddle, [31])[0][0] == pytest.approx(0.0, abs=1e-6), "the paddle's own animation is untouched"
+
+
+def test_without_animated_the_paddle_stays_put():
+    scene, box, paddle = paddle_scene(animated=False)
+    paddle.rigid_body.type = "PASSIVE"
+    tb.bake(scene)
+    assert abs(keyed(box, [90])[0][0]) < 1e-6, "a passive paddle that does not follow its keys pushes nothing"

@@ -42,6 +42,7 @@ from ._report import Report
 from ._run import Run
 from ._batch import Batch, rollout
 from ._sweep import sweep
+from ._kinematic import keyframes_from
 from ._joints import Ball, Distance, Hinge, JointSpring, Motor, Slider, Weld
 from ._names import IntegratorName, LinearSolverName, ModeName, SolverName
 from ._world import BodiesView, ParticlesView, World
@@ -53,6 +54,7 @@ __all__ = [
     "Batch",
     "rollout",
     "sweep",
+    "keyframes_from",
     "Report",
     "ParticlesView",
     "BodiesView",

@@ -78,6 +78,11 @@ class BodiesView:
         return self._world._body_collision_groups()
 
     @property
+    def kinematic(self) -> list[bool]:
+        """Whether each body is kinematic (``add_body(keyframes=...)``): it follows its keyframes."""
+        return self._world._body_kinematic()
+
+    @property
     def colors(self) -> list[tuple[float, float, float, float] | None]:
         """Each body's linear RGBA colour as given to ``add_body(color=...)`` (None where none was given)."""
         from ._run import rgba  # noqa: PLC0415

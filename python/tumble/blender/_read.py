@@ -151,6 +151,36 @@ def _to_body(wxyz: tuple[float, ...], v: Array) -> Array:
     return out
 
 
+def _paths(scene: Any, rbw: Any, objects: list[Any], unit: float, frame_time: float) -> dict[str, Any]:
+    """Each animated object's pose at every frame of the cache's range, as (times, locations, orientations (w, x,
+    y, z)); read with the rigid body world off, so Bullet does not step while the frames are set."""
+    import bpy  # noqa: PLC0415
+
+    animated = [o for o in objects if o.rigid_body.kinematic]
+    if not animated:
+        return {}
+    cache = rbw.point_cache
+    frames = range(cache.frame_start, cache.frame_end + 1)
+    layer = bpy.context.view_layer if scene == bpy.context.scene else scene.view_layers[0]
+    poses: dict[str, tuple[list[Any], list[Any]]] = {o.name: ([], []) for o in animated}
+    enabled = rbw.enabled
+    rbw.enabled = False
+    try:
+        for f in frames:
+            scene.frame_set(f)
+            layer.update()
+            for o in animated:
+                location, rotation, _ = o.matrix_world.decompose()
+                poses[o.name][0].append([float(x) * unit for x in location])
+                poses[o.name][1].append([float(x) for x in rotation])
+    finally:
+        rbw.enabled = enabled
+        scene.frame_set(cache.frame_start)
+        layer.update()
+    times = np.array([(f - cache.frame_start) * frame_time for f in frames])
+    return {name: (times, np.array(x), np.array(q)) for name, (x, q) in poses.items()}
+
+
 def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
     """The tumble world of ``scene``'s rigid body world (the current scene by default). ``world_options`` go to
     ``tumble.World`` (default: fast mode at Blender's own step, ``time_scale / fps / substeps_per_frame``). Raises
@@ -190,14 +220,16 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
                 tuple(o.rigid_body.collision_collections)) for o in objects]
     restitution = _restitutions(entries, problems)
     handles, moving, origins = {}, [], {}
+    paths = _paths(scene, rbw, objects, unit, frame_time)
     for obj in objects:
         rb = obj.rigid_body
-        static = rb.type == "PASSIVE"
-        for setting, bad in (("animated", rb.kinematic), ("dynamic", not rb.enabled and not static),
+        animated = rb.kinematic
+        static = rb.type == "PASSIVE" and not animated
+        for setting, bad in (("dynamic", not rb.enabled and not static and not animated),
                              ("start deactivated", rb.use_start_deactivated and not static),
                              ("parent", obj.parent is not None)):
             if bad:
-                problems.append(f"{obj.name}: {setting}: not taken yet (tumble bakes free active and passive bodies)")
+                problems.append(f"{obj.name}: {setting}: not taken yet (tumble bakes active, passive and animated bodies)")
         try:
             shape = _shape(obj, depsgraph, problems, notes)
         except ValueError as error:
@@ -212,17 +244,26 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
         groups = sum(1 << k for k, on in enumerate(rb.collision_collections) if on)
         material = {"friction": float(rb.friction) ** 2, "restitution": restitution[obj.name],
                     "collision_groups": groups}
-        if not static:
+        if not static and not animated:
             material.update(_damping(obj, shape, float(rb.mass), notes))
         try:
             # Blender places its shapes by the object's origin; tumble a mesh by its own origin, any other shape by
             # its centre of mass (the shape's, plus its offset), so that is put where the origin places it
             if isinstance(shape, tumble.Mesh):
-                at = np.array(position)
+                centre = np.zeros(3)
             else:
                 centre = np.asarray(shape.mass_properties(1.0)["center_of_mass"], dtype=float) + np.array(offset)
-                at = np.array(position) + rotation_matrix(np.array(orientation)) @ centre
+            at = np.array(position) + rotation_matrix(np.array(orientation)) @ centre
             kwargs: dict[str, Any] = dict(position=tuple(at), orientation=orientation, **material)
+            if animated:
+                # an animated object follows its own animation, sampled at every frame; its shapes' frame is where
+                # the origin places them
+                times, locations, rotations = paths[obj.name]
+                shapes_at = locations + np.einsum("kij,j->ki", np.array([rotation_matrix(q) for q in rotations]),
+                                                  centre)
+                handle = world.add_body(shape, keyframes=(times, shapes_at, rotations), **material)
+                handles[obj.name] = handle
+                continue
             if static:
                 handle = world.add_body(shape, static=True, **kwargs)
             else:

@@ -106,14 +106,16 @@ pub fn start_touching(cx: &mut ContactStages<'_>) {
 /// How far a contact step may slide a touching pair, as a share of the smaller shape's bounding radius.
 const SLIDE_SHARE: f64 = 0.1;
 
-/// The longest step that slides no pair of `found` (at its relative speed at the contact point) more than
-/// `SLIDE_SHARE` of its smaller shape's radius; pairs with a half-space (whose face has no edge) are not limited.
+/// The longest step that slides no touching pair of `found` (at its relative tangential speed at the contact
+/// point) more than `SLIDE_SHARE` of its smaller shape's radius; pairs with a half-space (whose face has no edge)
+/// and pairs apart by more than the tolerance are not limited.
 fn slide_limit(
     cx: &ContactStages<'_>,
     found: &[crate::engine::found_contact::FoundContact],
     states: &[tumble_contact::BodyState],
 ) -> f64 {
     let mut limit = f64::INFINITY;
+    let touching = cx.memory.scales.tolerance.max(cx.settings.contact_distance);
     for f in found {
         let (ca, cb) = f.key.colliders;
         let r = cx.scene.colliders[ca as usize].radius.max(cx.scene.colliders[cb as usize].radius);
@@ -122,7 +124,11 @@ fn slide_limit(
         }
         let r = cx.scene.colliders[ca as usize].radius.min(cx.scene.colliders[cb as usize].radius);
         let c = &f.contact;
-        let speed = (states[c.a].point_velocity(&c.point) - states[c.b].point_velocity(&c.point)).norm();
+        if c.distance > touching {
+            continue;
+        }
+        let v = states[c.a].point_velocity(&c.point) - states[c.b].point_velocity(&c.point);
+        let speed = (v - c.normal.into_inner() * c.normal.dot(&v)).norm();
         if speed > 0.0 {
             limit = limit.min(SLIDE_SHARE * r / speed);
         }
