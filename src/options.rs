@@ -325,7 +325,9 @@ impl BodyOptions {
             if is_static {
                 return Err(WorldError::invalid("keyframes", "a static body does not move: it has no keyframes"));
             }
-            for (name, given) in [("density", density.is_some()), ("mass", mass.is_some()), ("inertia", inertia.is_some())] {
+            for (name, given) in
+                [("density", density.is_some()), ("mass", mass.is_some()), ("inertia", inertia.is_some())]
+            {
                 if given {
                     return Err(WorldError::invalid(name, "a kinematic body follows its keyframes: it has no mass"));
                 }

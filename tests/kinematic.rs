@@ -189,6 +189,7 @@ fn a_ball_sliding_off_a_table_edge_falls_from_the_edge() {
     w.step(t_edge + 0.2).unwrap();
     let x = w.body(b).unwrap().position();
     let fall = 0.5 * 9.81 * 0.2 * 0.2;
+    println!("measured: the ball is {:.2e} m from free fall from the edge", x.z - (0.05 - fall));
     assert!((x.z - (0.05 - fall)).abs() < 7e-3, "the ball is at z = {}, free fall from the edge {}", x.z, 0.05 - fall);
     assert!((x.x - (-0.3 + SPEED * (t_edge + 0.2))).abs() < 1e-6, "x = {}", x.x);
 }

@@ -127,7 +127,9 @@ pub fn keyframes(obj: &Bound<'_, PyAny>) -> PyResult<tumble::Keyframes> {
         .and_then(|items| items.collect::<PyResult<Vec<_>>>())
         .ok()
         .filter(|p| p.len() == 2 || p.len() == 3)
-        .ok_or_else(|| invalid("keyframes", format!("expected (times, positions[, orientations]), got {}", repr(obj))))?;
+        .ok_or_else(|| {
+            invalid("keyframes", format!("expected (times, positions[, orientations]), got {}", repr(obj)))
+        })?;
     let times: Vec<f64> = match parts[0].extract::<numpy::PyReadonlyArray1<'_, f64>>() {
         Ok(a) => a.as_array().to_vec(),
         Err(_) => parts[0]
@@ -152,7 +154,6 @@ pub fn keyframes(obj: &Bound<'_, PyAny>) -> PyResult<tumble::Keyframes> {
                 .collect::<PyResult<Vec<_>>>()?,
         ),
     };
-    tumble::Keyframes::new(times, positions, orientations).map_err(|e| {
-        invalid("keyframes", e.to_string().trim_start_matches("invalid argument ").to_string())
-    })
+    tumble::Keyframes::new(times, positions, orientations)
+        .map_err(|e| invalid("keyframes", e.to_string().trim_start_matches("invalid argument ").to_string()))
 }

@@ -242,7 +242,7 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
         position = tuple(float(x) * unit for x in location)
         orientation = tuple(float(x) for x in rotation)  # (w, x, y, z)
         groups = sum(1 << k for k, on in enumerate(rb.collision_collections) if on)
-        material = {"friction": float(rb.friction) ** 2, "restitution": restitution[obj.name],
+        material: dict[str, Any] = {"friction": float(rb.friction) ** 2, "restitution": restitution[obj.name],
                     "collision_groups": groups}
         if not static and not animated:
             material.update(_damping(obj, shape, float(rb.mass), notes))
