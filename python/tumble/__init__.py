@@ -43,6 +43,7 @@ from ._run import Run
 from ._batch import Batch, rollout
 from ._sweep import sweep
 from ._kinematic import keyframes_from
+from ._usd_shapes import UsdSceneError
 from ._joints import Ball, Distance, Hinge, JointSpring, Motor, Slider, Weld
 from ._names import IntegratorName, LinearSolverName, ModeName, SolverName
 from ._world import BodiesView, ParticlesView, World
@@ -55,6 +56,7 @@ __all__ = [
     "rollout",
     "sweep",
     "keyframes_from",
+    "UsdSceneError",
     "Report",
     "ParticlesView",
     "BodiesView",

@@ -201,11 +201,20 @@ class Run:
 
         return write_preview(self, as_path(path), fps, size, title)
 
-    def export_usd(self, path: str | Path) -> Path:
+    def export_usd(self, path: str | Path, over: str | Path | None = None) -> Path:
         """Writes the run as USD (``.usda`` text, ``.usdc`` binary) through usd-core (``pip install
         "./python[usd]"``): one prim per body with its colliders' meshes (each distinct shape written once and
         referenced), translation and orientation time-sampled at every frame, the stage in metres with z up.
-        Houdini, Omniverse and Blender read it. Returns the path."""
+        Houdini, Omniverse and Blender read it. With ``over`` (the stage a world was read from by
+        ``World.from_usd``), a layer over that stage instead: the run's time samples on the original rigid body
+        prims, in the stage's units, axes and time codes. Returns the path."""
+        if over is not None:
+            from ._usd_over import export_over  # noqa: PLC0415
+
+            target = as_path(path)
+            if target.suffix.lower() not in (".usda", ".usdc", ".usd"):
+                raise ValueError(f"invalid argument `path`: USD files end in .usda, .usdc or .usd, got {target.name!r}")
+            return export_over(self, target, as_path(over))
         from ._usd import export  # noqa: PLC0415
 
         return export(self, as_path(path))

@@ -233,6 +233,21 @@ class World(_World):
         return world
 
     @classmethod
+    def from_usd(cls, path: str | os.PathLike[str], **world_options: Any) -> tuple["World", dict[str, BodyHandle]]:
+        """A world from a USD stage's physics (the UsdPhysics schema, through usd-core: ``pip install
+        "./python[usd]"``), and its bodies' handles by prim path: the physics scene's gravity; rigid bodies with
+        their velocities, mass, density, centre of mass and inertia, kinematic ones following their animation;
+        colliders on Cube, Sphere, Capsule, Cylinder, Cone and Mesh prims (MeshCollisionAPI's approximation), alone
+        as static bodies; physics materials; revolute, prismatic, spherical, fixed and distance joints with limits
+        and drives; metersPerUnit, kilogramsPerUnit and upAxis (to tumble's metres and z up). Each body is named by
+        its prim path, so ``Run.export_usd(path, over=source)`` writes a run back onto the stage's prims.
+        ``world_options`` go to ``World``. What cannot be mapped raises ``tumble.UsdSceneError`` (a ValueError)
+        listing each prim and attribute."""
+        from ._usd_physics import read_stage  # noqa: PLC0415
+
+        return read_stage(as_path(path), cls, **world_options)
+
+    @classmethod
     def from_json(cls, text: str) -> "World":
         """A world from a scene in JSON (``to_json``'s output, or written by hand: most fields have defaults)."""
         world = cls()
