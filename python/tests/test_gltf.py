@@ -78,22 +78,27 @@ def test_identical_collider_sets_share_a_mesh(files: dict[str, Path]) -> None:
     doc = glb.doc
     run = run_of("dominoes")
     assert run.body_positions.shape[1] == 21
-    # the ground and one domino
-    assert len(doc["meshes"]) == 2
+    # the ground, and a domino for each of the dominoes' two colours: the two share one geometry
+    assert len(doc["meshes"]) == 3
     ids = glb.ids
-    meshes = [doc["nodes"][ids[f"body {b}"]]["mesh"] for b in range(21)]
-    assert len(set(meshes[1:])) == 1 and meshes[0] != meshes[1]
-    ground, domino = (doc["materials"][doc["meshes"][m]["primitives"][0]["material"]] for m in meshes[:2])
+    meshes = [doc["nodes"][ids[run.label(b)]]["mesh"] for b in range(21)]
+    assert len(set(meshes[1:])) == 2 and meshes[0] not in meshes[1:]
+    first, second = (doc["meshes"][m]["primitives"][0] for m in meshes[1:3])
+    assert first["attributes"] == second["attributes"] and first["indices"] == second["indices"]
+    ground = doc["materials"][doc["meshes"][meshes[0]]["primitives"][0]["material"]]
+    domino = doc["materials"][first["material"]]
     assert ground["name"] == "static body" and ground["doubleSided"]
     assert ground["pbrMetallicRoughness"]["baseColorFactor"][:3] == pytest.approx([0.55] * 3)
-    assert domino["name"].startswith("body ") and not domino.get("doubleSided", False)
+    assert domino["name"].startswith("colour ") and not domino.get("doubleSided", False)
+    assert domino["pbrMetallicRoughness"]["baseColorFactor"] == pytest.approx(run.colors[1])
     # the ragdoll's and the chain's bodies: a mesh for each distinct collider set and no more
     for name in ("ragdoll", "chain"):
         glb = validate(files[name])
         doc = glb.doc
         run = run_of(name)
+        # (a collider set's bodies share a colour in these scenes)
         keys = {tuple((s.__reduce__()[1][0], tuple(p), tuple(q)) for s, p, q in body) for body in run.shapes}
-        body_meshes = {doc["nodes"][glb.ids[f"body {b}"]]["mesh"] for b in range(len(run.shapes))}
+        body_meshes = {doc["nodes"][glb.ids[run.label(b)]]["mesh"] for b in range(len(run.shapes))}
         assert len(body_meshes) == len(keys) < len(run.shapes)
 
 
@@ -106,13 +111,18 @@ def test_materials(files: dict[str, Path]) -> None:
             colour = tuple(material["pbrMetallicRoughness"]["baseColorFactor"])
             assert colours.setdefault(material["name"], colour) == colour  # a name is one colour everywhere
     assert {"spring", "joint", "particle", "static body"} <= set(colours)
-    assert len(set(colours.values())) == len(colours)  # and the colours tell them apart
+    # and the colours tell them apart, and from every body's
+    own = {name: colours[name] for name in ("spring", "joint", "particle", "static body")}
+    assert len(set(own.values())) == 4
+    assert all(c not in own.values() for name, c in colours.items() if name not in own)
     # the ragdoll's stairs are static (grey), its parts several colours; the chain's links held at rest stay coloured
     glb = validate(files["ragdoll"])
     doc = glb.doc
-    body_materials = {doc["meshes"][doc["nodes"][i]["mesh"]]["primitives"][0]["material"]
-                      for n, i in glb.ids.items() if n.startswith("body ")}
+    run = run_of("ragdoll")
+    body_materials = {doc["meshes"][doc["nodes"][glb.ids[run.label(b)]]["mesh"]]["primitives"][0]["material"]
+                      for b in range(len(run.shapes))}
     names = {doc["materials"][m]["name"] for m in body_materials}
+    # the ground (unnamed, grey), the steps, the torso and head, the limbs
     assert "static body" in names and len(names) >= 4
     glb = validate(files["chain"])
     doc = glb.doc
@@ -130,7 +140,7 @@ def test_poses_read_back(files: dict[str, Path], name: str) -> None:
     np.testing.assert_allclose(times, run.times - run.times[0], atol=1e-6)
     for frame in (0, run.frames // 2, run.frames - 1):
         for b in range(run.body_positions.shape[1]):
-            m = glb.world_matrix(ids[f"body {b}"], frame)
+            m = glb.world_matrix(ids[run.label(b)], frame)
             np.testing.assert_allclose(m[:3, 3], Y_UP @ run.body_positions[frame, b], atol=1e-5)
             np.testing.assert_allclose(m[:3, :3], Y_UP @ rotation_matrix(run.body_orientations[frame, b]), atol=1e-6)
         for i in range(run.particle_positions.shape[1]):

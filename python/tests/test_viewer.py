@@ -74,6 +74,19 @@ def test_seek_poses_the_scene(viewer: Any, dominoes: tumble.Run) -> None:
         assert f"t = {run.times[k]:.3f} s" in viewer._title.content
 
 
+def test_named_bodies_carry_their_names_above_them(viewer: Any, dominoes: tumble.Run) -> None:
+    # the built-in dominoes are named "domino 1" ... "domino 6": a label each, over the domino as it moves
+    run, scene = dominoes, viewer.server.scene
+    assert run.names[1:] == [f"domino {k}" for k in range(1, 7)]
+    for k in (0, run.frames - 1):
+        viewer.seek(k)
+        for b in range(1, 7):
+            label = scene.get_handle_by_name(f"/labels/body_{b}")
+            assert label is not None and label.visible
+            above = np.asarray(label.position) - run.body_positions[k, b]
+            assert np.allclose(above[:2], 0.0, atol=1e-6) and above[2] > 0.0
+
+
 def test_the_plots_beside_the_scene_follow_what_the_run_has(viser: Any, dominoes: tumble.Run) -> None:
     # contact: energy and penetration; joints: energy and the anchors' gap; neither: energy only
     cases = [(dominoes, ["Energy (J)", "Largest penetration"]),

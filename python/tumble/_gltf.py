@@ -203,13 +203,11 @@ def _scene_size(run: Run, frame: int) -> float:
     return size if np.isfinite(size) and size > 1e-6 else 1.0
 
 
-def _collider_mesh(w: Writer, colliders: list[Any], material: int, size: float, name: str) -> int:
-    """A mesh of a body's colliders placed in its frame (a small sphere for a body with none), named ``name``."""
+def _collider_geometry(w: Writer, colliders: list[Any], size: float) -> tuple[int, int]:
+    """The geometry of a body's colliders placed in its frame (a small sphere for a body with none)."""
     if colliders:
-        geometry = w.geometry(*body_mesh(colliders))
-    else:  # a body without colliders: a small sphere marks its centre of mass
-        geometry = w.geometry(*_sphere(0.02 * size))
-    return w.mesh(f"{name}: {' + '.join(s.kind for s, _, _ in colliders) or 'marker'}", geometry, material)
+        return w.geometry(*body_mesh(colliders))
+    return w.geometry(*_sphere(0.02 * size))  # a body without colliders: a small sphere marks its centre of mass
 
 
 def _bodies(w: Writer, run: Run, frames: np.ndarray, root: int, size: float) -> list[int]:
@@ -218,7 +216,8 @@ def _bodies(w: Writer, run: Run, frames: np.ndarray, root: int, size: float) -> 
     # a run does not say which bodies are static: those with a static-only shape are, and so are taken those that
     # never move at all and that no spring or joint holds (a chain at rest, its links held, stays coloured)
     linked = {row for _, *ends in run.links for where, row, _ in ends if where == "body"}
-    meshes: dict[tuple[Any, ...], int] = {}  # (static, collider set) -> mesh
+    meshes: dict[tuple[Any, ...], int] = {}  # (static, colour, collider set) -> mesh
+    geometries: dict[tuple[Any, ...], tuple[int, int]] = {}  # collider set -> its geometry, whatever its colour
     nodes = []
     for b in range(positions.shape[1]):
         colliders = run.shapes[b] if b < len(run.shapes) else []
@@ -231,8 +230,8 @@ def _bodies(w: Writer, run: Run, frames: np.ndarray, root: int, size: float) -> 
         # identical collider sets: the same shapes (their JSON) at exactly the same offsets and orientations, and
         # the same colour where one was given
         color = run.color(b)
-        key = (static, color, tuple((s.__reduce__()[1][0], tuple(map(float, p)), tuple(map(float, q)))
-                                    for s, p, q in colliders))
+        shapes = tuple((s.__reduce__()[1][0], tuple(map(float, p)), tuple(map(float, q))) for s, p, q in colliders)
+        key = (static, color, shapes)
         if key not in meshes:
             if color is not None:  # the body's own colour, a material named by it, shared by bodies of that colour
                 label = "colour " + " ".join(f"{c:.4g}" for c in color) + (" (static)" if static else "")
@@ -241,8 +240,11 @@ def _bodies(w: Writer, run: Run, frames: np.ndarray, root: int, size: float) -> 
                 material = w.material(*STATIC, double_sided=True)
             else:  # the palette's next colour for each distinct dynamic collider set
                 material = w.material(*PALETTE[sum(1 for s, c, _ in meshes if not s and c is None) % len(PALETTE)])
-            meshes[key] = _collider_mesh(w, colliders, material, size,
-                                         f"{'static ' if static else ''}body mesh {len(meshes)}")
+            if shapes not in geometries:
+                geometries[shapes] = _collider_geometry(w, colliders, size)
+            kinds = " + ".join(s.kind for s, _, _ in colliders) or "marker"
+            meshes[key] = w.mesh(f"{'static ' if static else ''}body mesh {len(meshes)}: {kinds}", geometries[shapes],
+                                 material)
         nodes.append(w.node(run.label(b), root, meshes[key], translation=placed[0], rotation=orientations[0, b]))
         if not static:
             w.animate(nodes[-1], "translation", placed)

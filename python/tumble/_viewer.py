@@ -121,6 +121,15 @@ class Viewer:
         self._slider = gui.add_slider("Frame", 0, last, 1, 0, disabled=run.frames < 2)
         self._speed = gui.add_slider("Speed", 0.05, 4.0, 0.05, 1.0)
         self._repeat = gui.add_checkbox("Loop", True)
+        labels = self.scene.labels
+        if labels:
+            names = gui.add_checkbox("Names", all(label.visible for _, label in labels))
+
+            def toggle(_: Any) -> None:
+                for _, label in labels:
+                    label.visible = names.value
+
+            names.on_update(toggle)
         self._button.on_click(lambda _: self.pause() if self._playing else self.play())
         self._slider.on_update(lambda _: self._scrubbed())
         t = np.asarray(run.times, dtype=float)

@@ -26,6 +26,10 @@ CONTACT = (220, 20, 20)
 PARTICLE = (70, 70, 70)
 
 
+# Most names shown at first: more would cover the scene (the "Names" box shows them all).
+MAX_LABELS = 30
+
+
 def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The products a b of quaternions (..., 4) stored (w, x, y, z)."""
     aw, ax, ay, az = np.moveaxis(np.asarray(a, dtype=float), -1, 0)
@@ -108,6 +112,12 @@ class Scene:
         for i, (b, shape, offset, orientation) in enumerate(planes):
             self._plane(scene, i, b, shape, offset, orientation)
 
+        # each named body's name above it (shown while there are few enough to read: the "Names" box toggles them)
+        named = [b for b in range(bodies) if b < len(run.names) and run.names[b] is not None]
+        self.label_lift = radius
+        self.labels = [(b, scene.add_label(f"/labels/body_{b}", str(run.names[b]), anchor="bottom-center",
+                                           visible=len(named) <= MAX_LABELS)) for b in named]
+
         self.particles = None
         if run.particle_positions.shape[1]:
             self.particles = scene.add_point_cloud(
@@ -160,6 +170,8 @@ class Scene:
         for handle, rows, offsets, collider_rotations in self.groups:
             handle.batched_positions = positions[rows] + np.einsum("nij,nj->ni", rotations[rows], offsets)
             handle.batched_wxyzs = quat_mul(orientations[rows], collider_rotations)
+        for b, label in self.labels:
+            label.position = positions[b] + np.array([0.0, 0.0, self.label_lift[b]])
         if self.axes is not None:
             handle, rows = self.axes
             handle.batched_positions = positions[rows]

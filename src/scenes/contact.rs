@@ -50,7 +50,9 @@ impl BouncingBall {
             RigidBodyBuilder::from_shape(Shape::sphere(self.radius)?, 1000.0)
                 .position(Vector3::new(0.0, 0.0, self.height + self.radius))
                 .restitution(self.restitution)
-                .friction(0.0),
+                .friction(0.0)
+                .name("ball")
+                .color(super::hue(1)),
         )?;
         Ok((w, ball))
     }
@@ -68,7 +70,9 @@ pub fn tumbling_box() -> Result<(World, BodyHandle), WorldError> {
             .velocity(Vector3::new(2.0, 0.3, 1.0))
             .angular_velocity(Vector3::new(4.0, 6.0, 2.0))
             .restitution(0.3)
-            .friction(0.6),
+            .friction(0.6)
+            .name("box")
+            .color(super::hue(2)),
     )?;
     Ok((w, b))
 }
@@ -110,7 +114,9 @@ impl Dominoes {
             let mut b = RigidBodyBuilder::from_shape(Shape::cuboid(half)?, 700.0)
                 .position(Vector3::new(k as f64 * self.spacing, 0.0, half.z))
                 .restitution(0.1)
-                .friction(0.4);
+                .friction(0.4)
+                .name(format!("domino {}", k + 1))
+                .color(super::hue(k % 2));
             if k == 0 {
                 b = b.angular_velocity(Vector3::new(0.0, 2.0, 0.0));
             }
@@ -157,7 +163,9 @@ impl Pyramid {
                         RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::repeat(0.25))?, 500.0)
                             .position(Vector3::new(x, 0.0, 0.25 + 0.5 * layer as f64))
                             .restitution(0.0)
-                            .friction(0.6),
+                            .friction(0.6)
+                            .name(format!("cube {} of layer {}", k + 1, layer + 1))
+                            .color(super::hue(layer)),
                     )?,
                 );
             }
@@ -220,7 +228,9 @@ impl Pile {
                                 .position(Vector3::new(0.6 * i as f64, 0.6 * j as f64, 0.3 + 0.6 * layer as f64))
                                 .orientation(UnitQuaternion::from_euler_angles(tilt, -tilt, 2.0 * tilt))
                                 .restitution(0.2)
-                                .friction(0.6),
+                                .friction(0.6)
+                                .name(format!("cube {n}"))
+                                .color(super::hue(n as usize)),
                         )?,
                     );
                 }
@@ -265,7 +275,9 @@ impl ClothDrape {
             RigidBodyBuilder::fixed(Some(Shape::sphere(0.3)?))
                 .position(Vector3::new(0.0, 0.0, 0.3))
                 .restitution(0.0)
-                .friction(0.5),
+                .friction(0.5)
+                .name("ball")
+                .color(super::hue(1)),
         )?;
         let spacing = self.size / (n - 1) as f64;
         let m = 0.3 / (n * n) as f64;

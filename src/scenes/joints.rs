@@ -21,7 +21,10 @@ pub fn pendulum(length: f64, radius: f64) -> Result<(World, BodyHandle), WorldEr
     let mut w = World::new();
     w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-10, 1e-12))?;
     let bob = w.add_body(
-        RigidBodyBuilder::from_shape_with_mass(Shape::sphere(radius)?, 1.0).position(Vector3::new(length, 0.0, 0.0)),
+        RigidBodyBuilder::from_shape_with_mass(Shape::sphere(radius)?, 1.0)
+            .position(Vector3::new(length, 0.0, 0.0))
+            .name("bob")
+            .color(super::hue(0)),
     )?;
     w.add_joint(JointBuilder::distance(None, Some(bob), None))?;
     Ok((w, bob))
@@ -39,7 +42,8 @@ pub fn chain(links: usize) -> Result<(World, Vec<BodyHandle>), WorldError> {
     let mut out = Vec::with_capacity(links + 1);
     for k in 0..links {
         let at = Vector3::new(0.0, 0.0, 2.5 - 0.05 - 0.1 * k as f64);
-        let b = w.add_body(RigidBodyBuilder::from_shape_with_mass(rod.clone(), 1.0).position(at))?;
+        let link = RigidBodyBuilder::from_shape_with_mass(rod.clone(), 1.0).position(at);
+        let b = w.add_body(link.name(format!("link {}", k + 1)).color(super::hue(1)))?;
         let joint = match out.last() {
             None => JointBuilder::ball(None, Some(b)).anchor_a(Vector3::new(0.0, 0.0, 2.5)),
             Some(&above) => JointBuilder::ball(Some(above), Some(b)).anchor_a(Vector3::new(0.0, 0.0, -0.05)),
@@ -48,7 +52,8 @@ pub fn chain(links: usize) -> Result<(World, Vec<BodyHandle>), WorldError> {
         out.push(b);
     }
     let end = Vector3::new(0.0, 0.0, 2.5 - 0.1 * links as f64 - 0.1);
-    let weight = w.add_body(RigidBodyBuilder::from_shape_with_mass(Shape::sphere(0.1)?, 10.0).position(end))?;
+    let weight = RigidBodyBuilder::from_shape_with_mass(Shape::sphere(0.1)?, 10.0).position(end);
+    let weight = w.add_body(weight.name("weight").color(super::hue(5)))?;
     let last = *out.last().expect("at least one link");
     w.add_joint(
         JointBuilder::ball(Some(last), Some(weight))
@@ -80,7 +85,9 @@ pub fn newtons_cradle(balls: usize, angle: f64) -> Result<(World, Vec<BodyHandle
             .position(pivot + turn * Vector3::new(0.0, 0.0, -l))
             .orientation(turn)
             .restitution(1.0)
-            .friction(0.0);
+            .friction(0.0)
+            .name(format!("ball {}", k + 1))
+            .color(super::hue(if k == 0 { 0 } else { 5 }));
         let b = w.add_body(ball)?;
         let hinge =
             JointBuilder::hinge(None, Some(b), Vector3::y()).anchor_a(pivot).anchor_b(Vector3::new(0.0, 0.0, l));
@@ -97,7 +104,8 @@ pub fn door() -> Result<(World, BodyHandle), WorldError> {
     w.set_mode(Mode::Fast(FastSettings::new(1.0 / 60.0)))?;
     w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 })?;
     let panel = Shape::cuboid(Vector3::new(0.5, 0.02, 1.0))?;
-    let d = w.add_body(RigidBodyBuilder::from_shape_with_mass(panel, 20.0).position(Vector3::new(0.5, 0.0, 1.01)))?;
+    let d = RigidBodyBuilder::from_shape_with_mass(panel, 20.0).position(Vector3::new(0.5, 0.0, 1.01));
+    let d = w.add_body(d.name("door").color(super::hue(2)))?;
     let hinge = JointBuilder::hinge(None, Some(d), Vector3::z())
         .anchor_a(Vector3::new(0.0, 0.0, 1.01))
         .anchor_b(Vector3::new(-0.5, 0.0, 0.0))
@@ -120,42 +128,48 @@ pub fn ragdoll() -> Result<(World, Vec<BodyHandle>), WorldError> {
         let step = RigidBodyBuilder::fixed(Some(Shape::cuboid(Vector3::new(0.15, 1.0, 0.5 * height))?))
             .position(Vector3::new(0.3 * k as f64, 0.0, 0.5 * height))
             .friction(stone.friction)
-            .restitution(0.0);
+            .restitution(0.0)
+            .name(format!("step {}", k + 1))
+            .color(super::hue(5));
         w.add_body(step)?;
     }
     let top = 1.2 + 0.05;
-    let part = |w: &mut World, shape: Shape, mass: f64, at: Vector3<f64>| {
-        w.add_body(RigidBodyBuilder::from_shape_with_mass(shape, mass).position(at).friction(0.6).restitution(0.0))
+    let part = |w: &mut World, shape: Shape, mass: f64, at: Vector3<f64>, name: &str| {
+        let b = RigidBodyBuilder::from_shape_with_mass(shape, mass).position(at).friction(0.6).restitution(0.0);
+        w.add_body(b.name(name).color(super::hue(2)))
     };
     // lying face down across the top step, head towards the stairs, 0.3 m above it, pushed off towards them
     let z = top + 0.3;
-    let torso = part(&mut w, Shape::cuboid(Vector3::new(0.3, 0.17, 0.1))?, 35.0, Vector3::new(0.0, 0.0, z))?;
-    let head = part(&mut w, Shape::sphere(0.11)?, 5.0, Vector3::new(0.43, 0.0, z))?;
+    let torso = part(&mut w, Shape::cuboid(Vector3::new(0.3, 0.17, 0.1))?, 35.0, Vector3::new(0.0, 0.0, z), "torso")?;
+    let head = part(&mut w, Shape::sphere(0.11)?, 5.0, Vector3::new(0.43, 0.0, z), "head")?;
     let limb = |r: f64, half: f64| Shape::capsule(half, r);
     let along_x = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
     let mut limbs = Vec::new();
     for side in [-1.0, 1.0] {
+        let named = |b: RigidBodyBuilder, part: &str| {
+            b.name(format!("{} {part}", if side < 0.0 { "right" } else { "left" })).color(super::hue(1))
+        };
         // arms reach forward past the head, legs back
         let upper_arm = RigidBodyBuilder::from_shape_with_mass(limb(0.045, 0.1)?, 2.5)
             .position(Vector3::new(0.42, side * 0.24, z))
             .orientation(along_x)
             .friction(0.6);
-        let upper_arm = w.add_body(upper_arm)?;
+        let upper_arm = w.add_body(named(upper_arm, "upper arm"))?;
         let forearm = RigidBodyBuilder::from_shape_with_mass(limb(0.04, 0.1)?, 1.5)
             .position(Vector3::new(0.72, side * 0.24, z))
             .orientation(along_x)
             .friction(0.6);
-        let forearm = w.add_body(forearm)?;
+        let forearm = w.add_body(named(forearm, "forearm"))?;
         let thigh = RigidBodyBuilder::from_shape_with_mass(limb(0.07, 0.15)?, 7.0)
             .position(Vector3::new(-0.52, side * 0.1, z))
             .orientation(along_x)
             .friction(0.6);
-        let thigh = w.add_body(thigh)?;
+        let thigh = w.add_body(named(thigh, "thigh"))?;
         let shin = RigidBodyBuilder::from_shape_with_mass(limb(0.05, 0.15)?, 4.0)
             .position(Vector3::new(-0.96, side * 0.1, z))
             .orientation(along_x)
             .friction(0.6);
-        let shin = w.add_body(shin)?;
+        let shin = w.add_body(named(shin, "shin"))?;
         // joints at the ends of the limbs (each limb's local z runs along +x: the capsules were turned so)
         let shoulder = JointBuilder::ball(Some(torso), Some(upper_arm))
             .anchor_a(Vector3::new(0.27, side * 0.24, 0.0))

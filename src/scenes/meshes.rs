@@ -54,12 +54,14 @@ pub fn ball_in_cup(mode: Mode, as_hull: bool) -> Result<(World, BodyHandle, Body
     if as_hull {
         c = c.mesh_shape(MeshShape::Hull);
     }
-    let cup = w.add_body(c)?;
+    let cup = w.add_body(c.name("cup").color(super::hue(1)))?;
     let ball = w.add_body(
         RigidBodyBuilder::from_shape(Shape::sphere(0.015)?, 1100.0)
             .position(Vector3::new(0.01, 0.0, 0.08 + 0.07))
             .restitution(0.3)
-            .friction(0.5),
+            .friction(0.5)
+            .name("ball")
+            .color(super::hue(0)),
     )?;
     Ok((w, cup, ball))
 }
@@ -70,8 +72,12 @@ pub fn ball_in_cup(mode: Mode, as_hull: bool) -> Result<(World, BodyHandle, Body
 pub fn ring_on_peg(mode: Mode) -> Result<(World, BodyHandle, BodyHandle), WorldError> {
     let mut w = world(mode)?;
     let peg_mesh = Mesh::cylinder_mesh(0.06, 0.012, 32)?;
-    let peg =
-        w.add_body(RigidBodyBuilder::fixed(Some(Shape::mesh(peg_mesh))).position(Vector3::new(0.0, 0.0, 0.06)))?;
+    let peg = w.add_body(
+        RigidBodyBuilder::fixed(Some(Shape::mesh(peg_mesh)))
+            .position(Vector3::new(0.0, 0.0, 0.06))
+            .name("peg")
+            .color(super::hue(5)),
+    )?;
     let torus = Shape::mesh(Mesh::torus_mesh(0.03, 0.006, 32)?);
     let ring = w.add_body(
         RigidBodyBuilder::from_shape(torus, 700.0)
@@ -79,7 +85,9 @@ pub fn ring_on_peg(mode: Mode) -> Result<(World, BodyHandle, BodyHandle), WorldE
             .orientation(UnitQuaternion::from_axis_angle(&Vector3::y_axis(), 8f64.to_radians()))
             .velocity(Vector3::new(0.05, 0.0, 0.0))
             .restitution(0.0)
-            .friction(0.4),
+            .friction(0.4)
+            .name("ring")
+            .color(super::hue(2)),
     )?;
     Ok((w, peg, ring))
 }
@@ -108,7 +116,8 @@ fn chair_cells() -> Vec<[i32; 3]> {
 pub fn chair(mode: Mode) -> Result<(World, BodyHandle), WorldError> {
     let mut w = world(mode)?;
     let mesh = Mesh::from_cells(&chair_cells(), 0.05, "chair")?;
-    let c = w.add_body(dropped(Shape::mesh(mesh), 600.0, UnitQuaternion::identity(), (0.0, 0.0), 0.0, 1e-3)?)?;
+    let chair = dropped(Shape::mesh(mesh), 600.0, UnitQuaternion::identity(), (0.0, 0.0), 0.0, 1e-3)?;
+    let c = w.add_body(chair.name("chair").color(super::hue(2)))?;
     Ok((w, c))
 }
 
@@ -126,7 +135,9 @@ pub fn torus_roll(mode: Mode) -> Result<(World, BodyHandle), WorldError> {
             .velocity(Vector3::new(speed, 0.0, 0.0))
             .angular_velocity(Vector3::new(0.0, speed / radius, 0.0))
             .restitution(0.0)
-            .friction(0.8),
+            .friction(0.8)
+            .name("torus")
+            .color(super::hue(3)),
     )?;
     Ok((w, t))
 }
@@ -145,7 +156,9 @@ pub fn mesh_pile(mode: Mode, count: usize, as_hull: bool) -> Result<(World, Vec<
         let turn = UnitQuaternion::from_euler_angles(0.3 * k as f64, 0.7 * k as f64, 1.1 * k as f64);
         // the same five meshes, turned: each is decomposed once
         let mesh = kinds[k % kinds.len()].clone();
-        let mut b = dropped(Shape::mesh(mesh), 800.0, turn, xy, 0.2 * layer as f64, 0.01)?;
+        let name = format!("{} {}", if mesh.name().is_empty() { "mesh" } else { mesh.name() }, k + 1);
+        let mut b =
+            dropped(Shape::mesh(mesh), 800.0, turn, xy, 0.2 * layer as f64, 0.01)?.name(name).color(super::hue(k));
         if as_hull {
             b = b.mesh_shape(MeshShape::Hull);
         }

@@ -166,3 +166,18 @@ pub fn spinning_top() -> Result<(World, BodyHandle), WorldError> {
     )?;
     Ok((w, top))
 }
+
+/// The built-in scenes' colours (linear RGB, opaque): the bodies of a scene take them in turn.
+const PALETTE: [[f64; 4]; 6] = [
+    [0.80, 0.18, 0.12, 1.0],
+    [0.10, 0.35, 0.75, 1.0],
+    [0.90, 0.62, 0.10, 1.0],
+    [0.15, 0.55, 0.25, 1.0],
+    [0.55, 0.25, 0.65, 1.0],
+    [0.65, 0.65, 0.62, 1.0],
+];
+
+/// The k-th colour of the built-in scenes' palette.
+pub(crate) fn hue(k: usize) -> [f64; 4] {
+    PALETTE[k % PALETTE.len()]
+}
