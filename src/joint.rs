@@ -19,6 +19,8 @@ pub enum JointType {
     Hinge,
     Slider,
     Weld,
+    /// A piston (cylindrical joint): B slides along the axis and turns about it.
+    Piston,
     /// The anchors held `length` apart (None when built: their distance then); a rope only pulls.
     Distance {
         length: Option<f64>,
@@ -89,6 +91,12 @@ impl JointBuilder {
         Self { axis, ..Self::new(JointType::Slider, a, b) }
     }
     /// A weld (fixed) joint.
+    /// A piston (cylindrical) joint along `axis` (A's frame): the anchors may part along it and B turn about it;
+    /// limits, a motor and a spring act on the travel, as a slider's.
+    pub fn piston(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
+        Self { axis, ..Self::new(JointType::Piston, a, b) }
+    }
+    /// A weld (fixed) joint: no relative motion.
     pub fn weld(a: Option<BodyHandle>, b: Option<BodyHandle>) -> Self {
         Self::new(JointType::Weld, a, b)
     }

@@ -401,3 +401,39 @@ fn a_rope_is_slack_until_taut_then_holds_in_both_modes() {
         assert!(longest < 1.0 + 1e-3 && longest > 0.999, "accurate {accurate_mode}: {longest}");
     }
 }
+
+#[test]
+fn a_piston_slides_and_turns_about_its_axis_and_holds_the_rest() {
+    // A ball (1 kg, 0.1 m) on a vertical piston from the world at the origin, thrown up at 0.5 m/s while spinning
+    // at 3 rad/s about the axis, with a torque of 2 N m about x and a force of 5 N along x pushing it over: it rises
+    // and falls freely along the axis (z = 0.5 t - g t^2 / 2), keeps its spin (nothing turns it about z), and
+    // neither tilts nor leaves the axis. Accurate mode to its tolerance, fast mode to its soft joints' millimetre.
+    for fast_mode in [false, true] {
+        let mut w = if fast_mode { fast(8) } else { accurate(1e-9) };
+        let ball = RigidBodyBuilder::from_shape_with_mass(tumble::Shape::sphere(0.1).unwrap(), 1.0)
+            .velocity(Vector3::new(0.0, 0.0, 0.5))
+            .angular_velocity(Vector3::new(0.0, 0.0, 3.0));
+        let b = w.add_body(ball).unwrap();
+        w.add_joint(JointBuilder::piston(None, Some(b), Vector3::z())).unwrap();
+        w.add_torque(b, Vector3::new(2.0, 0.0, 0.0)).unwrap();
+        w.add_force(tumble::Target::Body(b), Vector3::new(5.0, 0.0, 0.0), None).unwrap();
+        w.step(1.0).unwrap();
+        let body = w.body(b).unwrap();
+        let (x, v, spin) = (body.position(), body.velocity(), body.angular_velocity());
+        let tolerance = if fast_mode { 1e-3 } else { 1e-6 };
+        // (fast mode's semi-implicit substeps fall g h t / 2 further, h = 1/480 s: 10.2 mm)
+        let z = 0.5 - 0.5 * G - if fast_mode { 0.5 * G / 480.0 } else { 0.0 };
+        assert!((x.z - z).abs() < tolerance * 10.0, "fast {fast_mode}: z = {}, free {z}", x.z);
+        assert!((v.z - (0.5 - G)).abs() < tolerance * 10.0, "fast {fast_mode}: vz = {}", v.z);
+        assert!(x.xy().norm() < tolerance, "fast {fast_mode}: off the axis by {}", x.xy().norm());
+        assert!((spin.z - 3.0).abs() < tolerance, "fast {fast_mode}: spin {}", spin.z);
+        assert!(spin.xy().norm() < tolerance, "fast {fast_mode}: tilting at {}", spin.xy().norm());
+        // the travel's limits hold it: from 0.1 m below to 0.2 m above where it started
+        let mut w = if fast_mode { fast(8) } else { accurate(1e-9) };
+        let b = w.add_body(RigidBodyBuilder::from_shape_with_mass(tumble::Shape::sphere(0.1).unwrap(), 1.0)).unwrap();
+        w.add_joint(JointBuilder::piston(None, Some(b), Vector3::z()).limits(-0.1, 0.2)).unwrap();
+        w.step(1.0).unwrap();
+        let z = w.body(b).unwrap().position().z;
+        assert!((z + 0.1).abs() < tolerance * 10.0, "fast {fast_mode}: rests at {z}, the limit -0.1");
+    }
+}

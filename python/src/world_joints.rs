@@ -9,7 +9,7 @@ use tumble::JointBuilder;
 
 #[pymethods]
 impl PyWorld {
-    /// Adds a joint of `kind` ("ball", "hinge", "slider", "weld", "distance", "rope") between bodies `a` and `b`
+    /// Adds a joint of `kind` ("ball", "hinge", "slider", "piston", "weld", "distance", "rope") between bodies `a` and `b`
     /// (None: the world, whose anchor is then a world point). Use `World.add_joint` with a joint object.
     #[pyo3(signature = (kind, a, b, anchor_a = None, anchor_b = None, axis = None, limits = None, motor = None,
                         spring = None, softness = None, length = None))]
@@ -34,6 +34,7 @@ impl PyWorld {
             "ball" => JointBuilder::ball(a, b),
             "hinge" => JointBuilder::hinge(a, b, axis),
             "slider" => JointBuilder::slider(a, b, axis),
+            "piston" => JointBuilder::piston(a, b, axis),
             "weld" => JointBuilder::weld(a, b),
             "distance" => JointBuilder::distance(a, b, length),
             "rope" => JointBuilder::rope(a, b, length),

@@ -385,7 +385,7 @@ def test_a_ball_in_a_cup_mesh_bakes_as_the_same_world_built_in_python():
 
 
 @pytest.mark.parametrize("kind, limits", [("POINT", None), ("FIXED", None), ("HINGE", None), ("HINGE", (-0.3, 0.3)),
-                                          ("SLIDER", None), ("SLIDER", (-0.1, 0.2))])
+                                          ("SLIDER", None), ("SLIDER", (-0.1, 0.2)), ("PISTON", (-0.1, 0.2))])
 def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, limits):
     """A box hung off a passive anchor by one constraint (its object's z along the world's -y, x along the world's
     -z): the mapped world runs to the same bits as the world built in Python with tumble's joint for it, and every
@@ -403,7 +403,7 @@ def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, l
         pin.rotation_euler = (math.pi / 2, math.pi / 2, 0)
         if limits is not None and kind == "HINGE":
             c.use_limit_ang_z, c.limit_ang_z_lower, c.limit_ang_z_upper = True, *limits
-        if limits is not None and kind == "SLIDER":
+        if limits is not None and kind in ("SLIDER", "PISTON"):
             c.use_limit_lin_x, c.limit_lin_x_lower, c.limit_lin_x_upper = True, *limits
         bpy.context.view_layer.update()
         mapped = tb.world_from_scene(scene)
@@ -420,7 +420,8 @@ def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, l
     lim = None if limits is None else tuple(float(np.float32(v)) for v in limits)
     joint = {"POINT": lambda: tumble.Ball(a, b, **at), "FIXED": lambda: tumble.Weld(a, b, **at),
              "HINGE": lambda: tumble.Hinge(a, b, axis=tuple(turn[:, 2]), limits=lim, **at),
-             "SLIDER": lambda: tumble.Slider(a, b, axis=tuple(turn[:, 0]), limits=lim, **at)}[kind]()
+             "SLIDER": lambda: tumble.Slider(a, b, axis=tuple(turn[:, 0]), limits=lim, **at),
+             "PISTON": lambda: tumble.Piston(a, b, axis=tuple(turn[:, 0]), limits=lim, **at)}[kind]()
     w.add_joint(joint)
     want = w.run(1.0, 1 / FPS)
     np.testing.assert_array_equal(run.body_positions[:, world.bodies.row(box)], want.body_positions[:, w.bodies.row(b)])

@@ -44,7 +44,7 @@ from ._batch import Batch, rollout
 from ._sweep import sweep
 from ._kinematic import keyframes_from
 from ._usd_shapes import UsdSceneError
-from ._joints import Ball, Distance, Hinge, JointSpring, Motor, Slider, Weld
+from ._joints import Ball, Distance, Hinge, JointSpring, Motor, Piston, Slider, Weld
 from ._names import IntegratorName, LinearSolverName, ModeName, SolverName
 from ._world import BodiesView, ParticlesView, World
 from . import scenes
@@ -76,6 +76,7 @@ __all__ = [
     "Ball",
     "Hinge",
     "Slider",
+    "Piston",
     "Weld",
     "Distance",
     "Motor",

@@ -141,6 +141,14 @@ class Slider(_Axial):
 
 
 @dataclass(frozen=True)
+class Piston(_Axial):
+    """A piston (cylindrical) joint along ``axis``: B slides along it and turns about it; ``limits`` in metres, a
+    ``Motor`` and a ``JointSpring`` on its travel, as a slider's."""
+
+    _kind = "piston"
+
+
+@dataclass(frozen=True)
 class Distance(_Joint):
     """The anchors held ``length`` apart (None: their distance when added): a rigid rod, or with ``rope=True`` a
     rope that only pulls."""

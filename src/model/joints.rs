@@ -154,6 +154,7 @@ pub(crate) fn compile_joints(
                 JointType::Hinge => tumble_contact::JointKind::Hinge,
                 JointType::Slider => tumble_contact::JointKind::Slider,
                 JointType::Weld => tumble_contact::JointKind::Weld,
+                JointType::Piston => tumble_contact::JointKind::Piston,
                 JointType::Distance { rope, .. } => tumble_contact::JointKind::Distance { length: j.length, rope },
             };
             let joint = Joint {

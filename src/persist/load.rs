@@ -276,6 +276,7 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
             JointType::Hinge => JointBuilder::hinge(a, b, v3(j.axis)),
             JointType::Slider => JointBuilder::slider(a, b, v3(j.axis)),
             JointType::Weld => JointBuilder::weld(a, b),
+            JointType::Piston => JointBuilder::piston(a, b, v3(j.axis)),
             JointType::Distance { length, rope: false } => JointBuilder::distance(a, b, length),
             JointType::Distance { length, rope: true } => JointBuilder::rope(a, b, length),
         };

@@ -47,7 +47,7 @@ impl World {
         if !(n > 1e-12 * spec.axis.amax().max(1e-300) && n > 1e-150) {
             return Err(WorldError::invalid("axis", "must have a length > 0"));
         }
-        let moving = matches!(spec.kind, JointType::Hinge | JointType::Slider);
+        let moving = matches!(spec.kind, JointType::Hinge | JointType::Slider | JointType::Piston);
         let what = |name: &'static str| {
             WorldError::invalid(name, format!("a {:?} joint has none: only hinges and sliders do", spec.kind))
         };

@@ -46,6 +46,7 @@ fn rows_are_the_derivatives_of_their_errors() {
         JointKind::Hinge,
         JointKind::Slider,
         JointKind::Weld,
+        JointKind::Piston,
         JointKind::Distance { length: 0.7, rope: false },
         JointKind::Distance { length: 0.7, rope: true },
     ];
@@ -85,7 +86,7 @@ fn rows_are_the_derivatives_of_their_errors() {
         let (wa, mut wb) = (rng.v(2.0), rng.v(2.0));
         if held && matches!(kind, JointKind::Slider | JointKind::Weld) {
             wb = wa;
-        } else if held && kind == JointKind::Hinge {
+        } else if held && matches!(kind, JointKind::Hinge | JointKind::Piston) {
             wb = wa + axis * rng.f(-2.0, 2.0);
         }
         let v = (rng.v(2.0), wa, rng.v(2.0), wb);
@@ -96,7 +97,8 @@ fn rows_are_the_derivatives_of_their_errors() {
         for (k, r) in rows.iter().enumerate() {
             assert_eq!(r.slot, k);
             let angular_only = r.lin == Vector3::zeros();
-            let exact_error = held || !angular_only || (kind == JointKind::Hinge && k < 5);
+            // (a piston's angular rows are all the hinge's two across the axis, exact everywhere)
+            let exact_error = held || !angular_only || (kind == JointKind::Hinge && k < 5) || kind == JointKind::Piston;
             // central differences of smooth functions of size ~1 over h = 1e-5: truncation ~h^2 = 1e-10, rounding
             // ~1e-16 / 1e-5 = 1e-11; 1e-7 leaves room for the second derivatives' size (speeds up to ~6)
             if exact_error && !matches!(r.kind, RowKind::Motor { .. }) {

@@ -291,12 +291,13 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
 def _constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], problems: list[str],
                  notes: list[str]) -> None:
     """The rigid body world's constraints as tumble joints: fixed as a weld, point as a ball, hinge about the
-    constraint object's z (its z angle limits as the hinge's), slider along its x (its x limits), each anchored at
-    the constraint object's origin."""
+    constraint object's z (its z angle limits as the hinge's), slider and piston along its x (its x limits), each
+    anchored at the constraint object's origin."""
     import tumble  # noqa: PLC0415
 
     unit = float(scene.unit_settings.scale_length) or 1.0
-    kinds = {"FIXED": tumble.Weld, "POINT": tumble.Ball, "HINGE": tumble.Hinge, "SLIDER": tumble.Slider}
+    kinds = {"FIXED": tumble.Weld, "POINT": tumble.Ball, "HINGE": tumble.Hinge, "SLIDER": tumble.Slider,
+             "PISTON": tumble.Piston}
     objects = sorted((o for o in rbw.constraints.objects if o.rigid_body_constraint is not None),
                      key=lambda o: o.name) if rbw.constraints is not None else []
     for obj in objects:
@@ -306,7 +307,9 @@ def _constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], prob
         before = len(problems)
         if c.type not in kinds:
             problems.append(f"{obj.name}: constraint type: {c.type} is not one tumble takes yet (fixed, point, "
-                            "hinge, slider)")
+                            "hinge, slider, piston)")
+        if c.type == "PISTON" and c.use_limit_ang_x:
+            problems.append(f"{obj.name}: limits angular x: a piston's turn limits are not taken yet")
         if c.use_breaking:
             problems.append(f"{obj.name}: breakable: tumble's joints do not break")
         if not c.disable_collisions:
@@ -334,7 +337,7 @@ def _constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], prob
             fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 2]))
             if c.use_limit_ang_z:
                 fields["limits"] = (float(c.limit_ang_z_lower), float(c.limit_ang_z_upper))
-        elif c.type == "SLIDER":
+        elif c.type in ("SLIDER", "PISTON"):
             fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 0]))
             if c.use_limit_lin_x:
                 fields["limits"] = (float(c.limit_lin_x_lower) * unit, float(c.limit_lin_x_upper) * unit)

@@ -27,6 +27,8 @@ pub enum JointKind {
     Slider,
     /// Fixed: no relative motion at all.
     Weld,
+    /// Cylindrical (a piston): the anchors may part along the axis and B turn about it, nothing else.
+    Piston,
     /// The anchors at `length` apart: a rigid rod, or a rope (`rope`) that only pulls and may slacken.
     Distance { length: f64, rope: bool },
 }

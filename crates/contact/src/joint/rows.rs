@@ -100,7 +100,7 @@ pub fn joint_rows(
             }
             joint.kind
         }
-        JointKind::Slider => {
+        JointKind::Slider | JointKind::Piston => {
             for e in f.across {
                 let (lin, a, b, c, k) = carried(e);
                 push(lin, a, b, c, RowKind::Equality, k);
@@ -122,7 +122,7 @@ pub fn joint_rows(
         }
     };
     match kinds {
-        JointKind::Hinge => {
+        JointKind::Hinge | JointKind::Piston => {
             for p in f.across {
                 let g = p.cross(&f.axis_b);
                 let k = wa.cross(&wa.cross(&p)).dot(&f.axis_b)
@@ -130,10 +130,16 @@ pub fn joint_rows(
                     + p.dot(&wb.cross(&wb.cross(&f.axis_b)));
                 push(zero, g, -g, p.dot(&f.axis_b), RowKind::Equality, k);
             }
-            let theta = twist(f.axis);
-            let k = wa.cross(&f.axis).dot(&(wb - wa));
-            let row = (zero, -f.axis, f.axis);
-            options(joint, theta, row, k, &mut push);
+            if kinds == JointKind::Piston {
+                // its options on the travel along the axis, as a slider's
+                let (lin, a, b, travel, k) = carried(f.axis);
+                options(joint, travel, (lin, a, b), k, &mut push);
+            } else {
+                let theta = twist(f.axis);
+                let k = wa.cross(&f.axis).dot(&(wb - wa));
+                let row = (zero, -f.axis, f.axis);
+                options(joint, theta, row, k, &mut push);
+            }
         }
         JointKind::Slider | JointKind::Weld => {
             for (i, e) in [Vector3::x(), Vector3::y(), Vector3::z()].into_iter().enumerate() {
