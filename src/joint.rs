@@ -21,6 +21,11 @@ pub enum JointType {
     Weld,
     /// A piston (cylindrical joint): B slides along the axis and turns about it.
     Piston,
+    /// A drive alone: its motor drives B's spin about the axis relative to A (or, `linear`, its slide along it);
+    /// nothing else is held (Bullet's and Blender's motor constraint).
+    Drive {
+        linear: bool,
+    },
     /// The anchors held `length` apart (None when built: their distance then); a rope only pulls.
     Distance {
         length: Option<f64>,
@@ -95,6 +100,16 @@ impl JointBuilder {
     /// limits, a motor and a spring act on the travel, as a slider's.
     pub fn piston(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
         Self { axis, ..Self::new(JointType::Piston, a, b) }
+    }
+    /// A drive about `axis` (A's frame): give it a `motor` (speed in rad/s, torque in N m) that drives B's spin
+    /// about the axis relative to A; nothing else is held.
+    pub fn spin_drive(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
+        Self { axis, ..Self::new(JointType::Drive { linear: false }, a, b) }
+    }
+    /// A drive along `axis` (A's frame): give it a `motor` (speed in m/s, force in N) that drives B's anchor along
+    /// the axis relative to A's; nothing else is held.
+    pub fn slide_drive(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
+        Self { axis, ..Self::new(JointType::Drive { linear: true }, a, b) }
     }
     /// A weld (fixed) joint: no relative motion.
     pub fn weld(a: Option<BodyHandle>, b: Option<BodyHandle>) -> Self {

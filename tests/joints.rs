@@ -437,3 +437,44 @@ fn a_piston_slides_and_turns_about_its_axis_and_holds_the_rest() {
         assert!((z + 0.1).abs() < tolerance * 10.0, "fast {fast_mode}: rests at {z}, the limit -0.1");
     }
 }
+
+#[test]
+fn a_drive_spins_or_slides_its_body_up_to_its_speed_and_holds_nothing_else() {
+    // A 0.2 m cube of 1 kg (I = m a^2 / 6 = 1/150 kg m^2) driven from the world about z at 2 rad/s with at most
+    // 0.01 N m: it spins up at 1.5 rad/s^2 until 2 rad/s (at 4/3 s), and falls freely meanwhile (the drive holds
+    // nothing): -g t^2 / 2. A slide drive along x at 0.5 m/s with at most 1 N: v = t until 0.5 s, then 0.5 m/s.
+    // Both modes to 1e-6 (the motor holds its speed exactly within its torque; fast mode falls g h t / 2 further).
+    for fast_mode in [false, true] {
+        let tolerance = 1e-6;
+        let cube = || RigidBodyBuilder::from_shape_with_mass(tumble::Shape::cuboid(Vector3::repeat(0.1)).unwrap(), 1.0);
+        let mut w = if fast_mode { fast(8) } else { accurate(1e-9) };
+        let b = w.add_body(cube()).unwrap();
+        w.add_joint(JointBuilder::spin_drive(None, Some(b), Vector3::z()).motor(2.0, 0.01)).unwrap();
+        w.step(1.0).unwrap();
+        let spin = w.body(b).unwrap().angular_velocity();
+        assert!((spin.z - 1.5).abs() < tolerance, "fast {fast_mode}: spin {} after 1 s, 1.5 rad/s", spin.z);
+        let fall = 0.5 * G + if fast_mode { 0.5 * G / 480.0 } else { 0.0 };
+        let z = w.body(b).unwrap().position().z;
+        assert!((z + fall).abs() < tolerance, "fast {fast_mode}: z = {z}, free fall {}", -fall);
+        w.step(1.0).unwrap();
+        let spin = w.body(b).unwrap().angular_velocity();
+        assert!((spin.z - 2.0).abs() < tolerance, "fast {fast_mode}: spin {} after 2 s, the drive's 2 rad/s", spin.z);
+        let mut w = if fast_mode { fast(8) } else { accurate(1e-9) };
+        w.set_gravity(Vector3::zeros()).unwrap();
+        let b = w.add_body(cube()).unwrap();
+        w.add_joint(JointBuilder::slide_drive(None, Some(b), Vector3::x()).motor(0.5, 1.0)).unwrap();
+        w.step(0.25).unwrap();
+        let v = w.body(b).unwrap().velocity();
+        assert!((v.x - 0.25).abs() < tolerance && v.yz().norm() < 1e-9, "fast {fast_mode}: v = {v}");
+        w.step(0.75).unwrap();
+        let v = w.body(b).unwrap().velocity();
+        assert!((v.x - 0.5).abs() < tolerance, "fast {fast_mode}: v = {v}, the drive's 0.5 m/s");
+    }
+    // a drive is its motor alone
+    let mut w = World::new();
+    let b = w.add_body(RigidBodyBuilder::from_shape_with_mass(tumble::Shape::sphere(0.1).unwrap(), 1.0)).unwrap();
+    let refused = w.add_joint(JointBuilder::spin_drive(None, Some(b), Vector3::z())).unwrap_err();
+    assert_eq!(refused.argument(), Some("motor"));
+    let refused = w.add_joint(JointBuilder::spin_drive(None, Some(b), Vector3::z()).motor(1.0, 1.0).limits(0.0, 1.0));
+    assert_eq!(refused.unwrap_err().argument(), Some("limits"));
+}

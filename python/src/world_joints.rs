@@ -9,7 +9,8 @@ use tumble::JointBuilder;
 
 #[pymethods]
 impl PyWorld {
-    /// Adds a joint of `kind` ("ball", "hinge", "slider", "piston", "weld", "distance", "rope") between bodies `a` and `b`
+    /// Adds a joint of `kind` ("ball", "hinge", "slider", "piston", "spin-drive", "slide-drive", "weld",
+    /// "distance", "rope") between bodies `a` and `b`
     /// (None: the world, whose anchor is then a world point). Use `World.add_joint` with a joint object.
     #[pyo3(signature = (kind, a, b, anchor_a = None, anchor_b = None, axis = None, limits = None, motor = None,
                         spring = None, softness = None, length = None))]
@@ -35,6 +36,8 @@ impl PyWorld {
             "hinge" => JointBuilder::hinge(a, b, axis),
             "slider" => JointBuilder::slider(a, b, axis),
             "piston" => JointBuilder::piston(a, b, axis),
+            "spin-drive" => JointBuilder::spin_drive(a, b, axis),
+            "slide-drive" => JointBuilder::slide_drive(a, b, axis),
             "weld" => JointBuilder::weld(a, b),
             "distance" => JointBuilder::distance(a, b, length),
             "rope" => JointBuilder::rope(a, b, length),

@@ -183,7 +183,7 @@ impl PyWorld {
     }
 
     /// The world's springs and joints as lines to draw: (kind, end a, end b), kind "spring" or the joint's type
-    /// ("ball", "hinge", "slider", "piston", "weld", "distance", "rope"), each end ("particle", row, [0, 0, 0]), ("body", row,
+    /// ("ball", "hinge", "slider", "piston", "spin-drive", "slide-drive", "weld", "distance", "rope"), each end ("particle", row, [0, 0, 0]), ("body", row,
     /// point in the body frame) or ("world", -1, world point); rows index the run and state arrays.
     fn _links(&self) -> PyResult<Vec<Link>> {
         let w = self.r();
@@ -212,6 +212,8 @@ impl PyWorld {
                 tumble::JointType::Slider => "slider",
                 tumble::JointType::Weld => "weld",
                 tumble::JointType::Piston => "piston",
+                tumble::JointType::Drive { linear: false } => "spin-drive",
+                tumble::JointType::Drive { linear: true } => "slide-drive",
                 tumble::JointType::Distance { rope: false, .. } => "distance",
                 tumble::JointType::Distance { rope: true, .. } => "rope",
             };

@@ -385,7 +385,8 @@ def test_a_ball_in_a_cup_mesh_bakes_as_the_same_world_built_in_python():
 
 
 @pytest.mark.parametrize("kind, limits", [("POINT", None), ("FIXED", None), ("HINGE", None), ("HINGE", (-0.3, 0.3)),
-                                          ("SLIDER", None), ("SLIDER", (-0.1, 0.2)), ("PISTON", (-0.1, 0.2))])
+                                          ("SLIDER", None), ("SLIDER", (-0.1, 0.2)), ("PISTON", (-0.1, 0.2)),
+                                          ("MOTOR", None)])
 def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, limits):
     """A box hung off a passive anchor by one constraint (its object's z along the world's -y, x along the world's
     -z): the mapped world runs to the same bits as the world built in Python with tumble's joint for it, and every
@@ -403,6 +404,8 @@ def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, l
         pin.rotation_euler = (math.pi / 2, math.pi / 2, 0)
         if limits is not None and kind == "HINGE":
             c.use_limit_ang_z, c.limit_ang_z_lower, c.limit_ang_z_upper = True, *limits
+        if kind == "MOTOR":  # a spin about the constraint's x (the world's -z) at 2 rad/s
+            c.use_motor_ang, c.motor_ang_target_velocity, c.motor_ang_max_impulse = True, 2.0, 0.001
         if limits is not None and kind in ("SLIDER", "PISTON"):
             c.use_limit_lin_x, c.limit_lin_x_lower, c.limit_lin_x_upper = True, *limits
         bpy.context.view_layer.update()
@@ -421,10 +424,18 @@ def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, l
     joint = {"POINT": lambda: tumble.Ball(a, b, **at), "FIXED": lambda: tumble.Weld(a, b, **at),
              "HINGE": lambda: tumble.Hinge(a, b, axis=tuple(turn[:, 2]), limits=lim, **at),
              "SLIDER": lambda: tumble.Slider(a, b, axis=tuple(turn[:, 0]), limits=lim, **at),
-             "PISTON": lambda: tumble.Piston(a, b, axis=tuple(turn[:, 0]), limits=lim, **at)}[kind]()
+             "PISTON": lambda: tumble.Piston(a, b, axis=tuple(turn[:, 0]), limits=lim, **at),
+             # Bullet's largest impulse a substep, over the substep: the largest torque
+             "MOTOR": lambda: tumble.Drive(a, b, axis=tuple(turn[:, 0]), **at,
+                                           motor=tumble.Motor(2.0, max_torque=f32(0.001) / DT))}[kind]()
     w.add_joint(joint)
     want = w.run(1.0, 1 / FPS)
     np.testing.assert_array_equal(run.body_positions[:, world.bodies.row(box)], want.body_positions[:, w.bodies.row(b)])
+    np.testing.assert_array_equal(run.body_orientations[:, world.bodies.row(box)],
+                                  want.body_orientations[:, w.bodies.row(b)])
+    if kind == "MOTOR":  # it falls freely, spinning up about the vertical to the motor's speed
+        spin = run.body_angular_velocities[-1, world.bodies.row(box)]
+        assert abs(abs(spin[2]) - 2.0) < 1e-6 and run.body_positions[-1, world.bodies.row(box), 2] < 2.0 - 4.0
     ENDS[(kind, limits)] = run.body_positions[-1, world.bodies.row(box)]
     # a limit changes the motion, and so does a weld against a ball joint (a ball joint and a hinge across the
     # swing's plane move alike here: nothing pushes out of it)

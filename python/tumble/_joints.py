@@ -149,6 +149,24 @@ class Piston(_Axial):
 
 
 @dataclass(frozen=True)
+class Drive(_Joint):
+    """A drive alone (Blender's and Bullet's motor constraint): its ``Motor`` drives B's spin about ``axis``
+    relative to A (``Motor(speed, max_torque=...)``, rad/s and N m) or B's anchor's slide along it
+    (``Motor(speed, max_force=...)``, m/s and N); nothing else is held."""
+
+    axis: Vec = (1.0, 0.0, 0.0)
+    motor: Optional[Motor] = None
+
+    def _fields(self) -> dict[str, Any]:
+        f = super()._fields()
+        if not isinstance(self.motor, Motor):
+            raise ValueError(f"invalid argument `motor`: a drive needs a tumble.Motor, got {self.motor!r}")
+        f.update(kind="slide-drive" if self.motor.max_force is not None else "spin-drive", axis=self.axis,
+                 motor=self.motor._pair())
+        return f
+
+
+@dataclass(frozen=True)
 class Distance(_Joint):
     """The anchors held ``length`` apart (None: their distance when added): a rigid rod, or with ``rope=True`` a
     rope that only pulls."""

@@ -155,6 +155,7 @@ pub(crate) fn compile_joints(
                 JointType::Slider => tumble_contact::JointKind::Slider,
                 JointType::Weld => tumble_contact::JointKind::Weld,
                 JointType::Piston => tumble_contact::JointKind::Piston,
+                JointType::Drive { linear } => tumble_contact::JointKind::Drive { linear },
                 JointType::Distance { rope, .. } => tumble_contact::JointKind::Distance { length: j.length, rope },
             };
             let joint = Joint {

@@ -277,6 +277,8 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
             JointType::Slider => JointBuilder::slider(a, b, v3(j.axis)),
             JointType::Weld => JointBuilder::weld(a, b),
             JointType::Piston => JointBuilder::piston(a, b, v3(j.axis)),
+            JointType::Drive { linear: false } => JointBuilder::spin_drive(a, b, v3(j.axis)),
+            JointType::Drive { linear: true } => JointBuilder::slide_drive(a, b, v3(j.axis)),
             JointType::Distance { length, rope: false } => JointBuilder::distance(a, b, length),
             JointType::Distance { length, rope: true } => JointBuilder::rope(a, b, length),
         };

@@ -48,6 +48,21 @@ impl World {
             return Err(WorldError::invalid("axis", "must have a length > 0"));
         }
         let moving = matches!(spec.kind, JointType::Hinge | JointType::Slider | JointType::Piston);
+        let drive = matches!(spec.kind, JointType::Drive { .. });
+        if drive && (spec.motor.is_none() || spec.limits.is_some() || spec.spring.is_some()) {
+            let name = if spec.motor.is_none() {
+                "motor"
+            } else if spec.limits.is_some() {
+                "limits"
+            } else {
+                "spring"
+            };
+            return Err(WorldError::invalid(
+                name,
+                "a drive is its motor alone: give it a motor, and no limits or spring",
+            ));
+        }
+        let moving = moving || drive;
         let what = |name: &'static str| {
             WorldError::invalid(name, format!("a {:?} joint has none: only hinges and sliders do", spec.kind))
         };

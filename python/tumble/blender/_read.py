@@ -297,7 +297,9 @@ def _constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], prob
 
     unit = float(scene.unit_settings.scale_length) or 1.0
     kinds = {"FIXED": tumble.Weld, "POINT": tumble.Ball, "HINGE": tumble.Hinge, "SLIDER": tumble.Slider,
-             "PISTON": tumble.Piston}
+             "PISTON": tumble.Piston, "MOTOR": tumble.Drive}
+    # Bullet's motor gives at most its impulse each substep: that over the substep is its torque or force
+    substep = rbw.time_scale / (scene.render.fps / scene.render.fps_base) / rbw.substeps_per_frame
     objects = sorted((o for o in rbw.constraints.objects if o.rigid_body_constraint is not None),
                      key=lambda o: o.name) if rbw.constraints is not None else []
     for obj in objects:
@@ -307,7 +309,7 @@ def _constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], prob
         before = len(problems)
         if c.type not in kinds:
             problems.append(f"{obj.name}: constraint type: {c.type} is not one tumble takes yet (fixed, point, "
-                            "hinge, slider, piston)")
+                            "hinge, slider, piston, motor)")
         if c.type == "PISTON" and c.use_limit_ang_x:
             problems.append(f"{obj.name}: limits angular x: a piston's turn limits are not taken yet")
         if c.use_breaking:
@@ -342,6 +344,15 @@ def _constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], prob
             if c.use_limit_lin_x:
                 fields["limits"] = (float(c.limit_lin_x_lower) * unit, float(c.limit_lin_x_upper) * unit)
         try:
-            world.add_joint(kinds[c.type](ends[0], ends[1], **fields))
+            if c.type == "MOTOR":  # a drive about the constraint's x, and one along it, each where enabled
+                axis = tuple(_to_body(poses[0][1], turn[:, 0]))
+                for on, motor in ((c.use_motor_ang, tumble.Motor(float(c.motor_ang_target_velocity),
+                                                                 max_torque=float(c.motor_ang_max_impulse) / substep)),
+                                  (c.use_motor_lin, tumble.Motor(float(c.motor_lin_target_velocity) * unit,
+                                                                 max_force=float(c.motor_lin_max_impulse) / substep))):
+                    if on:
+                        world.add_joint(tumble.Drive(ends[0], ends[1], axis=axis, motor=motor, **fields))
+            else:
+                world.add_joint(kinds[c.type](ends[0], ends[1], **fields))
         except ValueError as error:
             problems.append(f"{obj.name}: {error}")

@@ -29,6 +29,9 @@ pub enum JointKind {
     Weld,
     /// Cylindrical (a piston): the anchors may part along the axis and B turn about it, nothing else.
     Piston,
+    /// A drive alone (Bullet's motor constraint): nothing held, its motor drives B's spin about the axis relative
+    /// to A (or, `linear`, B's anchor's slide along it).
+    Drive { linear: bool },
     /// The anchors at `length` apart: a rigid rod, or a rope (`rope`) that only pulls and may slacken.
     Distance { length: f64, rope: bool },
 }

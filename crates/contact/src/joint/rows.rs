@@ -107,6 +107,20 @@ pub fn joint_rows(
             }
             joint.kind
         }
+        JointKind::Drive { linear } => {
+            // its motor's row alone: the slide along the axis, or the spin about it
+            if let Some(m) = joint.motor {
+                let kind = RowKind::Motor { speed: m.speed, max_force: m.max_force };
+                if linear {
+                    let (lin, a, b, travel, k) = carried(f.axis);
+                    push(lin, a, b, travel, kind, k);
+                } else {
+                    let k = wa.cross(&f.axis).dot(&(wb - wa));
+                    push(zero, -f.axis, f.axis, 0.0, kind, k);
+                }
+            }
+            joint.kind
+        }
         JointKind::Distance { length, rope } => {
             let len = d.norm();
             let n = if len > 1e-12 * (1.0 + f.ra.norm() + f.rb.norm()) { d / len } else { f.axis };
