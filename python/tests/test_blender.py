@@ -256,7 +256,8 @@ def test_constraints_tumble_lacks_and_breaking_are_refused():
     with pytest.raises(tb.BlenderSceneError) as caught:
         tb.world_from_scene(scene)
     problems = caught.value.problems
-    assert any(p.startswith("generic: constraint type") for p in problems), problems
+    # a generic constraint free on every axis is none of tumble's joints
+    assert any(p.startswith("generic: limits") for p in problems), problems
     assert any(p.startswith("breakable: breakable") for p in problems), problems
 
 
@@ -446,3 +447,79 @@ def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, l
 
 
 ENDS: dict = {}
+
+
+def _hung(kind, setup):
+    """The mapped world of a box hung off a passive anchor by one constraint of ``kind``, set up by ``setup``."""
+    scene = empty_scene(60)
+    anchor = blender_body("cube", "anchor", (0, 0, 2), "BOX", size=0.05)
+    anchor.rigid_body.type = "PASSIVE"
+    blender_body("cube", "box", (0.5, 0, 2), "BOX", size=0.2, mass=1.0)
+    bpy.ops.object.empty_add(location=(0.25, 0, 2))
+    pin = bpy.context.active_object
+    bpy.ops.rigidbody.constraint_add(type=kind)
+    c = pin.rigid_body_constraint
+    c.object1, c.object2 = anchor, bpy.data.objects["box"]
+    pin.rotation_euler = (math.pi / 2, math.pi / 2, 0)
+    setup(c)
+    bpy.context.view_layer.update()
+    mapped = tb.world_from_scene(scene)
+    run = mapped.world.run(1.0, 1 / FPS)
+    row = mapped.world.bodies.row(mapped.handles["box"])
+    return run.body_positions[:, row], run.body_orientations[:, row]
+
+
+def _lock(c, linear, angular):
+    """Locks (a 0 to 0 limit) the generic constraint's axes but those ``linear`` and ``angular`` map to limits
+    (None: free)."""
+    for kind, free in (("lin", linear), ("ang", angular)):
+        for axis in "xyz":
+            limit = free.get(axis, (0.0, 0.0))
+            setattr(c, f"use_limit_{kind}_{axis}", limit is not None)
+            if limit is not None:
+                setattr(c, f"limit_{kind}_{axis}_lower", limit[0])
+                setattr(c, f"limit_{kind}_{axis}_upper", limit[1])
+
+
+def _set(**values):
+    def setup(c):
+        for k, v in values.items():
+            setattr(c, k, v)
+    return setup
+
+
+@pytest.mark.parametrize("generic, same", [
+    ({"linear": {}, "angular": {}}, ("FIXED", _set())),
+    ({"linear": {}, "angular": {"x": None, "y": None, "z": None}}, ("POINT", _set())),
+    ({"linear": {}, "angular": {"z": (-0.3, 0.3)}},
+     ("HINGE", _set(use_limit_ang_z=True, limit_ang_z_lower=-0.3, limit_ang_z_upper=0.3))),
+    ({"linear": {"x": (-0.1, 0.2)}, "angular": {}},
+     ("SLIDER", _set(use_limit_lin_x=True, limit_lin_x_lower=-0.1, limit_lin_x_upper=0.2))),
+    ({"linear": {"x": (-0.1, 0.2)}, "angular": {"x": None}},
+     ("PISTON", _set(use_limit_lin_x=True, limit_lin_x_lower=-0.1, limit_lin_x_upper=0.2))),
+])
+def test_a_generic_constraint_is_the_joint_its_locked_and_free_axes_make(generic, same):
+    for kind in ("GENERIC", "GENERIC_SPRING"):
+        got = _hung(kind, lambda c: _lock(c, generic["linear"], generic["angular"]))
+        want = _hung(*same)
+        np.testing.assert_array_equal(got[0], want[0])
+        np.testing.assert_array_equal(got[1], want[1])
+
+
+def test_a_generic_constraint_no_joint_matches_is_refused_naming_its_axes():
+    scene = empty_scene(10)
+    a = blender_body("cube", "a", (0, 0, 1), "BOX")
+    b = blender_body("cube", "b", (1.5, 0, 1), "BOX")
+    bpy.ops.object.empty_add(location=(0.75, 0, 1))
+    pin = bpy.context.active_object
+    pin.name = "six"
+    bpy.ops.rigidbody.constraint_add(type="GENERIC_SPRING")
+    c = pin.rigid_body_constraint
+    c.object1, c.object2 = a, b
+    _lock(c, {"x": None, "y": None}, {})
+    c.use_spring_x = True
+    with pytest.raises(tb.BlenderSceneError) as caught:
+        tb.world_from_scene(scene)
+    problems = caught.value.problems
+    assert any(p.startswith("six: limits") and "linear x, linear y" in p for p in problems), problems
+    assert any(p.startswith("six: springs") for p in problems), problems

@@ -30,6 +30,8 @@ import numpy.typing as npt
 
 from tumble._geometry import rotation_matrix
 
+from ._constraints import _to_body, constraints
+
 Array = npt.NDArray[np.float64]
 
 CONE_SIDES = 64
@@ -143,12 +145,6 @@ def _damping(obj: Any, shape: Any, mass: float, notes: list[str]) -> dict[str, f
                      "decays each axis's spin at its own rate about Bullet's (the mean moment taken)")
     return {"linear_damping": mass * _decay(rb.linear_damping),
             "angular_damping": float(moments.mean()) * _decay(rb.angular_damping)}
-
-
-def _to_body(wxyz: tuple[float, ...], v: Array) -> Array:
-    """The world vector ``v`` in the frame of orientation ``wxyz``."""
-    out: Array = rotation_matrix(np.asarray(wxyz, dtype=float)).T @ v
-    return out
 
 
 def _paths(scene: Any, rbw: Any, objects: list[Any], unit: float, frame_time: float) -> dict[str, Any]:
@@ -281,78 +277,8 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
             com = world.bodies.positions[row]
             # the object's origin from the centre of mass, in the body frame
             origins[obj.name] = _to_body(orientation, np.array(position) - np.asarray(com))
-    _constraints(world, scene, rbw, handles, problems, notes)
+    constraints(world, scene, rbw, handles, problems, notes)
     if problems:
         raise BlenderSceneError(problems)
     cache = rbw.point_cache
     return Mapped(world, handles, moving, origins, cache.frame_start, cache.frame_end, frame_time, notes)
-
-
-def _constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], problems: list[str],
-                 notes: list[str]) -> None:
-    """The rigid body world's constraints as tumble joints: fixed as a weld, point as a ball, hinge about the
-    constraint object's z (its z angle limits as the hinge's), slider and piston along its x (its x limits), each
-    anchored at the constraint object's origin."""
-    import tumble  # noqa: PLC0415
-
-    unit = float(scene.unit_settings.scale_length) or 1.0
-    kinds = {"FIXED": tumble.Weld, "POINT": tumble.Ball, "HINGE": tumble.Hinge, "SLIDER": tumble.Slider,
-             "PISTON": tumble.Piston, "MOTOR": tumble.Drive}
-    # Bullet's motor gives at most its impulse each substep: that over the substep is its torque or force
-    substep = rbw.time_scale / (scene.render.fps / scene.render.fps_base) / rbw.substeps_per_frame
-    objects = sorted((o for o in rbw.constraints.objects if o.rigid_body_constraint is not None),
-                     key=lambda o: o.name) if rbw.constraints is not None else []
-    for obj in objects:
-        c = obj.rigid_body_constraint
-        if not c.enabled:
-            continue
-        before = len(problems)
-        if c.type not in kinds:
-            problems.append(f"{obj.name}: constraint type: {c.type} is not one tumble takes yet (fixed, point, "
-                            "hinge, slider, piston, motor)")
-        if c.type == "PISTON" and c.use_limit_ang_x:
-            problems.append(f"{obj.name}: limits angular x: a piston's turn limits are not taken yet")
-        if c.use_breaking:
-            problems.append(f"{obj.name}: breakable: tumble's joints do not break")
-        if not c.disable_collisions:
-            problems.append(f"{obj.name}: disable collisions: tumble's jointed bodies never touch each other")
-        ends = []
-        for which in (c.object1, c.object2):
-            if which is None or which.name not in handles:
-                problems.append(f"{obj.name}: objects: {which.name if which else 'none'} is not a rigid body of "
-                                "the world")
-            else:
-                ends.append(handles[which.name])
-        if len(problems) > before:
-            continue
-        if any(o.rigid_body.type == "PASSIVE" for o in (c.object1, c.object2)):
-            notes.append(f"{obj.name}: disable collisions: tumble keeps a joint's moving body touching a passive one "
-                         "(only two moving bodies a joint joins never touch)")
-        location, rotation, _ = obj.matrix_world.decompose()
-        pivot = np.array(location, dtype=float) * unit
-        rows = [world.bodies.row(h) for h in ends]
-        poses = [(world.bodies.positions[r], tuple(world.bodies.orientations[r])) for r in rows]
-        anchors = [_to_body(q, pivot - x) for x, q in poses]
-        fields: dict[str, Any] = {"anchor_a": tuple(anchors[0]), "anchor_b": tuple(anchors[1])}
-        turn = np.array(rotation.to_matrix(), dtype=float)
-        if c.type == "HINGE":
-            fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 2]))
-            if c.use_limit_ang_z:
-                fields["limits"] = (float(c.limit_ang_z_lower), float(c.limit_ang_z_upper))
-        elif c.type in ("SLIDER", "PISTON"):
-            fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 0]))
-            if c.use_limit_lin_x:
-                fields["limits"] = (float(c.limit_lin_x_lower) * unit, float(c.limit_lin_x_upper) * unit)
-        try:
-            if c.type == "MOTOR":  # a drive about the constraint's x, and one along it, each where enabled
-                axis = tuple(_to_body(poses[0][1], turn[:, 0]))
-                for on, motor in ((c.use_motor_ang, tumble.Motor(float(c.motor_ang_target_velocity),
-                                                                 max_torque=float(c.motor_ang_max_impulse) / substep)),
-                                  (c.use_motor_lin, tumble.Motor(float(c.motor_lin_target_velocity) * unit,
-                                                                 max_force=float(c.motor_lin_max_impulse) / substep))):
-                    if on:
-                        world.add_joint(tumble.Drive(ends[0], ends[1], axis=axis, motor=motor, **fields))
-            else:
-                world.add_joint(kinds[c.type](ends[0], ends[1], **fields))
-        except ValueError as error:
-            problems.append(f"{obj.name}: {error}")

@@ -1,0 +1,139 @@
+"""Blender's rigid body constraints as tumble joints: fixed as a weld, point as a ball, hinge about the constraint
+object's z, slider and piston along its x, motor as drives about and along its x, and generic constraints (generic
+springs without their springs) as the one of those their locked, limited and free axes make; each anchored at the
+constraint object's origin. What cannot be mapped is said in ``problems``, naming the object and the setting."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from tumble._geometry import rotation_matrix
+
+AXES = "xyz"
+
+
+def _to_body(wxyz: tuple[float, ...], v: Any) -> Any:
+    """The world vector ``v`` in the frame of orientation ``wxyz``."""
+    return rotation_matrix(np.asarray(wxyz, dtype=float)).T @ v
+
+
+def generic(c: Any) -> tuple[str, int | None, tuple[float, float] | None] | str:
+    """The tumble joint a generic constraint's axes make, as (Blender's constraint type it acts as, the axis's index
+    in the constraint's frame, the limits on it), or why none does. An axis is locked by a limit from 0 to 0, free
+    without a limit, limited by any other."""
+    def state(kind: str, i: int) -> tuple[str, tuple[float, float] | None]:
+        if not getattr(c, f"use_limit_{kind}_{AXES[i]}"):
+            return "free", None
+        lo, hi = (float(getattr(c, f"limit_{kind}_{AXES[i]}_{end}")) for end in ("lower", "upper"))
+        if lo == hi == 0.0:
+            return "locked", None
+        return ("limited", (lo, hi)) if lo < hi else ("locked elsewhere", (lo, hi))
+
+    lin, ang = [state("lin", i) for i in range(3)], [state("ang", i) for i in range(3)]
+    odd = [f"{kind} {AXES[i]}" for kind, axes in (("linear", lin), ("angular", ang))
+           for i, (s, _) in enumerate(axes) if s == "locked elsewhere"]
+    if odd:
+        return f"{', '.join(odd)} held at a value other than 0 (tumble joins the bodies where they are)"
+    moving = [[i for i, (s, _) in enumerate(axes) if s != "locked"] for axes in (lin, ang)]
+    lm, am = moving
+    if not lm and not am:
+        return "FIXED", None, None
+    if not lm and len(am) == 3 and all(s == "free" for s, _ in ang):
+        return "POINT", None, None
+    if not lm and len(am) == 1:
+        return "HINGE", am[0], ang[am[0]][1]
+    if not am and len(lm) == 1:
+        return "SLIDER", lm[0], lin[lm[0]][1]
+    if len(lm) == 1 and am == lm and ang[lm[0]][0] == "free":
+        return "PISTON", lm[0], lin[lm[0]][1]
+    free = ", ".join([f"linear {AXES[i]}" for i in lm] + [f"angular {AXES[i]}" for i in am]) or "none"
+    return (f"its free and limited axes ({free}) make none of tumble's joints (weld, ball, hinge, slider, "
+            "piston)")
+
+
+def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], problems: list[str],
+                 notes: list[str]) -> None:
+    """The rigid body world's constraints as tumble joints: fixed as a weld, point as a ball, hinge about the
+    constraint object's z (its z angle limits as the hinge's), slider and piston along its x (its x limits), each
+    anchored at the constraint object's origin."""
+    import tumble  # noqa: PLC0415
+
+    unit = float(scene.unit_settings.scale_length) or 1.0
+    kinds = {"FIXED": tumble.Weld, "POINT": tumble.Ball, "HINGE": tumble.Hinge, "SLIDER": tumble.Slider,
+             "PISTON": tumble.Piston, "MOTOR": tumble.Drive}
+    # Bullet's motor gives at most its impulse each substep: that over the substep is its torque or force
+    substep = rbw.time_scale / (scene.render.fps / scene.render.fps_base) / rbw.substeps_per_frame
+    objects = sorted((o for o in rbw.constraints.objects if o.rigid_body_constraint is not None),
+                     key=lambda o: o.name) if rbw.constraints is not None else []
+    for obj in objects:
+        c = obj.rigid_body_constraint
+        if not c.enabled:
+            continue
+        before = len(problems)
+        kind, generic_axis, generic_limits = c.type, None, None
+        if c.type in ("GENERIC", "GENERIC_SPRING"):
+            if c.type == "GENERIC_SPRING" and any(getattr(c, f"use_spring_{k}") for k in
+                                                  ("x", "y", "z", "ang_x", "ang_y", "ang_z")):
+                problems.append(f"{obj.name}: springs: a generic spring's springs are not taken yet")
+            acts = generic(c)
+            if isinstance(acts, str):
+                problems.append(f"{obj.name}: limits: {acts}")
+            else:
+                kind, generic_axis, generic_limits = acts
+        if kind not in kinds and kind not in ("GENERIC", "GENERIC_SPRING"):
+            problems.append(f"{obj.name}: constraint type: {c.type} is not one tumble takes yet (fixed, point, "
+                            "hinge, slider, piston, motor, generic)")
+        if c.type == "PISTON" and c.use_limit_ang_x:
+            problems.append(f"{obj.name}: limits angular x: a piston's turn limits are not taken yet")
+        if c.use_breaking:
+            problems.append(f"{obj.name}: breakable: tumble's joints do not break")
+        if not c.disable_collisions:
+            problems.append(f"{obj.name}: disable collisions: tumble's jointed bodies never touch each other")
+        ends = []
+        for which in (c.object1, c.object2):
+            if which is None or which.name not in handles:
+                problems.append(f"{obj.name}: objects: {which.name if which else 'none'} is not a rigid body of "
+                                "the world")
+            else:
+                ends.append(handles[which.name])
+        if len(problems) > before:
+            continue
+        if any(o.rigid_body.type == "PASSIVE" for o in (c.object1, c.object2)):
+            notes.append(f"{obj.name}: disable collisions: tumble keeps a joint's moving body touching a passive one "
+                         "(only two moving bodies a joint joins never touch)")
+        location, rotation, _ = obj.matrix_world.decompose()
+        pivot = np.array(location, dtype=float) * unit
+        rows = [world.bodies.row(h) for h in ends]
+        poses = [(world.bodies.positions[r], tuple(world.bodies.orientations[r])) for r in rows]
+        anchors = [_to_body(q, pivot - x) for x, q in poses]
+        fields: dict[str, Any] = {"anchor_a": tuple(anchors[0]), "anchor_b": tuple(anchors[1])}
+        turn = np.array(rotation.to_matrix(), dtype=float)
+        if c.type in ("GENERIC", "GENERIC_SPRING"):
+            if generic_axis is not None:
+                fields["axis"] = tuple(_to_body(poses[0][1], turn[:, generic_axis]))
+            if generic_limits is not None:
+                scale = 1.0 if kind == "HINGE" else unit
+                fields["limits"] = (generic_limits[0] * scale, generic_limits[1] * scale)
+        elif c.type == "HINGE":
+            fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 2]))
+            if c.use_limit_ang_z:
+                fields["limits"] = (float(c.limit_ang_z_lower), float(c.limit_ang_z_upper))
+        elif c.type in ("SLIDER", "PISTON"):
+            fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 0]))
+            if c.use_limit_lin_x:
+                fields["limits"] = (float(c.limit_lin_x_lower) * unit, float(c.limit_lin_x_upper) * unit)
+        try:
+            if c.type == "MOTOR":  # a drive about the constraint's x, and one along it, each where enabled
+                axis = tuple(_to_body(poses[0][1], turn[:, 0]))
+                for on, motor in ((c.use_motor_ang, tumble.Motor(float(c.motor_ang_target_velocity),
+                                                                 max_torque=float(c.motor_ang_max_impulse) / substep)),
+                                  (c.use_motor_lin, tumble.Motor(float(c.motor_lin_target_velocity) * unit,
+                                                                 max_force=float(c.motor_lin_max_impulse) / substep))):
+                    if on:
+                        world.add_joint(tumble.Drive(ends[0], ends[1], axis=axis, motor=motor, **fields))
+            else:
+                world.add_joint(kinds[kind](ends[0], ends[1], **fields))
+        except ValueError as error:
+            problems.append(f"{obj.name}: {error}")
