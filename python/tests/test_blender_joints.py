@@ -1,0 +1,227 @@
+"""The Blender bake's constraints (``tumble.blender``, headless with Blender as a module, the ``blender`` extra): a
+hinged door and a chain of point constraints baked; every constraint type and its limits, and generic constraints,
+mapped to the tumble joint that runs the same bits as the world built in Python; what tumble's joints lack refused
+by name."""
+
+import math
+
+import numpy as np
+import pytest
+
+import tumble
+
+bpy = pytest.importorskip("bpy", reason="Blender as a module is the `blender` extra")
+import tumble.blender as tb  # noqa: E402
+from blender_scenes import (  # noqa: E402
+    DT, FPS, assert_keyed_like, blender_body, damping, empty_scene, f32, keyed, python_world,
+)
+
+
+def test_a_hinged_door_bakes_as_the_same_world_built_in_python():
+    scene = empty_scene(60)
+    frame = blender_body("cube", "frame", (0, 0, 2), "BOX", size=0.05)
+    frame.rigid_body.type = "PASSIVE"
+    door = blender_body("cube", "door", (0.8, 0, 2), "BOX", size=1.0, mass=5.0)
+    bpy.ops.object.empty_add(location=(0.25, 0, 2))
+    hinge = bpy.context.active_object
+    hinge.name = "hinge"
+    bpy.ops.rigidbody.constraint_add(type="HINGE")
+    hinge.rigid_body_constraint.object1, hinge.rigid_body_constraint.object2 = frame, door
+    hinge.rotation_euler = (math.pi / 2, 0, 0)  # its z along the world's -y: the door swings down about y
+    report = tb.bake(scene)
+    assert any("disable collisions" in n for n in report.bake_notes), "the passive end's collisions are said"
+    x = keyed(door, range(1, 61))
+    assert x[-1, 2] < x[0, 2] - 0.3, "the door swung down"
+    # its centre stays 0.55 m from the hinge's line (the soft step's joints hold to a millimetre)
+    np.testing.assert_allclose(np.linalg.norm((x - (0.25, 0.0, 2.0))[:, [0, 2]], axis=1), 0.55, atol=1e-3)
+    # the same door in Python: the hinge's anchors in each body's frame, its axis in the frame's (the empty's z as
+    # Blender's matrix holds it: float32, so a few 1e-8 off the world's -y)
+    w = python_world()
+    f = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
+    d = w.add_body(tumble.Box(half_extents=(0.5, 0.5, 0.5)), mass=5.0, position=(f32(0.8), 0.0, 2.0), friction=0.25,
+                   **damping(5.0, 5.0 / 6.0, f32(0.04), f32(0.1)))
+    axis = tuple(float(v) for v in hinge.matrix_world.decompose()[1].to_matrix().col[2])
+    w.add_joint(tumble.Hinge(f, d, anchor_a=(0.25, 0.0, 0.0), anchor_b=(0.25 - f32(0.8), 0.0, 0.0), axis=axis))
+    run = w.run(59 / FPS, 1 / FPS)
+    assert_keyed_like(door, run, w.bodies.row(d), range(1, 61))
+
+
+def test_a_chain_of_point_constraints_holds_together():
+    scene = empty_scene(60)
+    top = blender_body("cube", "anchor", (0, 0, 3), "BOX", size=0.1)
+    top.rigid_body.type = "PASSIVE"
+    links = [blender_body("sphere", f"link {k}", (0.2 * (k + 1), 0, 3), "SPHERE", size=0.05, mass=0.2)
+             for k in range(4)]
+    for k, (a, b) in enumerate(zip([top] + links[:-1], links)):
+        bpy.ops.object.empty_add(location=(0.2 * k + 0.1, 0, 3))
+        pin = bpy.context.active_object
+        pin.name = f"pin {k}"
+        bpy.ops.rigidbody.constraint_add(type="POINT")
+        pin.rigid_body_constraint.object1, pin.rigid_body_constraint.object2 = a, b
+    tb.bake(scene)
+    ends = [keyed(o, range(1, 61)) for o in links]
+    # the first link stays 0.1 m from its pin on the fixed anchor, and neighbours no farther than their two pins'
+    # 0.1 m each apart (the soft step's joints hold to a millimetre)
+    np.testing.assert_allclose(np.linalg.norm(ends[0] - (0.1, 0.0, 3.0), axis=1), 0.1, atol=1e-3)
+    for a, b in zip(ends, ends[1:]):
+        assert (np.linalg.norm(a - b, axis=1) <= 0.2 + 1e-3).all()
+    assert ends[-1][:, 2].min() < 3.0 - 0.5, "the chain swung down"
+
+
+def test_constraints_tumble_lacks_and_breaking_are_refused():
+    scene = empty_scene(10)
+    a = blender_body("cube", "a", (0, 0, 1), "BOX")
+    b = blender_body("cube", "b", (1.5, 0, 1), "BOX")
+    for name, kind, breaking in (("generic", "GENERIC", False), ("breakable", "FIXED", True)):
+        bpy.ops.object.empty_add(location=(0.75, 0, 1))
+        pin = bpy.context.active_object
+        pin.name = name
+        bpy.ops.rigidbody.constraint_add(type=kind)
+        c = pin.rigid_body_constraint
+        c.object1, c.object2, c.use_breaking = a, b, breaking
+    with pytest.raises(tb.BlenderSceneError) as caught:
+        tb.world_from_scene(scene)
+    problems = caught.value.problems
+    # a generic constraint free on every axis is none of tumble's joints
+    assert any(p.startswith("generic: limits") for p in problems), problems
+    assert any(p.startswith("breakable: breakable") for p in problems), problems
+
+
+@pytest.mark.parametrize("kind, limits", [("POINT", None), ("FIXED", None), ("HINGE", None), ("HINGE", (-0.3, 0.3)),
+                                          ("SLIDER", None), ("SLIDER", (-0.1, 0.2)), ("PISTON", (-0.1, 0.2)),
+                                          ("MOTOR", None)])
+def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, limits):
+    """A box hung off a passive anchor by one constraint (its object's z along the world's -y, x along the world's
+    -z): the mapped world runs to the same bits as the world built in Python with tumble's joint for it, and every
+    type and limit gives its own motion."""
+    def blender_world():
+        scene = empty_scene(60)
+        anchor = blender_body("cube", "anchor", (0, 0, 2), "BOX", size=0.05)
+        anchor.rigid_body.type = "PASSIVE"
+        box = blender_body("cube", "box", (0.5, 0, 2), "BOX", size=0.2, mass=1.0)
+        bpy.ops.object.empty_add(location=(0.25, 0, 2))
+        pin = bpy.context.active_object
+        bpy.ops.rigidbody.constraint_add(type=kind)
+        c = pin.rigid_body_constraint
+        c.object1, c.object2 = anchor, box
+        pin.rotation_euler = (math.pi / 2, math.pi / 2, 0)
+        if limits is not None and kind == "HINGE":
+            c.use_limit_ang_z, c.limit_ang_z_lower, c.limit_ang_z_upper = True, *limits
+        if kind == "MOTOR":  # a spin about the constraint's x (the world's -z) at 2 rad/s
+            c.use_motor_ang, c.motor_ang_target_velocity, c.motor_ang_max_impulse = True, 2.0, 0.001
+        if limits is not None and kind in ("SLIDER", "PISTON"):
+            c.use_limit_lin_x, c.limit_lin_x_lower, c.limit_lin_x_upper = True, *limits
+        bpy.context.view_layer.update()
+        mapped = tb.world_from_scene(scene)
+        return mapped.world, mapped.handles["box"], pin
+
+    world, box, pin = blender_world()
+    run = world.run(1.0, 1 / FPS)
+    w = python_world()
+    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
+    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.25,
+                   **damping(1.0, 1.0 * (2 * f32(0.2)**2) / 12, f32(0.04), f32(0.1)))
+    turn = np.array(pin.matrix_world.decompose()[1].to_matrix(), dtype=float)
+    at = dict(anchor_a=(0.25, 0.0, 0.0), anchor_b=(0.25 - f32(0.5), 0.0, 0.0))
+    lim = None if limits is None else tuple(float(np.float32(v)) for v in limits)
+    joint = {"POINT": lambda: tumble.Ball(a, b, **at), "FIXED": lambda: tumble.Weld(a, b, **at),
+             "HINGE": lambda: tumble.Hinge(a, b, axis=tuple(turn[:, 2]), limits=lim, **at),
+             "SLIDER": lambda: tumble.Slider(a, b, axis=tuple(turn[:, 0]), limits=lim, **at),
+             "PISTON": lambda: tumble.Piston(a, b, axis=tuple(turn[:, 0]), limits=lim, **at),
+             # Bullet's largest impulse a substep, over the substep: the largest torque
+             "MOTOR": lambda: tumble.Drive(a, b, axis=tuple(turn[:, 0]), **at,
+                                           motor=tumble.Motor(2.0, max_torque=f32(0.001) / DT))}[kind]()
+    w.add_joint(joint)
+    want = w.run(1.0, 1 / FPS)
+    np.testing.assert_array_equal(run.body_positions[:, world.bodies.row(box)], want.body_positions[:, w.bodies.row(b)])
+    np.testing.assert_array_equal(run.body_orientations[:, world.bodies.row(box)],
+                                  want.body_orientations[:, w.bodies.row(b)])
+    if kind == "MOTOR":  # it falls freely, spinning up about the vertical to the motor's speed
+        spin = run.body_angular_velocities[-1, world.bodies.row(box)]
+        assert abs(abs(spin[2]) - 2.0) < 1e-6 and run.body_positions[-1, world.bodies.row(box), 2] < 2.0 - 4.0
+    ENDS[(kind, limits)] = run.body_positions[-1, world.bodies.row(box)]
+    # a limit changes the motion, and so does a weld against a ball joint (a ball joint and a hinge across the
+    # swing's plane move alike here: nothing pushes out of it)
+    for pair in (("HINGE", None), ("HINGE", (-0.3, 0.3))), (("SLIDER", None), ("SLIDER", (-0.1, 0.2))), \
+            (("POINT", None), ("FIXED", None)):
+        if all(p in ENDS for p in pair):
+            assert np.abs(ENDS[pair[0]] - ENDS[pair[1]]).max() > 1e-3, f"{pair} move alike"
+
+
+ENDS: dict = {}
+
+
+def _hung(kind, setup):
+    """The mapped world of a box hung off a passive anchor by one constraint of ``kind``, set up by ``setup``."""
+    scene = empty_scene(60)
+    anchor = blender_body("cube", "anchor", (0, 0, 2), "BOX", size=0.05)
+    anchor.rigid_body.type = "PASSIVE"
+    blender_body("cube", "box", (0.5, 0, 2), "BOX", size=0.2, mass=1.0)
+    bpy.ops.object.empty_add(location=(0.25, 0, 2))
+    pin = bpy.context.active_object
+    bpy.ops.rigidbody.constraint_add(type=kind)
+    c = pin.rigid_body_constraint
+    c.object1, c.object2 = anchor, bpy.data.objects["box"]
+    pin.rotation_euler = (math.pi / 2, math.pi / 2, 0)
+    setup(c)
+    bpy.context.view_layer.update()
+    mapped = tb.world_from_scene(scene)
+    run = mapped.world.run(1.0, 1 / FPS)
+    row = mapped.world.bodies.row(mapped.handles["box"])
+    return run.body_positions[:, row], run.body_orientations[:, row]
+
+
+def _lock(c, linear, angular):
+    """Locks (a 0 to 0 limit) the generic constraint's axes but those ``linear`` and ``angular`` map to limits
+    (None: free)."""
+    for kind, free in (("lin", linear), ("ang", angular)):
+        for axis in "xyz":
+            limit = free.get(axis, (0.0, 0.0))
+            setattr(c, f"use_limit_{kind}_{axis}", limit is not None)
+            if limit is not None:
+                setattr(c, f"limit_{kind}_{axis}_lower", limit[0])
+                setattr(c, f"limit_{kind}_{axis}_upper", limit[1])
+
+
+def _set(**values):
+    def setup(c):
+        for k, v in values.items():
+            setattr(c, k, v)
+    return setup
+
+
+@pytest.mark.parametrize("generic, same", [
+    ({"linear": {}, "angular": {}}, ("FIXED", _set())),
+    ({"linear": {}, "angular": {"x": None, "y": None, "z": None}}, ("POINT", _set())),
+    ({"linear": {}, "angular": {"z": (-0.3, 0.3)}},
+     ("HINGE", _set(use_limit_ang_z=True, limit_ang_z_lower=-0.3, limit_ang_z_upper=0.3))),
+    ({"linear": {"x": (-0.1, 0.2)}, "angular": {}},
+     ("SLIDER", _set(use_limit_lin_x=True, limit_lin_x_lower=-0.1, limit_lin_x_upper=0.2))),
+    ({"linear": {"x": (-0.1, 0.2)}, "angular": {"x": None}},
+     ("PISTON", _set(use_limit_lin_x=True, limit_lin_x_lower=-0.1, limit_lin_x_upper=0.2))),
+])
+def test_a_generic_constraint_is_the_joint_its_locked_and_free_axes_make(generic, same):
+    for kind in ("GENERIC", "GENERIC_SPRING"):
+        got = _hung(kind, lambda c: _lock(c, generic["linear"], generic["angular"]))
+        want = _hung(*same)
+        np.testing.assert_array_equal(got[0], want[0])
+        np.testing.assert_array_equal(got[1], want[1])
+
+
+def test_a_generic_constraint_no_joint_matches_is_refused_naming_its_axes():
+    scene = empty_scene(10)
+    a = blender_body("cube", "a", (0, 0, 1), "BOX")
+    b = blender_body("cube", "b", (1.5, 0, 1), "BOX")
+    bpy.ops.object.empty_add(location=(0.75, 0, 1))
+    pin = bpy.context.active_object
+    pin.name = "six"
+    bpy.ops.rigidbody.constraint_add(type="GENERIC_SPRING")
+    c = pin.rigid_body_constraint
+    c.object1, c.object2 = a, b
+    _lock(c, {"x": None, "y": None}, {})
+    c.use_spring_x = True
+    with pytest.raises(tb.BlenderSceneError) as caught:
+        tb.world_from_scene(scene)
+    problems = caught.value.problems
+    assert any(p.startswith("six: limits") and "linear x, linear y" in p for p in problems), problems
+    assert any(p.startswith("six: springs") for p in problems), problems
