@@ -18,6 +18,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod body;
+mod body_builder;
 mod collider;
 mod engine;
 mod error;
