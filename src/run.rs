@@ -112,10 +112,17 @@ impl Run {
         self.particle_velocities.extend_from_slice(&y[l.pv(0)..l.pv(0) + 3 * l.particles]);
         for source in &self.sources {
             let (x, q, v, w) = match *source {
-                BodySource::Dynamic(j) => {
-                    let k = model.body_kin(y, j);
-                    (get3(y, l.bx(j)), UnitQuaternion::new_normalize(get_quat(y, l.bq(j))), k.velocity, k.omega)
-                }
+                BodySource::Dynamic(j) => match &model.bodies[j].kinematic {
+                    // a kinematic body is on its path (frames between steps are interpolated, its path exact)
+                    Some(path) => {
+                        let (pose, (v, w)) = (path.pose_at(t), path.velocity_at(t));
+                        (pose.translation.vector, pose.rotation, v, w)
+                    }
+                    None => {
+                        let k = model.body_kin(y, j);
+                        (get3(y, l.bx(j)), UnitQuaternion::new_normalize(get_quat(y, l.bq(j))), k.velocity, k.omega)
+                    }
+                },
                 BodySource::Static(x, q) => (x, q, Vector3::zeros(), Vector3::zeros()),
             };
             self.body_positions.extend_from_slice(x.as_slice());

@@ -53,6 +53,25 @@ impl Model {
         changed
     }
 
+    /// Puts every kinematic body of state y at its path's pose at t (its velocities untouched): after each accepted
+    /// step of accurate mode's integration, whose turn between keyframes would otherwise drift by its error
+    /// tolerance. Returns whether any number changed.
+    pub(crate) fn place_kinematic(&self, t: f64, y: &mut [f64]) -> bool {
+        let l = self.layout;
+        let mut changed = false;
+        for (j, b) in self.bodies.iter().enumerate() {
+            let Some(path) = &b.kinematic else { continue };
+            let pose = path.pose_at(t);
+            let q = pose.rotation;
+            if get3(y, l.bx(j)) != pose.translation.vector || y[l.bq(j)..l.bq(j) + 4] != [q.w, q.i, q.j, q.k] {
+                set3(y, l.bx(j), &pose.translation.vector);
+                set_quat(y, l.bq(j), &q);
+                changed = true;
+            }
+        }
+        changed
+    }
+
     /// The first keyframe of any kinematic body after t: where accurate mode's integration must stop.
     pub(crate) fn next_keyframe_after(&self, t: f64) -> Option<f64> {
         self.bodies.iter().filter_map(|b| b.kinematic.as_ref()?.next_time_after(t)).reduce(f64::min)

@@ -119,9 +119,12 @@ impl OdeSystem for AccurateSystem {
         Ok(())
     }
 
-    /// Quaternions back on unit length, then the state back on the joints.
-    fn project(&mut self, _t: f64, y: &mut [f64]) -> bool {
+    /// Quaternions back on unit length, kinematic bodies back on their paths, then the state back on the joints.
+    fn project(&mut self, t: f64, y: &mut [f64]) -> bool {
         let mut changed = self.model.normalize_quaternions(y);
+        if self.model.place_kinematic(t, y) {
+            changed = true;
+        }
         if project_joints(&self.model, y, JOINT_DRIFT) {
             changed = true;
         }
