@@ -342,3 +342,43 @@ def test_a_static_exact_mesh_and_a_hull_are_taken(tmp_path):
     assert world.bodies.kinematic == [False, False]
     run = world.run(1.0, frame_interval=0.5)
     assert run.body_positions[-1, 1, 2] < 3.0 - 1.0, "the hull fell onto the tetrahedron's face or past it"
+
+
+def test_a_run_writes_back_in_the_stages_own_units_and_axes(tmp_path):
+    # a centimetre, y-up stage: a box 100 cm up falls; the samples over its prim are in centimetres, y up
+    source = tmp_path / "cm.usda"
+    stage = new_stage(source, up="Y", metres=0.01)
+    box = collider(placed(UsdGeom.Cube.Define(stage, "/World/box"), (30.0, 100.0, 40.0)), rigid=True)
+    UsdGeom.Cube(box).CreateSizeAttr(20.0)
+    stage.GetRootLayer().Save()
+    world, handles = tumble.World.from_usd(source)
+    run = world.run(0.4, frame_interval=0.1)
+    layered = Usd.Stage.Open(str(run.export_usd(tmp_path / "over.usda", over=source)))
+    assert UsdGeom.GetStageUpAxis(layered) == UsdGeom.Tokens.y and UsdGeom.GetStageMetersPerUnit(layered) == 0.01
+    prim = layered.GetPrimAtPath("/World/box")
+    b = run.bodies.index(handles["/World/box"])
+    for frame in range(len(run.times)):
+        m = UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(24.0 * run.times[frame]))
+        x, y, z = run.body_positions[frame, b]  # tumble's metres, z up: the stage's (x, z, -y) in centimetres
+        assert np.allclose(np.array(m.ExtractTranslation()), (100 * x, 100 * z, -100 * y), rtol=0, atol=1e-9)
+    # it fell 0.5 g t^2 = 0.785 m by 0.4 s: 78.5 cm down the stage's y
+    assert np.array(UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(Usd.TimeCode(9.6)).ExtractTranslation())[1] \
+        == pytest.approx(100.0 - 100 * 0.5 * 9.81 * 0.16, abs=1e-6)
+
+
+def test_the_round_trip_leaves_a_kinematic_prims_animation_alone(tmp_path):
+    source = tmp_path / "paddle.usda"
+    stage = new_stage(source)
+    paddle = collider(UsdGeom.Cube.Define(stage, "/World/paddle").GetPrim(), rigid=True)
+    UsdPhysics.RigidBodyAPI(paddle).CreateKinematicEnabledAttr(True)
+    op = UsdGeom.Xformable(paddle).AddTranslateOp(DOUBLE)
+    for code, x in ((0.0, -1.0), (24.0, 1.0)):
+        op.Set(Gf.Vec3d(x, 0.0, 3.0), Usd.TimeCode(code))
+    ball = collider(placed(UsdGeom.Sphere.Define(stage, "/World/ball"), (0.0, 2.0, 1.0)), rigid=True)
+    UsdGeom.Sphere(ball).CreateRadiusAttr(0.1)
+    stage.GetRootLayer().Save()
+    world, _ = tumble.World.from_usd(source, mode="fast", dt=1 / 240)
+    out = world.run(0.5, frame_interval=0.1).export_usd(tmp_path / "over.usda", over=source)
+    layer = Sdf.Layer.FindOrOpen(str(out))
+    assert layer.GetPrimAtPath("/World/ball") is not None
+    assert layer.GetPrimAtPath("/World/paddle") is None, "the paddle's own animation is not overridden"

@@ -1,8 +1,8 @@
 """A run written back onto the stage it was read from (``Run.export_usd(path, over=source)``): a new layer that
 has the source as its sublayer and, on each rigid body prim a run's body is named by, an override of its transform
 (translate, orient and scale ops of its own) time-sampled at every frame, in the source's units, axes and time codes,
-local to the prim's parent. Tools that open the layer (Houdini, Omniverse, usdview) play the run on the original
-scene."""
+local to the prim's parent; a kinematic prim keeps its own animation. Tools that open the layer (Houdini,
+Omniverse, usdview) play the run on the original scene."""
 
 from __future__ import annotations
 
@@ -49,6 +49,8 @@ def export_over(run: "Run", path: Path, source: Path) -> Path:
         prim = src.GetPrimAtPath(name) if name and Sdf.Path.IsValidPathString(name) else None
         if prim is None or not prim.IsValid() or not prim.HasAPI(UsdPhysics.RigidBodyAPI) or name not in handles:
             continue
+        if UsdPhysics.RigidBodyAPI(prim).GetKinematicEnabledAttr().Get():
+            continue  # a kinematic body follows the prim's own animation: that stays as it is
         row = start.bodies.row(handles[name])
         x0, r0 = np.asarray(start.bodies.positions[row]), rotation_matrix(np.asarray(start.bodies.orientations[row]))
         xp, rp, scale = frames.pose(_world_matrix(prim))
