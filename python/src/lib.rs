@@ -14,6 +14,7 @@ mod report;
 mod shapes;
 mod state;
 mod world;
+mod world_bodies;
 mod world_joints;
 mod world_modes;
 mod world_scenes;

@@ -94,28 +94,16 @@ def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, l
     """A box hung off a passive anchor by one constraint (its object's z along the world's -y, x along the world's
     -z): the mapped world runs to the same bits as the world built in Python with tumble's joint for it, and every
     type and limit gives its own motion."""
-    def blender_world():
-        scene = empty_scene(60)
-        anchor = blender_body("cube", "anchor", (0, 0, 2), "BOX", size=0.05)
-        anchor.rigid_body.type = "PASSIVE"
-        box = blender_body("cube", "box", (0.5, 0, 2), "BOX", size=0.2, mass=1.0)
-        bpy.ops.object.empty_add(location=(0.25, 0, 2))
-        pin = bpy.context.active_object
-        bpy.ops.rigidbody.constraint_add(type=kind)
-        c = pin.rigid_body_constraint
-        c.object1, c.object2 = anchor, box
-        pin.rotation_euler = (math.pi / 2, math.pi / 2, 0)
+    def setup(c):
         if limits is not None and kind == "HINGE":
             c.use_limit_ang_z, c.limit_ang_z_lower, c.limit_ang_z_upper = True, *limits
         if kind == "MOTOR":  # a spin about the constraint's x (the world's -z) at 2 rad/s
             c.use_motor_ang, c.motor_ang_target_velocity, c.motor_ang_max_impulse = True, 2.0, 0.001
         if limits is not None and kind in ("SLIDER", "PISTON"):
             c.use_limit_lin_x, c.limit_lin_x_lower, c.limit_lin_x_upper = True, *limits
-        bpy.context.view_layer.update()
-        mapped = tb.world_from_scene(scene)
-        return mapped.world, mapped.handles["box"], pin
 
-    world, box, pin = blender_world()
+    mapped, pin = _hung_scene(kind, setup)
+    world, box = mapped.world, mapped.handles["box"]
     run = world.run(1.0, 1 / FPS)
     w = python_world()
     a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
@@ -151,21 +139,27 @@ def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, l
 ENDS: dict = {}
 
 
-def _hung(kind, setup):
-    """The mapped world of a box hung off a passive anchor by one constraint of ``kind``, set up by ``setup``."""
+def _hung_scene(kind, setup):
+    """A box hung off a passive anchor by one constraint of ``kind`` (its object's z along the world's -y, x along
+    the world's -z), set up by ``setup``: the mapped world and the constraint's object."""
     scene = empty_scene(60)
     anchor = blender_body("cube", "anchor", (0, 0, 2), "BOX", size=0.05)
     anchor.rigid_body.type = "PASSIVE"
-    blender_body("cube", "box", (0.5, 0, 2), "BOX", size=0.2, mass=1.0)
+    box = blender_body("cube", "box", (0.5, 0, 2), "BOX", size=0.2, mass=1.0)
     bpy.ops.object.empty_add(location=(0.25, 0, 2))
     pin = bpy.context.active_object
     bpy.ops.rigidbody.constraint_add(type=kind)
     c = pin.rigid_body_constraint
-    c.object1, c.object2 = anchor, bpy.data.objects["box"]
+    c.object1, c.object2 = anchor, box
     pin.rotation_euler = (math.pi / 2, math.pi / 2, 0)
     setup(c)
     bpy.context.view_layer.update()
-    mapped = tb.world_from_scene(scene)
+    return tb.world_from_scene(scene), pin
+
+
+def _hung(kind, setup):
+    """The box's positions and orientations over a second of ``_hung_scene``'s mapped world."""
+    mapped, _ = _hung_scene(kind, setup)
     run = mapped.world.run(1.0, 1 / FPS)
     row = mapped.world.bodies.row(mapped.handles["box"])
     return run.body_positions[:, row], run.body_orientations[:, row]

@@ -247,25 +247,24 @@ def _generic_joint(stage):
     UsdPhysics.Joint.Define(stage, "/World/d6").CreateBody1Rel().SetTargets([_body(stage).GetPath()])
 
 
-def _breakable(stage):
-    j = UsdPhysics.FixedJoint.Define(stage, "/World/weld")
+def _to_world(stage, schema, path):
+    """A joint of ``schema`` at ``path`` from the world to a box at (0, 0, 1), its frames together."""
+    j = schema.Define(stage, path)
     j.CreateBody1Rel().SetTargets([_body(stage).GetPath()])
     j.CreateLocalPos0Attr(Gf.Vec3f(0.0, 0.0, 1.0))
-    j.CreateBreakForceAttr(100.0)
+    return j
+
+
+def _breakable(stage):
+    _to_world(stage, UsdPhysics.FixedJoint, "/World/weld").CreateBreakForceAttr(100.0)
 
 
 def _colliding_joint(stage):
-    j = UsdPhysics.FixedJoint.Define(stage, "/World/weld")
-    j.CreateBody1Rel().SetTargets([_body(stage).GetPath()])
-    j.CreateLocalPos0Attr(Gf.Vec3f(0.0, 0.0, 1.0))
-    j.CreateCollisionEnabledAttr(True)
+    _to_world(stage, UsdPhysics.FixedJoint, "/World/weld").CreateCollisionEnabledAttr(True)
 
 
 def _cone_limit(stage):
-    j = UsdPhysics.SphericalJoint.Define(stage, "/World/ball")
-    j.CreateBody1Rel().SetTargets([_body(stage).GetPath()])
-    j.CreateLocalPos0Attr(Gf.Vec3f(0.0, 0.0, 1.0))
-    j.CreateConeAngle0LimitAttr(30.0)
+    _to_world(stage, UsdPhysics.SphericalJoint, "/World/ball").CreateConeAngle0LimitAttr(30.0)
 
 
 def _frames_apart(stage):
@@ -274,9 +273,7 @@ def _frames_apart(stage):
 
 
 def _acceleration_drive(stage):
-    j = UsdPhysics.RevoluteJoint.Define(stage, "/World/hinge")
-    j.CreateBody1Rel().SetTargets([_body(stage).GetPath()])
-    j.CreateLocalPos0Attr(Gf.Vec3f(0.0, 0.0, 1.0))
+    j = _to_world(stage, UsdPhysics.RevoluteJoint, "/World/hinge")
     UsdPhysics.DriveAPI.Apply(j.GetPrim(), "angular").CreateTypeAttr("acceleration")
 
 

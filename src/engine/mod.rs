@@ -23,6 +23,8 @@ pub(crate) mod found_contact;
 pub(crate) mod last_contacts;
 mod memory;
 #[cfg(feature = "contact")]
+mod reach;
+#[cfg(feature = "contact")]
 mod semi_implicit;
 #[cfg(feature = "contact")]
 mod state_error;

@@ -43,30 +43,34 @@ impl Model {
             if step.is_none() && get3(y, l.bp(j)) == v && get3(y, l.bl(j)) == w {
                 continue;
             }
-            let pose = path.pose_at(t);
-            set3(y, l.bx(j), &pose.translation.vector);
-            set_quat(y, l.bq(j), &pose.rotation);
             set3(y, l.bp(j), &v);
             set3(y, l.bl(j), &w);
+            self.place_one(j, path, t, y);
             changed = true;
         }
         changed
+    }
+
+    /// Puts kinematic body j of state y at `path`'s pose at t; whether a number changed.
+    fn place_one(&self, j: usize, path: &crate::keyframes::Keyframes, t: f64, y: &mut [f64]) -> bool {
+        let (l, pose) = (self.layout, path.pose_at(t));
+        let q = pose.rotation;
+        if get3(y, l.bx(j)) == pose.translation.vector && y[l.bq(j)..l.bq(j) + 4] == [q.w, q.i, q.j, q.k] {
+            return false;
+        }
+        set3(y, l.bx(j), &pose.translation.vector);
+        set_quat(y, l.bq(j), &q);
+        true
     }
 
     /// Puts every kinematic body of state y at its path's pose at t (its velocities untouched): after each accepted
     /// step of accurate mode's integration, whose turn between keyframes would otherwise drift by its error
     /// tolerance. Returns whether any number changed.
     pub(crate) fn place_kinematic(&self, t: f64, y: &mut [f64]) -> bool {
-        let l = self.layout;
         let mut changed = false;
         for (j, b) in self.bodies.iter().enumerate() {
-            let Some(path) = &b.kinematic else { continue };
-            let pose = path.pose_at(t);
-            let q = pose.rotation;
-            if get3(y, l.bx(j)) != pose.translation.vector || y[l.bq(j)..l.bq(j) + 4] != [q.w, q.i, q.j, q.k] {
-                set3(y, l.bx(j), &pose.translation.vector);
-                set_quat(y, l.bq(j), &q);
-                changed = true;
+            if let Some(path) = &b.kinematic {
+                changed |= self.place_one(j, path, t, y);
             }
         }
         changed
@@ -78,6 +82,7 @@ impl Model {
     }
 
     /// Whether kinematic body j (by body index) has moving still to do after t (it cannot sleep until then).
+    #[cfg_attr(not(feature = "contact"), allow(dead_code))] // sleep is a contact stage
     pub(crate) fn kinematic_moves_after(&self, j: usize, t: f64) -> bool {
         self.bodies[j].kinematic.as_ref().is_some_and(|k| k.moves_after(t))
     }

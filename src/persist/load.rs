@@ -126,6 +126,17 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
         limits::vector("origin", &v3(o), limits::COORDINATE, "m")?;
         builder = builder.origin_offset(v3(o));
     }
+    // the position is put in exactly by `exact_fields`, within the bound of states a file may hold
+    Ok(surface(builder, b)
+        .orientation(quaternion("orientation", b.orientation)?)
+        .velocity(v3(b.velocity.unwrap_or_default()))
+        .angular_velocity(v3(b.angular_velocity.unwrap_or_default()))
+        .linear_damping(b.linear_damping)
+        .angular_damping(b.angular_damping))
+}
+
+/// A body's collision groups, look and material from its file.
+fn surface(mut builder: RigidBodyBuilder, b: &BodyFile) -> RigidBodyBuilder {
     if let Some(groups) = b.collision_groups {
         builder = builder.collision_groups(groups);
     }
@@ -135,15 +146,7 @@ fn body_builder(b: &BodyFile) -> Result<RigidBodyBuilder, WorldError> {
     if let Some(rgba) = b.color {
         builder = builder.color(rgba);
     }
-    // the position is put in exactly by `exact_fields`, within the bound of states a file may hold
-    Ok(builder
-        .orientation(quaternion("orientation", b.orientation)?)
-        .velocity(v3(b.velocity.unwrap_or_default()))
-        .angular_velocity(v3(b.angular_velocity.unwrap_or_default()))
-        .linear_damping(b.linear_damping)
-        .angular_damping(b.angular_damping)
-        .restitution(b.restitution)
-        .friction(b.friction))
+    builder.restitution(b.restitution).friction(b.friction)
 }
 
 /// A kinematic body from its file: its path, colliders, look and material (its pose follows from the path).
@@ -161,16 +164,7 @@ fn kinematic_builder(
     for (s, pose) in colliders {
         builder = builder.collider(s, pose);
     }
-    if let Some(groups) = b.collision_groups {
-        builder = builder.collision_groups(groups);
-    }
-    if let Some(name) = &b.name {
-        builder = builder.name(name.clone());
-    }
-    if let Some(rgba) = b.color {
-        builder = builder.color(rgba);
-    }
-    Ok(builder.restitution(b.restitution).friction(b.friction))
+    Ok(surface(builder, b))
 }
 
 /// The bound on positions and velocities a file may hold: beyond what a user may set (1e12 m, 1e12 m/s), since a

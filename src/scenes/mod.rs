@@ -168,6 +168,7 @@ pub fn spinning_top() -> Result<(World, BodyHandle), WorldError> {
 }
 
 /// The built-in scenes' colours (linear RGB, opaque): the bodies of a scene take them in turn.
+#[cfg_attr(not(feature = "contact"), allow(dead_code))] // the scenes that use it have contact
 const PALETTE: [[f64; 4]; 6] = [
     [0.80, 0.18, 0.12, 1.0],
     [0.10, 0.35, 0.75, 1.0],
@@ -178,6 +179,7 @@ const PALETTE: [[f64; 4]; 6] = [
 ];
 
 /// The k-th colour of the built-in scenes' palette.
+#[cfg_attr(not(feature = "contact"), allow(dead_code))]
 pub(crate) fn hue(k: usize) -> [f64; 4] {
     PALETTE[k % PALETTE.len()]
 }

@@ -118,15 +118,12 @@ fn slide_limit(
     let touching = cx.memory.scales.tolerance.max(cx.settings.contact_distance);
     for f in found {
         let (ca, cb) = f.key.colliders;
-        let r = cx.scene.colliders[ca as usize].radius.max(cx.scene.colliders[cb as usize].radius);
-        if !r.is_finite() {
-            continue;
-        }
-        let r = cx.scene.colliders[ca as usize].radius.min(cx.scene.colliders[cb as usize].radius);
+        let (ra, rb) = (cx.scene.colliders[ca as usize].radius, cx.scene.colliders[cb as usize].radius);
         let c = &f.contact;
-        if c.distance > touching {
+        if !ra.max(rb).is_finite() || c.distance > touching {
             continue;
         }
+        let r = ra.min(rb);
         let v = states[c.a].point_velocity(&c.point) - states[c.b].point_velocity(&c.point);
         let speed = (v - c.normal.into_inner() * c.normal.dot(&v)).norm();
         if speed > 0.0 {

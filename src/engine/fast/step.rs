@@ -1,5 +1,6 @@
 //! One step of fast mode as a list of stages, one file each, run in order on the step's context (the engine's
-//! parts, borrowed for the step): the kinematic bodies put on their path, the applied forces at the step's start (`applied_forces.rs`), the contacts found
+//! parts, borrowed for the step): the kinematic bodies put on their path, the applied forces at the step's start
+//! (`applied_forces.rs`), the contacts found
 //! with a margin (`find_contacts.rs`), the contact solve, either the soft step, which gives velocities and poses
 //! from its substeps (`soft_solve.rs`, the default), or the exact solver's velocities from one conic program per
 //! island (`solve_velocities.rs`) and positions from them by semi-implicit Euler; then the state's check, the
