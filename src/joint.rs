@@ -48,6 +48,14 @@ pub struct JointSpringSpec {
     pub target: f64,
 }
 
+/// When a joint breaks: as soon as the force it carries (on B, N) or its torque about B's anchor (N m) exceeds its
+/// bound; either may be infinite. A broken joint holds nothing from then on and its bodies collide again.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Breaking {
+    pub force: f64,
+    pub torque: f64,
+}
+
 /// Describes a joint to add: `JointBuilder::hinge(a, b, axis).anchor_a(..).anchor_b(..).limits(-1.0, 1.0)`.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct JointBuilder {
@@ -66,6 +74,9 @@ pub struct JointBuilder {
     pub(crate) spring: Option<JointSpringSpec>,
     /// A soft joint's stiffness (Hz) and damping ratio (fast mode); None: rigid.
     pub(crate) softness: Option<(f64, f64)>,
+    /// When it breaks; None: never.
+    #[serde(default)]
+    pub(crate) breaking: Option<Breaking>,
 }
 
 impl JointBuilder {
@@ -81,6 +92,7 @@ impl JointBuilder {
             motor: None,
             spring: None,
             softness: None,
+            breaking: None,
         }
     }
     /// A ball (spherical) joint: the anchors coincide.
@@ -95,7 +107,6 @@ impl JointBuilder {
     pub fn slider(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
         Self { axis, ..Self::new(JointType::Slider, a, b) }
     }
-    /// A weld (fixed) joint.
     /// A piston (cylindrical) joint along `axis` (A's frame): the anchors may part along it and B turn about it;
     /// limits, a motor and a spring act on the travel, as a slider's.
     pub fn piston(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
@@ -153,6 +164,12 @@ impl JointBuilder {
         self.spring = Some(JointSpringSpec { stiffness, damping, target });
         self
     }
+    /// Breaks the joint once the force it carries exceeds `max_force` (N) or its torque about B's anchor exceeds
+    /// `max_torque` (N m), in either mode; either may be infinite (not both).
+    pub fn breaking(mut self, max_force: f64, max_torque: f64) -> Self {
+        self.breaking = Some(Breaking { force: max_force, torque: max_torque });
+        self
+    }
     /// Softness in fast mode: stiffness (Hz) and damping ratio; rigid without.
     pub fn softness(mut self, hertz: f64, damping_ratio: f64) -> Self {
         self.softness = Some((hertz, damping_ratio));
@@ -169,6 +186,8 @@ pub struct Joint {
     /// The axis in B's frame, and B's rotation relative to A's when the joint was added (q_A^-1 q_B).
     pub(crate) axis_b: Vector3<f64>,
     pub(crate) reference: UnitQuaternion<f64>,
+    /// Whether it has broken (it then holds nothing).
+    pub(crate) broken: bool,
 }
 
 impl Joint {
@@ -187,6 +206,10 @@ impl Joint {
     /// Its anchors: on A (A's frame, or a world point when A is the world) and on B (likewise).
     pub fn anchors(&self) -> (Vector3<f64>, Vector3<f64>) {
         (self.spec.anchor_a, self.spec.anchor_b)
+    }
+    /// Whether it has broken (past its `breaking` bounds): it then holds nothing.
+    pub fn is_broken(&self) -> bool {
+        self.broken
     }
     /// The description it was added with.
     pub fn builder(&self) -> &JointBuilder {

@@ -47,6 +47,9 @@ pub struct Run {
     pub penetration: Vec<f64>,
     /// Times of the contact events of accurate mode (collisions located by bisection, and drift corrections).
     pub contact_events: Vec<f64>,
+    /// The joints, in the world's order, and the time each joint that broke during the run broke, in order.
+    pub joints: Vec<crate::joint::JointHandle>,
+    pub joint_breaks: Vec<(f64, crate::joint::JointHandle)>,
     /// How many contact points each frame has (the contacts of the step that ended there).
     pub contact_counts: Vec<usize>,
     /// The contact points of all frames, frame after frame: a point (x, y, z) then its normal (x, y, z).
@@ -81,10 +84,19 @@ impl Run {
             step_sizes: Vec::new(),
             penetration: Vec::new(),
             contact_events: Vec::new(),
+            joints: Vec::new(),
+            joint_breaks: Vec::new(),
             contact_counts: Vec::new(),
             contact_points: Vec::new(),
             report: WorldReport::new(method),
             sources,
+        }
+    }
+
+    /// Books joint `k` (the world's k-th) as broken at time t.
+    pub(crate) fn break_joint(&mut self, t: f64, k: usize) {
+        if let Some(&h) = self.joints.get(k) {
+            self.joint_breaks.push((t, h));
         }
     }
 
@@ -215,6 +227,7 @@ impl Run {
                 step_sizes: self.step_sizes,
                 penetration: self.penetration,
                 contact_events: self.contact_events,
+                joint_break_times: self.joint_breaks.iter().map(|(t, _)| *t).collect(),
                 contact_counts: self.contact_counts,
                 contact_points: self.contact_points,
                 particle_count: self.particles.len(),
@@ -245,6 +258,8 @@ pub struct RunArrays {
     pub step_sizes: Vec<f64>,
     pub penetration: Vec<f64>,
     pub contact_events: Vec<f64>,
+    /// The times of `Run::joint_breaks`.
+    pub joint_break_times: Vec<f64>,
     /// Contact points per frame, and each point with its normal (6 numbers) for all frames in order.
     pub contact_counts: Vec<usize>,
     pub contact_points: Vec<f64>,

@@ -35,15 +35,7 @@ pub fn _rollout<'py>(
     let c = &mut control;
     let result = py.detach(move || tumble::rollout(&template, &states, settings, |fraction| c.go_on(fraction)));
     match result {
-        Ok(runs) => runs
-            .into_iter()
-            .map(|run| {
-                let handles =
-                    (run.particles.iter().map(|&h| h.into()).collect(), run.bodies.iter().map(|&h| h.into()).collect());
-                let (arrays, report) = run.into_arrays();
-                run_arrays(py, arrays, &report, handles)
-            })
-            .collect(),
+        Ok(runs) => runs.into_iter().map(|run| run_arrays(py, run)).collect(),
         Err(WorldError::Interrupted) => Err(control.take_error()),
         Err(e) => Err(world_error(e)),
     }

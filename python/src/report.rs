@@ -2,10 +2,10 @@
 //! `tumble.Report` and `tumble.Run`); the field lists come from the root crate.
 
 use crate::convert::array;
-use crate::handles::{PyBodyHandle, PyParticleHandle};
+use crate::handles::{PyBodyHandle, PyJointHandle, PyParticleHandle};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use tumble::{Plan, ReportValue, RunArrays, WorldReport};
+use tumble::{Plan, ReportValue, Run, WorldReport};
 
 /// The report as a plain dict of its fields (the package wraps it in `tumble.Report`), with the stages that ran
 /// under "stages_ran" and the report's text under "_text".
@@ -25,12 +25,12 @@ pub fn report_dict<'py>(py: Python<'py>, r: &WorldReport) -> PyResult<Bound<'py,
 }
 
 /// A run's arrays as a dict: frames (F, ...) and steps, with the report and the handles of its columns.
-pub fn run_arrays<'py>(
-    py: Python<'py>,
-    a: RunArrays,
-    report: &WorldReport,
-    handles: (Vec<PyParticleHandle>, Vec<PyBodyHandle>),
-) -> PyResult<Bound<'py, PyDict>> {
+pub fn run_arrays<'py>(py: Python<'py>, run: Run) -> PyResult<Bound<'py, PyDict>> {
+    let particles: Vec<PyParticleHandle> = run.particles.iter().map(|&h| h.into()).collect();
+    let bodies: Vec<PyBodyHandle> = run.bodies.iter().map(|&h| h.into()).collect();
+    let broken: Vec<PyJointHandle> = run.joint_breaks.iter().map(|&(_, h)| h.into()).collect();
+    let (a, report) = run.into_arrays();
+    let report = &report;
     let (f, p, b) = (a.times.len(), a.particle_count, a.body_count);
     let steps = a.step_times.len();
     let d = PyDict::new(py);
@@ -51,13 +51,16 @@ pub fn run_arrays<'py>(
     let events = a.contact_events.len();
     d.set_item("penetration", array(py, a.penetration, &[f])?)?;
     d.set_item("contact_events", array(py, a.contact_events, &[events])?)?;
+    let breaks = a.joint_break_times.len();
+    d.set_item("joint_break_times", array(py, a.joint_break_times, &[breaks])?)?;
+    d.set_item("joint_breaks", PyList::new(py, broken)?)?;
     let points = a.contact_points.len() / 6;
     let counts = a.contact_counts.iter().map(|&c| c as f64).collect();
     d.set_item("contact_counts", array(py, counts, &[f])?)?;
     d.set_item("contact_points", array(py, a.contact_points, &[points, 2, 3])?)?;
     d.set_item("report", report_dict(py, report)?)?;
-    d.set_item("particles", PyList::new(py, handles.0)?)?;
-    d.set_item("bodies", PyList::new(py, handles.1)?)?;
+    d.set_item("particles", PyList::new(py, particles)?)?;
+    d.set_item("bodies", PyList::new(py, bodies)?)?;
     Ok(d)
 }
 

@@ -365,23 +365,13 @@ impl PyWorld {
             })
         });
         match result {
-            Ok(run) => {
-                let handles =
-                    (run.particles.iter().map(|&h| h.into()).collect(), run.bodies.iter().map(|&h| h.into()).collect());
-                let (arrays, report) = run.into_arrays();
-                run_arrays(py, arrays, &report, handles)
-            }
+            Ok(run) => run_arrays(py, run),
             Err(WorldError::Interrupted) => Err(control.take_error()),
             Err(e) => {
                 let err = self.error(py, e);
                 // the frames up to the failure ride on the exception (the package makes them `error.run`)
                 if let Some(run) = self.w().take_failed_run() {
-                    let handles = (
-                        run.particles.iter().map(|&h| h.into()).collect(),
-                        run.bodies.iter().map(|&h| h.into()).collect(),
-                    );
-                    let (arrays, report) = run.into_arrays();
-                    err.value(py).setattr("_partial", run_arrays(py, arrays, &report, handles)?)?;
+                    err.value(py).setattr("_partial", run_arrays(py, run)?)?;
                 }
                 Err(err)
             }

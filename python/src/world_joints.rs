@@ -13,7 +13,7 @@ impl PyWorld {
     /// "distance", "rope") between bodies `a` and `b`
     /// (None: the world, whose anchor is then a world point). Use `World.add_joint` with a joint object.
     #[pyo3(signature = (kind, a, b, anchor_a = None, anchor_b = None, axis = None, limits = None, motor = None,
-                        spring = None, softness = None, length = None))]
+                        spring = None, softness = None, length = None, breaking = None))]
     #[allow(clippy::too_many_arguments)]
     fn _add_joint(
         &mut self,
@@ -28,6 +28,7 @@ impl PyWorld {
         spring: Option<(f64, f64, f64)>,
         softness: Option<(f64, f64)>,
         length: Option<f64>,
+        breaking: Option<(f64, f64)>,
     ) -> PyResult<PyJointHandle> {
         let (a, b) = (a.map(Into::into), b.map(Into::into));
         let axis = opt_vec3("axis", axis)?.unwrap_or_else(nalgebra::Vector3::x);
@@ -65,12 +66,31 @@ impl PyWorld {
         if let Some((hertz, zeta)) = softness {
             j = j.softness(hertz, zeta);
         }
+        if let Some((force, torque)) = breaking {
+            j = j.breaking(force, torque);
+        }
         self.w().add_joint(j).map(Into::into).map_err(world_error)
     }
 
     /// Removes a joint.
     fn remove_joint(&mut self, joint: PyJointHandle) -> PyResult<()> {
         self.w().remove_joint(joint.into()).map(|_| ()).map_err(world_error)
+    }
+
+    /// Whether `joint` has broken (past its `breaking` bounds; it then holds nothing).
+    fn joint_broken(&self, joint: PyJointHandle) -> PyResult<bool> {
+        let h: tumble::JointHandle = joint.into();
+        match self.r().joint(h) {
+            Some(j) => Ok(j.is_broken()),
+            None => Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "invalid argument `joint`: no joint {h:?} in this world"
+            ))),
+        }
+    }
+
+    /// The joints that have broken, in the order they were added.
+    fn broken_joints(&self) -> Vec<PyJointHandle> {
+        self.r().joints().filter(|(_, j)| j.is_broken()).map(|(h, _)| h.into()).collect()
     }
 
     /// The number of joints.

@@ -44,7 +44,7 @@ from ._batch import Batch, rollout
 from ._sweep import sweep
 from ._kinematic import keyframes_from
 from ._usd_shapes import UsdSceneError
-from ._joints import Ball, Distance, Drive, Hinge, JointSpring, Motor, Piston, Slider, Weld
+from ._joints import Ball, Breaking, Distance, Drive, Hinge, JointSpring, Motor, Piston, Slider, Weld
 from ._names import IntegratorName, LinearSolverName, ModeName, SolverName
 from ._world import BodiesView, ParticlesView, World
 from . import scenes
@@ -81,6 +81,7 @@ __all__ = [
     "Weld",
     "Distance",
     "Motor",
+    "Breaking",
     "JointSpring",
     "State",
     "SimulationError",

@@ -8,7 +8,8 @@ anchor is then ``world_point``. A hinge's or slider's ``axis`` is in the first b
 the world). Both modes take every kind, limits, motors, joint springs and ropes: a limit or a taut rope pushes only
 when reached, a motor drives its speed with at most its force. Fast mode solves the joints with its contacts at each
 substep; accurate mode holds them exactly as constraints inside the equations of motion. ``softness`` (a joint made
-a soft row) is fast mode's only: accurate mode refuses it (``ValueError`` naming ``softness``).
+a soft row) is fast mode's only: accurate mode refuses it (``ValueError`` naming ``softness``). Any joint may be
+given ``breaking=Breaking(force=..., torque=...)``: it breaks in either mode once it carries more.
 """
 
 from __future__ import annotations
@@ -66,6 +67,20 @@ class JointSpring:
 
 
 @dataclass(frozen=True)
+class Breaking:
+    """When a joint breaks: as soon as the force it carries exceeds ``force`` (N) or its torque about the second
+    body's anchor exceeds ``torque`` (N m), in either mode (either may be left infinite, not both). A broken joint
+    holds nothing from then on and its bodies collide again; ``World.joint_broken`` and ``Run.joint_breaks`` say
+    which broke and when."""
+
+    force: float = float("inf")
+    torque: float = float("inf")
+
+    def _pair(self) -> Tuple[float, float]:
+        return (_number("breaking", self.force), _number("breaking", self.torque))
+
+
+@dataclass(frozen=True)
 class _Joint:
     a: Optional[BodyHandle]
     b: Optional[BodyHandle] = None
@@ -73,6 +88,7 @@ class _Joint:
     anchor_b: Optional[Vec] = None
     world_point: Optional[Vec] = None
     softness: Optional[Tuple[float, float]] = None
+    breaking: Optional[Breaking] = None
 
     _kind = ""
 
@@ -85,8 +101,11 @@ class _Joint:
                 anchor_b = self.world_point
             else:
                 anchor_a = self.world_point
+        if self.breaking is not None and not isinstance(self.breaking, Breaking):
+            raise ValueError(f"invalid argument `breaking`: expected a tumble.Breaking, got {self.breaking!r}")
         return dict(kind=self._kind, a=self.a, b=self.b, anchor_a=anchor_a, anchor_b=anchor_b,
-                    softness=None if self.softness is None else _pair("softness", self.softness))
+                    softness=None if self.softness is None else _pair("softness", self.softness),
+                    breaking=None if self.breaking is None else self.breaking._pair())
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from ._geometry import Link
-    from ._tumble import BodyHandle, ParticleHandle, Shape
+    from ._tumble import BodyHandle, JointHandle, ParticleHandle, Shape
     from ._viewer import Viewer
 
 # A body's colliders: each shape with its position and orientation (w, x, y, z) in the body's frame.
@@ -30,6 +30,7 @@ ARRAYS = (
     "times", "particle_positions", "particle_velocities", "body_positions", "body_orientations", "body_velocities",
     "body_angular_velocities", "kinetic_energy", "potential_energy", "energy", "momentum", "angular_momentum",
     "step_times", "step_sizes", "penetration", "contact_events", "contact_counts", "contact_points",
+    "joint_break_times",
 )
 
 
@@ -50,7 +51,8 @@ class Run:
     (F, B, 4) as (w, x, y, z); particles and bodies appear in the order of ``particles`` and ``bodies``.
     ``step_times`` and ``step_sizes`` hold every accepted integrator step; ``penetration`` (F,) the largest
     penetration among the contacts at each frame; ``contact_events`` the times of accurate mode's contact events
-    (collisions located by bisection); ``contact_counts`` (F,) how many contacts each frame has and
+    (collisions located by bisection); ``joint_breaks`` the joints that broke during the run, in order, and
+    ``joint_break_times`` when; ``contact_counts`` (F,) how many contacts each frame has and
     ``contact_points`` (C, 2, 3) each contact's point and normal, frame after frame (``contacts(frame)`` picks a
     frame's). ``links`` lists the springs and joints to draw (``link_segments``), ``name`` the scene's name;
     ``names`` and ``colors`` each body's name and linear RGBA colour as given to ``add_body`` (None where not given),
@@ -74,9 +76,11 @@ class Run:
     contact_events: np.ndarray
     contact_counts: np.ndarray
     contact_points: np.ndarray
+    joint_break_times: np.ndarray
     report: Report
     particles: list[ParticleHandle]
     bodies: list[BodyHandle]
+    joint_breaks: list[JointHandle] = field(default_factory=list)
     shapes: list[Colliders] = field(default_factory=list, repr=False)
     links: list[Link] = field(default_factory=list, repr=False)
     name: str = ""
@@ -133,7 +137,7 @@ class Run:
         shapes (``Run.load`` reads it back equal). Returns the path."""
         path = as_path(path)
 
-        def handles(hs: list[ParticleHandle] | list[BodyHandle]) -> np.ndarray:
+        def handles(hs: list[ParticleHandle] | list[BodyHandle] | list[JointHandle]) -> np.ndarray:
             return np.array([[h.world, h.index, h.generation] for h in hs], dtype=np.uint64).reshape(-1, 3)
 
         shapes = [[(s.__reduce__()[1][0], list(map(float, p)), list(map(float, q))) for s, p, q in body]
@@ -141,6 +145,7 @@ class Run:
         report = {**self.report._fields, "_text": self.report._text}
         np.savez_compressed(path, **{name: getattr(self, name) for name in ARRAYS},
                             particles=handles(self.particles), bodies=handles(self.bodies),
+                            joint_breaks=handles(self.joint_breaks),
                             report=np.array(json.dumps(report)), shapes=np.array(json.dumps(shapes)),
                             links=np.array(json.dumps(self.links)), name=np.array(self.name),
                             looks=np.array(json.dumps([self.names, self.colors])))
@@ -153,19 +158,20 @@ class Run:
         from ._tumble import _handle, _shape_from_json  # noqa: PLC0415
 
         with np.load(as_path(path), allow_pickle=False) as data:
-            arrays = {name: data[name] for name in ARRAYS}
+            arrays = {name: data[name] if name in data else np.zeros(0) for name in ARRAYS}
             def handles(kind: str, a: np.ndarray) -> list[Any]:
                 return [_handle(kind, int(w), int(i), int(g)) for w, i, g in a]
 
             particles = handles("ParticleHandle", data["particles"])
             bodies = handles("BodyHandle", data["bodies"])
+            breaks = handles("JointHandle", data["joint_breaks"]) if "joint_breaks" in data else []
             report = Report(json.loads(str(data["report"])))
             shapes = [[(_shape_from_json(s), p, q) for s, p, q in body] for body in json.loads(str(data["shapes"]))]
             links = normal_links(json.loads(str(data["links"])))
             name = str(data["name"])
             names, colors = json.loads(str(data["looks"])) if "looks" in data else ([], [])
-        return cls(**arrays, report=report, particles=particles, bodies=bodies, shapes=shapes, links=links,
-                   name=name, names=names, colors=[None if c is None else rgba(c) for c in colors])
+        return cls(**arrays, report=report, particles=particles, bodies=bodies, joint_breaks=breaks, shapes=shapes,
+                   links=links, name=name, names=names, colors=[None if c is None else rgba(c) for c in colors])
 
     def to_csv(self, path: str | Path) -> Path:
         """Writes the per-frame scalars as CSV, a row a frame: time, kinetic, potential and total energy, momentum

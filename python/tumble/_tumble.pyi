@@ -277,9 +277,14 @@ class World:
         spring: tuple[float, float, float] | None = None,
         softness: tuple[float, float] | None = None,
         length: float | None = None,
+        breaking: tuple[float, float] | None = None,
     ) -> JointHandle: ...
     def remove_joint(self, joint: JointHandle) -> None:
         """Removes a joint."""
+    def joint_broken(self, joint: JointHandle) -> bool:
+        """Whether ``joint`` has broken (past its ``breaking`` bounds; it then holds nothing)."""
+    def broken_joints(self) -> list[JointHandle]:
+        """The joints that have broken, in the order they were added."""
     @property
     def joint_count(self) -> int: ...
     def set_particle_state(

@@ -333,6 +333,6 @@ def snapshot(world: "World") -> "Run":
         angular_momentum=frame(world.angular_momentum(), 3)[0], step_times=empty, step_sizes=empty,
         penetration=np.array([max(0.0, -float(gaps.min())) if len(gaps) else 0.0]), contact_events=empty,
         contact_counts=np.array([len(points)], dtype=np.int64), contact_points=np.stack([points, normals], axis=1),
-        report=world.report, particles=world.particles.handles, bodies=world.bodies.handles,
+        joint_break_times=empty, report=world.report, particles=world.particles.handles, bodies=world.bodies.handles,
         shapes=world._body_shapes(), links=normal_links(world._links()), names=world.bodies.names,
         colors=world.bodies.colors)

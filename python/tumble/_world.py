@@ -186,7 +186,9 @@ class World(_World):
         ``w.add_joint(tumble.Hinge(a, b, anchor_a=(0, 0, 0.5), anchor_b=(0, 0, -0.5), axis=(1, 0, 0),
         limits=(-1.0, 1.0), motor=tumble.Motor(speed=2.0, max_torque=50.0)))``. Remove it with
         ``remove_joint(handle)``. The plan gains a "joints" stage; the report counts joint rows and the largest joint
-        error (``joint_error`` in m, ``joint_angle_error`` in rad).
+        error (``joint_error`` in m, ``joint_angle_error`` in rad). A joint given ``breaking=tumble.Breaking(force=...,
+        torque=...)`` breaks once it carries more (``joint_broken(handle)``, ``broken_joints()``,
+        ``Run.joint_breaks``).
         """
         if not isinstance(joint, Joint):
             raise ValueError(

@@ -7,6 +7,8 @@
 //! call puts back, what a file holds and what is given back.
 
 pub(crate) mod accurate;
+#[cfg(feature = "contact")]
+pub(crate) mod breaking;
 mod budget;
 #[cfg(feature = "contact")]
 pub(crate) mod collider_set;
@@ -214,7 +216,8 @@ pub(crate) fn planned(mode: &Mode, model: &Model, settings: &Settings, has_scene
         #[cfg(feature = "contact")]
         Mode::Fast(f) => stages.extend(fast::FastEngine::planned(f, dim, has_scene, model.has_joints())),
         Mode::Accurate(a) => {
-            stages.extend(AccurateEngine::planned(settings, has_scene.then_some(a), dim, model.has_joints()))
+            let joints = (model.has_joints(), model.can_break());
+            stages.extend(AccurateEngine::planned(settings, has_scene.then_some(a), dim, joints))
         }
         #[cfg(not(feature = "contact"))]
         Mode::Fast(_) => {}

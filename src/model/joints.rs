@@ -31,6 +31,9 @@ pub(crate) struct CompiledJoint {
     /// q_A^-1 q_B when the joint was made.
     pub reference: UnitQuaternion<f64>,
     pub joint: Joint,
+    /// When it breaks (`breaking.rs`), and whether it has: a broken joint gives no rows and joins nothing.
+    pub breaking: Option<crate::joint::Breaking>,
+    pub broken: bool,
 }
 
 /// A body's pose and velocities as the joint rows need them, with its world inverse inertia and mass.
@@ -94,19 +97,28 @@ impl Model {
         }
     }
 
-    /// Every joint's rows at y (with velocity products when `velocity`), each with its joint's index.
+    /// The joints that hold (not broken), with their indices.
+    pub(crate) fn holding_joints(&self) -> impl Iterator<Item = (usize, &CompiledJoint)> {
+        self.joints.iter().enumerate().filter(|(_, j)| !j.broken)
+    }
+
+    /// Every holding joint's rows at y (with velocity products when `velocity`), each with its joint's index; the
+    /// ends of every joint.
     pub(crate) fn all_rows(&self, y: &[f64], velocity: bool) -> Rows {
         let mut rows = Vec::new();
         let mut ends = Vec::with_capacity(self.joints.len());
         let mut scratch = Vec::new();
         for (k, cj) in self.joints.iter().enumerate() {
             let (a, b) = (self.end_state_of(y, cj.a), self.end_state_of(y, cj.b));
+            ends.push((a, b));
+            if cj.broken {
+                continue;
+            }
             let frame = cj.frame(&a, &b);
             scratch.clear();
             let v = (a.v, a.w, b.v, b.w);
             joint_rows(&cj.joint, &frame, &a.x, &b.x, velocity.then_some(&v), &mut scratch);
             rows.extend(scratch.iter().map(|r| (k, *r)));
-            ends.push((a, b));
         }
         (rows, ends)
     }
@@ -189,6 +201,8 @@ pub(crate) fn compile_joints(
                 axis_b: j.axis_b,
                 reference: j.reference,
                 joint,
+                breaking: s.breaking,
+                broken: j.broken,
             }
         })
         .collect()

@@ -3,6 +3,7 @@
 
 #[cfg(feature = "contact")]
 mod actors;
+pub(crate) mod breaking;
 mod dynamics;
 mod energy;
 mod jacobian;
@@ -289,7 +290,7 @@ impl Model {
     pub(crate) fn jointed_bodies(&self) -> Vec<bool> {
         if !self.joints.is_empty() {
             let mut out = vec![false; self.bodies.len()];
-            for j in &self.joints {
+            for (_, j) in self.holding_joints() {
                 for end in [j.a, j.b] {
                     if let joints::JointEnd::Body(i) = end {
                         out[i] = true;

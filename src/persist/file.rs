@@ -304,6 +304,14 @@ pub struct JointFile {
     pub reference: Option<[f64; 4]>,
     #[serde(default)]
     pub axis_b: Option<[f64; 3]>,
+    /// The force (N) and the torque (N m) past which it breaks; absent: no bound.
+    #[serde(default)]
+    pub breaking_force: Option<f64>,
+    #[serde(default)]
+    pub breaking_torque: Option<f64>,
+    /// Whether it has broken.
+    #[serde(default)]
+    pub broken: bool,
 }
 
 impl ParticleFile {

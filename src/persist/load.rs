@@ -289,9 +289,14 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
         if let Some([hz, zeta]) = j.softness {
             builder = builder.softness(hz, zeta);
         }
+        if j.breaking_force.is_some() || j.breaking_torque.is_some() {
+            let bound = |b: Option<f64>| b.unwrap_or(f64::INFINITY);
+            builder = builder.breaking(bound(j.breaking_force), bound(j.breaking_torque));
+        }
         let h = w.add_joint(builder).map_err(at("joints", path.clone()))?;
         // the joint's zero as it was made, to the bit
         let joint = w.joints.get_mut(h).expect("just added");
+        joint.broken = j.broken;
         if let Some(q) = j.reference {
             joint.reference = quaternion("reference", q).map_err(at("joints", path.clone()))?;
         }

@@ -173,6 +173,9 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
                 softness: s.softness.map(|(h, z)| [h, z]),
                 reference: Some(q4(&j.reference)),
                 axis_b: Some(v3(&j.axis_b)),
+                breaking_force: s.breaking.map(|b| b.force).filter(|f| f.is_finite()),
+                breaking_torque: s.breaking.map(|b| b.torque).filter(|t| t.is_finite()),
+                broken: j.broken,
             }
         })
         .collect();

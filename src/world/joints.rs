@@ -96,6 +96,19 @@ impl World {
             limits::positive("softness", hertz, 1e12, "Hz")?;
             limits::non_negative("softness", zeta, 1e12, "(damping ratio)")?;
         }
+        if let Some(b) = spec.breaking {
+            for (v, what) in [(b.force, "force (N)"), (b.torque, "torque (N m)")] {
+                if !(v > 0.0) {
+                    return Err(WorldError::invalid(
+                        "breaking",
+                        format!("its {what} must be > 0 or infinite, got {v:e}"),
+                    ));
+                }
+            }
+            if b.force.is_infinite() && b.torque.is_infinite() {
+                return Err(WorldError::invalid("breaking", "a joint that breaks needs a finite force or torque"));
+            }
+        }
         // the anchors in the world, for a distance joint's length
         let world_a = if spec.a.is_some() { xa + qa * spec.anchor_a } else { spec.anchor_a };
         let world_b = if spec.b.is_some() { xb + qb * spec.anchor_b } else { spec.anchor_b };
@@ -106,7 +119,7 @@ impl World {
             _ => (world_a - world_b).norm(),
         };
         let axis_b = qb.inverse() * (qa * (spec.axis / n));
-        Ok(Joint { length, axis_b, reference: qa.inverse() * qb, spec })
+        Ok(Joint { length, axis_b, reference: qa.inverse() * qb, spec, broken: false })
     }
 
     /// Adds a joint.

@@ -50,20 +50,7 @@ impl World {
             &compiled.rows.bodies,
         )?;
         // bodies a joint joins directly do not collide with each other
-        use crate::model::joints::JointEnd;
-        let p = compiled.model.layout.particles;
-        let mut joined: Vec<(usize, usize)> = compiled
-            .model
-            .joints
-            .iter()
-            .filter_map(|j| match (j.a, j.b) {
-                (JointEnd::Body(a), JointEnd::Body(b)) => Some(((p + a).min(p + b), (p + a).max(p + b))),
-                _ => None,
-            })
-            .collect();
-        joined.sort_unstable();
-        joined.dedup();
-        scene.joined = joined;
+        scene.joined = compiled.model.joined_pairs();
         Some(scene)
     }
 
@@ -120,6 +107,9 @@ impl World {
     pub(crate) fn store_state(&mut self) {
         if let Some(e) = &self.engine {
             e.rows().unpack(e.state(), &mut self.particles, &mut self.bodies);
+            for ((_, j), c) in self.joints.iter_mut().zip(&e.model().joints) {
+                j.broken = c.broken;
+            }
             self.time = e.time();
         }
     }
@@ -275,7 +265,9 @@ impl World {
             .collect();
         let particles: Vec<ParticleHandle> = self.particles.iter().map(|(h, _)| h).collect();
         let bodies: Vec<BodyHandle> = self.bodies.iter().map(|(h, _)| h).collect();
-        Run::new(particles, bodies, sources, self.settings.method.name())
+        let mut run = Run::new(particles, bodies, sources, self.settings.method.name());
+        run.joints = self.joints.iter().map(|(h, _)| h).collect();
+        run
     }
 }
 

@@ -95,6 +95,9 @@ pub struct VelocityStep {
     pub normal_impulses: Vec<f64>,
     /// Friction impulse at each contact (world vector on B, tangent to the contact, length <= mu p_n).
     pub friction_impulses: Vec<Vector3<f64>>,
+    /// Impulse of each joint row (`VelocityProblem::bilateral`, in its order; a row's J^T times it acts on the
+    /// bodies).
+    pub joint_impulses: Vec<f64>,
     /// Solver iterations (clarabel's, or the Newton method's), summed over islands.
     pub iterations: u32,
     /// Solver calls (a lone particle on something static is solved in closed form, and an island no contact of
@@ -248,6 +251,7 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
     let mut velocities: Vec<BodyVelocity> = bodies.iter().map(|b| free_velocity(b, settings.dt)).collect();
     let mut normal_impulses = vec![0.0; contacts.len()];
     let mut friction_impulses = vec![Vector3::zeros(); contacts.len()];
+    let mut joint_impulses = vec![0.0; bilateral.len()];
     let (mut iterations, mut solver_calls, mut solver_work, mut newton_calls) = (0, 0, 0, 0);
     let mut building_seconds = 0.0;
     let pairs: Vec<(usize, usize)> = bilateral.iter().map(|r| (r.a, r.b)).collect();
@@ -269,7 +273,7 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
     let size = |(island, linked): &(Vec<usize>, Vec<usize>)| island.len() + linked.len();
     let rows = contacts.len() + bilateral.len();
     let solved = in_parallel_by(&groups, size, (rows, 32), settings.threads, solve);
-    for ((island, _), result) in groups.iter().zip(solved) {
+    for ((island, linked), result) in groups.iter().zip(solved) {
         let sol = result?;
         solver_calls += usize::from(sol.solved);
         newton_calls += usize::from(sol.newton);
@@ -283,6 +287,9 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
             normal_impulses[i] = sol.normal[slot];
             friction_impulses[i] = sol.friction[slot];
         }
+        for (&k, &p) in linked.iter().zip(&sol.joints) {
+            joint_impulses[k] = p;
+        }
         iterations += sol.iterations;
         building_seconds += sol.building_seconds;
     }
@@ -291,6 +298,7 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
         velocities,
         normal_impulses,
         friction_impulses,
+        joint_impulses,
         iterations,
         solver_calls,
         newton_calls,
@@ -345,5 +353,6 @@ fn lone_particle(
         solved: false,
         newton: false,
         building_seconds: 0.0,
+        joints: Vec::new(),
     })
 }

@@ -27,6 +27,8 @@ pub(crate) struct IslandSolution {
     pub newton: bool,
     /// Wall time spent building the island's programs (s).
     pub building_seconds: f64,
+    /// The impulse of each of the island's joint rows (in the order given; empty without).
+    pub joints: Vec<f64>,
 }
 
 /// Triplets of the constraint matrix.
@@ -164,7 +166,7 @@ pub(crate) fn solve_island(
             let (layout, _) = row_layout(contacts, bounds, island, n);
             let moved = moved_by_joints(bodies, bilateral, free, &joints);
             if residual(bodies, contacts, island, &layout, &moved, &out, s) <= s.solver.complementarity_tolerance {
-                return Ok(IslandSolution { building_seconds: building, ..out });
+                return Ok(IslandSolution { building_seconds: building, joints, ..out });
             }
         }
     }
@@ -315,15 +317,14 @@ pub(crate) fn solve_island(
         usable(sol.status, sol.iterations, problem)?;
         let x: Vec<f64> = sol.x.iter().map(|v| v * v_s).collect();
         let z: Vec<f64> = sol.z.iter().map(|v| v * m_s * v_s).collect();
-        let out = read_back(bodies, contacts, island, &layout, &offset, &members, &x, &z);
+        let mut out = read_back(bodies, contacts, island, &layout, &offset, &members, &x, &z);
         // the joints' impulses (the zero cone's duals, pushing as J^T z) are judged as part of the free motion: the
         // contacts' conditions are checked against them
+        out.joints = joint_z.iter().map(|&(row, motor)| if motor { z[row + 1] - z[row] } else { z[row] }).collect();
         let r = if bilateral.is_empty() {
             residual(bodies, contacts, island, &layout, free, &out, s)
         } else {
-            let impulses: Vec<f64> =
-                joint_z.iter().map(|&(row, motor)| if motor { z[row + 1] - z[row] } else { z[row] }).collect();
-            residual(bodies, contacts, island, &layout, &moved_by_joints(bodies, bilateral, free, &impulses), &out, s)
+            residual(bodies, contacts, island, &layout, &moved_by_joints(bodies, bilateral, free, &out.joints), &out, s)
         };
         Ok((out, r, sol.iterations))
     })?;
@@ -395,5 +396,14 @@ fn read_back(
         });
         row += layout[slot].width();
     }
-    IslandSolution { velocities, normal, friction, iterations: 0, solved: true, newton: false, building_seconds: 0.0 }
+    IslandSolution {
+        velocities,
+        normal,
+        friction,
+        iterations: 0,
+        solved: true,
+        newton: false,
+        building_seconds: 0.0,
+        joints: Vec::new(),
+    }
 }

@@ -30,6 +30,7 @@ pub(crate) fn untouched(
         solved: false,
         newton: false,
         building_seconds: 0.0,
+        joints: Vec::new(),
     };
     let r = residual(bodies, contacts, island, &layout, free, &out, s);
     // A caller's own velocity scale also bounds how far the free velocities may close a contact: relative to a

@@ -164,8 +164,16 @@ pub(crate) fn solve_island_newton(
         }
     }
     let joints = p.blocks[block..].iter().map(|b| lambda[b.row]).collect();
-    let solution =
-        IslandSolution { velocities, normal, friction, iterations, solved: true, newton: true, building_seconds: 0.0 };
+    let solution = IslandSolution {
+        velocities,
+        normal,
+        friction,
+        iterations,
+        solved: true,
+        newton: true,
+        building_seconds: 0.0,
+        joints: Vec::new(),
+    };
     Some((solution, joints))
 }
 

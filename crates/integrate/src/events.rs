@@ -45,6 +45,11 @@ impl<S: OdeSystem + ?Sized> StepView<'_, S> {
         self.sys
     }
 
+    /// The system, to evaluate it at states of the step (its right-hand side, say).
+    pub fn system_mut(&mut self) -> &mut S {
+        self.sys
+    }
+
     /// Whether `state_at` interpolates (dense output) rather than stepping afresh.
     pub fn interpolates(&self) -> bool {
         self.dense

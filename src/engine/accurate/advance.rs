@@ -1,9 +1,9 @@
 //! Accurate mode's advance with contact stages: the impact stage (unless a touching phase carries on from the last
-//! call), then repeatedly contact steps while bodies touch, or the integrator to the next event and its impact
-//! stage; each event recorded, and a time that events cannot leave is an error.
+//! call), then repeatedly contact steps while bodies touch, or the integrator to the next event (a joint that
+//! breaks there let go of) and its impact stage; each event recorded, and a time that events cannot leave is an error.
 
 use super::integration::within_budget;
-use super::{detect, failure, impact, mechanical_energy, touching, AccurateEngine, AccurateMemory, STUCK};
+use super::{breaking, detect, failure, impact, mechanical_energy, touching, AccurateEngine, AccurateMemory, STUCK};
 use crate::engine::budget::Budget;
 use crate::error::WorldError;
 use crate::run::Run;
@@ -21,13 +21,13 @@ impl AccurateEngine {
     ) -> Result<usize, WorldError> {
         let AccurateEngine { core, system, contacts, memory, .. } = self;
         let rules = contacts.as_mut().expect("the engine has contact stages");
-        let AccurateMemory { integration, contact, .. } = memory;
+        let AccurateMemory { integration, contact, broken, .. } = memory;
         let (Some(integration), Some(contact)) = (integration.as_mut(), contact.as_mut()) else {
             return Err(failure(0.0, "contact stages without an integration".into()).into());
         };
         let integrator = integration.live_mut();
         let (threads, limit) = (core.threads, core.divergence_limit);
-        let mut stages = rules.stages(contact, &mut core.report, threads, limit);
+        let mut stages = rules.stages(contact, broken, &mut core.report, threads, limit);
         integrator.log_steps(run.is_some());
         let energy = mechanical_energy(&system.model, integrator.state());
         let result = (|| {
@@ -92,6 +92,15 @@ impl AccurateEngine {
                 last = t;
                 if stuck > STUCK {
                     return Err(failure(t, format!("{STUCK} contact events at one time: the contacts do not settle")));
+                }
+                // a joint that broke is let go of, and the integration restarts on the new equations
+                let y = integrator.state().to_vec();
+                let broke = breaking::break_overloaded(system, stages.broken, Some(&mut *stages.scene), t, &y)?;
+                if !broke.is_empty() {
+                    integrator.set_state(t, &y)?;
+                }
+                if let Some(run) = run.as_deref_mut() {
+                    broke.iter().for_each(|&k| run.break_joint(t, k));
                 }
                 impact::impact(&mut stages, system, integrator)?;
             }

@@ -1,6 +1,6 @@
 //! Accurate mode's contact side during an advance: the colliders and the settings its stages work from
 //! (`ContactRules`, made with the engine, with their scratch counters), and the context a stage works on
-//! (`ContactStages`: the rules, the contact memory, the engine's report, the thread count and the divergence
+//! (`ContactStages`: the rules, the contact memory, the broken joints, the engine's report, the thread count and the divergence
 //! limit, borrowed together for one advance).
 
 use super::contact_memory::{ContactMemory, ContactScales};
@@ -66,6 +66,7 @@ impl ContactRules {
     pub fn stages<'a>(
         &'a mut self,
         memory: &'a mut ContactMemory,
+        broken: &'a mut [bool],
         report: &'a mut WorldReport,
         threads: usize,
         divergence_limit: f64,
@@ -80,6 +81,7 @@ impl ContactRules {
             solve_work: &mut self.solve_work,
             free_report: &mut self.free_report,
             memory,
+            broken,
             report,
             threads,
             divergence_limit,
@@ -99,6 +101,8 @@ pub(crate) struct ContactStages<'a> {
     pub solve_work: &'a mut usize,
     pub free_report: &'a mut Report,
     pub memory: &'a mut ContactMemory,
+    /// The engine memory's broken joints (`breaking.rs`).
+    pub broken: &'a mut [bool],
     pub report: &'a mut WorldReport,
     pub threads: usize,
     pub divergence_limit: f64,

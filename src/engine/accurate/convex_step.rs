@@ -9,11 +9,12 @@
 
 use super::contact_stages::ContactStages;
 use super::failure;
-use super::joint_forces::{bilateral_rows, project_joints, JOINT_DRIFT};
+use super::joint_forces::{bilateral_rows, project_joints, BilateralRows, JOINT_DRIFT};
 use super::system::AccurateSystem;
 use crate::engine::contact_reduction::reduce;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::engine::semi_implicit::update_positions;
+use crate::model::breaking::JointLoad;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
 use nalgebra::Vector3;
@@ -45,6 +46,8 @@ pub(crate) struct ConvexStep {
     /// Each contact's whole force over the step (impulse / h, normal and friction, on B), by key: where the next
     /// solves start from.
     pub wrenches: BTreeMap<ContactKey, Vector3<f64>>,
+    /// Each joint's load over the step (its rows' impulses / h; none without joints).
+    pub joint_loads: Vec<JointLoad>,
 }
 
 /// The actors at state y with the applied forces of the equations of motion (gyroscopic term cancelled: the step
@@ -115,6 +118,7 @@ pub fn convex_step(
             forces: BTreeMap::new(),
             pressing: BTreeSet::new(),
             wrenches: BTreeMap::new(),
+            joint_loads: Vec::new(),
         }));
     }
     let clock = Instant::now();
@@ -137,7 +141,7 @@ pub fn convex_step(
         crate::mode::AccurateSolver::Clarabel => tumble_contact::StepMethod::Clarabel,
     };
     // joints: their rows held exactly in the same programs, fixed ends as extra fixed actors
-    let (bilateral, extra) = bilateral_rows(model, y, h, states.len());
+    let BilateralRows { rows: bilateral, extra, owners } = bilateral_rows(model, y, h, states.len());
     let with_extra: Vec<BodyState>;
     let states = if extra.is_empty() {
         states
@@ -207,8 +211,12 @@ pub fn convex_step(
         .filter(|(_, p)| **p > 0.0)
         .map(|(f, _)| (f.contact.a, f.contact.b))
         .collect();
+    let mut joint_loads = vec![JointLoad::default(); if owners.is_empty() { 0 } else { model.joints.len() }];
+    for ((r, (k, rb)), p) in bilateral.iter().zip(&owners).zip(&out.joint_impulses) {
+        joint_loads[*k].add(&r.lin, &r.ang_b, rb, p / h);
+    }
     cx.report.contact_seconds += clock.elapsed().as_secs_f64();
-    Ok(Some(ConvexStep { y: next, forces, pressing, wrenches }))
+    Ok(Some(ConvexStep { y: next, forces, pressing, wrenches, joint_loads }))
 }
 
 /// Each contact's whole impulse (normal and friction, on B) of a velocity step.

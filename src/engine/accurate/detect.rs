@@ -1,7 +1,7 @@
 //! After each accepted step of accurate mode, the contact check, as a list of stages: the pairs whose boxes swept
 //! over the step overlap, their contacts at the step's end, then the collision time of a new contact
-//! (`collision_time.rs`), passes through (`pass_through.rs`) and drift of a resting contact (`drift.rs`); the
-//! earliest of these is where the step is cut.
+//! (`collision_time.rs`), passes through (`pass_through.rs`) and drift of a resting contact (`drift.rs`), and a
+//! joint's break (`breaking.rs`); the earliest of these is where the step is cut.
 
 use super::collision_time::collision_time;
 use super::contact_stages::ContactStages;
@@ -35,7 +35,7 @@ pub fn detect(cx: &mut ContactStages<'_>, step: &mut StepView<'_, AccurateSystem
     let clock = Instant::now();
     let result = detect_stages(cx, step);
     cx.report.collision_seconds += clock.elapsed().as_secs_f64();
-    result
+    Ok(earliest(result?, super::breaking::break_time(step, cx.settings.time_tolerance, cx.report)?))
 }
 
 /// Fails when `STALL` accepted steps have taken less than `STALL` stall steps of time: the forces (with

@@ -66,7 +66,7 @@ pub(crate) fn links(model: &Model) -> Vec<(usize, usize)> {
         JointEnd::Fixed(_) => None,
     };
     let springs = model.springs.iter().map(|s| (actor(&s.a), actor(&s.b)));
-    let joints = model.joints.iter().map(|j| (joint_actor(&j.a), joint_actor(&j.b)));
+    let joints = model.holding_joints().map(|(_, j)| (joint_actor(&j.a), joint_actor(&j.b)));
     springs.chain(joints).filter_map(|(a, b)| Some((a?, b?))).collect()
 }
 

@@ -82,6 +82,17 @@ fn push_only(r: &JointRow) -> (f64, f64) {
 
 /// Adds the joints' forces to the p rates `dp` (the right-hand side, after every other force).
 pub(crate) fn add_joint_forces(model: &Model, y: &[f64], dp: &mut [f64]) {
+    joint_forces(model, y, dp, |_, _, _, _| {});
+}
+
+/// Adds the joints' forces to the p rates `dp`, showing each row's force to `each` (its joint, the row, the
+/// joint's ends, the force).
+pub(crate) fn joint_forces(
+    model: &Model,
+    y: &[f64],
+    dp: &mut [f64],
+    mut each: impl FnMut(usize, &JointRow, &(EndState, EndState), f64),
+) {
     if model.joints.is_empty() {
         return;
     }
@@ -91,6 +102,7 @@ pub(crate) fn add_joint_forces(model: &Model, y: &[f64], dp: &mut [f64]) {
         if let RowKind::Spring { stiffness, damping } = r.kind {
             let f = -stiffness * r.error - damping * row_speed(r, &ends[*j]);
             push_row(model, dp, q, *j, r, f);
+            each(*j, r, &ends[*j], f);
         }
     }
     // the rows solved for: holding rows, limits and ropes reached, motors
@@ -133,6 +145,7 @@ pub(crate) fn add_joint_forces(model: &Model, y: &[f64], dp: &mut [f64]) {
     let lambda = solve(&row_matrix(model, &solved, &ends), &want, &bounds);
     for ((j, r), &lam) in solved.iter().zip(lambda.iter()) {
         push_row(model, dp, q, *j, r, lam);
+        each(*j, r, &ends[*j], lam);
     }
 }
 
@@ -206,19 +219,15 @@ pub(crate) fn project_joints(model: &Model, y: &mut [f64], tolerance: f64) -> bo
 /// (the position error is projected away after the step, `project_joints`: a velocity that pulls it back would
 /// differ between a step and its two halves by the error itself, at any step size), limits and ropes J v >= what
 /// closes them within the step, motors their speed within their force over h; springs are forces. A dynamic end is
-/// its actor, a fixed end an extra fixed actor numbered from `first_extra` and returned.
+/// its actor, a fixed end an extra fixed actor numbered from `first_extra` and returned. Each row comes with its
+/// joint's index and B's anchor from B's centre (for the joint's load).
 #[cfg(feature = "contact")]
-pub(crate) fn bilateral_rows(
-    model: &Model,
-    y: &[f64],
-    h: f64,
-    first_extra: usize,
-) -> (Vec<tumble_contact::BilateralRow>, Vec<tumble_contact::BodyState>) {
+pub(crate) fn bilateral_rows(model: &Model, y: &[f64], h: f64, first_extra: usize) -> BilateralRows {
     use tumble_contact::BilateralKind;
     let l = model.layout;
-    let (mut out, mut extra) = (Vec::new(), Vec::new());
+    let (mut out, mut extra, mut owners) = (Vec::new(), Vec::new(), Vec::new());
     let mut scratch = Vec::new();
-    for cj in &model.joints {
+    for (k, cj) in model.holding_joints() {
         let mut index = |end: JointEnd| match end {
             JointEnd::Body(j) => l.particles + j,
             JointEnd::Fixed(p) => {
@@ -228,6 +237,7 @@ pub(crate) fn bilateral_rows(
         };
         let (a, b) = (index(cj.a), index(cj.b));
         let (ea, eb) = (model.end_state_of(y, cj.a), model.end_state_of(y, cj.b));
+        let rb = eb.q * cj.anchor_b;
         scratch.clear();
         tumble_contact::joint_rows(&cj.joint, &cj.frame(&ea, &eb), &ea.x, &eb.x, None, &mut scratch);
         for r in &scratch {
@@ -247,7 +257,16 @@ pub(crate) fn bilateral_rows(
                 RowKind::Spring { .. } => continue,
             };
             out.push(tumble_contact::BilateralRow { a, b, lin: r.lin, ang_a: r.ang_a, ang_b: r.ang_b, speed, kind });
+            owners.push((k, rb));
         }
     }
-    (out, extra)
+    BilateralRows { rows: out, extra, owners }
+}
+
+/// The joints' rows of a velocity step, the fixed ends' extra actors, and each row's joint with B's anchor.
+#[cfg(feature = "contact")]
+pub(crate) struct BilateralRows {
+    pub rows: Vec<tumble_contact::BilateralRow>,
+    pub extra: Vec<tumble_contact::BodyState>,
+    pub owners: Vec<(usize, Vector3<f64>)>,
 }

@@ -23,6 +23,8 @@ pub(crate) struct AccurateMemory {
     pub integration: Option<Integration>,
     /// What the contact stages know; `None` when no two colliders can touch.
     pub contact: Option<ContactMemory>,
+    /// Each joint's broken flag (the model and the collider set are given them, `engine/breaking.rs`).
+    pub broken: Vec<bool>,
 }
 
 impl AccurateMemory {

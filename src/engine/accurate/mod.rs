@@ -25,6 +25,7 @@
 
 #[cfg(feature = "contact")]
 mod advance;
+mod breaking;
 #[cfg(feature = "contact")]
 mod collision_time;
 #[cfg(feature = "contact")]
@@ -87,6 +88,8 @@ pub(crate) struct AccurateEngine {
     #[cfg(feature = "contact")]
     contacts: Option<contact_stages::ContactRules>,
     memory: AccurateMemory,
+    /// The time tolerance of event times: a joint's break is located to it (as a collision's time is).
+    time_tolerance: f64,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> OdeError {
@@ -108,6 +111,7 @@ impl AccurateEngine {
         y: Vec<f64>,
     ) -> Result<Self, WorldError> {
         let Compiled { model, rows } = compiled;
+        let broken = model.broken_joints();
         let mut system = AccurateSystem::new(model);
         let integration =
             if y.is_empty() { None } else { Some(Integration::new(&mut system, settings.clone(), t, &y)?) };
@@ -123,7 +127,8 @@ impl AccurateEngine {
             settings,
             #[cfg(feature = "contact")]
             contacts: None,
-            memory: AccurateMemory { clock: t, integration, contact: None },
+            memory: AccurateMemory { clock: t, integration, contact: None, broken },
+            time_tolerance: accurate.time_tolerance,
         };
         #[cfg(feature = "contact")]
         if let Some(scene) = scene {
@@ -136,8 +141,17 @@ impl AccurateEngine {
     }
 
     /// The engine's own stages for a state of length `dim`, with or without contact stages.
-    pub fn planned(settings: &Settings, accurate: Option<&AccurateSettings>, dim: usize, joints: bool) -> Vec<Stage> {
+    /// (`breaks`: a joint can break, its time located by bisection.)
+    pub fn planned(
+        settings: &Settings,
+        accurate: Option<&AccurateSettings>,
+        dim: usize,
+        (joints, breaks): (bool, bool),
+    ) -> Vec<Stage> {
         let mut out = Vec::new();
+        if breaks && accurate.is_none() {
+            out.push(Stage::Bisection);
+        }
         if let Some(a) = accurate {
             out.extend([Stage::CollisionDetection, Stage::Bisection, Stage::Impulses]);
             out.push(match a.persistent {
@@ -190,27 +204,48 @@ impl AccurateEngine {
         let integrator = integration.live_mut();
         integrator.log_steps(run.is_some());
         let report = &mut self.core.report;
+        let (broken, tolerance) = (&mut self.memory.broken, self.time_tolerance);
         Ok(within_budget(integrator, budget, None, |integrator| {
             let energy = mechanical_energy(&model.model, integrator.state());
-            let delivered = integrator.advance_until(model, t_end, pause, saves, |m, t, y| {
-                if let Some(run) = run.as_deref_mut() {
-                    run.record(&m.model, t, y, 0.0, []);
+            let mut delivered = 0;
+            loop {
+                let adv = integrator.advance_with_events(
+                    model,
+                    t_end,
+                    pause,
+                    &saves[delivered..],
+                    |m, t, y| {
+                        if let Some(run) = run.as_deref_mut() {
+                            run.record(&m.model, t, y, 0.0, []);
+                        }
+                    },
+                    |step| breaking::break_time(step, tolerance, report),
+                )?;
+                delivered += adv.delivered;
+                let Some(t) = adv.event else { break };
+                // a joint breaks: let go of it, and integrate the new equations afresh from here
+                let y = integrator.state().to_vec();
+                for k in breaking::break_overloaded(model, broken, None, t, &y)? {
+                    if let Some(run) = run.as_deref_mut() {
+                        run.break_joint(t, k);
+                    }
                 }
-            });
+                integrator.set_state(t, &y)?;
+            }
             if let Some(run) = run {
                 for (t, h) in integrator.take_step_log() {
                     run.log_step(t, h);
                 }
             }
             report.energy_change += mechanical_energy(&model.model, integrator.state()) - energy;
-            delivered
+            Ok(delivered)
         })?)
     }
 
     /// Puts `memory` in place after checking it against the engine: every integration made live (one read from a
     /// file given to an integrator of this system and checked by it), the contact memory checked against the scene.
     fn give_memory(&mut self, memory: AccurateMemory) -> Result<(), String> {
-        let AccurateMemory { clock, integration, contact } = memory;
+        let AccurateMemory { clock, integration, contact, broken } = memory;
         let dim = self.system.model.layout.dim();
         #[cfg(feature = "contact")]
         let (scene, has_contacts) = (self.contacts.as_ref().map(|c| &c.scene), self.contacts.is_some());
@@ -245,7 +280,15 @@ impl AccurateEngine {
             }
             (c, _) => c,
         };
-        self.memory = AccurateMemory { clock, integration, contact };
+        #[cfg(feature = "contact")]
+        crate::engine::breaking::set_broken(
+            &mut self.system.model,
+            self.contacts.as_mut().map(|c| &mut c.scene),
+            &broken,
+        )?;
+        #[cfg(not(feature = "contact"))]
+        self.system.model.set_broken_joints(&broken)?;
+        self.memory = AccurateMemory { clock, integration, contact, broken };
         Ok(())
     }
 }
@@ -325,7 +368,12 @@ impl Engine for AccurateEngine {
 
     fn own_stages(&self) -> Vec<Stage> {
         let model = &self.system.model;
-        Self::planned(&self.settings, self.accurate_settings(), model.layout.dim(), model.has_joints())
+        Self::planned(
+            &self.settings,
+            self.accurate_settings(),
+            model.layout.dim(),
+            (model.has_joints(), model.can_break()),
+        )
     }
 
     fn memory(&self) -> EngineMemory {

@@ -20,6 +20,8 @@ pub(crate) struct FastMemory {
     pub previous: BTreeMap<ContactKey, f64>,
     /// Each joint's row impulses of the last step.
     pub joint_warm: Vec<tumble_contact::JointImpulse>,
+    /// Each joint's broken flag (the model and the collider set are given them, `engine/breaking.rs`).
+    pub broken: Vec<bool>,
     pub sleep: Sleep,
     /// Largest penetration among the contacts of the last step.
     pub penetration: f64,
@@ -52,6 +54,7 @@ impl FastMemory {
             (self.sleep.fits(fit.actors), "its sleep does not fit the actors"),
             (self.previous.keys().all(keys_fit), "a contact names no collider"),
             (self.joint_warm.len() == fit.joints, "its joints are not the scene's"),
+            (self.broken.len() == fit.joints, "its broken joints are not the scene's"),
             (self.joint_warm.iter().all(|j| j.0.iter().all(|p| p.is_finite())), "a joint's impulse is not finite"),
             (
                 self.pairs.is_some() == fit.keeps_pairs,

@@ -9,6 +9,7 @@
 
 mod applied_forces;
 mod bounce_limiter;
+mod breaking;
 mod find_contacts;
 mod memory;
 mod sleep;
@@ -78,6 +79,7 @@ impl FastEngine {
             steps: 0,
             previous: BTreeMap::new(),
             joint_warm: vec![Default::default(); model.joints.len()],
+            broken: model.broken_joints(),
             sleep: Sleep::new(actors),
             penetration: 0.0,
             pairs: keeps_pairs.then(Default::default),
@@ -135,19 +137,25 @@ impl FastEngine {
         }
     }
 
-    /// One step of size h (`step.rs`).
-    fn step(&mut self, h: f64) -> Result<(), WorldError> {
+    /// One step of size h (`step.rs`): the joints it broke.
+    fn step(&mut self, h: f64) -> Result<Vec<usize>, WorldError> {
         step::step(&mut self.context(), h)
+    }
+
+    /// Puts the memory's broken joints into the model and the collider set.
+    fn give_broken(&mut self) -> Result<(), String> {
+        crate::engine::breaking::set_broken(&mut self.model, self.scene.as_mut(), &self.memory.broken)
     }
 
     /// A step of h, and its error estimate: the same step taken as two halves from the same start (time, state,
     /// warm starts and sleep as they were), their difference booked in the report; the world goes on from the
     /// whole step, as without the estimate, and the report keeps the whole step's counters (the halves' time is
     /// added to its wall time).
-    fn doubled_step(&mut self, h: f64) -> Result<(), WorldError> {
+    fn doubled_step(&mut self, h: f64) -> Result<Vec<usize>, WorldError> {
         let start = self.memory.clone();
-        self.step(h)?;
+        let broken = self.step(h)?;
         let whole = std::mem::replace(&mut self.memory, start);
+        self.give_broken().expect("the engine's own memory");
         let report = self.core.report.clone();
         let clock = Instant::now();
         let (origin, dt) = (self.time(), self.settings.dt);
@@ -156,11 +164,12 @@ impl FastEngine {
         let error = crate::engine::state_error::state_difference(&self.model, None, &whole.y, &self.memory.y, h);
         self.settings.dt = dt;
         self.memory = whole;
+        self.give_broken().expect("the engine's own memory");
         self.core.report = report;
         halves?;
         self.core.report.integrator.wall_seconds += clock.elapsed().as_secs_f64();
         self.core.report.step_error = Some(self.core.report.step_error.map_or(error, |e| e.max(error)));
-        Ok(())
+        Ok(broken)
     }
 
     /// The sizes a memory must fit.
@@ -259,13 +268,12 @@ impl Engine for FastEngine {
             if t >= pause.min(t_end) - slack {
                 return Ok(delivered);
             }
-            if self.settings.step_doubling {
-                self.doubled_step(h)?;
-            } else {
-                self.step(h)?;
-            }
+            let broken = if self.settings.step_doubling { self.doubled_step(h)? } else { self.step(h)? };
             if let Some(run) = run.as_deref_mut() {
                 run.log_step(self.time(), h);
+                for k in broken {
+                    run.break_joint(self.time(), k);
+                }
             }
             budget.charge(1, self.time())?;
         }
@@ -284,7 +292,7 @@ impl Engine for FastEngine {
             EngineMemory::Fast(m) => {
                 m.check(self.fit())?;
                 self.memory = *m;
-                Ok(())
+                self.give_broken()
             }
             other => Err(format!("it is the memory of {}, which this world does not run", other.engine_name())),
         }

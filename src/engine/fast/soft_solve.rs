@@ -20,7 +20,7 @@ use crate::plan::Stage;
 use nalgebra::{Point3, Vector3};
 use std::time::Instant;
 use tumble_contact::{
-    soft_step, BodyState, Contact, Joint, SoftProblem, SoftSettings, SoftSpring, SoftStep, SpringLaw,
+    soft_step, BodyState, Contact, Joint, JointImpulse, SoftProblem, SoftSettings, SoftSpring, SoftStep, SpringLaw,
 };
 
 /// The soft step of h for the actors `states` with contacts `found`.
@@ -47,10 +47,15 @@ pub(super) fn soft_solve(
     };
     let (actors, joints, springs) = links_at_start(cx, states);
     let actors = actors.as_deref().unwrap_or(states);
-    let problem = SoftProblem::new(actors, &contacts, &warm).joints(&joints, &cx.memory.joint_warm).springs(&springs);
+    // the holding joints (a broken one is left out), each started from its last impulses
+    let holding: Vec<usize> = cx.model.holding_joints().map(|(k, _)| k).collect();
+    let joint_warm: Vec<JointImpulse> = holding.iter().map(|&k| cx.memory.joint_warm[k]).collect();
+    let problem = SoftProblem::new(actors, &contacts, &warm).joints(&joints, &joint_warm).springs(&springs);
     let out = soft_step(&problem, h, &settings).map_err(|e| failure(cx.t, format!("contact solve: {e}")))?;
     cx.model.counters.spring_evaluations += springs.len() * settings.substeps;
-    cx.memory.joint_warm.clone_from(&out.joint_impulses);
+    for (&k, impulse) in holding.iter().zip(&out.joint_impulses) {
+        cx.memory.joint_warm[k] = *impulse;
+    }
     if !joints.is_empty() {
         cx.report.stages.mark(Stage::Joints);
     }
@@ -90,7 +95,7 @@ pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Link
         actors.len() - 1
     };
     let mut joints = Vec::with_capacity(model.joints.len());
-    for cj in &model.joints {
+    for (_, cj) in model.holding_joints() {
         let (ea, eb) = (model.end_state_of(&cx.memory.y, cj.a), model.end_state_of(&cx.memory.y, cj.b));
         let mut index = |end: JointEnd| match end {
             JointEnd::Body(j) => l.particles + j,

@@ -3,10 +3,11 @@
 //! (`applied_forces.rs`), the contacts found
 //! with a margin (`find_contacts.rs`), the contact solve, either the soft step, which gives velocities and poses
 //! from its substeps (`soft_solve.rs`, the default), or the exact solver's velocities from one conic program per
-//! island (`solve_velocities.rs`) and positions from them by semi-implicit Euler; then the state's check, the
-//! joints' errors, sleep (`sleep.rs`) and the report.
+//! island (`solve_velocities.rs`) and positions from them by semi-implicit Euler; the joints the step broke
+//! (`breaking.rs`); then the state's check, the joints' errors, sleep (`sleep.rs`) and the report.
 
 use super::applied_forces::applied_forces;
+use super::breaking::break_joints;
 use super::find_contacts::find_contacts;
 use super::memory::FastMemory;
 use super::sleep::update_sleep;
@@ -39,26 +40,26 @@ pub(super) struct StepContext<'a> {
     pub t_next: f64,
 }
 
-/// One step of size h, as its stages.
-pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<(), WorldError> {
+/// One step of size h, as its stages; gives the joints it broke.
+pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<Vec<usize>, WorldError> {
     let clock = Instant::now();
     // kinematic bodies onto their path, moving at what takes them to its pose at the step's end
     cx.model.drive_kinematic(cx.t, &mut cx.memory.y, Some(h));
     let before = energy(cx.model, &cx.memory.y);
     let mut states = applied_forces(cx)?;
     let found = find_contacts(cx, &mut states, h)?;
-    let velocities = match cx.settings.solver {
+    let (velocities, broken) = match cx.settings.solver {
         FastSolver::Soft(soft) => {
             let out = soft_solve(cx, &states, &found, h, soft)?;
             let sleep = &cx.memory.sleep;
             apply_moves(cx.model, &mut cx.memory.y, &out, |a| !sleep.asleep(a));
-            out.velocities
+            (out.velocities, break_joints(cx, h / soft.substeps.max(1) as f64))
         }
         FastSolver::Exact { .. } => {
             let velocities = solve_velocities(cx, &states, &found, h)?;
             let sleep = &cx.memory.sleep;
             update_positions(cx.model, &mut cx.memory.y, &velocities, h, |a| !sleep.asleep(a));
-            velocities
+            (velocities, Vec::new())
         }
     };
     check_state(cx, h)?;
@@ -72,7 +73,7 @@ pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<(), WorldError> {
     cx.report.energy_change += change;
     cx.report.energy_gain = Some(cx.report.energy_gain.unwrap_or(0.0).max(change));
     book_step(cx, h, clock);
-    Ok(())
+    Ok(broken)
 }
 
 /// The mechanical energy of state y (kinetic, gravity's and the springs' potential; J).

@@ -1,0 +1,111 @@
+//! Breakable joints: what a joint carries (the force its rows put on B, and their torque about B's anchor) and the
+//! rule that breaks it (either past its bound). Both engines give the rows' forces their own way (accurate mode's
+//! right-hand side or convex program, fast mode's soft step) and break joints here; a broken joint gives no rows
+//! and no longer keeps its bodies from colliding.
+
+use crate::model::joints::{EndState, JointEnd};
+use crate::model::Model;
+use nalgebra::Vector3;
+use tumble_contact::JointRow;
+
+/// What one joint carries: the force on B (N) and the torque on B about B's anchor (N m); A takes the opposite.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct JointLoad {
+    pub force: Vector3<f64>,
+    pub torque: Vector3<f64>,
+}
+
+impl JointLoad {
+    /// Adds a row's force `lambda` (the row's linear part `lin` and angular part on B `ang_b`; B's anchor at `rb`
+    /// from B's centre, world axes).
+    pub fn add(&mut self, lin: &Vector3<f64>, ang_b: &Vector3<f64>, rb: &Vector3<f64>, lambda: f64) {
+        self.force += lin * lambda;
+        self.torque += (ang_b - rb.cross(lin)) * lambda;
+    }
+}
+
+impl Model {
+    /// Whether a joint that holds can break.
+    pub(crate) fn can_break(&self) -> bool {
+        self.holding_joints().any(|(_, j)| j.breaking.is_some())
+    }
+
+    /// B's anchor from B's centre (world axes) for joint `k` with its ends at `ends`.
+    pub(crate) fn anchor_b(&self, k: usize, ends: &(EndState, EndState)) -> Vector3<f64> {
+        ends.1.q * self.joints[k].anchor_b
+    }
+
+    /// The loads of every joint from each row's force (`rows` with their joints' indices, `lambda` by row).
+    pub(crate) fn joint_loads(
+        &self,
+        rows: &[(usize, JointRow)],
+        ends: &[(EndState, EndState)],
+        lambda: impl Fn(usize, &JointRow) -> f64,
+    ) -> Vec<JointLoad> {
+        let mut out = vec![JointLoad::default(); self.joints.len()];
+        for (i, (k, r)) in rows.iter().enumerate() {
+            out[*k].add(&r.lin, &r.ang_b, &self.anchor_b(*k, &ends[*k]), lambda(i, r));
+        }
+        out
+    }
+
+    /// The holding joints that `loads` (one per joint) take past their bounds, in order.
+    pub(crate) fn overloaded(&self, loads: &[JointLoad]) -> Vec<usize> {
+        self.holding_joints()
+            .filter_map(|(k, j)| {
+                let b = j.breaking?;
+                let l = &loads[k];
+                (l.force.norm() > b.force || l.torque.norm() > b.torque).then_some(k)
+            })
+            .collect()
+    }
+
+    /// Each joint's broken flag.
+    pub(crate) fn broken_joints(&self) -> Vec<bool> {
+        self.joints.iter().map(|j| j.broken).collect()
+    }
+
+    /// Sets each joint's broken flag (a memory given back), or says why it does not fit.
+    pub(crate) fn set_broken_joints(&mut self, broken: &[bool]) -> Result<(), String> {
+        if broken.len() != self.joints.len() {
+            return Err(format!("it has {} joints' flags for {} joints", broken.len(), self.joints.len()));
+        }
+        for (j, &b) in self.joints.iter_mut().zip(broken) {
+            j.broken = b;
+        }
+        Ok(())
+    }
+
+    /// The actor pairs a holding joint joins directly (they do not collide), sorted, each once.
+    pub(crate) fn joined_pairs(&self) -> Vec<(usize, usize)> {
+        let p = self.layout.particles;
+        let mut joined: Vec<(usize, usize)> = self
+            .holding_joints()
+            .filter_map(|(_, j)| match (j.a, j.b) {
+                (JointEnd::Body(a), JointEnd::Body(b)) => Some(((p + a).min(p + b), (p + a).max(p + b))),
+                _ => None,
+            })
+            .collect();
+        joined.sort_unstable();
+        joined.dedup();
+        joined
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::JointLoad;
+    use nalgebra::Vector3;
+
+    #[test]
+    fn a_load_is_the_rows_force_on_b_and_their_torque_about_bs_anchor() {
+        // a coinciding anchor's row along x at B's anchor rb: angular part rb x e on B, so no torque about the
+        // anchor; an angular row about z: a torque alone
+        let rb = Vector3::new(0.3, -0.2, 0.5);
+        let mut load = JointLoad::default();
+        load.add(&Vector3::x(), &rb.cross(&Vector3::x()), &rb, 4.0);
+        load.add(&Vector3::zeros(), &Vector3::z(), &rb, -2.0);
+        assert!((load.force - Vector3::new(4.0, 0.0, 0.0)).norm() < 1e-15);
+        assert!((load.torque - Vector3::new(0.0, 0.0, -2.0)).norm() < 1e-15);
+    }
+}
