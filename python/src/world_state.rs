@@ -157,6 +157,19 @@ impl PyWorld {
         self.r().bodies().map(|(_, b)| b.color()).collect()
     }
 
+    /// (B,) body masses (infinite for static and kinematic bodies).
+    fn _body_masses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.r();
+        array(py, w.bodies().map(|(_, b)| b.mass()).collect(), &[w.body_count()])
+    }
+
+    /// (B, 3, 3) world inertia tensors about the centres of mass.
+    fn _body_inertias<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.r();
+        let flat = w.bodies().flat_map(|(_, b)| b.world_inertia().transpose().iter().copied().collect::<Vec<_>>());
+        array(py, flat.collect(), &[w.body_count(), 3, 3])
+    }
+
     /// (B, 4) body orientations (w, x, y, z).
     fn _body_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let w = self.r();

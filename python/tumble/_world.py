@@ -90,6 +90,16 @@ class BodiesView:
         return [None if c is None else rgba(c) for c in self._world._body_colors()]
 
     @property
+    def masses(self) -> np.ndarray:
+        """(B,) masses in kg (infinite for static and kinematic bodies)."""
+        return self._world._body_masses()
+
+    @property
+    def inertias(self) -> np.ndarray:
+        """(B, 3, 3) inertia tensors about the centres of mass, in world axes (kg m^2)."""
+        return self._world._body_inertias()
+
+    @property
     def orientations(self) -> np.ndarray:
         """(B, 4) orientations as quaternions (w, x, y, z)."""
         return self._world._body_orientations()

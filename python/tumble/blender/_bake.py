@@ -46,7 +46,8 @@ def bake(scene: Any = None, frame_start: int | None = None, frame_end: int | Non
     frame range (or ``frame_start`` to ``frame_end``), writing each active body's location and rotation as
     keyframes and switching the rigid body world off; ``world_options`` go to ``tumble.World``. Returns tumble's
     report of the run, with the bake's time split (``bake_reading_seconds``, ``bake_simulating_seconds``,
-    ``bake_writing_seconds``) and ``bake_notes`` (the approximations made). Raises
+    ``bake_writing_seconds``), ``bake_notes`` (the approximations made) and ``bake_broken_at`` (the frames at which
+    breakable constraints broke). Raises
     ``BlenderSceneError`` naming every object and setting tumble cannot take."""
     import bpy  # noqa: PLC0415
     from mathutils import Quaternion  # noqa: PLC0415
@@ -90,7 +91,12 @@ def bake(scene: Any = None, frame_start: int | None = None, frame_end: int | Non
     from tumble._report import Report  # noqa: PLC0415
 
     split = {"bake_reading_seconds": read, "bake_simulating_seconds": simulated, "bake_writing_seconds": written}
-    text = run.report._text + "\n" + "\n".join(
-        [f"bake: reading {read:.3f} s, simulating {simulated:.3f} s, writing {written:.3f} s "
-         f"({len(frames)} frames of {len(mapped.moving)} bodies)"] + [f"note: {n}" for n in mapped.notes])
-    return Report({**run.report.as_dict(), **split, "bake_notes": list(mapped.notes), "_text": text})
+    # the frames (from the start, fractional) at which breakable constraints broke
+    broke = [start + float(t - run.times[0]) / mapped.frame_time for t in run.joint_break_times]
+    lines = [f"bake: reading {read:.3f} s, simulating {simulated:.3f} s, writing {written:.3f} s "
+             f"({len(frames)} frames of {len(mapped.moving)} bodies)"]
+    if broke:
+        lines.append(f"bake: {len(broke)} constraints broke, the first at frame {broke[0]:.2f}")
+    text = run.report._text + "\n" + "\n".join(lines + [f"note: {n}" for n in mapped.notes])
+    return Report({**run.report.as_dict(), **split, "bake_notes": list(mapped.notes), "bake_broken_at": broke,
+                   "_text": text})

@@ -1,7 +1,8 @@
 """Blender's rigid body constraints as tumble joints: fixed as a weld, point as a ball, hinge about the constraint
-object's z, slider and piston along its x, motor as drives about and along its x, and generic constraints (generic
-springs without their springs) as the one of those their locked, limited and free axes make; each anchored at the
-constraint object's origin. What cannot be mapped is said in ``problems``, naming the object and the setting."""
+object's z, slider and piston along its x, motor as drives about and along its x, and generic constraints as the
+one of those their locked, limited and free axes make (a generic spring's Spring 2 spring on the joint's moving
+axis as the joint's spring); each anchored at the constraint object's origin, breakable ones breaking at their
+threshold. What cannot be mapped is said in ``problems``, naming the object and the setting."""
 
 from __future__ import annotations
 
@@ -53,17 +54,68 @@ def generic(c: Any) -> tuple[str, int | None, tuple[float, float] | None] | str:
             "piston)")
 
 
+def spring(c: Any, kind: str, axis: int, world: Any, rows: list[int], pivot: Any, turn: Any, substep: float,
+           unit: float) -> Any:
+    """A generic spring's springs as the spring of the joint its axes make (``kind`` about or along its axis
+    ``axis``): a ``tumble.JointSpring`` towards where the bodies are (Blender sets Bullet's equilibrium there), None
+    without springs, or why they cannot be mapped. Bullet's Spring 2 is a plain spring of the given stiffness and
+    damping unless it lowers them (a spring sampled faster than a quarter of its angular frequency a substep, or
+    damping past the effective mass over the substep): those are refused, as is Spring 1 (a motor whose speed
+    follows the solver's iterations) and a spring on an axis the joint holds."""
+    import tumble  # noqa: PLC0415
+
+    on = [(k, a) for k in ("", "ang_") for a in AXES if getattr(c, f"use_spring_{k}{a}")]
+    if not on:
+        return None
+    if c.spring_type != "SPRING2":
+        return "Blender's Spring 1 is a motor whose speed follows the solver's iterations: choose Spring 2"
+    wanted = {"HINGE": ("ang_", AXES[axis]), "SLIDER": ("", AXES[axis]), "PISTON": ("", AXES[axis])}.get(kind)
+    if on != [wanted]:
+        names = ", ".join(f"{'angular' if k else 'linear'} {a}" for k, a in on)
+        where = {"HINGE": "its angle", "SLIDER": "its travel", "PISTON": "its travel"}.get(kind)
+        joint = {"FIXED": "weld", "POINT": "ball joint"}.get(kind, kind.lower())
+        return (f"springs on {names}: the {joint} these axes make has a spring on {where} alone"
+                if where else f"springs on {names}: the {joint} these axes make has no spring")
+    name = f"{wanted[0]}{wanted[1]}"
+    rotational = wanted[0] == "ang_"
+    scale = unit * unit if rotational else 1.0  # angular stiffness and damping are per Blender unit squared
+    stiffness = float(getattr(c, f"spring_stiffness_{name}")) * scale
+    damping = float(getattr(c, f"spring_damping_{name}")) * scale
+    # Bullet's effective mass: the lighter end's (an angular spring's: its mass at its lever to the constraint's
+    # origin plus its moment about the axis); a passive end has none
+    direction = turn[:, axis]
+    masses = []
+    for r in rows:
+        m = float(world.bodies.masses[r])
+        if not np.isfinite(m):
+            continue
+        if rotational:
+            lever = float(np.sum((world.bodies.positions[r] - pivot) ** 2))
+            m = m * lever + 1.0 / float(np.linalg.norm(np.linalg.solve(world.bodies.inertias[r], direction)))
+        masses.append(m)
+    m = min(masses)
+    axis_name = f"{'angular' if rotational else 'linear'} {wanted[1]}"
+    if np.sqrt(stiffness / m) * substep > 0.25:
+        return (f"stiffness {axis_name}: Bullet lowers a spring whose sqrt(k / m) times the substep passes 0.25 "
+                f"(here {np.sqrt(stiffness / m) * substep:.3g}); soften it or take more substeps")
+    if damping * substep > m:
+        return (f"damping {axis_name}: Bullet lowers damping past the effective mass over the substep "
+                f"({m / substep:.3g}); lower it or take more substeps")
+    return tumble.JointSpring(stiffness, damping, 0.0)
+
+
 def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], problems: list[str],
                  notes: list[str]) -> None:
     """The rigid body world's constraints as tumble joints: fixed as a weld, point as a ball, hinge about the
     constraint object's z (its z angle limits as the hinge's), slider and piston along its x (its x limits), each
-    anchored at the constraint object's origin."""
+    anchored at the constraint object's origin; a breakable one breaks at its threshold over the substep."""
     import tumble  # noqa: PLC0415
 
     unit = float(scene.unit_settings.scale_length) or 1.0
     kinds = {"FIXED": tumble.Weld, "POINT": tumble.Ball, "HINGE": tumble.Hinge, "SLIDER": tumble.Slider,
              "PISTON": tumble.Piston, "MOTOR": tumble.Drive}
-    # Bullet's motor gives at most its impulse each substep: that over the substep is its torque or force
+    # Bullet's motor gives at most its impulse each substep, and breaks a constraint at its threshold impulse in one:
+    # those over the substep are forces and torques
     substep = rbw.time_scale / (scene.render.fps / scene.render.fps_base) / rbw.substeps_per_frame
     objects = sorted((o for o in rbw.constraints.objects if o.rigid_body_constraint is not None),
                      key=lambda o: o.name) if rbw.constraints is not None else []
@@ -74,9 +126,6 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
         before = len(problems)
         kind, generic_axis, generic_limits = c.type, None, None
         if c.type in ("GENERIC", "GENERIC_SPRING"):
-            if c.type == "GENERIC_SPRING" and any(getattr(c, f"use_spring_{k}") for k in
-                                                  ("x", "y", "z", "ang_x", "ang_y", "ang_z")):
-                problems.append(f"{obj.name}: springs: a generic spring's springs are not taken yet")
             acts = generic(c)
             if isinstance(acts, str):
                 problems.append(f"{obj.name}: limits: {acts}")
@@ -87,8 +136,6 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
                             "hinge, slider, piston, motor, generic)")
         if c.type == "PISTON" and c.use_limit_ang_x:
             problems.append(f"{obj.name}: limits angular x: a piston's turn limits are not taken yet")
-        if c.use_breaking:
-            problems.append(f"{obj.name}: breakable: tumble's joints do not break")
         if not c.disable_collisions:
             problems.append(f"{obj.name}: disable collisions: tumble's jointed bodies never touch each other")
         ends = []
@@ -109,6 +156,11 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
         poses = [(world.bodies.positions[r], tuple(world.bodies.orientations[r])) for r in rows]
         anchors = [_to_body(q, pivot - x) for x, q in poses]
         fields: dict[str, Any] = {"anchor_a": tuple(anchors[0]), "anchor_b": tuple(anchors[1])}
+        if c.use_breaking:
+            # Bullet breaks a constraint once one of its rows' impulse in a substep reaches the threshold: that
+            # over the substep bounds tumble's force (N) and torque (N m) alike
+            bound = float(c.breaking_threshold) / substep
+            fields["breaking"] = tumble.Breaking(force=bound * unit, torque=bound * unit * unit)
         turn = np.array(rotation.to_matrix(), dtype=float)
         if c.type in ("GENERIC", "GENERIC_SPRING"):
             if generic_axis is not None:
@@ -116,6 +168,14 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
             if generic_limits is not None:
                 scale = 1.0 if kind == "HINGE" else unit
                 fields["limits"] = (generic_limits[0] * scale, generic_limits[1] * scale)
+            if c.type == "GENERIC_SPRING":
+                springs = spring(c, kind, generic_axis if generic_axis is not None else 0, world, rows, pivot, turn,
+                                 substep, unit)
+                if isinstance(springs, str):
+                    problems.append(f"{obj.name}: {springs}")
+                    continue
+                if springs is not None:
+                    fields["spring"] = springs
         elif c.type == "HINGE":
             fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 2]))
             if c.use_limit_ang_z:
