@@ -256,7 +256,7 @@ def _to_world(stage, schema, path):
 
 
 def _breakable(stage):
-    _to_world(stage, UsdPhysics.FixedJoint, "/World/weld").CreateBreakForceAttr(100.0)
+    _to_world(stage, UsdPhysics.FixedJoint, "/World/weld").CreateBreakForceAttr(-1.0)
 
 
 def _colliding_joint(stage):
@@ -310,7 +310,7 @@ def _no_collider(stage):
 
 @pytest.mark.parametrize("build, prim, attribute", [
     (_generic_joint, "/World/d6", "PhysicsJoint"),
-    (_breakable, "/World/weld", "physics:breakForce"),
+    (_breakable, "/World/weld", "breaking"),
     (_colliding_joint, "/World/weld", "physics:collisionEnabled"),
     (_cone_limit, "/World/ball", "physics:coneAngle0Limit"),
     (_frames_apart, "/World/weld", "physics:localPos1"),
@@ -379,3 +379,31 @@ def test_the_round_trip_leaves_a_kinematic_prims_animation_alone(tmp_path):
     layer = Sdf.Layer.FindOrOpen(str(out))
     assert layer.GetPrimAtPath("/World/ball") is not None
     assert layer.GetPrimAtPath("/World/paddle") is None, "the paddle's own animation is not overridden"
+
+
+def test_break_force_and_torque_are_the_joints_breaking_bounds(tmp_path):
+    """A 2 kg box welded to the world with physics:breakForce 10 (below its 19.6 N weight) on a centimetre stage:
+    the joint breaks at 10 N (1000 kg cm/s^2 read as 10 N) as the same weld built in Python does, and the box
+    falls; a breakTorque alone bounds the torque."""
+    path = tmp_path / "breaks.usda"
+    stage = new_stage(path, metres=0.01)
+    box = collider(placed(UsdGeom.Cube.Define(stage, "/World/box"), (0.0, 0.0, 100.0)), rigid=True, mass=2.0)
+    weld = UsdPhysics.FixedJoint.Define(stage, "/World/weld")
+    weld.CreateBody1Rel().SetTargets([box.GetPath()])
+    weld.CreateLocalPos0Attr(Gf.Vec3f(0.0, 0.0, 100.0))
+    weld.CreateBreakForceAttr(1000.0)
+    stage.Save()
+    world, handles = tumble.World.from_usd(path)
+    run = world.run(0.5, frame_interval=0.05)
+    assert len(run.joint_breaks) == 1 and world.broken_joints() == run.joint_breaks
+    assert run.body_positions[-1, 0, 2] < 1.0 - 0.5, "the box fell"
+    w = tumble.World()
+    b = w.add_body(tumble.Box(half_extents=(0.01, 0.01, 0.01)), mass=2.0, position=(0.0, 0.0, 1.0))
+    w.add_joint(tumble.Weld(None, b, world_point=(0.0, 0.0, 1.0), breaking=tumble.Breaking(force=10.0)))
+    want = w.run(0.5, frame_interval=0.05)
+    np.testing.assert_allclose(run.joint_break_times, want.joint_break_times, rtol=0, atol=1e-12)
+    weld.GetBreakForceAttr().Clear()
+    weld.CreateBreakTorqueAttr(5e5)
+    stage.Save()
+    world, _ = tumble.World.from_usd(path)
+    assert world.run(0.5, frame_interval=0.05).joint_breaks == [], "its torque stays below 50 N m"

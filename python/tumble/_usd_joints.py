@@ -92,10 +92,12 @@ def add_joints(world: Any, stage: Any, handles: dict[str, Any], frames: Frames, 
             continue
         if joint.GetCollisionEnabledAttr().Get():
             problems.append(f"{path}: physics:collisionEnabled: tumble's jointed bodies never touch each other")
-        for name in ("breakForce", "breakTorque"):
+        # the force (mass distance / s^2) and torque (mass distance^2 / s^2) past which the joint breaks
+        bounds = []
+        for name, power in (("breakForce", 1), ("breakTorque", 2)):
             value = prim.GetAttribute(f"physics:{name}").Get()
-            if value is not None and math.isfinite(value):
-                problems.append(f"{path}: physics:{name}: tumble's joints do not break yet")
+            finite = value is not None and math.isfinite(value)
+            bounds.append(float(value) * frames.kilograms * frames.metres ** power if finite else math.inf)
         (pa, xa, ra), (pb, xb, rb) = (_frame(stage, joint.GetBody0Rel(), joint.GetLocalPos0Attr(),
                                              joint.GetLocalRot0Attr(), frames),
                                       _frame(stage, joint.GetBody1Rel(), joint.GetLocalPos1Attr(),
@@ -116,6 +118,8 @@ def add_joints(world: Any, stage: Any, handles: dict[str, Any], frames: Frames, 
         if len(problems) > before:
             continue
         fields: dict[str, Any] = {}
+        if any(math.isfinite(b) for b in bounds):
+            fields["breaking"] = tumble.Breaking(force=bounds[0], torque=bounds[1])
         rows = [world.bodies.row(h) if h is not None else None for h in ends]
         for k, (row, x) in enumerate(zip(rows, (xa, xb))):
             if row is None:
