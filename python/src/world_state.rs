@@ -235,6 +235,12 @@ impl PyWorld {
         Ok(out)
     }
 
+    /// The joint of each of `_links`' links (None for a spring), in the same order.
+    fn _link_joints(&self) -> Vec<Option<crate::handles::PyJointHandle>> {
+        let w = self.r();
+        w.springs().map(|_| None).chain(w.joints().map(|(h, _)| Some(h.into()))).collect()
+    }
+
     /// Each body's colliders (empty where a body has none) as (shape, position, orientation w x y z) in its body
     /// frame, in array order.
     fn _body_shapes(&self, py: Python<'_>) -> PyResult<Vec<BodyShapes>> {

@@ -88,5 +88,5 @@ def rollout(
     finally:
         if isinstance(shown, Progress):
             shown.close()
-    shapes, links, looks = world._body_shapes(), world._links(), looks_of(world)
-    return Batch([Run.from_dict(d, shapes, links, looks=looks) for d in data])
+    shapes, links, looks, joints = world._body_shapes(), world._links(), looks_of(world), world._link_joints()
+    return Batch([Run.from_dict(d, shapes, links, looks=looks, link_joints=joints) for d in data])

@@ -53,10 +53,13 @@ def normal_links(links: list[Any]) -> list[Link]:
 
 def link_segments(run: "Run", frame: int) -> np.ndarray:
     """The run's springs and joints at ``frame`` as (L, 2, 3) segments: each end a particle's position, a body's
-    point carried by its pose, or a fixed world point."""
+    point carried by its pose, or a fixed world point; a joint that has broken by then (``run.link_ends``) is a
+    segment of no length at its second end."""
     out = np.zeros((len(run.links), 2, 3))
+    ended = getattr(run, "link_ends", {})
     for i, (_, *ends) in enumerate(run.links):
-        for j, (kind, row, point) in enumerate(ends):
+        broken = i in ended and run.times[frame] >= ended[i]
+        for j, (kind, row, point) in enumerate(ends[1:] * 2 if broken else ends):
             if kind == "particle":
                 out[i, j] = run.particle_positions[frame, row]
             elif kind == "body":

@@ -54,7 +54,8 @@ class Run:
     (collisions located by bisection); ``joint_breaks`` the joints that broke during the run, in order, and
     ``joint_break_times`` when; ``contact_counts`` (F,) how many contacts each frame has and
     ``contact_points`` (C, 2, 3) each contact's point and normal, frame after frame (``contacts(frame)`` picks a
-    frame's). ``links`` lists the springs and joints to draw (``link_segments``), ``name`` the scene's name;
+    frame's). ``links`` lists the springs and joints to draw (``link_segments``; ``link_ends`` the time at which each
+    link whose joint broke ended, by link), ``name`` the scene's name;
     ``names`` and ``colors`` each body's name and linear RGBA colour as given to ``add_body`` (None where not given),
     which the exporters and the viewer use."""
 
@@ -86,18 +87,24 @@ class Run:
     name: str = ""
     names: list[str | None] = field(default_factory=list, repr=False)
     colors: list[tuple[float, float, float, float] | None] = field(default_factory=list, repr=False)
+    link_ends: dict[int, float] = field(default_factory=dict, repr=False)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], shapes: list[Colliders] | None = None, links: list[Any] | None = None,
-                  name: str = "", looks: tuple[list[Any], list[Any]] | None = None) -> "Run":
+                  name: str = "", looks: tuple[list[Any], list[Any]] | None = None,
+                  link_joints: list[Any] | None = None) -> "Run":
+        """A run from the arrays a world's run gives, with its bodies' ``shapes``, its ``links`` and each link's
+        joint (``link_joints``, None for a spring: a joint that broke in the run ends its link there)."""
         data = dict(data)
+        broke = dict(zip(data.get("joint_breaks", []), data.get("joint_break_times", [])))
+        ends = {i: float(broke[j]) for i, j in enumerate(link_joints or []) if j is not None and j in broke}
         data["report"] = Report(data["report"])
         data["contact_counts"] = np.asarray(data["contact_counts"], dtype=np.int64)
         from ._geometry import normal_links  # noqa: PLC0415
 
         names, colors = looks or ([], [])
         return cls(**data, shapes=shapes or [], links=normal_links(links or []), name=name, names=list(names),
-                   colors=[None if c is None else rgba(c) for c in colors])
+                   colors=[None if c is None else rgba(c) for c in colors], link_ends=ends)
 
     def label(self, body: int) -> str:
         """Body ``body``'s name (its column in the arrays), or ``"body N"`` where it was given none."""
@@ -148,7 +155,8 @@ class Run:
                             joint_breaks=handles(self.joint_breaks),
                             report=np.array(json.dumps(report)), shapes=np.array(json.dumps(shapes)),
                             links=np.array(json.dumps(self.links)), name=np.array(self.name),
-                            looks=np.array(json.dumps([self.names, self.colors])))
+                            looks=np.array(json.dumps([self.names, self.colors])),
+                            link_ends=np.array(json.dumps(sorted(self.link_ends.items()))))
         return path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
 
     @classmethod
@@ -170,8 +178,11 @@ class Run:
             links = normal_links(json.loads(str(data["links"])))
             name = str(data["name"])
             names, colors = json.loads(str(data["looks"])) if "looks" in data else ([], [])
+            ends = json.loads(str(data["link_ends"])) if "link_ends" in data else []
+            link_ends = {int(i): float(t) for i, t in ends}
         return cls(**arrays, report=report, particles=particles, bodies=bodies, joint_breaks=breaks, shapes=shapes,
-                   links=links, name=name, names=names, colors=[None if c is None else rgba(c) for c in colors])
+                   links=links, name=name, names=names, colors=[None if c is None else rgba(c) for c in colors],
+                   link_ends=link_ends)
 
     def to_csv(self, path: str | Path) -> Path:
         """Writes the per-frame scalars as CSV, a row a frame: time, kinetic, potential and total energy, momentum

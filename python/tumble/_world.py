@@ -295,12 +295,14 @@ class World(_World):
         except SimulationError as error:
             partial = getattr(error, "_partial", None)
             if partial is not None:
-                error.run = Run.from_dict(partial, self._body_shapes(), self._links(), looks=looks_of(self))
+                error.run = Run.from_dict(partial, self._body_shapes(), self._links(), looks=looks_of(self),
+                                          link_joints=self._link_joints())
             raise
         finally:
             if isinstance(shown, Progress):
                 shown.close()
-        return Run.from_dict(data, self._body_shapes(), self._links(), looks=looks_of(self))
+        return Run.from_dict(data, self._body_shapes(), self._links(), looks=looks_of(self),
+                             link_joints=self._link_joints())
 
     def show(
         self,

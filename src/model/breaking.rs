@@ -3,9 +3,12 @@
 //! right-hand side or convex program, fast mode's soft step) and break joints here; a broken joint gives no rows
 //! and no longer keeps its bodies from colliding.
 
-use crate::model::joints::{EndState, JointEnd};
+use crate::model::joints::EndState;
+#[cfg(feature = "contact")]
+use crate::model::joints::JointEnd;
 use crate::model::Model;
 use nalgebra::Vector3;
+#[cfg(feature = "contact")]
 use tumble_contact::JointRow;
 
 /// What one joint carries: the force on B (N) and the torque on B about B's anchor (N m); A takes the opposite.
@@ -36,6 +39,7 @@ impl Model {
     }
 
     /// The loads of every joint from each row's force (`rows` with their joints' indices, `lambda` by row).
+    #[cfg(feature = "contact")]
     pub(crate) fn joint_loads(
         &self,
         rows: &[(usize, JointRow)],
@@ -77,6 +81,7 @@ impl Model {
     }
 
     /// The actor pairs a holding joint joins directly (they do not collide), sorted, each once.
+    #[cfg(feature = "contact")]
     pub(crate) fn joined_pairs(&self) -> Vec<(usize, usize)> {
         let p = self.layout.particles;
         let mut joined: Vec<(usize, usize)> = self

@@ -70,7 +70,7 @@ def spring(c: Any, kind: str, axis: int, world: Any, rows: list[int], pivot: Any
     if c.spring_type != "SPRING2":
         return "Blender's Spring 1 is a motor whose speed follows the solver's iterations: choose Spring 2"
     wanted = {"HINGE": ("ang_", AXES[axis]), "SLIDER": ("", AXES[axis]), "PISTON": ("", AXES[axis])}.get(kind)
-    if on != [wanted]:
+    if wanted is None or on != [wanted]:
         names = ", ".join(f"{'angular' if k else 'linear'} {a}" for k, a in on)
         where = {"HINGE": "its angle", "SLIDER": "its travel", "PISTON": "its travel"}.get(kind)
         joint = {"FIXED": "weld", "POINT": "ball joint"}.get(kind, kind.lower())

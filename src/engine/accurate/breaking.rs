@@ -13,6 +13,12 @@ use crate::plan::Stage;
 use crate::report::WorldReport;
 use tumble_integrate::{OdeError, StepView};
 
+/// The collider set whose joined pairs a break changes (none without contact).
+#[cfg(feature = "contact")]
+pub(super) type Scene<'a> = Option<&'a mut crate::engine::collider_set::ColliderSet>;
+#[cfg(not(feature = "contact"))]
+pub(super) type Scene<'a> = Option<&'a mut ()>;
+
 /// Most halvings of a break time's bisection (2^-100 of the step).
 const HALVINGS: usize = 100;
 
@@ -77,8 +83,7 @@ pub(super) fn break_time(
 pub(super) fn break_overloaded(
     system: &mut AccurateSystem,
     broken: &mut [bool],
-    #[cfg(feature = "contact")] scene: Option<&mut crate::engine::collider_set::ColliderSet>,
-    #[cfg(not(feature = "contact"))] _scene: Option<()>,
+    scene: Scene<'_>,
     t: f64,
     y: &[f64],
 ) -> Result<Vec<usize>, OdeError> {
@@ -88,13 +93,7 @@ pub(super) fn break_overloaded(
 }
 
 /// Sets joints `which` broken in `broken` and gives the flags to the model and the collider set.
-pub(super) fn give_broken(
-    system: &mut AccurateSystem,
-    broken: &mut [bool],
-    #[cfg(feature = "contact")] scene: Option<&mut crate::engine::collider_set::ColliderSet>,
-    #[cfg(not(feature = "contact"))] _scene: Option<()>,
-    which: &[usize],
-) {
+pub(super) fn give_broken(system: &mut AccurateSystem, broken: &mut [bool], scene: Scene<'_>, which: &[usize]) {
     if which.is_empty() {
         return;
     }
@@ -104,5 +103,29 @@ pub(super) fn give_broken(
     #[cfg(feature = "contact")]
     crate::engine::breaking::set_broken(&mut system.model, scene, broken).expect("one flag per joint");
     #[cfg(not(feature = "contact"))]
-    system.model.set_broken_joints(broken).expect("one flag per joint");
+    {
+        let _ = scene;
+        system.model.set_broken_joints(broken).expect("one flag per joint");
+    }
+}
+
+/// Breaks the joints a contact step's `loads` take past their bounds, at the step's end t (booked in `run`);
+/// gives whether any broke.
+#[cfg(feature = "contact")]
+pub(super) fn break_after_step(
+    cx: &mut super::contact_stages::ContactStages<'_>,
+    system: &mut AccurateSystem,
+    loads: &[JointLoad],
+    t: f64,
+    run: Option<&mut crate::run::Run>,
+) -> bool {
+    if !system.model.can_break() || loads.is_empty() {
+        return false;
+    }
+    let which = system.model.overloaded(loads);
+    give_broken(system, cx.broken, Some(&mut *cx.scene), &which);
+    if let Some(run) = run {
+        which.iter().for_each(|&k| run.break_joint(t, k));
+    }
+    !which.is_empty()
 }

@@ -24,6 +24,8 @@ pub(crate) struct AccurateMemory {
     /// What the contact stages know; `None` when no two colliders can touch.
     pub contact: Option<ContactMemory>,
     /// Each joint's broken flag (the model and the collider set are given them, `engine/breaking.rs`).
+    /// (Absent from files written before joints could break: none broken.)
+    #[serde(default)]
     pub broken: Vec<bool>,
 }
 

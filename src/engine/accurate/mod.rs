@@ -245,7 +245,10 @@ impl AccurateEngine {
     /// Puts `memory` in place after checking it against the engine: every integration made live (one read from a
     /// file given to an integrator of this system and checked by it), the contact memory checked against the scene.
     fn give_memory(&mut self, memory: AccurateMemory) -> Result<(), String> {
-        let AccurateMemory { clock, integration, contact, broken } = memory;
+        let AccurateMemory { clock, integration, contact, mut broken } = memory;
+        if broken.is_empty() {
+            broken = vec![false; self.system.model.joints.len()];
+        }
         let dim = self.system.model.layout.dim();
         #[cfg(feature = "contact")]
         let (scene, has_contacts) = (self.contacts.as_ref().map(|c| &c.scene), self.contacts.is_some());

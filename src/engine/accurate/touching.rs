@@ -378,17 +378,14 @@ pub fn touching_steps(
             cx.report.stages.mark(crate::plan::Stage::Sleeping);
         }
         cx.report.sleepers = phase.sleep.count();
-        // joints the step took past their bounds break at its end
-        if system.model.can_break() && !second.joint_loads.is_empty() {
-            let which = system.model.overloaded(&second.joint_loads);
-            super::breaking::give_broken(system, cx.broken, Some(&mut *cx.scene), &which);
-            if let Some(run) = run.as_deref_mut() {
-                which.iter().for_each(|&k| run.break_joint(t, k));
-            }
-        }
         phase.lagged = second.forces;
         phase.warm = second.wrenches;
         phase.difference = Some((h, difference));
+        // joints the step took past their bounds break at its end (the next step's estimate is then its halves':
+        // the equations changed)
+        if super::breaking::break_after_step(cx, system, &second.joint_loads, t, run.as_deref_mut()) {
+            phase.difference = None;
+        }
         let impulses = found.iter().map(|f| whole.forces.get(&f.key).map_or(0.0, |force| force * h));
         // the contacts that pushed or touch (within the tolerance), not every pair within the step's reach
         phase.last = LastContact::from_found(&found, impulses, h);

@@ -21,6 +21,8 @@ pub(crate) struct FastMemory {
     /// Each joint's row impulses of the last step.
     pub joint_warm: Vec<tumble_contact::JointImpulse>,
     /// Each joint's broken flag (the model and the collider set are given them, `engine/breaking.rs`).
+    /// (Absent from files written before joints could break: none broken.)
+    #[serde(default)]
     pub broken: Vec<bool>,
     pub sleep: Sleep,
     /// Largest penetration among the contacts of the last step.

@@ -289,7 +289,10 @@ impl Engine for FastEngine {
 
     fn set_memory(&mut self, memory: EngineMemory) -> Result<(), String> {
         match memory {
-            EngineMemory::Fast(m) => {
+            EngineMemory::Fast(mut m) => {
+                if m.broken.is_empty() {
+                    m.broken = vec![false; self.model.joints.len()];
+                }
                 m.check(self.fit())?;
                 self.memory = *m;
                 self.give_broken()
