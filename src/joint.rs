@@ -77,6 +77,9 @@ pub struct JointBuilder {
     /// When it breaks; None: never.
     #[serde(default)]
     pub(crate) breaking: Option<Breaking>,
+    /// Whether its two bodies collide with each other (they do not by default).
+    #[serde(default)]
+    pub(crate) collide: bool,
 }
 
 impl JointBuilder {
@@ -93,6 +96,7 @@ impl JointBuilder {
             spring: None,
             softness: None,
             breaking: None,
+            collide: false,
         }
     }
     /// A ball (spherical) joint: the anchors coincide.
@@ -168,6 +172,12 @@ impl JointBuilder {
     /// `max_torque` (N m), in either mode; either may be infinite (not both).
     pub fn breaking(mut self, max_force: f64, max_torque: f64) -> Self {
         self.breaking = Some(Breaking { force: max_force, torque: max_torque });
+        self
+    }
+    /// Lets the joint's two bodies collide with each other (Bullet's and Blender's "disable collisions" off, USD's
+    /// `collisionEnabled`); by default a joint's bodies do not touch.
+    pub fn collide(mut self, collide: bool) -> Self {
+        self.collide = collide;
         self
     }
     /// Softness in fast mode: stiffness (Hz) and damping ratio; rigid without.

@@ -1,5 +1,6 @@
 //! Joints against closed forms: a pendulum's period (the elliptic integral), a double pendulum's energy, a hanging
-//! chain's stretch, a hinge's limits, a motor's speed and stall, a weld's hold; and bad joints refused by name.
+//! chain's stretch, a hinge's limits, a motor's speed and stall, a weld's hold, a joint whose bodies collide; and
+//! bad joints refused by name.
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use tumble::{
@@ -477,4 +478,32 @@ fn a_drive_spins_or_slides_its_body_up_to_its_speed_and_holds_nothing_else() {
     assert_eq!(refused.argument(), Some("motor"));
     let refused = w.add_joint(JointBuilder::spin_drive(None, Some(b), Vector3::z()).motor(1.0, 1.0).limits(0.0, 1.0));
     assert_eq!(refused.unwrap_err().argument(), Some("limits"));
+}
+
+/// A cube 0.5 m above a slab resting on the ground, tied to it by a slack rope of 1 m that lets them collide (or
+/// not), saved and loaded: gives the cube's height after 1.5 s.
+fn tied_cube_lands(mut w: World, collide: bool) -> f64 {
+    w.add_ground(0.0, tumble::Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    let slab = tumble::Shape::cuboid(Vector3::new(0.5, 0.5, 0.1)).unwrap();
+    let a = w.add_body(RigidBodyBuilder::from_shape(slab, 1000.0).position(Vector3::z() * 0.1)).unwrap();
+    let cube = tumble::Shape::cuboid(Vector3::new(0.1, 0.1, 0.1)).unwrap();
+    let b = w.add_body(RigidBodyBuilder::from_shape(cube, 500.0).position(Vector3::z() * 0.8)).unwrap();
+    w.add_joint(JointBuilder::rope(Some(a), Some(b), Some(1.0)).collide(collide)).unwrap();
+    // (through a file: it keeps the choice)
+    let mut w = World::from_json(&w.to_json().unwrap()).unwrap();
+    w.run(1.5, 0.1).unwrap();
+    let (_, cube) = w.bodies().last().unwrap();
+    cube.position().z
+}
+
+#[test]
+fn a_joint_that_lets_its_bodies_collide_lands_one_on_the_other() {
+    // on the slab's top (0.2 m) at its half height: within accurate mode's contact tolerance (about 1e-4 m here)
+    // and fast mode's soft contacts (1 cm); without, it falls through the slab to the ground (0.1 m)
+    for (mode, w, bound) in [("accurate", World::new(), 1e-3), ("fast", fast(8), 1e-2)] {
+        let z = tied_cube_lands(w.clone(), true);
+        assert!((z - 0.3).abs() < bound, "{mode}: z = {z}");
+        let through = tied_cube_lands(w, false);
+        assert!((through - 0.1).abs() < bound, "{mode}: without collisions z = {through}");
+    }
 }

@@ -13,7 +13,8 @@ impl PyWorld {
     /// "distance", "rope") between bodies `a` and `b`
     /// (None: the world, whose anchor is then a world point). Use `World.add_joint` with a joint object.
     #[pyo3(signature = (kind, a, b, anchor_a = None, anchor_b = None, axis = None, limits = None, motor = None,
-                        spring = None, softness = None, length = None, breaking = None))]
+                        spring = None, softness = None, length = None, breaking = None,
+                        collide = false))]
     #[allow(clippy::too_many_arguments)]
     fn _add_joint(
         &mut self,
@@ -29,6 +30,7 @@ impl PyWorld {
         softness: Option<(f64, f64)>,
         length: Option<f64>,
         breaking: Option<(f64, f64)>,
+        collide: bool,
     ) -> PyResult<PyJointHandle> {
         let (a, b) = (a.map(Into::into), b.map(Into::into));
         let axis = opt_vec3("axis", axis)?.unwrap_or_else(nalgebra::Vector3::x);
@@ -69,6 +71,7 @@ impl PyWorld {
         if let Some((force, torque)) = breaking {
             j = j.breaking(force, torque);
         }
+        j = j.collide(collide);
         self.w().add_joint(j).map(Into::into).map_err(world_error)
     }
 

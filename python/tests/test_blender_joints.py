@@ -13,7 +13,7 @@ import tumble
 bpy = pytest.importorskip("bpy", reason="Blender as a module is the `blender` extra")
 import tumble.blender as tb  # noqa: E402
 from blender_scenes import (  # noqa: E402
-    DT, FPS, assert_keyed_like, blender_body, damping, empty_scene, f32, keyed, python_world,
+    DT, FPS, assert_keyed_like, blender_body, damping, empty_scene, f32, ground, keyed, python_ground, python_world,
 )
 
 
@@ -286,3 +286,45 @@ def test_a_generic_springs_springs_tumble_cannot_match_are_refused(setup, said):
     with pytest.raises(tb.BlenderSceneError) as caught:
         _hung_scene("GENERIC_SPRING", setup)
     assert any(said in p for p in caught.value.problems), caught.value.problems
+
+
+def _tied_scene(disable_collisions):
+    """A cube 0.5 m above a slab resting on the ground, joined to it by a slider along the vertical (the
+    constraint object's x turned up), with "disable collisions" as given: the mapped world."""
+    scene = empty_scene(60)
+    ground()
+    slab = blender_body("cube", "slab", (0, 0, 0.1), "BOX", size=1.0, mass=10.0)
+    slab.scale = (1.0, 1.0, 0.2)
+    cube = blender_body("cube", "cube", (0, 0, 0.8), "BOX", size=0.2, mass=1.0)
+    bpy.ops.object.empty_add(location=(0, 0, 0.8))
+    pin = bpy.context.active_object
+    bpy.ops.rigidbody.constraint_add(type="SLIDER")
+    c = pin.rigid_body_constraint
+    c.object1, c.object2, c.disable_collisions = slab, cube, disable_collisions
+    pin.rotation_euler = (0, -math.pi / 2, 0)  # its x along the world's z
+    bpy.context.view_layer.update()
+    return tb.world_from_scene(scene)
+
+
+def test_disable_collisions_off_lets_the_joined_bodies_collide():
+    """With "disable collisions" off the cube slides down onto the slab it is joined to and stays there, as the
+    tumble slider with collide=True does; with it on (Blender's default) the cube slides through the slab to the
+    ground."""
+    heights = {}
+    for disable in (False, True):
+        mapped = _tied_scene(disable)
+        run = mapped.world.run(1.5, 1 / FPS)
+        heights[disable] = run.body_positions[-1, mapped.world.bodies.row(mapped.handles["cube"]), 2]
+    # on the slab's top (0.2 m) or the ground, at the cube's half height; within the soft contacts' 1 cm
+    assert abs(heights[False] - 0.3) < 1e-2 and abs(heights[True] - 0.1) < 1e-2, heights
+    w = python_world()
+    python_ground(w)
+    a = w.add_body(tumble.Box(half_extents=(0.5, 0.5, f32(0.1))), mass=10.0, position=(0.0, 0.0, f32(0.1)),
+                   friction=0.25, **damping(10.0, 10.0 * (2 * (1.0 + f32(0.2) ** 2) + 2.0) / 36, f32(0.04), f32(0.1)))
+    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(0.0, 0.0, f32(0.8)), friction=0.25,
+                   **damping(1.0, 1.0 * (2 * f32(0.2) ** 2) / 12, f32(0.04), f32(0.1)))
+    w.add_joint(tumble.Slider(a, b, anchor_a=(0.0, 0.0, f32(0.8) - f32(0.1)), anchor_b=(0.0, 0.0, 0.0),
+                              axis=(0.0, 0.0, 1.0), collide=True))
+    want = w.run(1.5, 1 / FPS)
+    # (the slab's float32 scale and mean moment differ in the last bits: the heights agree to 1e-6 m of rest)
+    assert abs(want.body_positions[-1, w.bodies.row(b), 2] - heights[False]) < 1e-6

@@ -86,3 +86,10 @@ def test_a_broken_joint_is_no_longer_drawn(tmp_path):
     assert max(before) < 1e-6 and after and max(after) == 0.0
     saved = tumble.Run.load(run.save(tmp_path / "run.npz"))
     assert saved.link_ends == run.link_ends and list(run.link_ends) == [0]
+
+
+def test_collide_must_be_a_bool():
+    w = tumble.World()
+    ball = w.add_body(mass=1.0, inertia=np.eye(3))
+    with pytest.raises(ValueError, match="collide"):
+        w.add_joint(tumble.Ball(None, ball, collide="yes"))

@@ -74,7 +74,7 @@ def same_runs(a, b, duration=0.5):
 def test_a_stage_of_shapes_masses_materials_and_velocities_is_the_world_built_in_python(tmp_path):
     path = tmp_path / "shapes.usda"
     stage = new_stage(path, gravity=((0.0, 0.0, -1.0), 5.0))
-    ground = collider(placed(UsdGeom.Cube.Define(stage, "/World/ground"), (0.0, 0.0, -0.5), scale=(10.0, 10.0, 1.0)))
+    ground = collider(placed(UsdGeom.Cube.Define(stage, "/World/ground"), (0.0, 0.0, -0.5), scale=(10.0, 10.0, 0.5)))
     UsdGeom.Cube(ground).CreateSizeAttr(1.0)
     box = collider(placed(UsdGeom.Cube.Define(stage, "/World/box"), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 0.0)),
                    rigid=True, mass=2.0)
@@ -259,10 +259,6 @@ def _breakable(stage):
     _to_world(stage, UsdPhysics.FixedJoint, "/World/weld").CreateBreakForceAttr(-1.0)
 
 
-def _colliding_joint(stage):
-    _to_world(stage, UsdPhysics.FixedJoint, "/World/weld").CreateCollisionEnabledAttr(True)
-
-
 def _cone_limit(stage):
     _to_world(stage, UsdPhysics.SphericalJoint, "/World/ball").CreateConeAngle0LimitAttr(30.0)
 
@@ -311,7 +307,6 @@ def _no_collider(stage):
 @pytest.mark.parametrize("build, prim, attribute", [
     (_generic_joint, "/World/d6", "PhysicsJoint"),
     (_breakable, "/World/weld", "breaking"),
-    (_colliding_joint, "/World/weld", "physics:collisionEnabled"),
     (_cone_limit, "/World/ball", "physics:coneAngle0Limit"),
     (_frames_apart, "/World/weld", "physics:localPos1"),
     (_acceleration_drive, "/World/hinge", "physics:type"),
@@ -407,3 +402,29 @@ def test_break_force_and_torque_are_the_joints_breaking_bounds(tmp_path):
     stage.Save()
     world, _ = tumble.World.from_usd(path)
     assert world.run(0.5, frame_interval=0.05).joint_breaks == [], "its torque stays below 50 N m"
+
+
+def test_a_joint_with_collisions_enabled_lets_its_bodies_collide(tmp_path):
+    """A cube (a UsdGeom Cube of size 2, scaled) tied to a slab below it by a slack distance joint (a rope of 1 m), dropped from 0.5 m above it:
+    with physics:collisionEnabled it lands on the slab, as the Python world with collide=True does; without, it
+    falls through the slab to the ground."""
+    heights = []
+    for enabled in (True, False):
+        path = tmp_path / f"tied_{enabled}.usda"
+        stage = new_stage(path)
+        collider(placed(UsdGeom.Cube.Define(stage, "/World/ground"), (0.0, 0.0, -0.5), scale=(10.0, 10.0, 0.5)))
+        slab = collider(placed(UsdGeom.Cube.Define(stage, "/World/slab"), (0.0, 0.0, 0.1), scale=(0.5, 0.5, 0.1)),
+                        rigid=True, mass=100.0)
+        cube = collider(placed(UsdGeom.Cube.Define(stage, "/World/cube"), (0.0, 0.0, 0.8), scale=(0.1, 0.1, 0.1)),
+                        rigid=True, mass=4.0)
+        rope = UsdPhysics.DistanceJoint.Define(stage, "/World/rope")
+        rope.CreateBody0Rel().SetTargets([slab.GetPath()])
+        rope.CreateBody1Rel().SetTargets([cube.GetPath()])
+        rope.CreateMaxDistanceAttr(1.0)
+        rope.CreateCollisionEnabledAttr(enabled)
+        stage.Save()
+        world, handles = tumble.World.from_usd(path)
+        world.run(1.5, frame_interval=0.1)
+        heights.append(world.bodies.positions[world.bodies.row(handles["/World/cube"])][2])
+    # on the slab's top (0.2 m) at its half height, within the contact tolerance; or on the ground
+    assert abs(heights[0] - 0.3) < 1e-3 and abs(heights[1] - 0.1) < 1e-3, heights

@@ -9,7 +9,8 @@ the world). Both modes take every kind, limits, motors, joint springs and ropes:
 when reached, a motor drives its speed with at most its force. Fast mode solves the joints with its contacts at each
 substep; accurate mode holds them exactly as constraints inside the equations of motion. ``softness`` (a joint made
 a soft row) is fast mode's only: accurate mode refuses it (``ValueError`` naming ``softness``). Any joint may be
-given ``breaking=Breaking(force=..., torque=...)``: it breaks in either mode once it carries more.
+given ``breaking=Breaking(force=..., torque=...)``: it breaks in either mode once it carries more; ``collide=True``
+lets its two bodies collide with each other (they do not by default).
 """
 
 from __future__ import annotations
@@ -89,6 +90,7 @@ class _Joint:
     world_point: Optional[Vec] = None
     softness: Optional[Tuple[float, float]] = None
     breaking: Optional[Breaking] = None
+    collide: bool = False
 
     _kind = ""
 
@@ -105,7 +107,12 @@ class _Joint:
             raise ValueError(f"invalid argument `breaking`: expected a tumble.Breaking, got {self.breaking!r}")
         return dict(kind=self._kind, a=self.a, b=self.b, anchor_a=anchor_a, anchor_b=anchor_b,
                     softness=None if self.softness is None else _pair("softness", self.softness),
-                    breaking=None if self.breaking is None else self.breaking._pair())
+                    breaking=None if self.breaking is None else self.breaking._pair(), collide=self._collide())
+
+    def _collide(self) -> bool:
+        if not isinstance(self.collide, bool):
+            raise ValueError(f"invalid argument `collide`: expected True or False, got {self.collide!r}")
+        return self.collide
 
 
 @dataclass(frozen=True)

@@ -278,6 +278,7 @@ class World:
         softness: tuple[float, float] | None = None,
         length: float | None = None,
         breaking: tuple[float, float] | None = None,
+        collide: bool = False,
     ) -> JointHandle: ...
     def remove_joint(self, joint: JointHandle) -> None:
         """Removes a joint."""

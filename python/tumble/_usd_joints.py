@@ -90,8 +90,6 @@ def add_joints(world: Any, stage: Any, handles: dict[str, Any], frames: Frames, 
             problems.append(f"{path}: {prim.GetTypeName()}: a generic (D6) joint is not taken yet (revolute, "
                             "prismatic, spherical, fixed, distance)")
             continue
-        if joint.GetCollisionEnabledAttr().Get():
-            problems.append(f"{path}: physics:collisionEnabled: tumble's jointed bodies never touch each other")
         # the force (mass distance / s^2) and torque (mass distance^2 / s^2) past which the joint breaks
         bounds = []
         for name, power in (("breakForce", 1), ("breakTorque", 2)):
@@ -103,7 +101,7 @@ def add_joints(world: Any, stage: Any, handles: dict[str, Any], frames: Frames, 
                                       _frame(stage, joint.GetBody1Rel(), joint.GetLocalPos1Attr(),
                                              joint.GetLocalRot1Attr(), frames))
         size = 1.0 + float(np.abs(xa).max())
-        if np.linalg.norm(xa - xb) > 1e-6 * size:
+        if kind != "distance" and np.linalg.norm(xa - xb) > 1e-6 * size:  # a distance joint's ends are apart
             problems.append(f"{path}: physics:localPos1: the joint's frames are {np.linalg.norm(xa - xb):.3g} m "
                             "apart in the stage (tumble joins them where they are)")
         if kind != "spherical" and kind != "distance" and np.abs(ra.T @ rb - np.eye(3)).max() > 1e-6:
@@ -117,7 +115,7 @@ def add_joints(world: Any, stage: Any, handles: dict[str, Any], frames: Frames, 
             ends.append(handle)
         if len(problems) > before:
             continue
-        fields: dict[str, Any] = {}
+        fields: dict[str, Any] = {"collide": bool(joint.GetCollisionEnabledAttr().Get())}
         if any(math.isfinite(b) for b in bounds):
             fields["breaking"] = tumble.Breaking(force=bounds[0], torque=bounds[1])
         rows = [world.bodies.row(h) if h is not None else None for h in ends]

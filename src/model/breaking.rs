@@ -80,12 +80,14 @@ impl Model {
         Ok(())
     }
 
-    /// The actor pairs a holding joint joins directly (they do not collide), sorted, each once.
+    /// The actor pairs a holding joint joins directly (they do not collide, unless the joint lets them), sorted,
+    /// each once.
     #[cfg(feature = "contact")]
     pub(crate) fn joined_pairs(&self) -> Vec<(usize, usize)> {
         let p = self.layout.particles;
         let mut joined: Vec<(usize, usize)> = self
             .holding_joints()
+            .filter(|(_, j)| !j.collide)
             .filter_map(|(_, j)| match (j.a, j.b) {
                 (JointEnd::Body(a), JointEnd::Body(b)) => Some(((p + a).min(p + b), (p + a).max(p + b))),
                 _ => None,

@@ -34,6 +34,8 @@ pub(crate) struct CompiledJoint {
     /// When it breaks (`breaking.rs`), and whether it has: a broken joint gives no rows and joins nothing.
     pub breaking: Option<crate::joint::Breaking>,
     pub broken: bool,
+    /// Whether its bodies collide with each other.
+    pub collide: bool,
 }
 
 /// A body's pose and velocities as the joint rows need them, with its world inverse inertia and mass.
@@ -203,6 +205,7 @@ pub(crate) fn compile_joints(
                 joint,
                 breaking: s.breaking,
                 broken: j.broken,
+                collide: s.collide,
             }
         })
         .collect()

@@ -312,6 +312,9 @@ pub struct JointFile {
     /// Whether it has broken.
     #[serde(default)]
     pub broken: bool,
+    /// Whether its bodies collide with each other.
+    #[serde(default)]
+    pub collide: bool,
 }
 
 impl ParticleFile {

@@ -289,6 +289,7 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
         if let Some([hz, zeta]) = j.softness {
             builder = builder.softness(hz, zeta);
         }
+        builder = builder.collide(j.collide);
         if j.breaking_force.is_some() || j.breaking_torque.is_some() {
             let bound = |b: Option<f64>| b.unwrap_or(f64::INFINITY);
             builder = builder.breaking(bound(j.breaking_force), bound(j.breaking_torque));

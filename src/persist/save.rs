@@ -176,6 +176,7 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
                 breaking_force: s.breaking.map(|b| b.force).filter(|f| f.is_finite()),
                 breaking_torque: s.breaking.map(|b| b.torque).filter(|t| t.is_finite()),
                 broken: j.broken,
+                collide: s.collide,
             }
         })
         .collect();

@@ -136,8 +136,6 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
                             "hinge, slider, piston, motor, generic)")
         if c.type == "PISTON" and c.use_limit_ang_x:
             problems.append(f"{obj.name}: limits angular x: a piston's turn limits are not taken yet")
-        if not c.disable_collisions:
-            problems.append(f"{obj.name}: disable collisions: tumble's jointed bodies never touch each other")
         ends = []
         for which in (c.object1, c.object2):
             if which is None or which.name not in handles:
@@ -147,7 +145,7 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
                 ends.append(handles[which.name])
         if len(problems) > before:
             continue
-        if any(o.rigid_body.type == "PASSIVE" for o in (c.object1, c.object2)):
+        if c.disable_collisions and any(o.rigid_body.type == "PASSIVE" for o in (c.object1, c.object2)):
             notes.append(f"{obj.name}: disable collisions: tumble keeps a joint's moving body touching a passive one "
                          "(only two moving bodies a joint joins never touch)")
         location, rotation, _ = obj.matrix_world.decompose()
@@ -155,7 +153,8 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
         rows = [world.bodies.row(h) for h in ends]
         poses = [(world.bodies.positions[r], tuple(world.bodies.orientations[r])) for r in rows]
         anchors = [_to_body(q, pivot - x) for x, q in poses]
-        fields: dict[str, Any] = {"anchor_a": tuple(anchors[0]), "anchor_b": tuple(anchors[1])}
+        fields: dict[str, Any] = {"anchor_a": tuple(anchors[0]), "anchor_b": tuple(anchors[1]),
+                                  "collide": not c.disable_collisions}
         if c.use_breaking:
             # Bullet breaks a constraint once one of its rows' impulse in a substep reaches the threshold: that
             # over the substep bounds tumble's force (N) and torque (N m) alike
