@@ -74,7 +74,7 @@ def same_runs(a, b, duration=0.5):
 def test_a_stage_of_shapes_masses_materials_and_velocities_is_the_world_built_in_python(tmp_path):
     path = tmp_path / "shapes.usda"
     stage = new_stage(path, gravity=((0.0, 0.0, -1.0), 5.0))
-    ground = collider(placed(UsdGeom.Cube.Define(stage, "/World/ground"), (0.0, 0.0, -0.5), scale=(10.0, 10.0, 0.5)))
+    ground = collider(placed(UsdGeom.Cube.Define(stage, "/World/ground"), (0.0, 0.0, -0.5), scale=(10.0, 10.0, 1.0)))
     UsdGeom.Cube(ground).CreateSizeAttr(1.0)
     box = collider(placed(UsdGeom.Cube.Define(stage, "/World/box"), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 0.0)),
                    rigid=True, mass=2.0)
@@ -405,9 +405,9 @@ def test_break_force_and_torque_are_the_joints_breaking_bounds(tmp_path):
 
 
 def test_a_joint_with_collisions_enabled_lets_its_bodies_collide(tmp_path):
-    """A cube (a UsdGeom Cube of size 2, scaled) tied to a slab below it by a slack distance joint (a rope of 1 m), dropped from 0.5 m above it:
-    with physics:collisionEnabled it lands on the slab, as the Python world with collide=True does; without, it
-    falls through the slab to the ground."""
+    """A cube (a UsdGeom Cube, of size 2, scaled) tied to a slab below it by a slack distance joint (a rope of 1 m),
+    dropped from 0.5 m above it: with physics:collisionEnabled it lands on the slab; without, it falls through the
+    slab to the ground."""
     heights = []
     for enabled in (True, False):
         path = tmp_path / f"tied_{enabled}.usda"
