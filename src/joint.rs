@@ -70,6 +70,9 @@ pub struct JointBuilder {
     /// The axis in A's frame (world axes when A is the world).
     pub(crate) axis: Vector3<f64>,
     pub(crate) limits: Option<(f64, f64)>,
+    /// A piston's limits on its turn about the axis (rad).
+    #[serde(default)]
+    pub(crate) turn_limits: Option<(f64, f64)>,
     pub(crate) motor: Option<Motor>,
     pub(crate) spring: Option<JointSpringSpec>,
     /// A soft joint's stiffness (Hz) and damping ratio (fast mode); None: rigid.
@@ -92,6 +95,7 @@ impl JointBuilder {
             anchor_b: Vector3::zeros(),
             axis: Vector3::x(),
             limits: None,
+            turn_limits: None,
             motor: None,
             spring: None,
             softness: None,
@@ -156,6 +160,11 @@ impl JointBuilder {
     /// Lower and upper angle (hinge, rad, within (-pi, pi)) or travel (slider, m).
     pub fn limits(mut self, lower: f64, upper: f64) -> Self {
         self.limits = Some((lower, upper));
+        self
+    }
+    /// A piston's lower and upper turn about its axis (rad, within (-pi, pi)); its `limits` bound its travel.
+    pub fn turn_limits(mut self, lower: f64, upper: f64) -> Self {
+        self.turn_limits = Some((lower, upper));
         self
     }
     /// A motor of target `speed` and at most `max_force` (N m for a hinge, N for a slider).

@@ -408,7 +408,8 @@ fn a_piston_slides_and_turns_about_its_axis_and_holds_the_rest() {
     // A ball (1 kg, 0.1 m) on a vertical piston from the world at the origin, thrown up at 0.5 m/s while spinning
     // at 3 rad/s about the axis, with a torque of 2 N m about x and a force of 5 N along x pushing it over: it rises
     // and falls freely along the axis (z = 0.5 t - g t^2 / 2), keeps its spin (nothing turns it about z), and
-    // neither tilts nor leaves the axis. Accurate mode to its tolerance, fast mode to its soft joints' millimetre.
+    // neither tilts nor leaves the axis. Accurate mode to its tolerance, fast mode to its soft joints' millimetre. Its
+    // travel's and its turn's limits hold.
     for fast_mode in [false, true] {
         let mut w = if fast_mode { fast(8) } else { accurate(1e-9) };
         let ball = RigidBodyBuilder::from_shape_with_mass(tumble::Shape::sphere(0.1).unwrap(), 1.0)
@@ -436,6 +437,20 @@ fn a_piston_slides_and_turns_about_its_axis_and_holds_the_rest() {
         w.step(1.0).unwrap();
         let z = w.body(b).unwrap().position().z;
         assert!((z + 0.1).abs() < tolerance * 10.0, "fast {fast_mode}: rests at {z}, the limit -0.1");
+        // its turn's limits stop a spin: a ball spun at 3 rad/s about the axis, with a turn limit of 0.5 rad, comes
+        // to rest there (an inelastic stop) while it slides on freely
+        let mut w = if fast_mode { fast(8) } else { accurate(1e-9) };
+        let ball = RigidBodyBuilder::from_shape_with_mass(tumble::Shape::sphere(0.1).unwrap(), 1.0)
+            .angular_velocity(Vector3::new(0.0, 0.0, 3.0));
+        let b = w.add_body(ball).unwrap();
+        w.add_joint(JointBuilder::piston(None, Some(b), Vector3::z()).turn_limits(-0.2, 0.5)).unwrap();
+        w.step(1.0).unwrap();
+        let body = w.body(b).unwrap();
+        let turn = body.orientation().scaled_axis();
+        assert!((turn.z - 0.5).abs() < tolerance * 10.0, "fast {fast_mode}: turned {} rad, the limit 0.5", turn.z);
+        assert!(body.angular_velocity().norm() < tolerance * 10.0, "fast {fast_mode}: {}", body.angular_velocity());
+        let free = -0.5 * G - if fast_mode { 0.5 * G / 480.0 } else { 0.0 };
+        assert!((body.position().z - free).abs() < tolerance * 10.0, "fast {fast_mode}: z = {}", body.position().z);
     }
 }
 

@@ -14,7 +14,7 @@ impl PyWorld {
     /// (None: the world, whose anchor is then a world point). Use `World.add_joint` with a joint object.
     #[pyo3(signature = (kind, a, b, anchor_a = None, anchor_b = None, axis = None, limits = None, motor = None,
                         spring = None, softness = None, length = None, breaking = None,
-                        collide = false))]
+                        collide = false, turn_limits = None))]
     #[allow(clippy::too_many_arguments)]
     fn _add_joint(
         &mut self,
@@ -31,6 +31,7 @@ impl PyWorld {
         length: Option<f64>,
         breaking: Option<(f64, f64)>,
         collide: bool,
+        turn_limits: Option<(f64, f64)>,
     ) -> PyResult<PyJointHandle> {
         let (a, b) = (a.map(Into::into), b.map(Into::into));
         let axis = opt_vec3("axis", axis)?.unwrap_or_else(nalgebra::Vector3::x);
@@ -72,6 +73,9 @@ impl PyWorld {
             j = j.breaking(force, torque);
         }
         j = j.collide(collide);
+        if let Some((lo, hi)) = turn_limits {
+            j = j.turn_limits(lo, hi);
+        }
         self.w().add_joint(j).map(Into::into).map_err(world_error)
     }
 

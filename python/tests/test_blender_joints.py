@@ -169,7 +169,7 @@ def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, l
 ENDS: dict = {}
 
 
-def _hung_scene(kind, setup):
+def _hung_scene(kind, setup, rotation=(math.pi / 2, math.pi / 2, 0)):
     """A box hung off a passive anchor by one constraint of ``kind`` (its object's z along the world's -y, x along
     the world's -z), set up by ``setup``: the mapped world and the constraint's object."""
     scene = empty_scene(60)
@@ -181,15 +181,15 @@ def _hung_scene(kind, setup):
     bpy.ops.rigidbody.constraint_add(type=kind)
     c = pin.rigid_body_constraint
     c.object1, c.object2 = anchor, box
-    pin.rotation_euler = (math.pi / 2, math.pi / 2, 0)
+    pin.rotation_euler = rotation
     setup(c)
     bpy.context.view_layer.update()
     return tb.world_from_scene(scene), pin
 
 
-def _hung(kind, setup):
+def _hung(kind, setup, rotation=(math.pi / 2, math.pi / 2, 0)):
     """The box's positions and orientations over a second of ``_hung_scene``'s mapped world."""
-    mapped, _ = _hung_scene(kind, setup)
+    mapped, _ = _hung_scene(kind, setup, rotation)
     run = mapped.world.run(1.0, 1 / FPS)
     row = mapped.world.bodies.row(mapped.handles["box"])
     return run.body_positions[:, row], run.body_orientations[:, row]
@@ -328,3 +328,35 @@ def test_disable_collisions_off_lets_the_joined_bodies_collide():
     want = w.run(1.5, 1 / FPS)
     # (the slab's float32 scale and mean moment differ in the last bits: the heights agree to 1e-6 m of rest)
     assert abs(want.body_positions[-1, w.bodies.row(b), 2] - heights[False]) < 1e-6
+
+
+def test_a_pistons_turn_limits_stop_its_swing_as_tumbles_do():
+    """The hung box on a piston whose axis is horizontal (the constraint's x along the world's y): the box swings
+    down about it, and the piston's angular x limits (-0.3 to 0.3 rad) stop the swing; the mapped world runs to
+    the same bits as the tumble piston with those turn limits, and as a generic constraint free along x and
+    limited about it; without the limits it swings on."""
+    across = (0.0, 0.0, math.pi / 2)
+
+    def limited(c):
+        c.use_limit_ang_x, c.limit_ang_x_lower, c.limit_ang_x_upper = True, -0.3, 0.3
+
+    mapped, pin = _hung_scene("PISTON", limited, across)
+    world, box = mapped.world, mapped.handles["box"]
+    run = world.run(1.0, 1 / FPS)
+    w = python_world()
+    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
+    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.25,
+                   **damping(1.0, 1.0 * (2 * f32(0.2)**2) / 12, f32(0.04), f32(0.1)))
+    turn = np.array(pin.matrix_world.decompose()[1].to_matrix(), dtype=float)
+    w.add_joint(tumble.Piston(a, b, anchor_a=(0.25, 0.0, 0.0), anchor_b=(0.25 - f32(0.5), 0.0, 0.0),
+                              axis=tuple(turn[:, 0]), turn_limits=(f32(-0.3), f32(0.3))))
+    want = w.run(1.0, 1 / FPS)
+    got = run.body_positions[:, world.bodies.row(box)]
+    np.testing.assert_array_equal(got, want.body_positions[:, w.bodies.row(b)])
+    generic, _ = _hung("GENERIC", lambda c: _lock(c, {"x": None}, {"x": (-0.3, 0.3)}), across)
+    np.testing.assert_array_equal(generic, got)
+    # the box's centre, 0.25 m from the axis, drops by 0.25 sin(0.3) at the limit (the soft step's joints hold to a
+    # millimetre); unlimited, it swings through the bottom
+    assert abs((2.0 - got[-1, 2]) - 0.25 * math.sin(0.3)) < 2e-3, got[-1]
+    free, _ = _hung("PISTON", _set(), across)
+    assert free[:, 2].min() < 2.0 - 0.2

@@ -169,9 +169,16 @@ class Slider(_Axial):
 @dataclass(frozen=True)
 class Piston(_Axial):
     """A piston (cylindrical) joint along ``axis``: B slides along it and turns about it; ``limits`` in metres, a
-    ``Motor`` and a ``JointSpring`` on its travel, as a slider's."""
+    ``Motor`` and a ``JointSpring`` on its travel, as a slider's; ``turn_limits`` in radians within (-pi, pi) on
+    its turn about the axis."""
 
+    turn_limits: Optional[Tuple[float, float]] = None
     _kind = "piston"
+
+    def _fields(self) -> dict[str, Any]:
+        f = super()._fields()
+        f.update(turn_limits=None if self.turn_limits is None else _pair("turn_limits", self.turn_limits))
+        return f
 
 
 @dataclass(frozen=True)

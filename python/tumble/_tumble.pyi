@@ -279,6 +279,7 @@ class World:
         length: float | None = None,
         breaking: tuple[float, float] | None = None,
         collide: bool = False,
+        turn_limits: tuple[float, float] | None = None,
     ) -> JointHandle: ...
     def remove_joint(self, joint: JointHandle) -> None:
         """Removes a joint."""

@@ -185,6 +185,7 @@ pub(crate) fn compile_joints(
                     error: UnitQuaternion::identity(),
                 },
                 limits: s.limits,
+                turn_limits: s.turn_limits,
                 motor: s.motor.map(|m| tumble_contact::JointMotor { speed: m.speed, max_force: m.max_force }),
                 spring: s.spring.map(|p| tumble_contact::JointSpring {
                     stiffness: p.stiffness,

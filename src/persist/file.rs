@@ -291,6 +291,9 @@ pub struct JointFile {
     pub axis: [f64; 3],
     #[serde(default)]
     pub limits: Option<[f64; 2]>,
+    /// A piston's limits on its turn (rad).
+    #[serde(default)]
+    pub turn_limits: Option<[f64; 2]>,
     #[serde(default)]
     pub motor: Option<crate::joint::Motor>,
     #[serde(default)]

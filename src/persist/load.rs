@@ -280,6 +280,9 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
         if let Some([lo, hi]) = j.limits {
             builder = builder.limits(lo, hi);
         }
+        if let Some([lo, hi]) = j.turn_limits {
+            builder = builder.turn_limits(lo, hi);
+        }
         if let Some(m) = j.motor {
             builder = builder.motor(m.speed, m.max_force);
         }

@@ -168,6 +168,7 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
                 anchor_b: v3(&s.anchor_b),
                 axis: v3(&s.axis),
                 limits: s.limits.map(|(lo, hi)| [lo, hi]),
+                turn_limits: s.turn_limits.map(|(lo, hi)| [lo, hi]),
                 motor: s.motor,
                 spring: s.spring,
                 softness: s.softness.map(|(h, z)| [h, z]),

@@ -77,6 +77,20 @@ impl World {
                 return Err(WorldError::invalid("limits", format!("lower {lo} is above upper {hi}")));
             }
         }
+        if let Some((lo, hi)) = spec.turn_limits {
+            if spec.kind != JointType::Piston {
+                return Err(WorldError::invalid(
+                    "turn_limits",
+                    format!("a {:?} joint has none: only pistons do", spec.kind),
+                ));
+            }
+            let pi = std::f64::consts::PI;
+            limits::in_range("turn_limits", lo, -pi, pi, "rad")?;
+            limits::in_range("turn_limits", hi, -pi, pi, "rad")?;
+            if lo > hi {
+                return Err(WorldError::invalid("turn_limits", format!("lower {lo} is above upper {hi}")));
+            }
+        }
         if let Some(m) = spec.motor {
             if !moving {
                 return Err(what("motor"));

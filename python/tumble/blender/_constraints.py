@@ -20,9 +20,12 @@ def _to_body(wxyz: tuple[float, ...], v: Any) -> Any:
     return rotation_matrix(np.asarray(wxyz, dtype=float)).T @ v
 
 
-def generic(c: Any) -> tuple[str, int | None, tuple[float, float] | None] | str:
+Limits = tuple[float, float] | None
+
+
+def generic(c: Any) -> tuple[str, int | None, Limits, Limits] | str:
     """The tumble joint a generic constraint's axes make, as (Blender's constraint type it acts as, the axis's index
-    in the constraint's frame, the limits on it), or why none does. An axis is locked by a limit from 0 to 0, free
+    in the constraint's frame, the limits on it, a piston's limits on its turn), or why none does. An axis is locked by a limit from 0 to 0, free
     without a limit, limited by any other."""
     def state(kind: str, i: int) -> tuple[str, tuple[float, float] | None]:
         if not getattr(c, f"use_limit_{kind}_{AXES[i]}"):
@@ -40,15 +43,15 @@ def generic(c: Any) -> tuple[str, int | None, tuple[float, float] | None] | str:
     moving = [[i for i, (s, _) in enumerate(axes) if s != "locked"] for axes in (lin, ang)]
     lm, am = moving
     if not lm and not am:
-        return "FIXED", None, None
+        return "FIXED", None, None, None
     if not lm and len(am) == 3 and all(s == "free" for s, _ in ang):
-        return "POINT", None, None
+        return "POINT", None, None, None
     if not lm and len(am) == 1:
-        return "HINGE", am[0], ang[am[0]][1]
+        return "HINGE", am[0], ang[am[0]][1], None
     if not am and len(lm) == 1:
-        return "SLIDER", lm[0], lin[lm[0]][1]
-    if len(lm) == 1 and am == lm and ang[lm[0]][0] == "free":
-        return "PISTON", lm[0], lin[lm[0]][1]
+        return "SLIDER", lm[0], lin[lm[0]][1], None
+    if len(lm) == 1 and am == lm:
+        return "PISTON", lm[0], lin[lm[0]][1], ang[lm[0]][1]
     free = ", ".join([f"linear {AXES[i]}" for i in lm] + [f"angular {AXES[i]}" for i in am]) or "none"
     return (f"its free and limited axes ({free}) make none of tumble's joints (weld, ball, hinge, slider, "
             "piston)")
@@ -124,18 +127,16 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
         if not c.enabled:
             continue
         before = len(problems)
-        kind, generic_axis, generic_limits = c.type, None, None
+        kind, generic_axis, generic_limits, generic_turn = c.type, None, None, None
         if c.type in ("GENERIC", "GENERIC_SPRING"):
             acts = generic(c)
             if isinstance(acts, str):
                 problems.append(f"{obj.name}: limits: {acts}")
             else:
-                kind, generic_axis, generic_limits = acts
+                kind, generic_axis, generic_limits, generic_turn = acts
         if kind not in kinds and kind not in ("GENERIC", "GENERIC_SPRING"):
             problems.append(f"{obj.name}: constraint type: {c.type} is not one tumble takes yet (fixed, point, "
                             "hinge, slider, piston, motor, generic)")
-        if c.type == "PISTON" and c.use_limit_ang_x:
-            problems.append(f"{obj.name}: limits angular x: a piston's turn limits are not taken yet")
         ends = []
         for which in (c.object1, c.object2):
             if which is None or which.name not in handles:
@@ -167,6 +168,8 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
             if generic_limits is not None:
                 scale = 1.0 if kind == "HINGE" else unit
                 fields["limits"] = (generic_limits[0] * scale, generic_limits[1] * scale)
+            if generic_turn is not None:
+                fields["turn_limits"] = generic_turn
             if c.type == "GENERIC_SPRING":
                 springs = spring(c, kind, generic_axis if generic_axis is not None else 0, world, rows, pivot, turn,
                                  substep, unit)
@@ -183,6 +186,8 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
             fields["axis"] = tuple(_to_body(poses[0][1], turn[:, 0]))
             if c.use_limit_lin_x:
                 fields["limits"] = (float(c.limit_lin_x_lower) * unit, float(c.limit_lin_x_upper) * unit)
+            if c.type == "PISTON" and c.use_limit_ang_x:
+                fields["turn_limits"] = (float(c.limit_ang_x_lower), float(c.limit_ang_x_upper))
         try:
             if c.type == "MOTOR":  # a drive about the constraint's x, and one along it, each where enabled
                 axis = tuple(_to_body(poses[0][1], turn[:, 0]))

@@ -60,8 +60,10 @@ pub struct Joint {
     pub kind: JointKind,
     /// The joint's place at the step's start.
     pub frame: JointFrame,
-    /// Lower and upper angle (hinge, rad) or travel (slider, m).
+    /// Lower and upper angle (hinge, rad) or travel (slider, piston, m).
     pub limits: Option<(f64, f64)>,
+    /// A piston's lower and upper turn about its axis (rad).
+    pub turn_limits: Option<(f64, f64)>,
     pub motor: Option<JointMotor>,
     pub spring: Option<JointSpring>,
     /// A soft joint's stiffness (Hz) and damping ratio; `None` is rigid.

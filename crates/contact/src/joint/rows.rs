@@ -7,14 +7,14 @@
 //! two rows across it (A's directions against B's axis); weld and slider hold the rotation by three rows of relative
 //! angular velocity along the world axes, their error the rotation vector of the frame's rotation error; a slider
 //! holds its anchor on A's axis by two rows across it; a distance is one row along the line between the anchors.
-//! Limits are one-sided rows on the hinge angle or slider travel; a motor is a row on their speed; a spring a soft
+//! Limits are one-sided rows on the hinge angle or slider travel (and a piston's turn); a motor is a row on their speed; a spring a soft
 //! row on their value.
 
 use super::{Joint, JointFrame, JointKind};
 use nalgebra::Vector3;
 
-/// Most rows one joint gives (a hinge or slider with limits, a motor and a spring).
-pub const MAX_ROWS: usize = 9;
+/// Most rows one joint gives (a piston with limits on its travel and its turn, a motor and a spring).
+pub const MAX_ROWS: usize = 10;
 
 /// How a row is solved.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -145,9 +145,14 @@ pub fn joint_rows(
                 push(zero, g, -g, p.dot(&f.axis_b), RowKind::Equality, k);
             }
             if kinds == JointKind::Piston {
-                // its options on the travel along the axis, as a slider's
+                // its options on the travel along the axis, as a slider's, then its turn's limits, as a hinge's
                 let (lin, a, b, travel, k) = carried(f.axis);
                 options(joint, travel, (lin, a, b), k, &mut push);
+                if let Some((lo, hi)) = joint.turn_limits {
+                    let (theta, k) = (twist(f.axis), wa.cross(&f.axis).dot(&(wb - wa)));
+                    push(zero, -f.axis, f.axis, theta - lo, RowKind::Lower, k);
+                    push(zero, f.axis, -f.axis, hi - theta, RowKind::Lower, -k);
+                }
             } else {
                 let theta = twist(f.axis);
                 let k = wa.cross(&f.axis).dot(&(wb - wa));
