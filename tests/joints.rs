@@ -262,6 +262,15 @@ fn bad_joints_are_refused_by_name_and_change_nothing() {
     assert_eq!(name(w.add_joint(JointBuilder::ball(Some(a), Some(b)).limits(-1.0, 1.0))), "limits");
     assert_eq!(name(w.add_joint(JointBuilder::weld(Some(a), Some(b)).motor(1.0, 1.0))), "motor");
     assert_eq!(name(w.add_joint(JointBuilder::ball(None, None))), "b");
+    // a turn's limits are a piston's alone, within (-pi, pi) and in order
+    assert_eq!(
+        name(w.add_joint(JointBuilder::hinge(Some(a), Some(b), Vector3::z()).turn_limits(-1.0, 1.0))),
+        "turn_limits"
+    );
+    let piston = || JointBuilder::piston(Some(a), Some(b), Vector3::z());
+    assert_eq!(name(w.add_joint(piston().turn_limits(1.0, -1.0))), "turn_limits");
+    assert_eq!(name(w.add_joint(piston().turn_limits(-4.0, 1.0))), "turn_limits");
+    assert_eq!(name(w.add_joint(piston().turn_limits(f64::NAN, 1.0))), "turn_limits");
     assert_eq!(w.joints().count(), 0);
     assert!(!w.plan().has("joints"));
     // an option that does not apply (a softness, fast mode's, in accurate mode, the default) is refused where it
@@ -444,8 +453,10 @@ fn a_piston_slides_and_turns_about_its_axis_and_holds_the_rest() {
             .angular_velocity(Vector3::new(0.0, 0.0, 3.0));
         let b = w.add_body(ball).unwrap();
         w.add_joint(JointBuilder::piston(None, Some(b), Vector3::z()).turn_limits(-0.2, 0.5)).unwrap();
+        // (through a file, which keeps them)
+        let mut w = World::from_json(&w.to_json().unwrap()).unwrap();
         w.step(1.0).unwrap();
-        let body = w.body(b).unwrap();
+        let (_, body) = w.bodies().last().unwrap();
         let turn = body.orientation().scaled_axis();
         assert!((turn.z - 0.5).abs() < tolerance * 10.0, "fast {fast_mode}: turned {} rad, the limit 0.5", turn.z);
         assert!(body.angular_velocity().norm() < tolerance * 10.0, "fast {fast_mode}: {}", body.angular_velocity());

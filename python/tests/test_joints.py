@@ -133,3 +133,17 @@ def test_accurate_mode_takes_limits_motors_and_ropes_as_the_docs_say():
     assert "softness" in doc
     with pytest.raises(ValueError, match="`softness`"):
         w.add_joint(tumble.Ball(None, bob, world_point=(0, 0, 0), softness=(5.0, 1.0)))
+
+
+def test_a_pistons_turn_limits_stop_its_spin_and_bad_ones_name_the_argument():
+    # a ball spun at 3 rad/s about a vertical piston with turn limits (-0.2, 0.5) comes to rest turned 0.5 rad
+    # (accurate mode holds a reached limit at its tolerance: bound 1e-5 rad)
+    w = tumble.World()
+    ball = w.add_body(tumble.Sphere(radius=0.1), mass=1.0, angular_velocity=(0.0, 0.0, 3.0))
+    w.add_joint(tumble.Piston(None, ball, axis=(0.0, 0.0, 1.0), turn_limits=(-0.2, 0.5)))
+    w.step(1.0)
+    wq, _, _, zq = w.bodies.orientations[0]
+    assert abs(2.0 * np.arctan2(zq, wq) - 0.5) < 1e-5
+    for bad in [(1.0, -1.0), (-4.0, 0.0), ("a", 1.0), 3.0]:
+        with pytest.raises(ValueError, match="turn_limits"):
+            w.add_joint(tumble.Piston(None, ball, axis=(0.0, 0.0, 1.0), turn_limits=bad))
