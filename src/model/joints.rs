@@ -35,6 +35,7 @@ pub(crate) struct CompiledJoint {
     pub breaking: Option<crate::joint::Breaking>,
     pub broken: bool,
     /// Whether its bodies collide with each other.
+    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub collide: bool,
 }
 
