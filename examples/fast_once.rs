@@ -1,14 +1,21 @@
 //! One fast-mode scene run for profiling: `rest` (one box on the ground, dt 1/240), `stack` (ten cubes) or `pile N`
 //! (the peer comparison's pile, dt 1/60), on one thread without sleeping, printing the time a step:
-//! `cargo run --release --example fast_once -- pile 1000 600`
+//! `cargo run --release --example fast_once -- pile 1000 600 [--substeps S] [--iterations K]`
 use nalgebra::Vector3;
-use tumble::{FastSettings, Material, Mode, RigidBodyBuilder, Shape, World};
+use tumble::{FastSettings, FastSolver, Material, Mode, RigidBodyBuilder, Shape, SoftSolver, World};
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let mut soft = SoftSolver::default();
+    for (flag, field) in [("--substeps", &mut soft.substeps), ("--iterations", &mut soft.iterations)] {
+        if let Some(k) = args.iter().position(|a| a == flag) {
+            *field = args[k + 1].parse().expect("a whole number");
+            args.drain(k..k + 2);
+        }
+    }
     let which = args.first().map(String::as_str).unwrap_or("rest");
     let number = |k: usize, default: usize| args.get(k).and_then(|a| a.parse().ok()).unwrap_or(default);
     let (dt, mut w) = (if which == "pile" { 1.0 / 60.0 } else { 1.0 / 240.0 }, World::new());
-    w.set_mode(Mode::Fast(FastSettings { sleep: false, ..FastSettings::new(dt) })).unwrap();
+    w.set_mode(Mode::Fast(FastSettings { sleep: false, solver: FastSolver::Soft(soft), ..FastSettings::new(dt) })).unwrap();
     w.set_threads(1).unwrap();
     w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
     let cube = |w: &mut World, half: f64, at: Vector3<f64>| {

@@ -302,9 +302,10 @@ impl Model {
         Vec::new()
     }
 
-    /// Whether the model has joints.
+    /// Whether the model has joints that hold (broken ones hold nothing: a world whose joints all broke is
+    /// planned, stepped and put to sleep as one without joints).
     pub(crate) fn has_joints(&self) -> bool {
-        !self.joints.is_empty()
+        self.holding_joints().next().is_some()
     }
 
     /// Whether any particle has damping or a restoring term, or any body damping.

@@ -147,7 +147,7 @@ pub(super) fn update_sleep(
 ) {
     let (true, Some(scene)) = (cx.settings.sleep, cx.scene.as_deref()) else { return };
     // jointed bodies do not sleep (sleep groups bodies by their contacts alone)
-    if !cx.model.joints.is_empty() {
+    if cx.model.has_joints() {
         return;
     }
     let moved: Vec<BodyState> = states
