@@ -15,7 +15,8 @@ fn main() {
     let which = args.first().map(String::as_str).unwrap_or("rest");
     let number = |k: usize, default: usize| args.get(k).and_then(|a| a.parse().ok()).unwrap_or(default);
     let (dt, mut w) = (if which == "pile" { 1.0 / 60.0 } else { 1.0 / 240.0 }, World::new());
-    w.set_mode(Mode::Fast(FastSettings { sleep: false, solver: FastSolver::Soft(soft), ..FastSettings::new(dt) })).unwrap();
+    w.set_mode(Mode::Fast(FastSettings { sleep: false, solver: FastSolver::Soft(soft), ..FastSettings::new(dt) }))
+        .unwrap();
     w.set_threads(1).unwrap();
     w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
     let cube = |w: &mut World, half: f64, at: Vector3<f64>| {
@@ -44,4 +45,11 @@ fn main() {
         w.step(dt).unwrap();
     }
     println!("{which}: {:.2} us a step", clock.elapsed().as_secs_f64() * 1e6 / steps as f64);
+    let r = w.report();
+    println!(
+        "narrow-phase tests {:.1} a step, pushing contacts {:.1} a step, penetration {:.3} mm",
+        r.collision_checks as f64 / steps as f64,
+        r.impulses as f64 / steps as f64,
+        r.max_penetration * 1e3
+    );
 }

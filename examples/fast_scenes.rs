@@ -5,6 +5,10 @@
 //!
 //! cargo run --release --example fast_scenes -- [soft|exact] [pile sizes, e.g. 100 1000] [--substeps N]
 //!     [--iterations K] [--hertz F] [--threads T]
+//! cargo run --release --example fast_scenes -- pyramids [--substeps N] ...   (Box3D's two walls of cubes instead)
+
+#[path = "../benches/peers/overlap.rs"]
+mod overlap;
 
 use nalgebra::Vector3;
 use std::time::Instant;
@@ -25,19 +29,27 @@ fn cube(w: &mut World, half: f64, density: f64, at: Vector3<f64>, mu: f64) -> Bo
 }
 
 /// The pile: N cubes of half extent 0.5 m on a 10 x 10 grid at 1.2 m pitch, N / 100 layers 1.2 m apart, the lowest
-/// bottoms 2 m up; 600 steps of 1/60 s. Returns (ms a step, largest penetration over the last 100 steps).
+/// bottoms 2 m up; 600 steps of 1/60 s, each a call of its own and timed alone. Returns (ms a step, the deepest
+/// overlap over the last 100 steps, recomputed from the poses as for every engine: `benches/peers/overlap.rs`).
 fn pile(n: usize, solver: FastSolver, sleep: bool, threads: usize) -> (f64, f64) {
     let mut w = world(1.0 / 60.0, solver, sleep, 0.5);
     w.set_threads(threads).unwrap();
-    for k in 0..n {
-        let (layer, i, j) = (k / 100, (k % 100) / 10, k % 10);
-        let at = Vector3::new(1.2 * i as f64, 1.2 * j as f64, 2.5 + 1.2 * layer as f64);
-        cube(&mut w, 0.5, 1000.0, at, 0.5);
+    let cubes: Vec<BodyHandle> = (0..n)
+        .map(|k| {
+            let (layer, i, j) = (k / 100, (k % 100) / 10, k % 10);
+            let at = Vector3::new(1.2 * i as f64, 1.2 * j as f64, 2.5 + 1.2 * layer as f64);
+            cube(&mut w, 0.5, 1000.0, at, 0.5)
+        })
+        .collect();
+    let (mut spent, mut penetration) = (0.0, 0.0f64);
+    for step in 0..600 {
+        let clock = Instant::now();
+        w.step(1.0 / 60.0).unwrap();
+        spent += clock.elapsed().as_secs_f64();
+        if step >= 500 {
+            penetration = penetration.max(overlap::deepest(&boxes(&w, &cubes, 0.5)));
+        }
     }
-    let clock = Instant::now();
-    w.step(500.0 / 60.0).unwrap();
-    let run = w.run(100.0 / 60.0, 1.0 / 60.0).unwrap();
-    let penetration = run.penetration.iter().fold(0.0f64, |m, p| m.max(*p));
     let r = w.report();
     eprintln!(
         "pile {n}, sleep {sleep}: finding contacts {:.3} ms, solving {:.3} ms (building the rows {:.3} ms) a step; {:.0} pushing \
@@ -49,7 +61,56 @@ fn pile(n: usize, solver: FastSolver, sleep: bool, threads: usize) -> (f64, f64)
         r.islands as f64 / 600.0,
         r.contact_residual
     );
-    (clock.elapsed().as_secs_f64() * 1e3 / 600.0, penetration)
+    (spent * 1e3 / 600.0, penetration)
+}
+
+/// The cubes of half extent `half` as boxes posed where the world has them.
+fn boxes(w: &World, cubes: &[BodyHandle], half: f64) -> Vec<overlap::Boxed> {
+    cubes.iter().map(|&b| (Vector3::repeat(half), w.body(b).unwrap().pose())).collect()
+}
+
+/// Box3D's walls of cubes (`tumble::scenes::LargePyramid`, `ManyPyramids`): `steps` steps of 1/60 s, the first
+/// untimed (Box3D's benchmark does the same), each a call of its own. Returns (ms a step, the largest sink of a
+/// wall's top cube, the deepest overlap at the end).
+fn walls(
+    mut w: World,
+    walls: Vec<Vec<BodyHandle>>,
+    solver: FastSolver,
+    threads: usize,
+    steps: usize,
+) -> (f64, f64, f64) {
+    let Mode::Fast(settings) = w.mode() else { unreachable!("the walls are fast-mode scenes") };
+    w.set_mode(Mode::Fast(FastSettings { solver, ..settings })).unwrap();
+    w.set_threads(threads).unwrap();
+    let tops: Vec<BodyHandle> = walls.iter().map(|c| *c.last().expect("a cube a wall")).collect();
+    let start: Vec<f64> = tops.iter().map(|&b| w.body(b).unwrap().position().z).collect();
+    w.step(1.0 / 60.0).unwrap();
+    let clock = Instant::now();
+    for _ in 1..steps {
+        w.step(1.0 / 60.0).unwrap();
+    }
+    let ms = clock.elapsed().as_secs_f64() * 1e3 / (steps - 1) as f64;
+    let sink = tops.iter().zip(&start).map(|(&b, z)| z - w.body(b).unwrap().position().z).fold(0.0, f64::max);
+    let all: Vec<BodyHandle> = walls.into_iter().flatten().collect();
+    (ms, sink, overlap::deepest(&boxes(&w, &all, 0.5)))
+}
+
+/// The rows of Box3D's two benchmark walls.
+fn pyramids(solver: FastSolver, threads: usize) {
+    let (w, cubes) = tumble::scenes::LargePyramid::default().build().unwrap();
+    let (ms, sink, deepest) = walls(w, vec![cubes], solver, threads, 200);
+    println!(
+        "| large pyramid (5,050 cubes), 200 steps: ms a step / top's sink / overlap | {ms:.1} ms / {:.1} mm / {:.2} mm |",
+        sink * 1e3,
+        deepest * 1e3
+    );
+    let (w, walls_of) = tumble::scenes::ManyPyramids::default().build().unwrap();
+    let (ms, sink, deepest) = walls(w, walls_of, solver, threads, 100);
+    println!(
+        "| many pyramids (10,780 cubes), 100 steps: ms a step / largest top's sink / overlap | {ms:.1} ms / {:.2} mm / {:.2} mm |",
+        sink * 1e3,
+        deepest * 1e3
+    );
 }
 
 /// Largest displacement of any body over `seconds`, and the time of a step (us; the steps alone timed).
@@ -94,6 +155,10 @@ fn main() {
         .filter(|&n| n >= 100)
         .collect();
     println!("| tumble fast ({}) | value |\n|---|---|", solver.name());
+    if args.iter().any(|a| a == "pyramids") {
+        pyramids(solver, threads);
+        return;
+    }
     for &n in if sizes.is_empty() { &[100usize, 1000][..] } else { &sizes[..] } {
         for (sleep, label) in [(false, "no sleep"), (true, "sleeping")] {
             let (ms, pen) = pile(n, solver, sleep, threads);

@@ -6,6 +6,8 @@
 #[cfg(feature = "contact")]
 mod benchmark;
 #[cfg(feature = "contact")]
+mod box3d;
+#[cfg(feature = "contact")]
 mod contact;
 #[cfg(feature = "contact")]
 pub mod joints;
@@ -14,6 +16,8 @@ pub mod meshes;
 mod registry;
 #[cfg(feature = "contact")]
 pub use benchmark::Benchmark;
+#[cfg(feature = "contact")]
+pub use box3d::{LargePyramid, ManyPyramids};
 #[cfg(feature = "contact")]
 pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
 pub use registry::{build, check, NAMES};

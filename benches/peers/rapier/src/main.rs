@@ -12,6 +12,11 @@ use rapier3d_f64::prelude::*;
 use std::time::Instant;
 
 mod meshes;
+#[path = "../../overlap.rs"]
+mod overlap;
+
+/// Solver iterations (Rapier's substeps) of every world, `--substeps N` (4, Rapier's default, if not given).
+static SUBSTEPS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(4);
 
 const G: f64 = 9.81;
 
@@ -19,6 +24,7 @@ fn world(dt: f64) -> PhysicsWorld {
     let mut w = PhysicsWorld::default();
     w.gravity = Vector::new(0.0, 0.0, -G);
     w.integration_parameters.dt = dt;
+    w.integration_parameters.num_solver_iterations = SUBSTEPS.load(std::sync::atomic::Ordering::Relaxed);
     w
 }
 
@@ -36,28 +42,113 @@ fn cube(w: &mut PhysicsWorld, half: f64, density: f64, at: Vector, mu: f64, slee
     b
 }
 
-fn penetration(w: &PhysicsWorld) -> f64 {
-    w.narrow_phase.contact_pairs().filter_map(|p| p.find_deepest_contact().map(|(_, c)| -c.dist)).fold(0.0, f64::max)
+/// The cubes of half extent `half` as boxes posed where the world has them (nalgebra, for `overlap.rs`).
+fn boxes(w: &PhysicsWorld, cubes: &[RigidBodyHandle], half: f64) -> Vec<overlap::Boxed> {
+    cubes
+        .iter()
+        .map(|&b| {
+            let p = w.bodies[b].position();
+            let (t, r) = (p.translation, p.rotation);
+            let rotation = nalgebra::UnitQuaternion::new_normalize(nalgebra::Quaternion::new(r.w, r.x, r.y, r.z));
+            let pose = nalgebra::Isometry3::from_parts(nalgebra::Translation3::new(t.x, t.y, t.z), rotation);
+            (nalgebra::Vector3::repeat(half), pose)
+        })
+        .collect()
 }
 
+/// The pile: (ms a step, the deepest overlap over the last 100 steps, recomputed from the poses).
 fn pile(n: usize, sleep: bool) -> (f64, f64) {
     let mut w = world(1.0 / 60.0);
     ground(&mut w, 0.5);
-    for k in 0..n {
-        let (layer, i, j) = (k / 100, (k % 100) / 10, k % 10);
-        let at = Vector::new(1.2 * i as f64, 1.2 * j as f64, 2.5 + 1.2 * layer as f64);
-        cube(&mut w, 0.5, 1000.0, at, 0.5, sleep);
-    }
+    let cubes: Vec<RigidBodyHandle> = (0..n)
+        .map(|k| {
+            let (layer, i, j) = (k / 100, (k % 100) / 10, k % 10);
+            let at = Vector::new(1.2 * i as f64, 1.2 * j as f64, 2.5 + 1.2 * layer as f64);
+            cube(&mut w, 0.5, 1000.0, at, 0.5, sleep)
+        })
+        .collect();
     let (mut spent, mut worst) = (0.0, 0.0f64);
     for step in 0..600 {
         let clock = Instant::now();
         w.step();
         spent += clock.elapsed().as_secs_f64();
         if step >= 500 {
-            worst = worst.max(penetration(&w));
+            worst = worst.max(overlap::deepest(&boxes(&w, &cubes, 0.5)));
         }
     }
     (spent * 1e3 / 600.0, worst)
+}
+
+/// Box3D's benchmark walls (`tumble::scenes::LargePyramid`, `ManyPyramids`; the same cubes, poses, density and
+/// friction, z up), at 1/60 s with sleeping off: a wall of `base` unit cubes with its bottom left cube's centre at
+/// x = `left`, in the plane y = `y`; bottom row first.
+fn wall(w: &mut PhysicsWorld, base: usize, left: f64, y: f64) -> Vec<RigidBodyHandle> {
+    let mut out = Vec::new();
+    for row in 0..base {
+        let z = (2 * row + 1) as f64 * 0.5;
+        for k in row..base {
+            let x = left + row as f64 * 0.5 + (k - row) as f64;
+            let (b, _) = w.insert(
+                RigidBodyBuilder::dynamic().translation(Vector::new(x, y, z)).can_sleep(false),
+                ColliderBuilder::cuboid(0.5, 0.5, 0.5).density(100.0).friction(0.6).restitution(0.0),
+            );
+            out.push(b);
+        }
+    }
+    out
+}
+
+/// Steps a world of walls `steps` times (the first untimed): (ms a step, the largest sink of a top cube, the
+/// deepest overlap at the end).
+fn walls(mut w: PhysicsWorld, walls: Vec<Vec<RigidBodyHandle>>, steps: usize) -> (f64, f64, f64) {
+    let tops: Vec<RigidBodyHandle> = walls.iter().map(|c| *c.last().unwrap()).collect();
+    let start: Vec<f64> = tops.iter().map(|&b| w.bodies[b].translation().z).collect();
+    w.step();
+    let clock = Instant::now();
+    for _ in 1..steps {
+        w.step();
+    }
+    let ms = clock.elapsed().as_secs_f64() * 1e3 / (steps - 1) as f64;
+    let sink = tops.iter().zip(&start).map(|(&b, z)| z - w.bodies[b].translation().z).fold(0.0, f64::max);
+    let all: Vec<RigidBodyHandle> = walls.into_iter().flatten().collect();
+    (ms, sink, overlap::deepest(&boxes(&w, &all, 0.5)))
+}
+
+/// A world at 1/60 s over a fixed slab of half extents `half` x `half` x 1 whose top is z = 0 (friction 0.6).
+fn slab_world(half: f64) -> PhysicsWorld {
+    let mut w = world(1.0 / 60.0);
+    let floor = w.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -1.0)));
+    w.insert_collider(ColliderBuilder::cuboid(half, half, 1.0).friction(0.6).restitution(0.0), Some(floor));
+    w
+}
+
+fn pyramids() {
+    let mut w = slab_world(400.0);
+    let cubes = wall(&mut w, 100, 0.5 - 50.0, 0.0);
+    let (ms, sink, deepest) = walls(w, vec![cubes], 200);
+    println!(
+        "| large pyramid (5,050 cubes), 200 steps: ms a step / top's sink / overlap | {ms:.1} ms / {:.1} mm / {:.2} mm |",
+        sink * 1e3,
+        deepest * 1e3
+    );
+    let (rows, columns, base) = (14, 14, 10);
+    let extent = 0.5 * columns as f64 * (base as f64 + 1.0);
+    let mut w = slab_world(extent);
+    let spacing = 2.0 * (extent - 1.0) / (rows as f64 - 1.0);
+    let mut all = Vec::new();
+    for i in 0..rows {
+        let y = -(-extent + 1.0 + spacing * i as f64);
+        for j in 0..columns {
+            let centre = -extent + j as f64 * (base as f64 + 1.0) + 1.0;
+            all.push(wall(&mut w, base, 0.5 + centre - 0.5, y));
+        }
+    }
+    let (ms, sink, deepest) = walls(w, all, 100);
+    println!(
+        "| many pyramids (10,780 cubes), 100 steps: ms a step / largest top's sink / overlap | {ms:.1} ms / {:.2} mm / {:.2} mm |",
+        sink * 1e3,
+        deepest * 1e3
+    );
 }
 
 /// Largest displacement of any of `bodies` over `steps`, and the time of a step (us; the steps alone timed).
@@ -188,7 +279,18 @@ mod joints {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(k) = args.iter().position(|a| a == "--substeps") {
+        let n: usize = args[k + 1].parse().expect("a whole number of substeps");
+        SUBSTEPS.store(n, std::sync::atomic::Ordering::Relaxed);
+        args.drain(k..k + 2);
+    }
+    let substeps = SUBSTEPS.load(std::sync::atomic::Ordering::Relaxed);
+    if args.iter().any(|a| a == "pyramids") {
+        println!("| Rapier 0.36.1 (f64, {substeps} substeps) | value |\n|---|---|");
+        pyramids();
+        return;
+    }
     if args.iter().any(|a| a == "meshes") {
         meshes::table();
         return;
@@ -197,8 +299,8 @@ fn main() {
         joints::table(args.iter().any(|a| a == "multibody"));
         return;
     }
-    let sizes: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
-    println!("| Rapier 0.36.1 (f64, defaults) | value |\n|---|---|");
+    let sizes: Vec<usize> = args.iter().filter_map(|a| a.parse().ok()).collect();
+    println!("| Rapier 0.36.1 (f64, {substeps} substeps) | value |\n|---|---|");
     for &n in if sizes.is_empty() { &[100usize, 1000][..] } else { &sizes[..] } {
         for (sleep, label) in [(false, "no sleep"), (true, "sleeping")] {
             let (ms, pen) = pile(n, sleep);
