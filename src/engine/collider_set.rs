@@ -18,6 +18,27 @@ use tumble_collide::{contacts, Aabb, ContactKind, Shape, SortAndSweep};
 /// Pairs from which the narrow phase is shared out among the workers.
 const PARALLEL_PAIRS: usize = 256;
 
+/// How far two actors can close on each other in a step of `h`: their relative speed (`speeds`) plus both spins'
+/// reach, times h, never more than the two reaches; plus `base`.
+pub(crate) struct Closing {
+    reach: Vec<f64>,
+    spin: Vec<f64>,
+    speeds: Vec<Vector3<f64>>,
+    h: f64,
+    base: f64,
+}
+
+impl Closing {
+    pub fn of(&self, a: usize, b: usize) -> f64 {
+        let relative = match (self.speeds.get(a), self.speeds.get(b)) {
+            (Some(x), Some(y)) => (x - y).norm(),
+            _ => f64::INFINITY,
+        };
+        // never more than the two reaches (the old bound), so an unknown actor cannot widen it
+        ((relative * self.h + self.spin[a] + self.spin[b]).min(self.reach[a] + self.reach[b])) + self.base
+    }
+}
+
 /// Who carries a collider: actors are numbered particles first, then dynamic bodies, then static bodies, which is
 /// the order of the body arrays handed to tumble-contact.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -213,31 +234,22 @@ impl ColliderSet {
         Ok(self.pair_contacts(&pairs, poses, |a, b| grown[a] + grown[b]))
     }
 
-    /// Fast mode's contacts of a step of h, reduced (`contact_reduction.rs`): the broad phase on boxes grown by how
-    /// far each actor can move (`reach`) plus half of `base`, and each pair's manifold within how far the two can
-    /// close on each other in the step: their relative speed plus both spins' reach, times h, plus `base`. Bodies
+    /// Fast mode's contact pairs of a step of h: the broad phase on boxes grown by how far each actor can move
+    /// (`reach`) plus half of `base`, and for each pair how far the two can close on each other in the step: their
+    /// relative speed plus both spins' reach, times h, plus `base` (a pair's contacts are sought within it). Bodies
     /// moving together (a stack falling, a row of boxes landing side by side) are not joined by contacts they cannot
-    /// close. With `store`, pairs that barely moved reuse their manifolds and reductions (`contact_pairs.rs`),
-    /// and the pairs are shared out among `threads` workers.
-    pub fn find_closing(
+    /// close.
+    fn closing_pairs(
         &mut self,
         poses: &[Isometry3<f64>],
         states: &[tumble_contact::BodyState],
         (h, base): (f64, f64),
-        store: Option<&mut ContactPairs>,
-        threads: usize,
-    ) -> Result<Vec<FoundContact>, String> {
+    ) -> Result<(Vec<(usize, usize)>, Closing), String> {
         let (reach, spin) = self.reach_and_spin(states, h);
         let grown: Vec<f64> = reach.iter().map(|m| m + 0.5 * base).collect();
         let boxes = self.boxes(poses, &grown)?;
-        let closing = |a: usize, b: usize| {
-            let relative = match (states.get(a), states.get(b)) {
-                (Some(x), Some(y)) => (x.velocity - y.velocity).norm(),
-                _ => f64::INFINITY,
-            };
-            // never more than the two reaches (the old bound), so an unknown actor cannot widen it
-            ((relative * h + spin[a] + spin[b]).min(reach[a] + reach[b])) + base
-        };
+        let speeds: Vec<Vector3<f64>> = states.iter().map(|s| s.velocity).collect();
+        let closing = Closing { reach, spin, speeds, h, base };
         // Two colliders whose own boxes (the grown ones less the growth) are farther apart than the pair can close
         // have no contact within reach: left out before the narrow phase (a falling tower's neighbours, moving
         // together, overlap only by their growth). Exact: the shapes are at least as far apart as their boxes.
@@ -246,13 +258,48 @@ impl ColliderSet {
             let (ia, ib) = (actor[i], actor[j]);
             let (a, b) = (&boxes[i], &boxes[j]);
             let gap = (0..3).map(|k| (b.min[k] - a.max[k]).max(a.min[k] - b.max[k])).fold(f64::MIN, f64::max);
-            !(gap + grown[ia] + grown[ib] > closing(ia, ib))
+            !(gap + grown[ia] + grown[ib] > closing.of(ia, ib))
         };
         let pairs = self.broad_pairs_where(&boxes, within_reach)?;
-        Ok(match store {
-            Some(store) => self.kept_pair_contacts(&pairs, poses, closing, (store, states), threads),
-            None => reduce(self.pair_contacts(&pairs, poses, closing), states),
-        })
+        Ok((pairs, closing))
+    }
+
+    /// Fast mode's contacts of a step of h (the exact solver's), reduced (`contact_reduction.rs`): every pair within
+    /// reach (`closing_pairs`) computed afresh.
+    pub fn find_closing(
+        &mut self,
+        poses: &[Isometry3<f64>],
+        states: &[tumble_contact::BodyState],
+        reach: (f64, f64),
+    ) -> Result<Vec<FoundContact>, String> {
+        let (pairs, closing) = self.closing_pairs(poses, states, reach)?;
+        Ok(reduce(self.pair_contacts(&pairs, poses, |a, b| closing.of(a, b)), states))
+    }
+
+    /// Fast mode's contacts of a step of h kept in `store` (the soft step's): each pair within reach
+    /// (`closing_pairs`) reuses its manifold if it barely moved (`contact_pairs.rs`), else computes it, reduces it
+    /// and sets its contacts, warm-started from its last ones; pairs begin and end in the constraint graph. The
+    /// pairs are shared out among `threads` workers.
+    pub fn keep_closing(
+        &mut self,
+        poses: &[Isometry3<f64>],
+        states: &[tumble_contact::BodyState],
+        reach: (f64, f64),
+        store: &mut ContactPairs,
+        threads: usize,
+    ) -> Result<(), String> {
+        let (pairs, closing) = self.closing_pairs(poses, states, reach)?;
+        let movable = |a: usize| !self.immovable[a];
+        let mut entries = store.open(&pairs, movable);
+        self.kept_pair_contacts(&mut entries, poses, &|a, b| closing.of(a, b), states, threads);
+        let movable = |a: usize| !self.immovable[a];
+        store.close(entries, self.actors(), movable);
+        Ok(())
+    }
+
+    /// Whether an actor takes colours in the constraint graph (a sweep moves it: not static or kinematic).
+    pub fn movable(&self, actor: usize) -> bool {
+        !self.immovable[actor]
     }
 
     /// The pairs of colliders (first one moving) whose boxes, swept from `from` to `to` and grown by each actor's
@@ -314,21 +361,20 @@ impl ColliderSet {
         out
     }
 
-    /// `pair_contacts` with the pairs kept across steps (`store`), each pair's contacts reduced (the actors
-    /// `states` give the reduction its centres of mass), on up to `threads` workers: the pairs are shared out in
-    /// order, and their contacts come back in pair order whatever the number.
-    pub fn kept_pair_contacts(
+    /// Each of the pairs kept across steps (`entries`, as `ContactPairs::open` gives them) given its contacts at
+    /// `poses`, each pair within `prediction(actor_a, actor_b)`, reduced (the actors `states` give the reduction
+    /// its centres of mass), on up to `threads` workers: the pairs are shared out in order, each written by one.
+    fn kept_pair_contacts(
         &mut self,
-        pairs: &[(usize, usize)],
+        entries: &mut [Pair],
         poses: &[Isometry3<f64>],
-        prediction: impl Fn(usize, usize) -> f64 + Sync,
-        (store, states): (&mut ContactPairs, &[tumble_contact::BodyState]),
+        prediction: &(impl Fn(usize, usize) -> f64 + Sync),
+        states: &[tumble_contact::BodyState],
         threads: usize,
-    ) -> Vec<FoundContact> {
-        let mut entries = store.open(pairs);
+    ) {
         // below this many pairs, one worker is quicker than sharing them out; 0 threads: one per core
         let threads = match threads {
-            _ if pairs.len() < PARALLEL_PAIRS => 1,
+            _ if entries.len() < PARALLEL_PAIRS => 1,
             0 => tumble_contact::cores(),
             t => t,
         };
@@ -336,8 +382,7 @@ impl ColliderSet {
         let shares = workers.count;
         let n = entries.len();
         let bounds: Vec<usize> = (0..=shares).map(|t| n * t / shares).collect();
-        type Share = (Vec<FoundContact>, usize);
-        let slots: Vec<std::sync::Mutex<Share>> = (0..shares).map(|_| Default::default()).collect();
+        let checks: Vec<std::sync::atomic::AtomicUsize> = (0..shares).map(|_| Default::default()).collect();
         {
             let mut rest = &mut entries[..];
             let mut parts: Vec<std::sync::Mutex<&mut [Pair]>> = Vec::with_capacity(shares);
@@ -349,35 +394,23 @@ impl ColliderSet {
             let this = &*self;
             workers.run(|t| {
                 let mut part = parts[t].lock().unwrap_or_else(|e| e.into_inner());
-                let share = this.share_contacts(&mut part, poses, &prediction, states, n);
-                *slots[t].lock().unwrap_or_else(|e| e.into_inner()) = share;
+                let tested = this.share_contacts(&mut part, poses, prediction, states);
+                checks[t].store(tested, std::sync::atomic::Ordering::Relaxed);
             });
         }
-        let mut shares = slots.into_iter().map(|slot| slot.into_inner().unwrap_or_else(|e| e.into_inner()));
-        let (mut out, checks) = shares.next().expect("one worker at least");
-        self.checks += checks;
-        for (found, checks) in shares {
-            out.extend(found);
-            self.checks += checks;
-        }
-        store.close(entries);
-        self.found_last = out.len();
-        out
+        self.checks += checks.iter().map(|c| c.load(std::sync::atomic::Ordering::Relaxed)).sum::<usize>();
     }
 
-    /// One worker's share of `kept_pair_contacts`: its pairs' reduced contacts and the narrow-phase tests it ran.
+    /// One worker's share of `kept_pair_contacts`: its pairs' contacts set; gives the narrow-phase tests it ran.
     fn share_contacts(
         &self,
         entries: &mut [Pair],
         poses: &[Isometry3<f64>],
         prediction: &impl Fn(usize, usize) -> f64,
         states: &[tumble_contact::BodyState],
-        pairs: usize,
-    ) -> (Vec<FoundContact>, usize) {
-        // room for as many as the share found last step, roughly (a growing list would copy them)
-        let mut out = Vec::with_capacity(self.found_last * entries.len() / pairs.max(1) + 16);
+    ) -> usize {
         let mut checks = 0;
-        let mut kept = Vec::new();
+        let (mut found, mut kept) = (Vec::new(), Vec::new());
         for entry in entries {
             let (i, j) = entry.pair();
             let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
@@ -388,18 +421,15 @@ impl ColliderSet {
                 contacts(&ca.shape, &pa, &cb.shape, &pb, p)
             };
             let (a, b) = ((&ca.shape, &pa, ca.radius), (&cb.shape, &pb, cb.radius));
-            let Ok((found, _)) = entry.contacts(a, b, prediction(ia, ib), compute) else { continue };
-            let material = ca.material.combine(&cb.material);
-            let start = out.len();
-            out.extend(found.into_iter().map(|c| self.found_contact((i, j), (ia, ib), material, c)));
-            entry.choose(&out[start..], |f| reduce_indices(f, states), &mut kept);
-            // the kept ones moved up in order (each to a place at or before its own), the rest cut off
-            for (slot, &k) in kept.iter().enumerate() {
-                out[start + slot] = out[start + k];
+            found.clear();
+            if let Ok((contacts, _)) = entry.contacts(a, b, prediction(ia, ib), compute) {
+                let material = ca.material.combine(&cb.material);
+                found.extend(contacts.into_iter().map(|c| self.found_contact((i, j), (ia, ib), material, c)));
             }
-            out.truncate(start + kept.len());
+            entry.choose(&found, |f| reduce_indices(f, states), &mut kept);
+            entry.set_contacts(&found, &kept);
         }
-        (out, checks)
+        checks
     }
 
     /// A contact of parry's between colliders `pair` of actors `actors` as tumble-contact takes it.

@@ -123,8 +123,8 @@ pub(crate) trait Engine: Send {
 
     /// The contacts of the last step (fast mode) or contact step (accurate mode, while bodies touch).
     #[cfg(feature = "contact")]
-    fn last_contacts(&self) -> &[last_contacts::LastContact] {
-        &[]
+    fn last_contacts(&self) -> Vec<last_contacts::LastContact> {
+        Vec::new()
     }
 
     /// Gives every collider of the actor whose row among particles and dynamic and static bodies is `actor` its

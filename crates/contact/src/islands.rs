@@ -92,3 +92,31 @@ pub(crate) fn joint_islands(
     }
     out
 }
+
+/// Islands of links between bodies (a body pair each: manifolds, joints, springs), only moving bodies joining them
+/// (`moves`): each link's island, islands numbered in the order of their first link, and how many there are.
+pub(crate) fn link_islands(
+    bodies: usize,
+    moves: impl Fn(usize) -> bool,
+    links: impl Iterator<Item = (usize, usize)> + Clone,
+) -> (Vec<usize>, usize) {
+    let mut uf = UnionFind::new(bodies);
+    for (a, b) in links.clone() {
+        if moves(a) && moves(b) {
+            uf.union(a, b);
+        }
+    }
+    let mut index_of_root = vec![usize::MAX; bodies];
+    let mut count = 0;
+    let of_link = links
+        .map(|(a, b)| {
+            let root = uf.find(if moves(a) { a } else { b });
+            if index_of_root[root] == usize::MAX {
+                index_of_root[root] = count;
+                count += 1;
+            }
+            index_of_root[root]
+        })
+        .collect();
+    (of_link, count)
+}

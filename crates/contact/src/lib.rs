@@ -87,6 +87,9 @@ pub use projection::{position_correction, Correction};
 pub use resting::{contact_wrenches, resting_forces, RestingForces};
 #[cfg(feature = "clarabel")]
 pub use simultaneous::{collision_impulses, Impulses};
-pub use soft::{soft_step, SoftImpulse, SoftProblem, SoftSettings, SoftSpring, SoftStep};
+pub use soft::{
+    soft_solve, soft_step, ColourGraph, SoftImpulse, SoftLinks, SoftManifold, SoftPoint, SoftProblem, SoftSettings,
+    SoftSpring, SoftStep, COLOURS, MANIFOLD_POINTS, OVERFLOW, UNCOLOURED,
+};
 pub use spring::{SpringLaw, COINCIDENT};
 pub use threads::{cores, Workers};

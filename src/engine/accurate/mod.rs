@@ -404,8 +404,8 @@ impl Engine for AccurateEngine {
     }
 
     #[cfg(feature = "contact")]
-    fn last_contacts(&self) -> &[crate::engine::last_contacts::LastContact] {
-        self.memory.contact.as_ref().and_then(|c| c.touching.as_ref()).map_or(&[], |t| &t.last)
+    fn last_contacts(&self) -> Vec<crate::engine::last_contacts::LastContact> {
+        self.memory.contact.as_ref().and_then(|c| c.touching.as_ref()).map_or_else(Vec::new, |t| t.last.clone())
     }
 
     #[cfg(feature = "contact")]

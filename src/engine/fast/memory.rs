@@ -29,7 +29,7 @@ pub(crate) struct FastMemory {
     pub penetration: f64,
     /// The soft solver's contact pairs kept across steps (manifolds, reductions and impulses), or none.
     pub pairs: Option<ContactPairs>,
-    /// The contacts of the last step, with their impulses.
+    /// The contacts of the last step, with their impulses: the exact solver's (the soft solver's are in `pairs`).
     pub last_contacts: Vec<LastContact>,
 }
 

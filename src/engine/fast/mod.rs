@@ -261,7 +261,8 @@ impl Engine for FastEngine {
             if reached > 0 {
                 delivered += reached;
                 if let Some(run) = run.as_deref_mut() {
-                    let contacts = self.memory.last_contacts.iter().map(|c| (c.point, c.normal));
+                    let contacts = self.last_contacts();
+                    let contacts = contacts.iter().map(|c| (c.point, c.normal));
                     run.record(&self.model, t, &self.memory.y, self.memory.penetration, contacts);
                 }
             }
@@ -294,6 +295,9 @@ impl Engine for FastEngine {
                     m.broken = vec![false; self.model.joints.len()];
                 }
                 m.check(self.fit())?;
+                if let (Some(kept), Some(scene)) = (m.pairs.as_mut(), &self.scene) {
+                    kept.rebuild(scene.actors(), |a| scene.movable(a))?;
+                }
                 self.memory = *m;
                 self.give_broken()
             }
@@ -305,8 +309,11 @@ impl Engine for FastEngine {
         self.core.divergence_limit = limit;
     }
 
-    fn last_contacts(&self) -> &[LastContact] {
-        &self.memory.last_contacts
+    fn last_contacts(&self) -> Vec<LastContact> {
+        match &self.memory.pairs {
+            Some(kept) => kept.last_contacts(self.settings.dt),
+            None => self.memory.last_contacts.clone(),
+        }
     }
 
     fn set_material(&mut self, actor: usize, material: crate::Material) {

@@ -18,8 +18,8 @@ pub(crate) struct Sleep {
     still: Vec<f64>,
 }
 
-/// Groups of dynamic actors (indices below `n`) joined by contacts, as a root per actor.
-fn groups(found: &[FoundContact], n: usize) -> Vec<usize> {
+/// Groups of dynamic actors (indices below `n`) joined by contacts (their actor pairs), as a root per actor.
+fn groups(touching: impl Iterator<Item = (usize, usize)>, n: usize) -> Vec<usize> {
     let mut parent: Vec<usize> = (0..n).collect();
     fn root(parent: &mut [usize], mut x: usize) -> usize {
         while parent[x] != x {
@@ -28,8 +28,7 @@ fn groups(found: &[FoundContact], n: usize) -> Vec<usize> {
         }
         x
     }
-    for f in found {
-        let (a, b) = (f.contact.a, f.contact.b);
+    for (a, b) in touching {
         if a < n && b < n {
             let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
             parent[ra] = rb;
@@ -68,12 +67,13 @@ impl Sleep {
         self.asleep.iter().filter(|&&s| s).count()
     }
 
-    /// Wakes every group in which an awake actor touches a sleeping one; returns whether any woke.
-    pub fn wake_touched(&mut self, found: &[FoundContact], n: usize) -> bool {
+    /// Wakes every group in which an awake actor touches a sleeping one (`touching`: the actor pairs in contact);
+    /// returns whether any woke.
+    pub fn wake_touched(&mut self, touching: impl Iterator<Item = (usize, usize)>, n: usize) -> bool {
         if !self.asleep.iter().any(|&s| s) {
             return false;
         }
-        let root = groups(found, n);
+        let root = groups(touching, n);
         let mut mixed = vec![(false, false); n];
         for i in 0..n {
             let m = &mut mixed[root[i]];
@@ -97,14 +97,14 @@ impl Sleep {
     /// Books a step of length h: `speeds[i]` bounds how fast any point of actor i moves. Groups whose awake members
     /// have all been still for the sleep time fall asleep.
     #[allow(clippy::needless_range_loop)]
-    pub fn update(&mut self, found: &[FoundContact], speeds: &[f64], s: &FastSettings, h: f64) {
+    pub fn update(&mut self, touching: impl Iterator<Item = (usize, usize)>, speeds: &[f64], s: &FastSettings, h: f64) {
         let n = self.asleep.len();
         for i in 0..n {
             if !self.asleep[i] {
                 self.still[i] = if speeds[i] < s.sleep_speed { self.still[i] + h } else { 0.0 };
             }
         }
-        let root = groups(found, n);
+        let root = groups(touching, n);
         let mut ready = vec![true; n];
         for i in 0..n {
             if !self.asleep[i] && self.still[i] < s.sleep_time {
@@ -161,7 +161,10 @@ pub(super) fn update_sleep(
     for j in (0..cx.model.bodies.len()).filter(|&j| cx.model.kinematic_moves_after(j, cx.t_next)) {
         speeds[p + j] = f64::INFINITY;
     }
-    cx.memory.sleep.update(found, &speeds, &cx.settings, h);
+    match &cx.memory.pairs {
+        Some(kept) => cx.memory.sleep.update(kept.touching(), &speeds, &cx.settings, h),
+        None => cx.memory.sleep.update(found.iter().map(|f| (f.contact.a, f.contact.b)), &speeds, &cx.settings, h),
+    }
     cx.memory.sleep.freeze(&mut cx.memory.y, &cx.model);
     cx.report.stages.mark(Stage::Sleeping);
 }

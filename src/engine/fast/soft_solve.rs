@@ -1,17 +1,14 @@
 //! Fast mode, third stage with the soft solver: new velocities and poses from Catto's soft step (tumble-contact's
-//! `soft_step`: substeps, soft contacts in hertz, Coulomb friction), each contact started from its impulses of the
-//! last step (kept by its collider pair, `contact_pairs.rs`: matched by features; a contact new to a pair that
-//! touched takes the pair's mean), and the impulses kept for the next step. The substeps move the bodies
-//! themselves, so this stage also gives the poses.
+//! `soft_solve`: substeps, soft contacts in hertz, Coulomb friction) over the contacts the engine keeps by collider
+//! pair (`contact_pairs.rs`), each started from its impulses of the last step (matched by features; a contact new
+//! to a pair that touched takes the pair's mean), its impulses kept in it for the next step. The substeps move the
+//! bodies themselves, so this stage also gives the poses.
 //! Joints, springs and the particles' anchor pulls go in as the soft step's links: the springs are evaluated at
 //! every substep (as forces evaluated once a step and spread over the substeps they were not symplectic: an
 //! undamped spring gained energy at any step, and the cloth drape diverged).
 
 use super::failure;
-use super::solve_velocities::count_impulses;
 use super::step::StepContext;
-use crate::engine::found_contact::FoundContact;
-use crate::engine::last_contacts::LastContact;
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
 use crate::model::joints::JointEnd;
@@ -20,21 +17,19 @@ use crate::plan::Stage;
 use nalgebra::{Point3, Vector3};
 use std::time::Instant;
 use tumble_contact::{
-    soft_step, BodyState, Contact, Joint, JointImpulse, SoftProblem, SoftSettings, SoftSpring, SoftStep, SpringLaw,
+    soft_solve as soft_solve_manifolds, BodyState, Joint, JointImpulse, SoftLinks, SoftSettings, SoftSpring, SoftStep,
+    SpringLaw,
 };
 
-/// The soft step of h for the actors `states` with contacts `found`.
+/// The soft step of h for the actors `states` with the contacts the engine keeps (`contact_pairs.rs`), their
+/// impulses kept in them for the next step.
 pub(super) fn soft_solve(
     cx: &mut StepContext<'_>,
     states: &[BodyState],
-    found: &[FoundContact],
     h: f64,
     soft: SoftSolver,
 ) -> Result<SoftStep, WorldError> {
     let clock = Instant::now();
-    let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
-    // contacts come from a scene, whose soft step keeps its pairs
-    let warm = cx.memory.pairs.as_ref().map_or_else(Vec::new, |kept| kept.warm(found));
     let settings = SoftSettings {
         substeps: soft.substeps,
         iterations: soft.iterations,
@@ -50,8 +45,11 @@ pub(super) fn soft_solve(
     // the holding joints (a broken one is left out), each started from its last impulses
     let holding: Vec<usize> = cx.model.holding_joints().map(|(k, _)| k).collect();
     let joint_warm: Vec<JointImpulse> = holding.iter().map(|&k| cx.memory.joint_warm[k]).collect();
-    let problem = SoftProblem::new(actors, &contacts, &warm).joints(&joints, &joint_warm).springs(&springs);
-    let out = soft_step(&problem, h, &settings).map_err(|e| failure(cx.t, format!("contact solve: {e}")))?;
+    let links = SoftLinks { joints: &joints, joint_warm: &joint_warm, springs: &springs };
+    let mut manifolds = cx.memory.pairs.as_mut().map_or_else(Vec::new, |kept| kept.manifolds(states));
+    let touching = !manifolds.is_empty();
+    let out = soft_solve_manifolds(actors, &mut manifolds, &links, h, &settings)
+        .map_err(|e| failure(cx.t, format!("contact solve: {e}")))?;
     cx.model.counters.spring_evaluations += springs.len() * settings.substeps;
     for (&k, impulse) in holding.iter().zip(&out.joint_impulses) {
         cx.memory.joint_warm[k] = *impulse;
@@ -59,16 +57,13 @@ pub(super) fn soft_solve(
     if !joints.is_empty() {
         cx.report.stages.mark(Stage::Joints);
     }
-    if let Some(kept) = cx.memory.pairs.as_mut() {
-        kept.keep(found, &out.impulses);
-    }
-    cx.memory.last_contacts = LastContact::from_found(found, out.normal_impulses.iter().copied(), h);
-    if !found.is_empty() {
+    if touching {
         cx.report.contact_residual = cx.report.contact_residual.max(out.residual);
         cx.report.islands += out.islands;
         cx.report.program_seconds += out.prepare_seconds;
         cx.report.stages.mark(Stage::ContactSoftStep);
-        count_impulses(cx, states, &contacts, &out.normal_impulses);
+        cx.report.impulses += out.pushing;
+        cx.report.collisions += out.collisions;
     }
     cx.report.contact_seconds += clock.elapsed().as_secs_f64();
     Ok(out)

@@ -50,7 +50,7 @@ pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<Vec<usize>, World
     let found = find_contacts(cx, &mut states, h)?;
     let (velocities, broken) = match cx.settings.solver {
         FastSolver::Soft(soft) => {
-            let out = soft_solve(cx, &states, &found, h, soft)?;
+            let out = soft_solve(cx, &states, h, soft)?;
             let sleep = &cx.memory.sleep;
             apply_moves(cx.model, &mut cx.memory.y, &out, |a| !sleep.asleep(a));
             (out.velocities, break_joints(cx, h / soft.substeps.max(1) as f64))

@@ -54,7 +54,8 @@ fn applied_forces_are_gravity_damping_and_loads_and_a_sleeper_is_fixed() {
     assert_eq!(&cx.dy[q..q + 3], &[-0.2, 0.0, -G]);
     // still for the sleep time while the first moves, the second falls asleep and is passed as fixed
     for _ in 0..4 {
-        cx.memory.sleep.update(&[], &[1.0, 0.0], &FastSettings { sleep_time: 0.5, ..FastSettings::new(H) }, 0.125);
+        let settings = FastSettings { sleep_time: 0.5, ..FastSettings::new(H) };
+        cx.memory.sleep.update(std::iter::empty(), &[1.0, 0.0], &settings, 0.125);
     }
     let states = actors(&cx).unwrap();
     assert!(states[0].is_dynamic() && !states[1].is_dynamic());
@@ -63,20 +64,32 @@ fn applied_forces_are_gravity_damping_and_loads_and_a_sleeper_is_fixed() {
 
 #[test]
 fn a_resting_cube_is_found_at_its_four_corners_with_zero_gap() {
-    let w = resting_cube(0.5);
-    let mut e = engine(&w, FastSettings::new(H));
-    let mut cx = e.context();
-    let mut states = applied_forces(&mut cx).unwrap();
-    let found = find_contacts(&mut cx, &mut states, H).unwrap();
-    assert_eq!(found.len(), 4, "reduced to the face's four corners");
-    for f in &found {
-        // the cube's faces lie on the plane z = 0 to the rounding of its placement
-        assert!(f.contact.distance.abs() < 1e-12, "gap {}", f.contact.distance);
-        assert!((f.contact.point.x.abs() - 0.1).abs() < 1e-12 && (f.contact.point.y.abs() - 0.1).abs() < 1e-12);
-        assert_eq!(f.contact.normal.into_inner().abs(), Vector3::z(), "the ground's normal");
+    // by both solvers: the soft one keeps them with their collider pair, the exact one lists them
+    for solver in [FastSolver::default(), FastSolver::exact()] {
+        let w = resting_cube(0.5);
+        let mut e = engine(&w, FastSettings { solver, ..FastSettings::new(H) });
+        let mut cx = e.context();
+        let mut states = applied_forces(&mut cx).unwrap();
+        let found = find_contacts(&mut cx, &mut states, H).unwrap();
+        let points: Vec<(Point3<f64>, Vector3<f64>, f64)> = match &cx.memory.pairs {
+            Some(kept) => {
+                assert!(found.is_empty(), "the soft solver's contacts are kept, not listed");
+                kept.last_contacts(H).iter().map(|c| (c.point, c.normal, c.gap)).collect()
+            }
+            None => {
+                found.iter().map(|f| (f.contact.point, f.contact.normal.into_inner(), f.contact.distance)).collect()
+            }
+        };
+        assert_eq!(points.len(), 4, "reduced to the face's four corners");
+        for (point, normal, gap) in points {
+            // the cube's faces lie on the plane z = 0 to the rounding of its placement
+            assert!(gap.abs() < 1e-12, "gap {gap}");
+            assert!((point.x.abs() - 0.1).abs() < 1e-12 && (point.y.abs() - 0.1).abs() < 1e-12);
+            assert_eq!(normal.abs(), Vector3::z(), "the ground's normal");
+        }
+        assert!(cx.memory.penetration < 1e-12);
+        assert_eq!(cx.report.stages.get(crate::plan::Stage::CollisionDetection), 1);
     }
-    assert!(cx.memory.penetration < 1e-12);
-    assert_eq!(cx.report.stages.get(crate::plan::Stage::CollisionDetection), 1);
 }
 
 #[test]
@@ -90,6 +103,7 @@ fn a_cube_out_of_reach_of_one_step_has_no_contacts() {
     let mut cx = e.context();
     let mut states = applied_forces(&mut cx).unwrap();
     assert!(find_contacts(&mut cx, &mut states, H).unwrap().is_empty());
+    assert!(cx.memory.pairs.as_ref().unwrap().last_contacts(H).is_empty());
 }
 
 fn key(pair: (u32, u32), features: (u64, u64)) -> ContactKey {
@@ -129,20 +143,19 @@ fn the_soft_step_carries_a_resting_cubes_weight_over_the_step() {
     };
     let mut cx = e.context();
     let mut states = applied_forces(&mut cx).unwrap();
-    let contacts = find_contacts(&mut cx, &mut states, H).unwrap();
-    let out = soft_solve(&mut cx, &states, &contacts, H, soft).unwrap();
+    find_contacts(&mut cx, &mut states, H).unwrap();
+    soft_solve(&mut cx, &states, H, soft).unwrap();
     let m = 4.0;
-    let total: f64 = out.normal_impulses.iter().sum();
+    let kept = cx.memory.pairs.as_ref().unwrap();
+    let total: f64 = kept.last_contacts(H).iter().map(|c| c.impulse).sum();
     println!(
         "measured: the settled cube's step impulse is {:.3e} of m g h off",
         (total - m * G * H).abs() / (m * G * H)
     );
     assert!((total - m * G * H).abs() < 1e-12 * m * G * H, "{total} against m g h = {}", m * G * H);
-    // the stage keeps each contact's impulses for the next step with its pair, and the step's contacts
-    let kept = cx.memory.pairs.as_ref().unwrap();
-    assert_eq!(kept.kept_impulses(), 4);
-    assert!(kept.fits(usize::MAX), "pairs and impulses in order");
-    assert_eq!(cx.memory.last_contacts.len(), 4);
+    // the stage keeps each contact's impulses for the next step with its pair
+    assert_eq!(kept.kept_points(), 4);
+    assert!(kept.fits(usize::MAX), "pairs in order, the contacts coloured");
 }
 
 /// A 1 kg particle of radius 5 cm touching the ground at 3 m/s down, with restitution `e` (the ground's too).
@@ -208,26 +221,22 @@ fn the_bounce_limiter_replaces_an_answer_that_gains_energy_by_one_with_less_rest
 fn still_actors_fall_asleep_after_the_sleep_time_and_a_touch_wakes_their_group() {
     // steps of 1/8 s and a sleep time of 1/2 s (exact in binary): asleep at the fourth still step, not before
     let (settings, h) = (FastSettings { sleep_time: 0.5, ..FastSettings::new(H) }, 0.125);
-    let contact = |a, b| FoundContact {
-        contact: Contact::new(a, b, Point3::origin(), Vector3::z_axis()),
-        ..found((0, 1), (1, 1))
-    };
     // actors 0 and 1 touch each other; actor 2 is alone and keeps moving
-    let touching = [contact(0, 1)];
+    let touching = [(0, 1)];
     let mut sleep = Sleep::new(3);
     for _ in 0..3 {
-        sleep.update(&touching, &[0.0, 0.0, 1.0], &settings, h);
+        sleep.update(touching.into_iter(), &[0.0, 0.0, 1.0], &settings, h);
     }
     assert_eq!(sleep.count(), 0, "still for less than the sleep time");
-    sleep.update(&touching, &[0.0, 0.0, 1.0], &settings, h);
+    sleep.update(touching.into_iter(), &[0.0, 0.0, 1.0], &settings, h);
     assert!(sleep.asleep(0) && sleep.asleep(1) && !sleep.asleep(2), "the still group sleeps, the mover not");
     // actor 2 bumping into actor 0 wakes 0's whole group
-    assert!(sleep.wake_touched(&[contact(0, 1), contact(2, 0)], 3));
+    assert!(sleep.wake_touched([(0, 1), (2, 0)].into_iter(), 3));
     assert_eq!(sleep.count(), 0);
     // one member of a group moving keeps the group awake
     let mut moving = Sleep::new(3);
     for _ in 0..8 {
-        moving.update(&touching, &[0.0, 1.0, 0.0], &settings, h);
+        moving.update(touching.into_iter(), &[0.0, 1.0, 0.0], &settings, h);
     }
     assert!(!moving.asleep(0) && !moving.asleep(1) && moving.asleep(2));
 }

@@ -93,6 +93,10 @@ pub(crate) struct PointLanes {
     /// Accumulated normal impulse of the current substep, and the largest it has been.
     pub normal: Lanes,
     pub max_normal: Lanes,
+    /// Normal speed at the step's start (for restitution), and the normal impulse over the step so far (each
+    /// substep's accumulated impulse, plus restitution's).
+    pub closing: Lanes,
+    pub step: Lanes,
 }
 
 /// A bundle: up to W manifolds of one colour (a lane each: a body pair and up to P contact points), their normal
@@ -103,9 +107,9 @@ pub(crate) struct Bundle {
     pub lanes: usize,
     /// Points of its fullest lane.
     pub points: usize,
-    /// Points of each lane, and where each point's `RowInfo` is.
+    /// Points of each lane, and its manifold (an index into the step's).
     pub count: [usize; W],
-    pub info: [[usize; P]; W],
+    pub manifold: [usize; W],
     pub a: [usize; W],
     pub b: [usize; W],
     /// Inverse masses of the two bodies.
@@ -115,6 +119,8 @@ pub(crate) struct Bundle {
     pub fixed: [bool; W],
     /// Whether each lane's bodies A and B move (can take an impulse).
     pub moves: [(bool, bool); W],
+    /// Each lane's coefficient of restitution.
+    pub restitution: Lanes,
     pub rows: [PointLanes; P],
 }
 
@@ -378,13 +384,39 @@ unsafe impl Zeroed for FrictionBundle {}
 // SAFETY: f64 arrays.
 unsafe impl Zeroed for Arms {}
 
-/// `n` defaults of `T`, zeroed in place.
-pub(crate) fn zeroed<T: Zeroed>(n: usize) -> Vec<T> {
-    let mut v: Vec<T> = Vec::with_capacity(n);
+/// `n` defaults of `T` in `v` (its room reused), zeroed in place.
+pub(crate) fn zeroed_in<T: Zeroed>(mut v: Vec<T>, n: usize) -> Vec<T> {
+    v.clear();
+    v.reserve(n);
     // SAFETY: `Zeroed` types are valid, and their default, as all-zero bytes; the room was just reserved.
     unsafe {
         std::ptr::write_bytes(v.as_mut_ptr(), 0, n);
         v.set_len(n);
     }
     v
+}
+
+/// A group's bundles, their friction and their arms.
+pub(crate) type Rows = (Vec<Bundle>, Vec<FrictionBundle>, Vec<Arms>);
+
+thread_local! {
+    /// Room for the rows of the groups this thread sets up, kept from step to step: a step's rows are megabytes
+    /// on a large scene, which the allocator would hand back to the system and fault in again every step.
+    static ROOM: std::cell::RefCell<Vec<Rows>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Rows for `n` bundles, zeroed, in room this thread kept if it has some.
+pub(crate) fn rows(n: usize) -> Rows {
+    let (b, f, a) = ROOM.with(|room| room.borrow_mut().pop()).unwrap_or_default();
+    (zeroed_in(b, n), zeroed_in(f, n), zeroed_in(a, n))
+}
+
+/// Gives a group's rows back to this thread's room (at most two sets are kept).
+pub(crate) fn give_back(rows: Rows) {
+    ROOM.with(|room| {
+        let mut room = room.borrow_mut();
+        if room.len() < 2 {
+            room.push(rows);
+        }
+    });
 }

@@ -56,11 +56,6 @@ pub(crate) struct JointSweep {
 }
 
 impl JointSet {
-    /// No joints (an island of contacts alone).
-    pub fn empty() -> JointSet {
-        JointSet::new(Vec::new(), Vec::new())
-    }
-
     /// `joints` with local body indices, their centres at the step's start, and their warm starts.
     pub fn new(joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>, warm: Vec<JointImpulse>) -> JointSet {
         JointSet {
@@ -73,10 +68,6 @@ impl JointSet {
             holding: Vec::new(),
             masses: Vec::new(),
         }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.joints.is_empty()
     }
 
     /// The rows where the substeps have moved the bodies (inverse inertia turned with each body).

@@ -3,21 +3,24 @@
 //! substep starts, `springs.rs`), applies the impulses carried from the last substep (warm start), solves
 //! every contact once as a soft constraint (a spring and damper given in hertz and a damping ratio, so an overlap is
 //! pushed out smoothly and stiff stacks stay stable), moves the bodies, and solves again without the push (relax),
-//! friction included; restitution comes once after the substeps. Impulses are kept per contact across steps (the
-//! caller matches contacts by feature) and start the next step. Contacts, joints and springs join bodies into
-//! islands. Islands are independent; small ones are gathered into batches swept side by side (`batches`), and batches
-//! are solved on as many threads as asked, each in an order fixed by the contacts, so the answer is the same bit for
-//! bit on any thread count and as island by island.
+//! friction included; restitution comes once after the substeps. Contacts come as manifolds the caller keeps from
+//! step to step (`manifold.rs`): a body pair's points with their impulses, which start the next step, and the
+//! manifold's colour in the constraint graph the caller keeps (`graph.rs`). All manifolds are solved together, colour
+//! by colour (`group.rs`, `stages.rs`), on as many threads as asked, each colour's share in an order fixed by the
+//! manifolds, so the answer is the same bit for bit on any thread count and as island by island; an island of a large
+//! mass ratio is solved on its own until its impulses settle. `soft_step` takes plain contacts instead and makes the
+//! manifolds, coloured afresh.
 //!
 //! What it gives up against the exact cone program (`velocity_step`): a resting contact sinks until its spring
 //! carries the load (about g / (2 pi hertz)^2 per body weight), and an iteration count that bounds the work bounds
 //! the accuracy of a deep stack. `residual` says how far an answer is from the exact contact conditions.
 
 mod bundle;
-mod colour;
 mod geometry;
-mod island;
+mod graph;
+mod group;
 mod joints;
+mod manifold;
 mod row;
 mod softness;
 mod springs;
@@ -28,15 +31,18 @@ use crate::body::BodyState;
 use crate::contact::{check_all, Contact};
 use crate::error::ContactError;
 use crate::impulse::BodyVelocity;
-use crate::islands::joint_islands;
+use crate::islands::link_islands;
 use crate::joint::{Joint, JointImpulse};
 use crate::threads::{cores, in_parallel_by};
-use island::Island;
+pub use graph::{ColourGraph, COLOURS, OVERFLOW, UNCOLOURED};
+use group::Group;
 use joints::JointSet;
+pub use manifold::{SoftManifold, SoftPoint, MANIFOLD_POINTS};
 use nalgebra::{UnitQuaternion, Vector3};
 use row::Mover;
 pub use springs::SoftSpring;
 use springs::SpringSet;
+use std::borrow::BorrowMut;
 
 /// Settings of the soft step.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,9 +141,10 @@ pub struct SoftStep {
     pub displacements: Vec<Vector3<f64>>,
     /// Each body's rotation over the step (world frame: new orientation = rotation * old).
     pub rotations: Vec<UnitQuaternion<f64>>,
-    /// Each contact's impulses of the last substep (to start the next step with).
+    /// Each contact's impulses of the last substep (to start the next step with), and its normal impulse over the
+    /// whole step (the substeps' sum): `soft_step`'s, by contact (`soft_solve` leaves them empty: its manifolds
+    /// hold them).
     pub impulses: Vec<SoftImpulse>,
-    /// Each contact's normal impulse over the whole step (the substeps' sum).
     pub normal_impulses: Vec<f64>,
     /// Each joint's row impulses of the last substep (to start the next step with).
     pub joint_impulses: Vec<JointImpulse>,
@@ -150,6 +157,10 @@ pub struct SoftStep {
     /// Time spent building the rows (s: each group's bodies, bundles, constraint axes and effective masses, joints
     /// and springs), summed over the groups (on several threads it can pass the wall time).
     pub prepare_seconds: f64,
+    /// Contact points that pushed (a positive impulse over the step), and of those the ones that closed faster than
+    /// the bounce threshold (collisions).
+    pub pushing: usize,
+    pub collisions: usize,
 }
 
 /// Two steps are equal when their answers are: the time they took is not part of it.
@@ -163,6 +174,7 @@ impl PartialEq for SoftStep {
             && self.joint_impulses == o.joint_impulses
             && self.islands == o.islands
             && self.residual.to_bits() == o.residual.to_bits()
+            && (self.pushing, self.collisions) == (o.pushing, o.collisions)
     }
 }
 
@@ -172,86 +184,9 @@ thread_local! {
     static LOCAL: std::cell::RefCell<Vec<usize>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// Contacts from which a step's batches are spread over threads.
-const PARALLEL_CONTACTS: usize = 1000;
-
-/// Contacts from which one island is solved on all the threads, colour by colour.
+/// Contact points from which the step's group is solved on all the threads, colour by colour (a soft row costs tens
+/// of nanoseconds a sweep: threads pay from about a thousand).
 const COLOUR_THREADS: usize = 1000;
-
-/// Rows a batch of islands gathers before it is closed.
-const BATCH_ROWS: usize = 256;
-
-/// A group solved as one: contacts, joints and springs (indices into the step's).
-#[derive(Clone, Debug, Default)]
-struct Group {
-    contacts: Vec<usize>,
-    joints: Vec<usize>,
-    springs: Vec<usize>,
-}
-
-/// An island: its contacts, joints and springs (indices into the step's).
-type Links = (Vec<usize>, Vec<usize>, Vec<usize>);
-
-/// The islands gathered into batches solved as one (in island order, up to `BATCH_ROWS` contacts each), and for
-/// each island whether it needs sweeps until it settles (`island::converges`; such an island is a batch of its
-/// own, as is an island with joints or springs). Islands share no moving body, so a batch's colour order puts the
-/// rows of different islands side by side (a lone box on the floor no longer chains four solves on one body) while
-/// each island's rows keep the colours and order they have alone: the answer is the same bit for bit as island by
-/// island.
-fn batches(islands: Vec<Links>, bodies: &[BodyState], contacts: &[Contact], joints: &[Joint]) -> Vec<(Group, bool)> {
-    let mut out: Vec<(Group, bool)> = Vec::new();
-    let mut open: Vec<usize> = Vec::new();
-    for (island, linked, springs) in islands {
-        let ends = island.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]);
-        let ends = ends.chain(linked.iter().flat_map(|&j| [joints[j].a, joints[j].b]));
-        let converge = island::converges(ends.map(|b| bodies[b].inv_mass));
-        if converge || !linked.is_empty() || !springs.is_empty() {
-            out.push((Group { contacts: island, joints: linked, springs }, converge));
-            continue;
-        }
-        open.extend(island);
-        if open.len() >= BATCH_ROWS {
-            out.push((Group { contacts: std::mem::take(&mut open), ..Group::default() }, false));
-        }
-    }
-    if !open.is_empty() {
-        out.push((Group { contacts: open, ..Group::default() }, false));
-    }
-    out
-}
-
-/// What one group's solve gives the step: each dynamic body's velocities and motion, each contact's impulses (by
-/// its index in the step's contacts), and the residual.
-struct Solved {
-    bodies: Vec<(usize, BodyVelocity, Vector3<f64>, UnitQuaternion<f64>)>,
-    contacts: Vec<(usize, SoftImpulse, f64)>,
-    joints: Vec<(usize, JointImpulse)>,
-    residual: f64,
-    prepare_seconds: f64,
-}
-
-impl Solved {
-    fn of(members: &[usize], island: &Island, group: &Group, bodies: &[BodyState], prepare_seconds: f64) -> Solved {
-        let moved = members.iter().zip(&island.movers).filter(|(&b, _)| bodies[b].is_dynamic());
-        let mut contacts = Vec::with_capacity(group.contacts.len());
-        for (bu, fr) in island.bundles.iter().zip(&island.frictions) {
-            for l in 0..bu.lanes {
-                for p in 0..bu.count[l] {
-                    let info = &island.infos[bu.info[l][p]];
-                    let impulse = SoftImpulse { normal: bu.rows[p].normal[l], tangent: fr.points[p].vector(l) };
-                    contacts.push((group.contacts[info.index], impulse, info.step_normal));
-                }
-            }
-        }
-        Solved {
-            bodies: moved.map(|(&b, m)| (b, BodyVelocity { linear: m.v, angular: m.w }, m.dp, m.dq)).collect(),
-            contacts,
-            joints: group.joints.iter().copied().zip(island.joints.impulses.iter().copied()).collect(),
-            residual: island.residual(),
-            prepare_seconds,
-        }
-    }
-}
 
 /// Checks each joint against the bodies: indices in range, two different bodies, one of them moving, every number
 /// finite.
@@ -301,10 +236,35 @@ fn check_springs(bodies: &[BodyState], springs: &[SoftSpring]) -> Result<(), Con
     Ok(())
 }
 
-/// What one soft step solves: the bodies, their contacts (each started from `warm[i]`, the same contact's
-/// impulses of the last step, or zero), joints (each started from its impulses of the last step in `joint_warm`, or
-/// zero) and springs (forces evaluated at every substep; a body's `force` and `torque` must not hold them as well).
-/// Bodies joined by none of them move freely by the same substeps.
+/// Checks the bodies' numbers: finite, inverse masses not negative (their inertias are taken as given: the caller
+/// keeps them positive definite).
+fn check_bodies(bodies: &[BodyState]) -> Result<(), ContactError> {
+    for (i, b) in bodies.iter().enumerate() {
+        let numbers = [b.position.coords, b.velocity, b.angular_velocity, b.force, b.torque]
+            .into_iter()
+            .flat_map(|v| [v.x, v.y, v.z])
+            .chain(b.inertia.iter().copied())
+            .chain(b.inv_inertia.iter().copied());
+        if !(b.inv_mass >= 0.0 && b.inv_mass.is_finite() && numbers.into_iter().all(f64::is_finite)) {
+            return Err(ContactError::invalid("bodies", format!("body {i} has a non-finite number or negative mass")));
+        }
+    }
+    Ok(())
+}
+
+/// The joints, joint warm starts and springs of a soft step besides its manifolds.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SoftLinks<'a> {
+    pub joints: &'a [Joint],
+    pub joint_warm: &'a [JointImpulse],
+    pub springs: &'a [SoftSpring],
+}
+
+/// What one soft step solves, by contacts: the bodies, their contacts (each started from `warm[i]`, the same
+/// contact's impulses of the last step, or zero), joints (each started from its impulses of the last step in
+/// `joint_warm`, or zero) and springs (forces evaluated at every substep; a body's `force` and `torque` must not hold
+/// them as well). Bodies joined by none of them move freely by the same substeps. (`soft_solve` takes the contacts
+/// as manifolds kept by the caller.)
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SoftProblem<'a> {
     pub bodies: &'a [BodyState],
@@ -332,13 +292,11 @@ impl<'a> SoftProblem<'a> {
     }
 }
 
-/// A soft step of h.
+/// A soft step of h by contacts: each body pair's contacts become manifolds of up to four points (in the order of
+/// their first contacts), coloured afresh in that order, and solved by `soft_solve`; each contact's impulses come
+/// back in `impulses` and `normal_impulses`.
 pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> Result<SoftStep, ContactError> {
     let SoftProblem { bodies, contacts, warm, joints, joint_warm, springs } = *problem;
-    settings.check()?;
-    if !(h.is_finite() && h > 0.0) {
-        return Err(ContactError::invalid("dt", format!("must be finite and > 0, got {h}")));
-    }
     if warm.len() != contacts.len() {
         return Err(ContactError::invalid(
             "warm",
@@ -346,131 +304,268 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
         ));
     }
     check_all(bodies, contacts)?;
-    check_joints(bodies, joints, joint_warm)?;
-    check_springs(bodies, springs)?;
-    let substeps = settings.substeps;
-    let mut out = SoftStep {
-        velocities: Vec::with_capacity(bodies.len()),
-        displacements: vec![Vector3::zeros(); bodies.len()],
-        rotations: vec![UnitQuaternion::identity(); bodies.len()],
-        impulses: vec![SoftImpulse::default(); contacts.len()],
-        normal_impulses: vec![0.0; contacts.len()],
-        joint_impulses: vec![JointImpulse::default(); joints.len()],
-        islands: 0,
-        residual: 0.0,
-        prepare_seconds: 0.0,
-    };
-    let pairs: Vec<(usize, usize)> =
-        joints.iter().map(|j| (j.a, j.b)).chain(springs.iter().map(|s| (s.a, s.b))).collect();
-    // each island's links split into its joints and its springs (which follow the joints among the pairs)
-    let islands: Vec<Links> = joint_islands(bodies, contacts, &pairs)
-        .into_iter()
-        .map(|(island, linked)| {
-            let (js, ss): (Vec<usize>, Vec<usize>) = linked.into_iter().partition(|&k| k < joints.len());
-            (island, js, ss.into_iter().map(|k| k - joints.len()).collect())
+    // manifolds: a body pair's contacts, four at most, in the order of their first contacts
+    let mut by_pair: Vec<(usize, usize, usize)> = contacts.iter().zip(0..).map(|(c, k)| (c.a, c.b, k)).collect();
+    by_pair.sort_unstable();
+    let mut groups: Vec<&[(usize, usize, usize)]> =
+        by_pair.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)).flat_map(|run| run.chunks(MANIFOLD_POINTS)).collect();
+    groups.sort_unstable_by_key(|m| m[0].2);
+    let mut graph = ColourGraph::new(bodies.len());
+    let moves = |b: usize| bodies[b].is_dynamic();
+    let mut manifolds: Vec<SoftManifold> = groups
+        .iter()
+        .map(|g| {
+            let first = &contacts[g[0].2];
+            let mut m = SoftManifold::new(first.a, first.b, first.friction, first.restitution);
+            m.colour = graph.add((m.a, moves(m.a)), (m.b, moves(m.b)));
+            for (p, &(_, _, k)) in g.iter().enumerate() {
+                let c = &contacts[k];
+                let point = SoftPoint {
+                    point: c.point,
+                    normal: c.normal.into_inner(),
+                    gap: c.distance,
+                    impulse: warm[k],
+                    step_normal: 0.0,
+                };
+                m.points[p] = point;
+            }
+            m.count = g.len();
+            m
         })
         .collect();
-    out.islands = islands.len();
-    let groups = batches(islands, bodies, contacts, joints);
-    let solve = |(group, converge): &(Group, bool), threads: usize| -> Result<Solved, ContactError> {
+    // a manifold carries one friction and restitution: contacts of a pair with others of their own are solved as
+    // manifolds of their own
+    let mut split: Vec<SoftManifold> = Vec::new();
+    let mut origin: Vec<Vec<usize>> = Vec::new();
+    for (m, g) in manifolds.drain(..).zip(&groups) {
+        let runs = g.chunk_by(|x, y| {
+            let (cx, cy) = (&contacts[x.2], &contacts[y.2]);
+            cx.friction == cy.friction && cx.restitution == cy.restitution
+        });
+        let mut first = true;
+        let mut at = 0;
+        for run in runs {
+            let c = &contacts[run[0].2];
+            let mut part = SoftManifold::new(m.a, m.b, c.friction, c.restitution);
+            part.colour = if first { m.colour } else { graph.add((m.a, moves(m.a)), (m.b, moves(m.b))) };
+            first = false;
+            part.count = run.len();
+            part.points[..run.len()].copy_from_slice(&m.points[at..at + run.len()]);
+            at += run.len();
+            origin.push(run.iter().map(|x| x.2).collect());
+            split.push(part);
+        }
+    }
+    let links = SoftLinks { joints, joint_warm, springs };
+    let mut out = soft_solve(bodies, &mut split, &links, h, settings)?;
+    out.impulses = vec![SoftImpulse::default(); contacts.len()];
+    out.normal_impulses = vec![0.0; contacts.len()];
+    for (m, ks) in split.iter().zip(&origin) {
+        for (p, &k) in m.points().iter().zip(ks) {
+            out.impulses[k] = p.impulse;
+            out.normal_impulses[k] = p.step_normal;
+        }
+    }
+    Ok(out)
+}
+
+/// What a group of the step solves: its manifolds (indices into the step's, in order), its islands' joint sets (the
+/// joints of each, indices into the step's) and its springs; whether it sweeps until its impulses settle.
+#[derive(Clone, Debug, Default)]
+struct Spec {
+    manifolds: Vec<usize>,
+    joints: Vec<Vec<usize>>,
+    springs: Vec<usize>,
+    converge: bool,
+}
+
+/// A soft step of h for `bodies` with the caller's `manifolds` (each coloured in the caller's constraint graph,
+/// its points' impulses the last step's), joints and springs: each manifold point's impulses come back in it (this
+/// step's), the bodies' motion in the answer. Islands whose masses differ by more than ten times are solved each on
+/// its own, sweeping until its impulses settle; the rest together, colour by colour, on as many threads as asked
+/// from about a thousand contact points: the same bits on any thread count.
+pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
+    bodies: &[BodyState],
+    manifolds: &mut [M],
+    links: &SoftLinks<'_>,
+    h: f64,
+    settings: &SoftSettings,
+) -> Result<SoftStep, ContactError> {
+    let SoftLinks { joints, joint_warm, springs } = *links;
+    settings.check()?;
+    if !(h.is_finite() && h > 0.0) {
+        return Err(ContactError::invalid("dt", format!("must be finite and > 0, got {h}")));
+    }
+    check_bodies(bodies)?;
+    for (k, m) in manifolds.iter().enumerate() {
+        m.borrow().check(k, bodies)?;
+    }
+    check_joints(bodies, joints, joint_warm)?;
+    check_springs(bodies, springs)?;
+    let clock = std::time::Instant::now();
+    let views: Vec<&SoftManifold> = manifolds.iter().map(|m| m.borrow()).collect();
+    let touching: Vec<usize> = (0..views.len()).filter(|&m| views[m].count > 0).collect();
+    // islands of the manifolds with points, the joints and the springs
+    let ends = touching
+        .iter()
+        .map(|&m| (views[m].a, views[m].b))
+        .chain(joints.iter().map(|j| (j.a, j.b)))
+        .chain(springs.iter().map(|s| (s.a, s.b)));
+    let moves = |b: usize| bodies[b].is_dynamic();
+    let (of_link, islands) = link_islands(bodies.len(), moves, ends.clone());
+    // each island's lightest and heaviest moving body: an island of a large mass ratio converges
+    let mut range = vec![(f64::INFINITY, 0.0f64); islands];
+    for ((a, b), &i) in ends.zip(&of_link) {
+        for m in [bodies[a].inv_mass, bodies[b].inv_mass].into_iter().filter(|&m| m > 0.0) {
+            range[i] = (range[i].0.min(1.0 / m), range[i].1.max(1.0 / m));
+        }
+    }
+    let converging: Vec<bool> = range.iter().map(|&(lo, hi)| lo > 0.0 && hi / lo > group::MASS_RATIO).collect();
+    // the groups: all that does not converge together, each island that does on its own
+    let mut place = vec![usize::MAX; islands];
+    let mut specs = vec![Spec::default()];
+    for (i, &c) in converging.iter().enumerate() {
+        if c {
+            place[i] = specs.len();
+            specs.push(Spec { converge: true, ..Spec::default() });
+        } else {
+            place[i] = 0;
+        }
+    }
+    let (nm, nj) = (touching.len(), joints.len());
+    for (k, &i) in of_link.iter().enumerate() {
+        let spec = &mut specs[place[i]];
+        if k < nm {
+            spec.manifolds.push(touching[k]);
+        } else if k < nm + nj {
+            // an island's joints together, islands in the order of their first joint
+            match spec.joints.iter_mut().find(|set| of_link[nm + set[0]] == i) {
+                Some(set) => set.push(k - nm),
+                None => spec.joints.push(vec![k - nm]),
+            }
+        } else {
+            spec.springs.push(k - nm - nj);
+        }
+    }
+    let build = |spec: &Spec, local: &dyn Fn(usize) -> usize, members: &[usize]| -> Group {
+        let movers = members.iter().map(|&b| Mover::new(&bodies[b])).collect();
+        let mut group = Group::new(movers, bodies, &views, &spec.manifolds, local, spec.converge);
+        for set in &spec.joints {
+            let placed = set.iter().map(|&k| {
+                let j = &joints[k];
+                (Joint { a: local(j.a), b: local(j.b), ..*j }, bodies[j.a].position.coords, bodies[j.b].position.coords)
+            });
+            group.joints.push(JointSet::new(placed.collect(), set.iter().map(|&k| joint_warm[k]).collect()));
+        }
+        if !spec.springs.is_empty() {
+            let placed = spec.springs.iter().map(|&k| {
+                let s = &springs[k];
+                (
+                    SoftSpring { a: local(s.a), b: local(s.b), ..*s },
+                    bodies[s.a].position.coords,
+                    bodies[s.b].position.coords,
+                )
+            });
+            group.springs = SpringSet::new(placed);
+        }
+        group
+    };
+    let threads = if settings.threads == 0 { cores() } else { settings.threads };
+    // the step's group: every body a mover (those in no manifold, joint or spring move freely, by the same
+    // substeps), on all the threads from a thousand contact points
+    let all: Vec<usize> = (0..bodies.len()).collect();
+    let mut main = build(&specs[0], &|b| b, &all);
+    let mut prepare_seconds = clock.elapsed().as_secs_f64();
+    let points: usize = specs[0].manifolds.iter().map(|&m| views[m].count).sum();
+    main.solve(h, settings, if threads > 1 && points >= COLOUR_THREADS { threads } else { 1 });
+    // the converging islands, each on its own, on the threads in turn
+    let size = |spec: &Spec| spec.manifolds.len() + spec.joints.iter().map(Vec::len).sum::<usize>();
+    let rows = specs[1..].iter().map(size).sum();
+    let solve_alone = |spec: &Spec| -> Result<(Vec<usize>, Group, f64), ContactError> {
         LOCAL.with(|slots| {
             let clock = std::time::Instant::now();
             let slots = &mut *slots.borrow_mut();
             if slots.len() < bodies.len() {
                 slots.resize(bodies.len(), usize::MAX);
             }
-            // the group's bodies in order of first appearance (contacts, joints, then springs), each given its place
+            // the group's bodies in order of first appearance (manifolds, joints, then springs), each given its place
             let mut members: Vec<usize> = Vec::new();
-            let ends = group.contacts.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]);
-            let ends = ends.chain(group.joints.iter().flat_map(|&k| [joints[k].a, joints[k].b]));
-            for b in ends.chain(group.springs.iter().flat_map(|&k| [springs[k].a, springs[k].b])) {
+            let ends = spec.manifolds.iter().flat_map(|&m| [views[m].a, views[m].b]);
+            let ends = ends.chain(spec.joints.iter().flatten().flat_map(|&k| [joints[k].a, joints[k].b]));
+            for b in ends.chain(spec.springs.iter().flat_map(|&k| [springs[k].a, springs[k].b])) {
                 if slots[b] == usize::MAX {
                     slots[b] = members.len();
                     members.push(b);
                 }
             }
-            let movers = members.iter().map(|&b| Mover::new(&bodies[b])).collect();
-            let cs: Vec<&Contact> = group.contacts.iter().map(|&i| &contacts[i]).collect();
-            let ws: Vec<SoftImpulse> = group.contacts.iter().map(|&i| warm[i]).collect();
-            let mut island = Island::new(movers, bodies, &cs, |b| slots[b], &ws, *converge);
-            if !group.joints.is_empty() {
-                let local = group.joints.iter().map(|&k| {
-                    let j = &joints[k];
-                    let placed = Joint { a: slots[j.a], b: slots[j.b], ..*j };
-                    (placed, bodies[j.a].position.coords, bodies[j.b].position.coords)
-                });
-                island.joints = JointSet::new(local.collect(), group.joints.iter().map(|&k| joint_warm[k]).collect());
-            }
-            if !group.springs.is_empty() {
-                let local = group.springs.iter().map(|&k| {
-                    let s = &springs[k];
-                    let placed = SoftSpring { a: slots[s.a], b: slots[s.b], ..*s };
-                    (placed, bodies[s.a].position.coords, bodies[s.b].position.coords)
-                });
-                island.springs = SpringSet::new(local);
-            }
+            let mut group = build(spec, &|b| slots[b], &members);
             for &b in &members {
                 slots[b] = usize::MAX;
             }
-            let prepare_seconds = clock.elapsed().as_secs_f64();
-            island.solve(h, settings, threads);
-            // only what the step gives is kept: an island's rows (kilobytes a manifold) are dropped here, so that
-            // a step over many islands never holds all their rows at once
-            Ok(Solved::of(&members, &island, group, bodies, prepare_seconds))
+            let seconds = clock.elapsed().as_secs_f64();
+            group.solve(h, settings, 1);
+            Ok((members, group, seconds))
         })
     };
-    // a soft row costs tens of nanoseconds a sweep: threads pay from about a thousand contacts (measured: the pile of
-    // 100 cubes, 400 contacts, 0.50 ms a step on one thread and 0.54-0.60 on two; 1,000 cubes 7.0-8.3 and 5.3-6.3)
-    // a group of many contacts is solved on all the threads, graph colour by graph colour; the others island by
-    // island on them
-    let threads = if settings.threads == 0 { cores() } else { settings.threads };
-    let whole = |(g, _): &(Group, bool)| threads > 1 && g.contacts.len() >= COLOUR_THREADS;
-    let rows = contacts.len() + joints.len() + springs.len();
-    let size = |(g, _): &(Group, bool)| g.contacts.len() + g.joints.len() + g.springs.len();
-    let solved: Vec<Result<Solved, ContactError>> = if groups.iter().any(whole) {
-        let rest: Vec<(Group, bool)> = groups.iter().filter(|g| !whole(g)).cloned().collect();
-        let mut rest = in_parallel_by(&rest, size, (rows, PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1));
-        let mut rest = rest.drain(..);
-        groups
-            .iter()
-            .map(|g| if whole(g) { solve(g, threads) } else { rest.next().expect("one result a group") })
-            .collect()
-    } else {
-        in_parallel_by(&groups, size, (rows, PARALLEL_CONTACTS), settings.threads, |g| solve(g, 1))
+    let alone = in_parallel_by(&specs[1..], size, (rows, COLOUR_THREADS), settings.threads, solve_alone);
+    drop(views);
+    let mut out = SoftStep {
+        velocities: main.movers.iter().map(|m| BodyVelocity { linear: m.v, angular: m.w }).collect(),
+        displacements: main.movers.iter().map(|m| m.dp).collect(),
+        rotations: main.movers.iter().map(|m| m.dq).collect(),
+        impulses: Vec::new(),
+        normal_impulses: Vec::new(),
+        joint_impulses: vec![JointImpulse::default(); joints.len()],
+        islands,
+        residual: main.residual(),
+        prepare_seconds,
+        pushing: 0,
+        collisions: 0,
     };
-    let mut velocities: Vec<Option<BodyVelocity>> = vec![None; bodies.len()];
-    for result in solved {
-        let solved = result?;
-        out.residual = out.residual.max(solved.residual);
-        out.prepare_seconds += solved.prepare_seconds;
-        for (b, v, dp, dq) in solved.bodies {
-            velocities[b] = Some(v);
-            out.displacements[b] = dp;
-            out.rotations[b] = dq;
+    out.take(&main, &specs[0], manifolds, settings.bounce_threshold);
+    main.give_back();
+    for (spec, solved) in specs[1..].iter().zip(alone) {
+        let (members, group, seconds) = solved?;
+        for (&b, m) in members.iter().zip(&group.movers) {
+            out.velocities[b] = BodyVelocity { linear: m.v, angular: m.w };
+            out.displacements[b] = m.dp;
+            out.rotations[b] = m.dq;
         }
-        for (i, impulse, step_normal) in solved.contacts {
-            out.impulses[i] = impulse;
-            out.normal_impulses[i] = step_normal;
-        }
-        for (k, impulse) in solved.joints {
-            out.joint_impulses[k] = impulse;
-        }
+        out.residual = out.residual.max(group.residual());
+        prepare_seconds += seconds;
+        out.take(&group, spec, manifolds, settings.bounce_threshold);
+        group.give_back();
     }
-    // Bodies in no island (and static ones) move on their own, by the same substeps.
-    for (b, body) in bodies.iter().enumerate() {
-        let v = match velocities[b] {
-            Some(v) => v,
-            None => {
-                let mut m = Mover::new(body);
-                m.free(h, substeps);
-                out.displacements[b] = m.dp;
-                out.rotations[b] = m.dq;
-                BodyVelocity { linear: m.v, angular: m.w }
-            }
-        };
-        out.velocities.push(v);
-    }
+    out.prepare_seconds = prepare_seconds;
     Ok(out)
+}
+
+impl SoftStep {
+    /// A solved group's contact impulses (into the manifolds), joint impulses and counts.
+    fn take<M: BorrowMut<SoftManifold>>(&mut self, group: &Group, spec: &Spec, manifolds: &mut [M], threshold: f64) {
+        for (bu, fr) in group.bundles.iter().zip(&group.frictions) {
+            for l in 0..bu.lanes {
+                let m = manifolds[bu.manifold[l]].borrow_mut();
+                for p in 0..bu.count[l] {
+                    let row = &bu.rows[p];
+                    let point = &mut m.points[p];
+                    point.impulse = SoftImpulse { normal: row.normal[l], tangent: fr.points[p].vector(l) };
+                    point.step_normal = row.step[l];
+                    if row.step[l] > 0.0 {
+                        self.pushing += 1;
+                        if row.closing[l] < -threshold {
+                            self.collisions += 1;
+                        }
+                    }
+                }
+            }
+        }
+        for (set, joints) in group.joints.iter().zip(&spec.joints) {
+            for (&k, impulse) in joints.iter().zip(&set.impulses) {
+                self.joint_impulses[k] = *impulse;
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -1,6 +1,5 @@
-//! The soft step's bodies and what a contact point keeps besides its constraint rows: a body as the substeps move
-//! it (`Mover`), and a point's place, restitution and step impulse (`RowInfo`). The rows themselves are laid out in
-//! the lanes of bundles (`bundle.rs`).
+//! The soft step's bodies as the substeps move them (`Mover`). The rows themselves are laid out in the lanes of
+//! bundles (`bundle.rs`).
 
 use crate::body::BodyState;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
@@ -46,15 +45,6 @@ impl Mover {
         }
     }
 
-    /// Free motion over h in `substeps` (no contact): the same sequence the islands' bodies follow.
-    pub fn free(&mut self, h: f64, substeps: usize) {
-        let hs = h / substeps.max(1) as f64;
-        for _ in 0..substeps.max(1) {
-            self.integrate_velocity(hs);
-            self.integrate_position(hs);
-        }
-    }
-
     pub fn integrate_velocity(&mut self, h: f64) {
         self.v += self.accel * h;
         self.w += self.angular_accel * h;
@@ -73,16 +63,4 @@ impl Mover {
     pub fn moves(&self) -> bool {
         self.moving
     }
-}
-
-/// What else a row needs, once a substep or once a step.
-#[derive(Clone, Debug)]
-pub(crate) struct RowInfo {
-    /// The row's place among its island's contacts (rows are solved in another order).
-    pub index: usize,
-    pub restitution: f64,
-    /// Relative normal velocity at the step's start (for restitution).
-    pub closing: f64,
-    /// Normal impulse applied over the step so far (each substep's accumulated impulse, plus restitution's).
-    pub step_normal: f64,
 }

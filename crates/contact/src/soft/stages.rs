@@ -1,6 +1,6 @@
-//! An island's substeps as one list of stages run by one scheduler, on one worker or many (Box2D v3's way): every
-//! worker runs the same list, each stage on its share (a colour's bundles, a range of bodies, or all of it on worker
-//! 0 for the stages that are not split: springs, joints, the step's sums), and waits for the others at a barrier
+//! A group's substeps as one list of stages run by one scheduler, on one worker or many (Box2D v3's way): every
+//! worker runs the same list, each stage on its share (a colour's bundles, a range of bodies or of bundles, a range
+//! of the islands' joint sets, or all of it on worker 0 for the springs), and waits for the others at a barrier
 //! before the next. A colour's manifolds share no moving body and bodies that do not move are never written
 //! (`bundle.rs`), so the workers never write the same memory, and each bundle's arithmetic is the one-worker
 //! arithmetic in the same colour order: the answer is the same bit for bit on any number of workers. The workers
@@ -8,13 +8,13 @@
 //!
 //! Per substep: springs, velocities, joints' rows and warm start, the contacts' warm start colour by colour, the
 //! biased passes, positions, joints' rows and the gaps, the relaxing passes, the step's impulses summed. A pass is
-//! `iterations` sweeps (joints, then the contacts colour by colour); an island of a large mass ratio sweeps on until
+//! `iterations` sweeps (joints, then the contacts colour by colour); a group of a large mass ratio sweeps on until
 //! its impulses settle, every worker taking the same decision from the largest change of each.
 
 use super::bundle::{self, Arms, Bundle, FrictionBundle, MoverPtr, Sweep};
 use super::geometry;
 use super::joints::{JointSet, JointSweep};
-use super::row::{Mover, RowInfo};
+use super::row::Mover;
 use super::springs::SpringSet;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -122,17 +122,17 @@ pub(crate) const MAX_SWEEPS: usize = 64;
 /// A pass has converged when no impulse changed by more than this fraction of the largest.
 const SETTLED: f64 = 1e-4;
 
-/// What the workers share of an island for its substeps.
+/// What the workers share of a group for its substeps.
 pub(crate) struct Substeps<'a> {
     pub movers: &'a mut [Mover],
     pub bundles: &'a mut [Bundle],
     pub frictions: &'a mut [FrictionBundle],
     pub arms: &'a [Arms],
-    pub infos: &'a mut [RowInfo],
-    /// The bundles of each colour, and whether it is the last colour (whose manifolds may share bodies: one worker
-    /// sweeps it).
+    /// The bundles of each colour, and whether it is the overflow colour (whose manifolds may share bodies: one
+    /// worker sweeps it).
     pub colours: &'a [(Range<usize>, bool)],
-    pub joints: &'a mut JointSet,
+    /// Each island's joints (swept by worker 0, island after island).
+    pub joints: &'a mut [JointSet],
     pub springs: &'a mut SpringSet,
     /// Whether its passes sweep on until the impulses settle.
     pub converge: bool,
@@ -171,10 +171,11 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
     let movers = Shared::new(island.movers);
     let pointer = MoverPtr::from_raw(movers.0, movers.1);
     let (bundles, frictions) = (Shared::new(island.bundles), Shared::new(island.frictions));
-    let infos = Shared::new(island.infos);
     let (arms, colours, converge) = (island.arms, island.colours, island.converge);
     let (has_joints, has_springs) = (!island.joints.is_empty(), !island.springs.is_empty());
-    let (joints, springs) = (Serial(island.joints as *mut JointSet), Serial(island.springs as *mut SpringSet));
+    let all_joints = 0..island.joints.len();
+    let joints = Shared::new(island.joints);
+    let springs = Serial(island.springs as *mut SpringSet);
     let changes: Vec<AtomicU64> = (0..threads).map(|_| AtomicU64::new(0)).collect();
     let all_movers = 0..movers.1;
     let all_bundles = 0..bundles.1;
@@ -194,7 +195,9 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
                 let mut change = 0.0f64;
                 if has_joints {
                     if t == 0 {
-                        change = unsafe { joints.get().sweep(movers.range(all_movers.clone()), joint_how) };
+                        for set in unsafe { joints.range(all_joints.clone()) } {
+                            change = change.max(set.sweep(unsafe { movers.range(all_movers.clone()) }, joint_how));
+                        }
                     }
                     barrier.wait();
                 }
@@ -217,7 +220,7 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
                         .iter()
                         .flat_map(|bu| bu.rows.iter().flat_map(|r| r.normal))
                         .fold(0.0f64, f64::max);
-                    let largest = if has_joints { contacts.max(unsafe { joints.get().largest() }) } else { contacts };
+                    let largest = unsafe { joints.all() }.iter().fold(contacts, |m, set| m.max(set.largest()));
                     // every worker has read before any writes again
                     barrier.wait();
                     if change <= SETTLED * largest {
@@ -239,10 +242,11 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
             barrier.wait();
             if has_joints {
                 if t == 0 {
-                    unsafe {
-                        let joints = joints.get();
-                        joints.prepare(movers.all());
-                        joints.warm_start(movers.range(all_movers.clone()));
+                    for set in unsafe { joints.range(all_joints.clone()) } {
+                        unsafe {
+                            set.prepare(movers.all());
+                            set.warm_start(movers.range(all_movers.clone()));
+                        }
                     }
                 }
                 barrier.wait();
@@ -260,7 +264,9 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
             }
             barrier.wait();
             if has_joints && t == 0 {
-                unsafe { joints.get().prepare(movers.all()) };
+                for set in unsafe { joints.range(all_joints.clone()) } {
+                    set.prepare(unsafe { movers.all() });
+                }
             }
             let mine = share(&all_bundles, t, threads);
             unsafe {
@@ -269,16 +275,9 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
             }
             barrier.wait();
             pass(passes.relax, passes.relax_joints);
-            if t == 0 {
-                unsafe {
-                    let infos = infos.range(0..infos.1);
-                    for bu in bundles.all() {
-                        for l in 0..bu.lanes {
-                            for p in 0..bu.count[l] {
-                                infos[bu.info[l][p]].step_normal += bu.rows[p].normal[l];
-                            }
-                        }
-                    }
+            for bu in unsafe { bundles.range(share(&all_bundles, t, threads)) } {
+                for row in &mut bu.rows[..bu.points] {
+                    row.step = std::array::from_fn(|l| row.step[l] + row.normal[l]);
                 }
             }
             barrier.wait();

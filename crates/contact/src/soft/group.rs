@@ -1,84 +1,84 @@
-//! One island of the soft step: its bodies and contact rows laid out for the solver, and the substep loop that reads
-//! as Box2D v3's stages: per substep, integrate velocities (the springs' impulses first, `springs.rs`), warm start, a
-//! biased soft solve, integrate positions, a relax solve without bias; after the substeps, restitution. Rows are
-//! solved Gauss-Seidel in an order fixed by the input alone: a body pair's points together as a manifold, manifolds
-//! colour by colour (`colour.rs`), those of a colour sharing no moving body, so that they are swept eight at a time
-//! (`bundle.rs`) with the bits of one at a time.
+//! A group of the soft step, solved as one: its bodies and its manifolds' rows laid out for the solver, and the
+//! substep loop that reads as Box2D v3's stages (`stages.rs`): per substep, integrate velocities (the springs'
+//! impulses first), warm start, a biased soft solve, integrate positions, a relax solve without bias; after the
+//! substeps, restitution. Manifolds are swept colour by colour, a colour's in bundles of eight lanes (`bundle.rs`):
+//! those of a colour share no moving body, so they are solved side by side with the bits of one after another; the
+//! overflow colour's, which may share bodies, a lane a bundle. The colours come from the constraint graph the caller
+//! keeps (`graph.rs`): nothing here sorts or colours a manifold again.
 
 use super::bundle::{self, Arms, Bundle, FrictionBundle, Sweep, P, W};
-use super::colour::{colours, COLOURS};
 use super::geometry;
+use super::graph::OVERFLOW;
 use super::joints::{JointSet, JointSweep};
-use super::row::{Mover, RowInfo};
+use super::manifold::SoftManifold;
+use super::row::Mover;
 use super::softness::Softness;
 use super::springs::SpringSet;
 use super::stages::{self, Passes, Substeps};
-use super::{SoftImpulse, SoftSettings};
+use super::SoftSettings;
 use crate::body::BodyState;
 use crate::contact::tangents;
-use crate::contact::Contact;
 
-/// The island: its movers (local indices) and rows, in bundles of rows of one colour (`bundle.rs`), each in three
-/// parts: normal (`bundles`), friction (`frictions`, at the same place) and the rest (`infos`, a row each in sweep
-/// order).
-pub(crate) struct Island {
+/// A group: its movers (local indices) and rows, in bundles of rows of one colour (`bundle.rs`), each in two parts:
+/// normal (`bundles`) and friction (`frictions`, at the same place), with the arms the gaps are measured from.
+pub(crate) struct Group {
     pub movers: Vec<Mover>,
     pub bundles: Vec<Bundle>,
     pub frictions: Vec<FrictionBundle>,
     arms: Vec<Arms>,
-    pub infos: Vec<RowInfo>,
-    /// The bundles of each colour in sweep order, and whether it is the last colour (`COLOURS`, whose manifolds may
-    /// share bodies).
+    /// The bundles of each colour in sweep order, and whether it is the overflow colour (whose manifolds may share
+    /// bodies).
     colours: Vec<(std::ops::Range<usize>, bool)>,
     /// Whether its passes sweep on until the impulses settle (an island of a large mass ratio, `converges`).
     converge: bool,
-    /// Its joints (solved before the contacts in every stage).
-    pub joints: JointSet,
+    /// Its joints, an island's set each (solved before the contacts in every stage).
+    pub joints: Vec<JointSet>,
     /// Its springs (evaluated at the start of every substep).
     pub springs: SpringSet,
 }
 
 /// Mass ratio above which an island's passes sweep until the impulses settle (a heavy body on a light one needs many
 /// Gauss-Seidel sweeps to pass its weight down: one or two leave it jittering at centimetres a second).
-const MASS_RATIO: f64 = 10.0;
+pub(crate) const MASS_RATIO: f64 = 10.0;
 
-/// Whether the bodies of an island (their inverse masses) need sweeps until its impulses settle: a largest over
-/// smallest mass of its moving bodies above `MASS_RATIO`.
-pub(crate) fn converges(inverse_masses: impl Iterator<Item = f64>) -> bool {
-    let masses = inverse_masses.filter(|&m| m > 0.0).map(|m| 1.0 / m);
-    let (lo, hi) = masses.fold((f64::INFINITY, 0.0f64), |(lo, hi), m| (lo.min(m), hi.max(m)));
-    lo > 0.0 && hi / lo > MASS_RATIO
-}
-
-impl Island {
-    /// Rows for `contacts` between `movers` (contact body indices mapped by `local`), warm-started from `warm`.
+impl Group {
+    /// Rows for `manifolds` (the step's, taken in the order of `of_group`, indices into it), between `movers` (body
+    /// indices mapped by `local`), warm-started from their impulses.
     pub fn new(
         movers: Vec<Mover>,
         bodies: &[BodyState],
-        contacts: &[&Contact],
+        manifolds: &[&SoftManifold],
+        of_group: &[usize],
         local: impl Fn(usize) -> usize,
-        warm: &[SoftImpulse],
         converge: bool,
-    ) -> Island {
-        let pairs: Vec<(usize, usize)> = contacts.iter().map(|c| (local(c.a), local(c.b))).collect();
-        // manifolds: a body pair's contacts, P at most, in the order of their first contacts
-        let mut by_pair: Vec<(usize, usize, usize)> = pairs.iter().zip(0..).map(|(&(a, b), k)| (a, b, k)).collect();
-        by_pair.sort_unstable();
-        let mut manifolds: Vec<&[(usize, usize, usize)]> =
-            by_pair.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)).flat_map(|run| run.chunks(P)).collect();
-        manifolds.sort_unstable_by_key(|m| m[0].2);
-        let manifold_pairs: Vec<(usize, usize)> = manifolds.iter().map(|m| (m[0].0, m[0].1)).collect();
-        // colour by colour; within a colour, the fullest manifolds first (so that a bundle's lanes have as many
-        // points as each other), then in order
-        let mut order: Vec<(u32, usize)> = colours(&manifold_pairs, &movers).into_iter().zip(0..).collect();
-        order.sort_unstable_by_key(|&(colour, m)| (colour, P - manifolds[m].len(), m));
-        let mut infos = Vec::with_capacity(contacts.len());
+    ) -> Group {
+        // colour by colour; within a colour the fullest manifolds first (so that a bundle's lanes have as many points
+        // as each other), then in order: a counting sort on (colour, points), the order within each kept
+        let key = |m: usize| {
+            let mf = manifolds[m];
+            let colour = mf.colour.min(OVERFLOW) as usize;
+            colour * (P + 1) + (P - mf.count)
+        };
+        let mut starts = vec![0usize; (OVERFLOW as usize + 1) * (P + 1) + 1];
+        for &m in of_group {
+            starts[key(m) + 1] += 1;
+        }
+        for k in 1..starts.len() {
+            starts[k] += starts[k - 1];
+        }
+        let mut order = vec![0usize; of_group.len()];
+        for &m in of_group {
+            let slot = &mut starts[key(m)];
+            order[*slot] = m;
+            *slot += 1;
+        }
         // each manifold's bundle and lane: a new bundle at each colour, when full, and for every manifold of the
-        // last colour (which may share bodies)
+        // overflow colour (which may share bodies)
         let (mut slots, mut colour, mut lanes) = (Vec::with_capacity(order.len()), u32::MAX, W);
-        for &(m_colour, _) in &order {
-            if m_colour != colour || lanes == W || m_colour == COLOURS {
-                (colour, lanes) = (m_colour, 0);
+        for &m in &order {
+            let c = manifolds[m].colour.min(OVERFLOW);
+            if c != colour || lanes == W || c == OVERFLOW {
+                (colour, lanes) = (c, 0);
                 slots.push((slots.last().map_or(0, |&(k, _): &(usize, usize)| k + 1), 0));
             } else {
                 slots.push((slots.last().expect("a bundle is open").0, lanes));
@@ -87,85 +87,89 @@ impl Island {
         }
         // sized once: bundles are kilobytes, and a growing vector would copy them
         let count = slots.last().map_or(0, |&(k, _)| k + 1);
-        let (mut bundles, mut frictions, mut arms): (Vec<Bundle>, Vec<FrictionBundle>, Vec<Arms>) =
-            (bundle::zeroed(count), bundle::zeroed(count), bundle::zeroed(count));
-        for (&(_, m), &(k, l)) in order.iter().zip(&slots) {
+        let (mut bundles, mut frictions, mut arms) = bundle::rows(count);
+        for (&m, &(k, l)) in order.iter().zip(&slots) {
             let (bu, fr, arm) = (&mut bundles[k], &mut frictions[k], &mut arms[k]);
+            let mf = manifolds[m];
             bu.lanes = l + 1;
-            let (a, b) = manifold_pairs[m];
+            let (a, b) = (local(mf.a), local(mf.b));
             let (ma, mb) = (&movers[a], &movers[b]);
             bu.a[l] = a;
             bu.b[l] = b;
+            bu.manifold[l] = m;
             bu.ima[l] = ma.inv_mass;
             bu.imb[l] = mb.inv_mass;
             bu.fixed[l] = ma.inv_mass == 0.0 || mb.inv_mass == 0.0;
             bu.moves[l] = (ma.moves(), mb.moves());
-            bu.count[l] = manifolds[m].len();
-            bu.points = bu.points.max(manifolds[m].len());
-            for (p, &(_, _, index)) in manifolds[m].iter().enumerate() {
-                let (c, w) = (contacts[index], &warm[index]);
-                let n = c.normal.into_inner();
-                let ra = c.point - bodies[c.a].position;
-                let rb = c.point - bodies[c.b].position;
+            bu.count[l] = mf.count;
+            bu.points = bu.points.max(mf.count);
+            bu.restitution[l] = mf.restitution;
+            let (xa, xb) = (bodies[mf.a].position, bodies[mf.b].position);
+            for (p, c) in mf.points().iter().enumerate() {
+                let n = c.normal;
+                let (ra, rb) = (c.point - xa, c.point - xb);
                 let (t0, t1) = tangents(&n);
-                let tangent = w.tangent - n * n.dot(&w.tangent);
-                bu.info[l][p] = infos.len();
+                let tangent = c.impulse.tangent - n * n.dot(&c.impulse.tangent);
                 for i in 0..3 {
                     arm.ra[p][i][l] = ra[i];
                     arm.rb[p][i][l] = rb[i];
                 }
-                arm.gap[p][l] = c.distance;
-                infos.push(RowInfo { index, restitution: c.restitution, closing: 0.0, step_normal: 0.0 });
+                arm.gap[p][l] = c.gap;
                 let f = &mut fr.points[p];
                 f.axes[0].set_dir(l, &t0);
                 f.axes[1].set_dir(l, &t1);
                 f.tangent[0][l] = t0.dot(&tangent);
                 f.tangent[1][l] = t1.dot(&tangent);
-                f.friction[l] = c.friction;
+                f.friction[l] = mf.friction;
                 let row = &mut bu.rows[p];
                 row.normal_axis.set_dir(l, &n);
-                row.gap[l] = c.distance;
-                row.normal[l] = w.normal.max(0.0);
+                row.gap[l] = c.gap;
+                row.normal[l] = c.impulse.normal.max(0.0);
             }
         }
         geometry::build(&mut bundles, &mut frictions, &arms, &movers);
         // each bundle's colour is its first manifold's
         let mut of_bundle: Vec<u32> = Vec::with_capacity(count);
-        for (&(c, _), &(k, _)) in order.iter().zip(&slots) {
+        for (&m, &(k, _)) in order.iter().zip(&slots) {
             if k == of_bundle.len() {
-                of_bundle.push(c);
+                of_bundle.push(manifolds[m].colour.min(OVERFLOW));
             }
         }
         let mut by_colour = Vec::new();
         let mut start = 0;
         for run in of_bundle.chunk_by(|x, y| x == y) {
-            by_colour.push((start..start + run.len(), run[0] == COLOURS));
+            by_colour.push((start..start + run.len(), run[0] == OVERFLOW));
             start += run.len();
         }
         // each point's normal speed at the step's start (for restitution)
-        for bu in &bundles {
+        for bu in &mut bundles {
             for l in 0..bu.lanes {
                 let (a, b) = (&movers[bu.a[l]], &movers[bu.b[l]]);
                 for p in 0..bu.count[l] {
-                    infos[bu.info[l][p]].closing = bu.rows[p].normal_axis.speed_of(l, a, b);
+                    let closing = bu.rows[p].normal_axis.speed_of(l, a, b);
+                    bu.rows[p].closing[l] = closing;
                 }
             }
         }
-        Island {
+        Group {
             movers,
             bundles,
             frictions,
             arms,
-            infos,
             colours: by_colour,
             converge,
-            joints: JointSet::empty(),
+            joints: Vec::new(),
             springs: SpringSet::empty(),
         }
     }
 
+    /// Gives its rows' room back for the next group this thread sets up.
+    pub fn give_back(self) {
+        bundle::give_back((self.bundles, self.frictions, self.arms));
+    }
+
     /// Each used point of the bundles: (bundle, lane, point).
-    fn points(&self) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
+    pub fn points(&self) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
         self.bundles
             .iter()
             .enumerate()
@@ -189,18 +193,17 @@ impl Island {
             biased_joints: JointSweep { hs, rigid: Some(rigid) },
             relax_joints: JointSweep { hs, rigid: None },
         };
-        let island = Substeps {
+        let group = Substeps {
             movers: &mut self.movers,
             bundles: &mut self.bundles,
             frictions: &mut self.frictions,
             arms: &self.arms,
-            infos: &mut self.infos,
             colours: &self.colours,
             joints: &mut self.joints,
             springs: &mut self.springs,
             converge: self.converge,
         };
-        stages::substeps(island, n, hs, passes, threads);
+        stages::substeps(group, n, hs, passes, threads);
         self.restitution(s.bounce_threshold);
     }
 
@@ -226,27 +229,26 @@ impl Island {
                 worst = worst.max(f.axes[0].speed_of(l, a, b).hypot(f.axes[1].speed_of(l, a, b)));
             }
         }
-        worst.max(self.joints.residual(&self.movers))
+        self.joints.iter().fold(worst, |w, j| w.max(j.residual(&self.movers)))
     }
 
     /// Newton's restitution for contacts that closed faster than the threshold and pushed: the normal velocity is
     /// raised to -e times the closing one (the impulse only grows).
     fn restitution(&mut self, threshold: f64) {
         for bu in &mut self.bundles {
-            for l in 0..bu.lanes {
+            for l in (0..bu.lanes).filter(|&l| bu.restitution[l] != 0.0) {
                 for p in 0..bu.count[l] {
-                    let info = &mut self.infos[bu.info[l][p]];
                     let row = &mut bu.rows[p];
-                    if info.restitution == 0.0 || info.closing > -threshold || row.max_normal[l] == 0.0 {
+                    if row.closing[l] > -threshold || row.max_normal[l] == 0.0 {
                         continue;
                     }
                     let (a, b) = pair(&mut self.movers, bu.a[l], bu.b[l]);
                     let n = &row.normal_axis;
-                    let impulse = -n.mass[l] * (n.speed_of(l, a, b) + info.restitution * info.closing);
+                    let impulse = -n.mass[l] * (n.speed_of(l, a, b) + bu.restitution[l] * row.closing[l]);
                     let total = (row.normal[l] + impulse).max(0.0);
                     let delta = total - row.normal[l];
                     row.normal[l] = total;
-                    info.step_normal += delta;
+                    row.step[l] += delta;
                     if delta != 0.0 {
                         n.apply_of(l, a, b, delta);
                     }

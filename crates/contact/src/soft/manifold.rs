@@ -1,0 +1,93 @@
+//! What the soft step solves a body pair's contact by: a manifold, its points (up to four) with their impulses, and
+//! its colour in the constraint graph (`graph.rs`). The caller keeps manifolds from step to step: a point's impulses
+//! go in as the last step's (the warm start) and come out as this step's.
+
+use super::SoftImpulse;
+use crate::body::BodyState;
+use crate::error::ContactError;
+use nalgebra::{Point3, Vector3};
+
+/// Points of a manifold (parry's manifolds are reduced to four).
+pub const MANIFOLD_POINTS: usize = 4;
+
+/// One contact point of a manifold.
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq)]
+pub struct SoftPoint {
+    /// Where the bodies touch (world, at the step's start).
+    pub point: Point3<f64>,
+    /// Unit normal from A toward B.
+    pub normal: Vector3<f64>,
+    /// Gap along the normal at the step's start (negative: overlapping).
+    pub gap: f64,
+    /// Its impulses over a substep: the last step's on the way in, this step's last substep's on the way out.
+    pub impulse: SoftImpulse,
+    /// Its normal impulse over the whole step (out).
+    pub step_normal: f64,
+}
+
+/// A body pair's contact points as one constraint of the soft step.
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, PartialEq)]
+pub struct SoftManifold {
+    /// The bodies (indices into the step's bodies); the normals point from A toward B.
+    pub a: usize,
+    pub b: usize,
+    /// Its colour in the constraint graph (`ColourGraph::add`): manifolds of one colour other than the overflow
+    /// colour must share no moving body.
+    pub colour: u32,
+    pub friction: f64,
+    pub restitution: f64,
+    /// Its points (the first `count`).
+    pub points: [SoftPoint; MANIFOLD_POINTS],
+    pub count: usize,
+}
+
+impl SoftManifold {
+    /// A manifold between `a` and `b` with no points and no colour.
+    pub fn new(a: usize, b: usize, friction: f64, restitution: f64) -> SoftManifold {
+        SoftManifold {
+            a,
+            b,
+            colour: super::graph::UNCOLOURED,
+            friction,
+            restitution,
+            points: [SoftPoint::default(); MANIFOLD_POINTS],
+            count: 0,
+        }
+    }
+
+    /// Its points.
+    pub fn points(&self) -> &[SoftPoint] {
+        &self.points[..self.count]
+    }
+
+    /// Checks it against the bodies: bodies in range and distinct, one of them moving, a colour, materials and every
+    /// number of its points finite, normals of unit length, friction and restitution not negative; `index` names it.
+    pub(crate) fn check(&self, index: usize, bodies: &[BodyState]) -> Result<(), ContactError> {
+        let bad = |reason: String| Err(ContactError::invalid("manifolds", format!("manifold {index}: {reason}")));
+        if self.a >= bodies.len() || self.b >= bodies.len() || self.a == self.b {
+            return bad(format!("joins bodies {} and {} of {}", self.a, self.b, bodies.len()));
+        }
+        if !(bodies[self.a].is_dynamic() || bodies[self.b].is_dynamic()) {
+            return bad("joins two bodies that do not move".into());
+        }
+        if self.count > MANIFOLD_POINTS {
+            return bad(format!("has {} points, at most {MANIFOLD_POINTS}", self.count));
+        }
+        if self.colour > super::graph::OVERFLOW && self.count > 0 {
+            return bad("has points and no colour".into());
+        }
+        if !(self.friction >= 0.0 && self.friction.is_finite() && self.restitution >= 0.0 && self.restitution <= 1.0) {
+            return bad(format!("friction {} and restitution {}", self.friction, self.restitution));
+        }
+        for (k, p) in self.points().iter().enumerate() {
+            let numbers = [p.point.coords, p.normal, p.impulse.tangent].into_iter().flat_map(|v| [v.x, v.y, v.z]);
+            if !numbers.chain([p.gap, p.impulse.normal]).all(f64::is_finite) {
+                return bad(format!("point {k} has a number that is not finite"));
+            }
+            if (p.normal.norm() - 1.0).abs() > 1e-6 {
+                return bad(format!("point {k}'s normal is not of unit length"));
+            }
+        }
+        Ok(())
+    }
+}
