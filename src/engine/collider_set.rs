@@ -7,12 +7,12 @@ use crate::body::RigidBody;
 use crate::collider::{Collider, Material};
 use crate::engine::contact_pairs::{ContactPairs, Pair};
 use crate::engine::contact_reduction::{reduce, reduce_indices};
-use crate::engine::found_contact::{feature_code, ContactKey, FoundContact};
+use crate::engine::found_contact::{contact_point, feature_code, ContactKey, FoundContact};
 use crate::handle::Arena;
 use crate::model::layout::Layout;
 use crate::particle::Particle;
 use crate::spring::BodyHandle;
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Vector3};
 use tumble_collide::{contacts, Aabb, ContactKind, Shape, SortAndSweep};
 
 /// Pairs from which the narrow phase is shared out among the workers.
@@ -82,7 +82,20 @@ pub(crate) struct ColliderSet {
     /// Pairs of actors a joint joins directly (sorted, lower index first): they never touch (a joint's bodies
     /// overlap at the joint, as a ragdoll's limbs do at their sockets).
     pub joined: Vec<(usize, usize)>,
+    /// Fast mode's fat boxes and the pairs whose fat boxes overlap (`broad_pairs_where`).
+    fat: FatBoxes,
 }
+
+/// Fat boxes kept from step to step, and the pairs of colliders whose fat boxes overlap (unsorted; empty before the
+/// first search).
+#[derive(Clone, Debug, Default)]
+struct FatBoxes {
+    boxes: Vec<Aabb>,
+    pairs: Vec<(u32, u32)>,
+}
+
+/// How far a fat box reaches past its collider's box, as a fraction of the collider's bounding radius.
+const FAT: f64 = 0.1;
 
 fn collider_entry(actor: Actor, c: &Collider, b: &RigidBody) -> SceneCollider {
     let radius = c.shape.bounding_radius();
@@ -148,6 +161,7 @@ impl ColliderSet {
             immovable,
             found_last: 0,
             joined: Vec::new(),
+            fat: FatBoxes::default(),
         })
     }
 
@@ -321,20 +335,39 @@ impl ColliderSet {
         self.broad_pairs_where(boxes, |_, _| true)
     }
 
-    /// `broad_pairs`, of those that `keep` too.
+    /// `broad_pairs` of boxes held in fat boxes kept from step to step (Box2D's): a box that leaves its fat box gets a
+    /// new one, its own grown by a tenth of its collider's bounding radius, and the sort-and-sweep runs on the fat
+    /// boxes only when one changed; the pairs whose fat boxes overlap are then tested on `boxes` by `keep`, which
+    /// must hold only where they overlap (it sees the pair in either order).
     fn broad_pairs_where(
         &mut self,
         boxes: &[Aabb],
         keep: impl Fn(usize, usize) -> bool,
     ) -> Result<Vec<(usize, usize)>, String> {
-        let pairs = self.broad.update(boxes).map_err(|e| e.to_string())?.to_vec();
-        let mut pairs: Vec<(usize, usize)> = pairs
-            .into_iter()
-            .map(|(i, j)| (i as usize, j as usize))
-            .filter(|&(i, j)| self.may_touch(i, j) && keep(i, j))
+        let fat = &mut self.fat;
+        let mut changed = fat.boxes.len() != boxes.len();
+        if changed {
+            fat.boxes = boxes.to_vec();
+        }
+        for ((f, b), c) in fat.boxes.iter_mut().zip(boxes).zip(&self.colliders) {
+            if changed || !(f.contains(&b.min) && f.contains(&b.max)) {
+                let margin = if c.radius.is_finite() { FAT * c.radius } else { 0.0 };
+                *f = b.loosened(margin);
+                changed = true;
+            }
+        }
+        if changed || fat.pairs.is_empty() {
+            fat.pairs = self.broad.update(&fat.boxes).map_err(|e| e.to_string())?.to_vec();
+        }
+        let fat = std::mem::take(&mut fat.pairs);
+        let mut pairs: Vec<(usize, usize)> = fat
+            .iter()
+            .map(|&(i, j)| (i as usize, j as usize))
+            .filter(|&(i, j)| self.may_touch(i, j) && boxes[i].overlaps(&boxes[j]) && keep(i, j))
             // Keep the moving actor as A when one side is static.
             .map(|(i, j)| if matches!(self.colliders[i].actor, Actor::Static(_)) { (j, i) } else { (i, j) })
             .collect();
+        self.fat.pairs = fat;
         pairs.sort_unstable();
         Ok(pairs)
     }
@@ -410,7 +443,7 @@ impl ColliderSet {
         states: &[tumble_contact::BodyState],
     ) -> usize {
         let mut checks = 0;
-        let (mut found, mut kept) = (Vec::new(), Vec::new());
+        let (mut contacts_now, mut found, mut kept, mut gaps) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for entry in entries {
             let (i, j) = entry.pair();
             let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
@@ -421,13 +454,24 @@ impl ColliderSet {
                 contacts(&ca.shape, &pa, &cb.shape, &pb, p)
             };
             let (a, b) = ((&ca.shape, &pa, ca.radius), (&cb.shape, &pb, cb.radius));
-            found.clear();
-            if let Ok((contacts, _)) = entry.contacts(a, b, prediction(ia, ib), compute) {
-                let material = ca.material.combine(&cb.material);
-                found.extend(contacts.into_iter().map(|c| self.found_contact((i, j), (ia, ib), material, c)));
+            if entry.contacts(a, b, prediction(ia, ib), compute, &mut contacts_now).is_err() {
+                contacts_now.clear();
             }
-            entry.choose(&found, |f| reduce_indices(f, states), &mut kept);
-            entry.set_contacts(&found, &kept);
+            let material = ca.material.combine(&cb.material);
+            let as_found = |c: &tumble_collide::Contact| self.found_contact((i, j), (ia, ib), material, *c);
+            gaps.clear();
+            gaps.extend(contacts_now.iter().map(|c| c.distance));
+            let reduce = || {
+                let found: Vec<FoundContact> = contacts_now.iter().map(as_found).collect();
+                reduce_indices(&found, states)
+            };
+            entry.choose(&gaps, reduce, &mut kept);
+            // a resting pair carries the same points step after step: only their places and gaps change
+            if !entry.carry_kept(&contacts_now, &kept, material) {
+                found.clear();
+                found.extend(contacts_now.iter().map(as_found));
+                entry.set_contacts(&found, &kept);
+            }
         }
         checks
     }
@@ -454,12 +498,7 @@ impl ColliderSet {
             // vertex-face, and edge-edge (whose edges parry does not hand us): the normal turns with B
             _ => tumble_contact::NormalMotion::WithB,
         };
-        // The contact point: the vertex (or curved point) that carries it.
-        let point = match c.kind {
-            ContactKind::FaceVertex => c.point_b,
-            ContactKind::VertexFace => c.point_a,
-            _ => Point3::from((c.point_a.coords + c.point_b.coords) * 0.5),
-        };
+        let point = contact_point(&c);
         let contact = tumble_contact::Contact {
             a: ia,
             b: ib,

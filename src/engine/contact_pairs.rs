@@ -16,14 +16,15 @@
 //! this way. Pairs with a curved contact (spheres, capsules, cylinders' rims), whose points slide over the surface
 //! as they turn, are always computed.
 
+use crate::collider::Material;
 use crate::engine::contact_reduction::{deepest, MAX_POINTS};
-use crate::engine::found_contact::FoundContact;
+use crate::engine::found_contact::{contact_point, feature_code, FoundContact};
 use crate::engine::last_contacts::LastContact;
-use nalgebra::{Isometry3, Point3, Unit, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix4, Point3, Unit, Vector3};
 use smallvec::SmallVec;
 use std::sync::Arc;
 use tumble_collide::{Contact, ContactKind, Shape};
-use tumble_contact::{BodyState, ColourGraph, SoftImpulse, SoftManifold, SoftPoint, MANIFOLD_POINTS, UNCOLOURED};
+use tumble_contact::{BodyState, ColourGraph, SoftManifold, SoftPoint, MANIFOLD_POINTS, UNCOLOURED};
 
 /// The relative motion up to which a manifold is reused (m), and as a fraction of the smaller collider's bounding
 /// radius if that is less.
@@ -128,22 +129,25 @@ impl Pair {
         self.pair
     }
 
-    /// The pair's contacts (shapes and world poses given, radii their bounding radii) within `prediction`: reused if
-    /// the pair barely moved since its manifold was computed, else from `compute`, asked for a prediction distance
-    /// (the reuse distance added).
+    /// The pair's contacts (shapes and world poses given, radii their bounding radii) within `prediction`, into `out`
+    /// (cleared first): reused if the pair barely moved since its manifold was computed, else from `compute`, asked
+    /// for a prediction distance (the most the reuse limits let the pair close added).
     pub fn contacts<E>(
         &mut self,
         (shape_a, pose_a, radius_a): (&Shape, &Isometry3<f64>, f64),
         (shape_b, pose_b, radius_b): (&Shape, &Isometry3<f64>, f64),
         prediction: f64,
         compute: impl FnOnce(f64) -> Result<Vec<Contact>, E>,
-    ) -> Result<(Vec<Contact>, Found), E> {
+        out: &mut Vec<Contact>,
+    ) -> Result<Found, E> {
+        out.clear();
         self.carried = None;
         let size = radius_a.min(radius_b);
         let (reuse, reuse_turn, enlargement) = reuse_limits(size);
         if !(polyhedral(shape_a) && polyhedral(shape_b) && size.is_finite() && size > 0.0) {
             self.manifold = None;
-            return Ok((compute(prediction)?, Found::Computed));
+            out.extend(compute(prediction)?);
+            return Ok(Found::Computed);
         }
         let flipped = radius_a < radius_b;
         let relative = if flipped { pose_b.inv_mul(pose_a) } else { pose_a.inv_mul(pose_b) };
@@ -154,10 +158,10 @@ impl Pair {
             if m.flipped == flipped && moved < reuse && turn < reuse_turn && prediction + motion <= m.prediction {
                 // which points were carried matters only where the reduction chooses among more than four
                 let choosing = m.points.len() > MAX_POINTS && keeps_choice(shape_a, shape_b);
-                let carried = m.points.iter().map(|l| carry(l, pose_a, pose_b, prediction));
-                let (found, carried) = within_reach(carried, m.points.len(), choosing);
-                self.carried = carried;
-                return Ok((found, Found::Reused));
+                let frames = (pose_a.to_homogeneous(), pose_b.to_homogeneous());
+                let carried = m.points.iter().map(|l| carry(l, &frames, prediction));
+                self.carried = within_reach(carried, m.points.len(), choosing, out);
+                return Ok(Found::Reused);
             }
         }
         self.manifold = None;
@@ -182,57 +186,66 @@ impl Pair {
         });
         let choosing = all.len() > MAX_POINTS && self.manifold.is_some() && keeps_choice(shape_a, shape_b);
         let n = all.len();
-        let (found, carried) =
-            within_reach(all.into_iter().map(|c| (c.distance <= prediction).then_some(c)), n, choosing);
-        self.carried = carried;
-        Ok((found, Found::Computed))
+        self.carried = within_reach(all.into_iter().map(|c| (c.distance <= prediction).then_some(c)), n, choosing, out);
+        Ok(Found::Computed)
     }
 
-    /// The reduction of this step's contacts `found` (those `contacts` gave, in its order), into `kept` (indices
-    /// into `found`, increasing): none is left out of four or fewer; else the last step's choice if the same points
-    /// of the same manifold were carried, else `reduce`'s, kept for the next step.
-    pub fn choose(
-        &mut self,
-        found: &[FoundContact],
-        reduce: impl FnOnce(&[FoundContact]) -> Vec<usize>,
-        kept: &mut Vec<usize>,
-    ) {
+    /// The reduction of this step's contacts (those `contacts` gave, in its order; `gaps` theirs), into `kept`
+    /// (indices, increasing): none is left out of four or fewer; else the last step's choice if the same points of
+    /// the same manifold were carried, else `reduce`'s, kept for the next step.
+    pub fn choose(&mut self, gaps: &[f64], reduce: impl FnOnce() -> Vec<usize>, kept: &mut Vec<usize>) {
         kept.clear();
         let carried = self.carried.take();
-        if found.len() <= MAX_POINTS {
+        if gaps.len() <= MAX_POINTS {
             self.chosen = None;
-            kept.extend(0..found.len());
+            kept.extend(0..gaps.len());
             return;
         }
-        let now_deepest = deepest(found.iter().map(|f| f.contact.distance));
+        let now_deepest = deepest(gaps.iter().copied());
         if let (Some(carried), Some(chosen), Some(_)) = (&carried, &self.chosen, &self.manifold) {
             if *carried == chosen.carried && now_deepest == chosen.deepest {
                 kept.extend(chosen.kept.iter().map(|&k| k as usize));
                 return;
             }
         }
-        kept.extend(reduce(found));
+        kept.extend(reduce());
         self.chosen = carried.map(|carried| {
             Arc::new(Chosen { carried, deepest: now_deepest, kept: kept.iter().map(|&k| k as u32).collect() })
         });
     }
 
+    /// Carries the pair's kept contacts to `contacts` at `kept` when they are the same points in the same order (by
+    /// their features: what a reused manifold gives a resting pair step after step), their impulses and colour kept
+    /// as they are and their material `material` (it may have changed between steps); gives whether it did (else
+    /// `set_contacts` sets them).
+    pub fn carry_kept(&mut self, contacts: &[Contact], kept: &[usize], material: Material) -> bool {
+        let same = self.features.len() == kept.len()
+            && kept.iter().zip(&self.features).all(|(&k, f)| {
+                let c = &contacts[k];
+                (feature_code(c.feature_a), feature_code(c.feature_b)) == *f
+            });
+        if !same {
+            return false;
+        }
+        for (m, chunk) in self.contacts.iter_mut().zip(kept.chunks(MANIFOLD_POINTS)) {
+            (m.friction, m.restitution) = (material.friction, material.restitution);
+            for (point, &k) in m.points.iter_mut().zip(chunk) {
+                let c = &contacts[k];
+                (point.point, point.normal, point.gap) = (contact_point(c), c.normal.into_inner(), c.distance);
+            }
+        }
+        true
+    }
+
     /// The pair's contacts this step: those of `found` at `kept` (the step's contacts of this pair, in order), four
-    /// a manifold, each started from the impulses of last step's contact of the same features, else from the mean
-    /// of last step's (a contact new to a pair that touched), else from none. Each manifold keeps its colour, and
-    /// one left without points keeps it too (`ContactPairs::close` sees to both).
+    /// a manifold, each started from the normal impulse of last step's contact of the same features, else from the
+    /// mean of last step's (a contact new to a pair that touched), else from none. Each manifold keeps its friction
+    /// impulses and its colour, and one left without points keeps its colour too (`ContactPairs::close` sees to
+    /// both).
     pub fn set_contacts(&mut self, found: &[FoundContact], kept: &[usize]) {
-        let old: SmallVec<[SoftPoint; MAX_POINTS]> =
-            self.contacts.iter().flat_map(|m| m.points().iter().copied()).collect();
-        let mut mean = SoftImpulse::default();
-        for p in &old {
-            mean.normal += p.impulse.normal;
-            mean.tangent += p.impulse.tangent;
-        }
-        if !old.is_empty() {
-            let n = old.len() as f64;
-            mean = SoftImpulse { normal: mean.normal / n, tangent: mean.tangent / n };
-        }
+        let old: SmallVec<[f64; MAX_POINTS]> =
+            self.contacts.iter().flat_map(|m| m.points().iter().map(|p| p.normal_impulse)).collect();
+        let mean = if old.is_empty() { 0.0 } else { old.iter().sum::<f64>() / old.len() as f64 };
         let manifolds = kept.len().div_ceil(MANIFOLD_POINTS);
         if let Some(f) = found.first() {
             let c = &f.contact;
@@ -253,19 +266,14 @@ impl Pair {
             m.count = chunk.len();
             for (slot, &k) in chunk.iter().enumerate() {
                 let f = &found[k];
-                // two contacts of the same features take the last one's impulses
-                let impulse = match self.features.iter().rposition(|&x| x == f.key.features) {
-                    Some(i) => old[i].impulse,
+                // two contacts of the same features take the last one's impulse
+                let normal_impulse = match self.features.iter().rposition(|&x| x == f.key.features) {
+                    Some(i) => old[i],
                     None => mean,
                 };
-                let c = &f.contact;
-                m.points[slot] = SoftPoint {
-                    point: c.point,
-                    normal: c.normal.into_inner(),
-                    gap: c.distance,
-                    impulse,
-                    step_normal: 0.0,
-                };
+                let (c, step_normal) = (&f.contact, 0.0);
+                let (point, normal, gap) = (c.point, c.normal.into_inner(), c.distance);
+                m.points[slot] = SoftPoint { point, normal, gap, normal_impulse, step_normal };
                 features.push(f.key.features);
             }
         }
@@ -407,31 +415,34 @@ impl ContactPairs {
     }
 }
 
-/// The contacts of `candidates` within reach (the `Some`s), and, if `choosing`, their places among the candidates.
+/// The contacts of `candidates` within reach (the `Some`s), into `out`, and, if `choosing`, their places among the
+/// candidates.
 fn within_reach(
     candidates: impl Iterator<Item = Option<Contact>>,
     capacity: usize,
     choosing: bool,
-) -> (Vec<Contact>, Option<Vec<u32>>) {
-    let mut found = Vec::with_capacity(capacity);
+    out: &mut Vec<Contact>,
+) -> Option<Vec<u32>> {
     let mut carried = Vec::with_capacity(if choosing { capacity } else { 0 });
     for (k, c) in candidates.enumerate() {
         if let Some(c) = c {
-            found.push(c);
+            out.push(c);
             if choosing {
                 carried.push(k as u32);
             }
         }
     }
-    (found, choosing.then_some(carried))
+    choosing.then_some(carried)
 }
 
-/// A kept contact where its bodies now are, if within `prediction`.
-fn carry(l: &Local, pose_a: &Isometry3<f64>, pose_b: &Isometry3<f64>, prediction: f64) -> Option<Contact> {
-    let point_a = pose_a * l.a;
-    let point_b = pose_b * l.b;
-    let rotation: &UnitQuaternion<f64> = if l.on_b { &pose_b.rotation } else { &pose_a.rotation };
-    let normal = Unit::new_normalize(rotation * l.normal);
+/// A kept contact where its bodies now are (their poses as matrices, `frames`), if within `prediction`: its points
+/// carried by their bodies, its normal by the face that gives it, its gap measured anew.
+fn carry(l: &Local, (a, b): &(Matrix4<f64>, Matrix4<f64>), prediction: f64) -> Option<Contact> {
+    let point_a = a.transform_point(&l.a);
+    let point_b = b.transform_point(&l.b);
+    let frame = if l.on_b { b } else { a };
+    // a rotation keeps the normal's length to the rounding
+    let normal = Unit::new_unchecked(frame.transform_vector(&l.normal));
     let distance = normal.dot(&(point_b - point_a));
     (distance <= prediction).then_some(Contact { point_a, point_b, normal, distance, ..l.contact })
 }
@@ -439,7 +450,7 @@ fn carry(l: &Local, pose_a: &Isometry3<f64>, pose_b: &Isometry3<f64>, prediction
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Translation3;
+    use nalgebra::{Translation3, UnitQuaternion};
     use tumble_collide::contacts;
 
     /// A seeded generator (the same numbers everywhere).
@@ -480,8 +491,15 @@ mod tests {
             let prediction = 1e-3;
             let mut pair = Pair::new((0, 1));
             let fresh = |pa: &Isometry3<f64>, pb: &Isometry3<f64>, p: f64| contacts(&a, pa, &b, pb, p);
-            let (_, how) = pair
-                .contacts((&a, &pose_a, ra), (&b, &pose_b, rb), prediction, |p| fresh(&pose_a, &pose_b, p))
+            let mut carried = Vec::new();
+            let how = pair
+                .contacts(
+                    (&a, &pose_a, ra),
+                    (&b, &pose_b, rb),
+                    prediction,
+                    |p| fresh(&pose_a, &pose_b, p),
+                    &mut carried,
+                )
                 .unwrap();
             assert_eq!(how, Found::Computed);
             // the smaller box moved about its centre, within the reuse limits
@@ -498,11 +516,10 @@ mod tests {
             // how far a point of the smaller box moved, at most (its turn about its centre, out to its radius)
             let motion = moved + turned * size;
             let (pose_a, moved_b) = if ra < rb { (pose_a * step, pose_b) } else { (pose_a, pose_b * step) };
-            let (carried, how) = pair
-                .contacts((&a, &pose_a, ra), (&b, &moved_b, rb), prediction, |_| -> Result<_, ()> {
-                    panic!("case {case}: a pair moved below the reuse distance was computed again")
-                })
-                .unwrap();
+            let refuse = |_| -> Result<_, ()> {
+                panic!("case {case}: a pair moved below the reuse distance was computed again")
+            };
+            let how = pair.contacts((&a, &pose_a, ra), (&b, &moved_b, rb), prediction, refuse, &mut carried).unwrap();
             assert_eq!(how, Found::Reused);
             reused += 1;
             let now = fresh(&pose_a, &moved_b, prediction).unwrap();
@@ -535,8 +552,9 @@ mod tests {
         let pose_a = Isometry3::identity();
         let pose_b = Isometry3::translation(0.0, 0.0, 1.0);
         let mut pair = Pair::new((0, 1));
+        let mut out = Vec::new();
         let mut ask = |pb: &Isometry3<f64>| {
-            pair.contacts((&a, &pose_a, r), (&b, pb, r), 1e-3, |p| contacts(&a, &pose_a, &b, pb, p)).unwrap().1
+            pair.contacts((&a, &pose_a, r), (&b, pb, r), 1e-3, |p| contacts(&a, &pose_a, &b, pb, p), &mut out).unwrap()
         };
         let (distance, turn, _) = reuse_limits(r);
         assert_eq!(distance, REUSE_DISTANCE, "a metre cube keeps its manifold over a millimetre");
@@ -557,9 +575,8 @@ mod tests {
         let ball = Shape::sphere(0.5).unwrap();
         let mut pair = Pair::new((0, 2));
         for _ in 0..2 {
-            let (_, how) = pair
-                .contacts((&a, &pose_a, r), (&ball, &pose_b, 0.5), 1e-3, |p| contacts(&a, &pose_a, &ball, &pose_b, p))
-                .unwrap();
+            let compute = |p| contacts(&a, &pose_a, &ball, &pose_b, p);
+            let how = pair.contacts((&a, &pose_a, r), (&ball, &pose_b, 0.5), 1e-3, compute, &mut out).unwrap();
             assert_eq!(how, Found::Computed, "a curved pair is never reused");
         }
     }

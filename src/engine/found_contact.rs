@@ -35,6 +35,16 @@ impl ContactKey {
     }
 }
 
+/// The contact point tumble-contact takes for a contact of parry's: the vertex (or curved point) that carries it, or
+/// between the two points.
+pub(crate) fn contact_point(c: &tumble_collide::Contact) -> Point3<f64> {
+    match c.kind {
+        tumble_collide::ContactKind::FaceVertex => c.point_b,
+        tumble_collide::ContactKind::VertexFace => c.point_a,
+        _ => Point3::from((c.point_a.coords + c.point_b.coords) * 0.5),
+    }
+}
+
 /// A feature as a number: its kind in the high bits, its index in the low ones.
 pub(crate) fn feature_code(f: Feature) -> u64 {
     match f {

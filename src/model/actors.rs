@@ -68,8 +68,8 @@ impl Model {
                 continue;
             }
             let inertia = k.rot * b.inertia * k.rot.transpose();
-            let mut s = BodyState::rigid(b.mass, inertia, x);
-            s.inv_inertia = k.rot * b.inv_inertia * k.rot.transpose();
+            let inv_inertia = k.rot * b.inv_inertia * k.rot.transpose();
+            let mut s = BodyState { inv_mass: 1.0 / b.mass, inertia, inv_inertia, ..BodyState::fixed(x) };
             s.velocity = k.velocity;
             s.angular_velocity = k.omega;
             s.force = get3(dp, l.bp(j) - q);

@@ -55,6 +55,9 @@ pub(crate) struct FastEngine {
     memory: FastMemory,
     /// The rates of the last force evaluation (scratch).
     dy: Vec<f64>,
+    /// The energy of the state where the last step ended, for the next step's report (none once the state or the
+    /// memory was set).
+    energy: Option<f64>,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> WorldError {
@@ -88,6 +91,7 @@ impl FastEngine {
         };
         FastEngine {
             dy: vec![0.0; memory.y.len()],
+            energy: None,
             core: EngineCore::new(rows, divergence_limit, threads, WorldReport::new(method_name(&settings))),
             model,
             scene,
@@ -129,6 +133,7 @@ impl FastEngine {
             settings: &self.settings,
             memory: &mut self.memory,
             dy: &mut self.dy,
+            energy: &mut self.energy,
             report: &mut self.core.report,
             threads: self.core.threads,
             divergence_limit: self.core.divergence_limit,
@@ -164,6 +169,7 @@ impl FastEngine {
         let error = crate::engine::state_error::state_difference(&self.model, None, &whole.y, &self.memory.y, h);
         self.settings.dt = dt;
         self.memory = whole;
+        self.energy = None;
         self.give_broken().expect("the engine's own memory");
         self.core.report = report;
         halves?;
@@ -213,6 +219,7 @@ impl Engine for FastEngine {
     }
 
     fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
+        self.energy = None;
         self.memory.y.copy_from_slice(y);
         (self.memory.origin, self.memory.steps) = (t, 0);
         Ok(())
@@ -299,6 +306,7 @@ impl Engine for FastEngine {
                     kept.rebuild(scene.actors(), |a| scene.movable(a))?;
                 }
                 self.memory = *m;
+                self.energy = None;
                 self.give_broken()
             }
             other => Err(format!("it is the memory of {}, which this world does not run", other.engine_name())),

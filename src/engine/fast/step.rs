@@ -31,6 +31,8 @@ pub(super) struct StepContext<'a> {
     pub memory: &'a mut FastMemory,
     /// The rates of the step's force evaluation (scratch kept by the engine).
     pub dy: &'a mut Vec<f64>,
+    /// The energy of the state where the last step ended (kept by the engine; none once the state was set).
+    pub energy: &'a mut Option<f64>,
     pub report: &'a mut WorldReport,
     pub threads: usize,
     /// A state component past this is divergence.
@@ -44,8 +46,12 @@ pub(super) struct StepContext<'a> {
 pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<Vec<usize>, WorldError> {
     let clock = Instant::now();
     // kinematic bodies onto their path, moving at what takes them to its pose at the step's end
-    cx.model.drive_kinematic(cx.t, &mut cx.memory.y, Some(h));
-    let before = energy(cx.model, &cx.memory.y);
+    let driven = cx.model.drive_kinematic(cx.t, &mut cx.memory.y, Some(h));
+    // the energy where the last step ended, unless a kinematic body's pull moved since
+    let before = match cx.energy.take() {
+        Some(e) if !driven => e,
+        _ => energy(cx.model, &cx.memory.y),
+    };
     let mut states = applied_forces(cx)?;
     let found = find_contacts(cx, &mut states, h)?;
     let (velocities, broken) = match cx.settings.solver {
@@ -69,7 +75,9 @@ pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<Vec<usize>, World
     }
     update_sleep(cx, &states, &velocities, &found, h);
     cx.memory.steps += 1;
-    let change = energy(cx.model, &cx.memory.y) - before;
+    let after = energy(cx.model, &cx.memory.y);
+    *cx.energy = Some(after);
+    let change = after - before;
     cx.report.energy_change += change;
     cx.report.energy_gain = Some(cx.report.energy_gain.unwrap_or(0.0).max(change));
     book_step(cx, h, clock);

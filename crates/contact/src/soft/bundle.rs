@@ -124,15 +124,27 @@ pub(crate) struct Bundle {
     pub rows: [PointLanes; P],
 }
 
-/// One contact point's friction in each lane: two tangent axes and their accumulated impulses.
+/// Each lane's manifold friction, at its friction centre (Box3D's, Rapier's simplified and Jolt's newer friction):
+/// two tangent rows through the centre, bounded together by mu times the manifold's normal impulse (Coulomb's
+/// circle), and a twist row about the manifold's normal, bounded by mu times each point's normal impulse times its
+/// lever arm from the centre, summed.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct FrictionLanes {
+pub(crate) struct FrictionBundle {
     pub axes: [AxisLanes; 2],
+    /// The inverse of the two tangent rows' 2 x 2 K (its entries 00, 01, 11): they are solved as one block, so that
+    /// an update stops the centre's slip exactly (two rows coupled through the bodies' turn, updated one beside
+    /// the other, overshoot and can gain energy).
+    pub block: [Lanes; 3],
     pub tangent: [Lanes; 2],
+    /// The twist row: no linear part, its angular Jacobian the normal (`ca` = `cb`).
+    pub twist_axis: AxisLanes,
+    pub twist: Lanes,
     pub friction: Lanes,
+    /// Each point's distance from the friction centre.
+    pub lever: [Lanes; P],
 }
 
-impl FrictionLanes {
+impl FrictionBundle {
     /// Lane `l`'s friction impulse as a world vector.
     pub fn vector(&self, l: usize) -> nalgebra::Vector3<f64> {
         self.axes[0].dir_of(l) * self.tangent[0][l] + self.axes[1].dir_of(l) * self.tangent[1][l]
@@ -140,18 +152,14 @@ impl FrictionLanes {
 }
 
 /// Where a bundle's points sit on their bodies, for the gaps as the bodies move: the arms from the centres and the
-/// gaps at the step's start.
+/// gaps at the step's start; and the friction centre's arms.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Arms {
     pub ra: [Vec3Lanes; P],
     pub rb: [Vec3Lanes; P],
     pub gap: [Lanes; P],
-}
-
-/// A bundle's friction, point by point (kept apart so that sweeps without friction stream less).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct FrictionBundle {
-    pub points: [FrictionLanes; P],
+    pub centre_a: Vec3Lanes,
+    pub centre_b: Vec3Lanes,
 }
 
 /// A bundle's bodies' velocities gathered into lanes.
@@ -299,7 +307,8 @@ unsafe fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], 
             }
             None => (None, one, zero),
         };
-        for (row, f) in bu.rows[..bu.points].iter_mut().zip(&mut fr.points) {
+        let (mut total, mut twist_limit) = (zero, zero);
+        for (row, lever) in bu.rows[..bu.points].iter_mut().zip(&fr.lever) {
             let vn = row.normal_axis.speed(&v);
             let (gap, normal) = (Wide(row.gap), Wide(row.normal));
             // speculative (a gap): close it in the substep and no more; touching: the soft bias, or rigid
@@ -312,35 +321,45 @@ unsafe fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], 
             let mass_scale = Wide::select(open, one, soft_mass);
             let impulse_scale = Wide::select(open, zero, soft_impulse);
             let impulse = Wide(row.normal_axis.mass).neg() * mass_scale * (vn + bias) - impulse_scale * normal;
-            let total = (normal + impulse).max(zero);
-            let delta = total - normal;
+            let new = (normal + impulse).max(zero);
+            let delta = new - normal;
             change = change.max(delta.abs());
-            row.normal = total.0;
-            row.max_normal = Wide(row.max_normal).max(total).0;
+            row.normal = new.0;
+            row.max_normal = Wide(row.max_normal).max(new).0;
             row.normal_axis.apply(delta, &mut v);
-            if s.friction {
-                let [t0, t1] = &f.axes;
-                let (s0, s1) = (t0.speed(&v), t1.speed(&v));
-                let old = [Wide(f.tangent[0]), Wide(f.tangent[1])];
-                let new = [old[0] - Wide(t0.mass) * s0, old[1] - Wide(t1.mass) * s1];
-                let friction = Wide(f.friction);
-                let limit = friction * total;
-                let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
-                // inside the circle: as is (times one); outside: back onto it
-                let scale = Wide::select(size.gt(limit), Wide::select(size.gt(zero), limit / size, zero), one);
-                let slips = friction.gt(zero);
-                let new = [Wide::select(slips, new[0] * scale, old[0]), Wide::select(slips, new[1] * scale, old[1])];
-                f.tangent = [new[0].0, new[1].0];
-                t0.apply(new[0] - old[0], &mut v);
-                t1.apply(new[1] - old[1], &mut v);
-            }
+            total = total + new;
+            twist_limit = twist_limit + Wide(*lever) * new;
+        }
+        if s.friction {
+            let friction = Wide(fr.friction);
+            // the twist about the normal, then the two tangents through the centre
+            let tw = &fr.twist_axis;
+            let old = Wide(fr.twist);
+            let limit = friction * twist_limit;
+            let new = (old - Wide(tw.mass) * tw.speed(&v)).max(limit.neg()).min(limit);
+            fr.twist = new.0;
+            tw.apply(new - old, &mut v);
+            let [t0, t1] = &fr.axes;
+            let (s0, s1) = (t0.speed(&v), t1.speed(&v));
+            let old = [Wide(fr.tangent[0]), Wide(fr.tangent[1])];
+            let [m00, m01, m11] = fr.block.map(Wide);
+            let new = [old[0] - (m00 * s0 + m01 * s1), old[1] - (m01 * s0 + m11 * s1)];
+            let limit = friction * total;
+            let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
+            // inside the circle: as is (times one); outside: back onto it
+            let scale = Wide::select(size.gt(limit), Wide::select(size.gt(zero), limit / size, zero), one);
+            let new = [new[0] * scale, new[1] * scale];
+            fr.tangent = [new[0].0, new[1].0];
+            t0.apply(new[0] - old[0], &mut v);
+            t1.apply(new[1] - old[1], &mut v);
         }
         v.scatter(bu, movers);
     }
     change.0.iter().fold(0.0f64, |m, c| m.max(*c))
 }
 
-/// Applies every point's carried impulses (normal, then the two tangents), bundle by bundle, through shared bodies.
+/// Applies every lane's carried impulses (each point's normal, then the twist and the two tangents), bundle by
+/// bundle, through shared bodies.
 /// SAFETY: as `sweep_shared`.
 pub(crate) unsafe fn warm_start_shared(bundles: &[Bundle], frictions: &[FrictionBundle], movers: MoverPtr) {
     #[cfg(target_arch = "x86_64")]
@@ -360,11 +379,12 @@ unsafe fn warm_start_avx2(bundles: &[Bundle], frictions: &[FrictionBundle], move
 unsafe fn warm_start_lanes(bundles: &[Bundle], frictions: &[FrictionBundle], movers: MoverPtr) {
     for (bu, fr) in bundles.iter().zip(frictions) {
         let mut v = Gathered::new(bu, movers);
-        for (row, f) in bu.rows[..bu.points].iter().zip(&fr.points) {
+        for row in &bu.rows[..bu.points] {
             row.normal_axis.apply(Wide(row.normal), &mut v);
-            f.axes[0].apply(Wide(f.tangent[0]), &mut v);
-            f.axes[1].apply(Wide(f.tangent[1]), &mut v);
         }
+        fr.twist_axis.apply(Wide(fr.twist), &mut v);
+        fr.axes[0].apply(Wide(fr.tangent[0]), &mut v);
+        fr.axes[1].apply(Wide(fr.tangent[1]), &mut v);
         v.scatter(bu, movers);
     }
 }

@@ -67,7 +67,8 @@ fn update_gaps_lanes(bundles: &mut [Bundle], arms: &[Arms], movers: &[Mover]) {
 }
 
 /// Completes every axis whose direction is set: the angular Jacobians r_a x d and r_b x d, the inverse inertia
-/// times them, and the effective mass 1 / (J M^-1 J^T) (zero on a lane's points past its count).
+/// times them, and the effective mass 1 / (J M^-1 J^T) (zero on a lane's points past its count): each point's
+/// normal row, the friction rows at the friction centre, and the twist about the normal (set in its `ca`).
 pub(crate) fn build(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
     #[cfg(target_arch = "x86_64")]
     if super::bundle::avx2() {
@@ -102,27 +103,73 @@ fn inertia(side: &[usize; W], lanes: usize, movers: &[Mover]) -> [[Wide; 3]; 3] 
     m
 }
 
+/// Completes axis `axis` (its direction set) at arms `ra`, `rb`: the angular Jacobians r x d, the inverse inertia
+/// times them and the effective mass (zero where `used` is not).
+#[inline(always)]
+fn complete(
+    axis: &mut super::bundle::AxisLanes,
+    (ra, rb): (&[Wide; 3], &[Wide; 3]),
+    (ia, ib): (&[[Wide; 3]; 3], &[[Wide; 3]; 3]),
+    (ima, imb): (Wide, Wide),
+    used: [bool; W],
+) {
+    let d = wide3(&axis.dir);
+    let (ca, cb) = (cross(ra, &d), cross(rb, &d));
+    angular(axis, (ca, cb), (ia, ib), (ima, imb), used);
+}
+
+/// Completes axis `axis` from its angular Jacobians `ca`, `cb`: the inverse inertia times them and the effective
+/// mass (with the linear part of its direction).
+#[inline(always)]
+fn angular(
+    axis: &mut super::bundle::AxisLanes,
+    (ca, cb): ([Wide; 3], [Wide; 3]),
+    (ia, ib): (&[[Wide; 3]; 3], &[[Wide; 3]; 3]),
+    (ima, imb): (Wide, Wide),
+    used: [bool; W],
+) {
+    let zero = Wide::splat(0.0);
+    let d = wide3(&axis.dir);
+    let (ja, jb) = (times(ia, &ca), times(ib, &cb));
+    let k = (ima + imb) * dot(&d, &d) + dot(&ca, &ja) + dot(&cb, &jb);
+    let mass = Wide::select(k.gt(zero), Wide::splat(1.0) / k, zero);
+    axis.mass = Wide::select(used, mass, zero).0;
+    axis.ca = ca.map(|x| x.0);
+    axis.cb = cb.map(|x| x.0);
+    axis.ia = ja.map(|x| x.0);
+    axis.ib = jb.map(|x| x.0);
+}
+
 #[inline(always)]
 fn build_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &[Arms], movers: &[Mover]) {
     for ((bu, fr), arm) in bundles.iter_mut().zip(frictions.iter_mut()).zip(arms) {
         let (ia, ib) = (inertia(&bu.a, bu.lanes, movers), inertia(&bu.b, bu.lanes, movers));
-        let (ima, imb, zero) = (Wide(bu.ima), Wide(bu.imb), Wide::splat(0.0));
+        let masses = (Wide(bu.ima), Wide(bu.imb));
         for p in 0..bu.points {
             let used: [bool; W] = std::array::from_fn(|l| p < bu.count[l]);
             let (ra, rb) = (wide3(&arm.ra[p]), wide3(&arm.rb[p]));
-            let [t0, t1] = &mut fr.points[p].axes;
-            for axis in [&mut bu.rows[p].normal_axis, t0, t1] {
-                let d = wide3(&axis.dir);
-                let (ca, cb) = (cross(&ra, &d), cross(&rb, &d));
-                let (ja, jb) = (times(&ia, &ca), times(&ib, &cb));
-                let k = ima + imb + dot(&ca, &ja) + dot(&cb, &jb);
-                let mass = Wide::select(k.gt(zero), Wide::splat(1.0) / k, zero);
-                axis.mass = Wide::select(used, mass, zero).0;
-                axis.ca = ca.map(|x| x.0);
-                axis.cb = cb.map(|x| x.0);
-                axis.ia = ja.map(|x| x.0);
-                axis.ib = jb.map(|x| x.0);
-            }
+            complete(&mut bu.rows[p].normal_axis, (&ra, &rb), (&ia, &ib), masses, used);
         }
+        let used: [bool; W] = std::array::from_fn(|l| l < bu.lanes);
+        let (ca, cb) = (wide3(&arm.centre_a), wide3(&arm.centre_b));
+        for axis in &mut fr.axes {
+            complete(axis, (&ca, &cb), (&ia, &ib), masses, used);
+        }
+        // the tangent rows' K and its inverse (their linear parts are orthogonal)
+        let [t0, t1] = &fr.axes;
+        let k = |a: &super::bundle::AxisLanes, b: &super::bundle::AxisLanes| {
+            let (ca, cb, ja, jb) = (wide3(&a.ca), wide3(&a.cb), wide3(&b.ia), wide3(&b.ib));
+            let (ima, imb) = masses;
+            (ima + imb) * dot(&wide3(&a.dir), &wide3(&b.dir)) + dot(&ca, &ja) + dot(&cb, &jb)
+        };
+        let (k00, k01, k11) = (k(t0, t0), k(t0, t1), k(t1, t1));
+        let zero = Wide::splat(0.0);
+        let det = k00 * k11 - k01 * k01;
+        let inverse = Wide::select(det.gt(zero), Wide::splat(1.0) / det, zero);
+        let inverse = Wide::select(used, inverse, zero);
+        fr.block = [(k11 * inverse).0, (k01.neg() * inverse).0, (k00 * inverse).0];
+        // the twist: angular alone, about the normal (its direction in `ca`, `cb` as set; no linear part)
+        let n = wide3(&fr.twist_axis.ca);
+        angular(&mut fr.twist_axis, (n, n), (&ia, &ib), masses, used);
     }
 }

@@ -18,6 +18,7 @@ use super::stages::{self, Passes, Substeps};
 use super::SoftSettings;
 use crate::body::BodyState;
 use crate::contact::tangents;
+use nalgebra::Vector3;
 
 /// A group: its movers (local indices) and rows, in bundles of rows of one colour (`bundle.rs`), each in two parts:
 /// normal (`bundles`) and friction (`frictions`, at the same place), with the arms the gaps are measured from.
@@ -36,6 +37,16 @@ pub(crate) struct Group {
     /// Its springs (evaluated at the start of every substep).
     pub springs: SpringSet,
 }
+
+/// How much a point counts towards its manifold's friction centre by its gap (Box3D's friction centre decay, with a
+/// millimetre for its speculative distance): fully while touching or within `FRICTION_FADE`, then less, down to a
+/// thousandth past twice it, so that the centre moves smoothly as points come and go.
+fn friction_weight(gap: f64) -> f64 {
+    (2.0 - gap / FRICTION_FADE).clamp(1e-3, 1.0)
+}
+
+/// The gap over which a point's weight in its manifold's friction centre fades (m).
+const FRICTION_FADE: f64 = 1e-3;
 
 /// Mass ratio above which an island's passes sweep until the impulses settle (a heavy body on a light one needs many
 /// Gauss-Seidel sweeps to pass its weight down: one or two leave it jittering at centimetres a second).
@@ -105,27 +116,45 @@ impl Group {
             bu.points = bu.points.max(mf.count);
             bu.restitution[l] = mf.restitution;
             let (xa, xb) = (bodies[mf.a].position, bodies[mf.b].position);
+            // the manifold's normal (its points' mean: they share it but for a decomposed mesh's), its tangents,
+            // and its friction centre: the points' mean, each weighted less as it lies farther apart than touching
+            let mut normal = Vector3::zeros();
+            let (mut centre_a, mut centre_b, mut weights) = (Vector3::zeros(), Vector3::zeros(), 0.0);
             for (p, c) in mf.points().iter().enumerate() {
-                let n = c.normal;
                 let (ra, rb) = (c.point - xa, c.point - xb);
-                let (t0, t1) = tangents(&n);
-                let tangent = c.impulse.tangent - n * n.dot(&c.impulse.tangent);
                 for i in 0..3 {
                     arm.ra[p][i][l] = ra[i];
                     arm.rb[p][i][l] = rb[i];
                 }
                 arm.gap[p][l] = c.gap;
-                let f = &mut fr.points[p];
-                f.axes[0].set_dir(l, &t0);
-                f.axes[1].set_dir(l, &t1);
-                f.tangent[0][l] = t0.dot(&tangent);
-                f.tangent[1][l] = t1.dot(&tangent);
-                f.friction[l] = mf.friction;
                 let row = &mut bu.rows[p];
-                row.normal_axis.set_dir(l, &n);
+                row.normal_axis.set_dir(l, &c.normal);
                 row.gap[l] = c.gap;
-                row.normal[l] = c.impulse.normal.max(0.0);
+                row.normal[l] = c.normal_impulse.max(0.0);
+                normal += c.normal;
+                let weight = friction_weight(c.gap);
+                centre_a += ra * weight;
+                centre_b += rb * weight;
+                weights += weight;
             }
+            let n = normal.normalize();
+            let (centre_a, centre_b) = (centre_a / weights, centre_b / weights);
+            for (p, c) in mf.points().iter().enumerate() {
+                fr.lever[p][l] = (c.point - xa - centre_a).norm();
+            }
+            for i in 0..3 {
+                arm.centre_a[i][l] = centre_a[i];
+                arm.centre_b[i][l] = centre_b[i];
+                fr.twist_axis.ca[i][l] = n[i];
+            }
+            let (t0, t1) = tangents(&n);
+            let tangent = mf.tangent_impulse - n * n.dot(&mf.tangent_impulse);
+            fr.axes[0].set_dir(l, &t0);
+            fr.axes[1].set_dir(l, &t1);
+            fr.tangent[0][l] = t0.dot(&tangent);
+            fr.tangent[1][l] = t1.dot(&tangent);
+            fr.twist[l] = mf.twist_impulse;
+            fr.friction[l] = mf.friction;
         }
         geometry::build(&mut bundles, &mut frictions, &arms, &movers);
         // each bundle's colour is its first manifold's
@@ -213,20 +242,26 @@ impl Group {
     pub fn residual(&self) -> f64 {
         let mut worst = 0.0f64;
         for (k, l, p) in self.points() {
-            let (bu, f) = (&self.bundles[k], &self.frictions[k].points[p]);
+            let bu = &self.bundles[k];
             let row = &bu.rows[p];
             let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
             let vn = row.normal_axis.speed_of(l, a, b);
-            let normal = row.normal[l];
             if row.gap[l] <= 0.0 {
                 worst = worst.max(-vn);
-            } else if normal > 0.0 {
+            } else if row.normal[l] > 0.0 {
                 worst = worst.max(vn);
             }
-            let (f0, f1) = (f.tangent[0][l], f.tangent[1][l]);
-            let friction = (f0 * f0 + f1 * f1).sqrt();
-            if f.friction[l] > 0.0 && normal > 0.0 && friction < f.friction[l] * normal * (1.0 - 1e-9) {
-                worst = worst.max(f.axes[0].speed_of(l, a, b).hypot(f.axes[1].speed_of(l, a, b)));
+        }
+        // a manifold's friction inside its Coulomb bound sticks: its slip at the centre is left unsolved
+        for (bu, f) in self.bundles.iter().zip(&self.frictions) {
+            for l in 0..bu.lanes {
+                let normal: f64 = (0..bu.count[l]).map(|p| bu.rows[p].normal[l]).sum();
+                let (f0, f1) = (f.tangent[0][l], f.tangent[1][l]);
+                let friction = (f0 * f0 + f1 * f1).sqrt();
+                if f.friction[l] > 0.0 && normal > 0.0 && friction < f.friction[l] * normal * (1.0 - 1e-9) {
+                    let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
+                    worst = worst.max(f.axes[0].speed_of(l, a, b).hypot(f.axes[1].speed_of(l, a, b)));
+                }
             }
         }
         self.joints.iter().fold(worst, |w, j| w.max(j.residual(&self.movers)))

@@ -1,8 +1,8 @@
-//! What the soft step solves a body pair's contact by: a manifold, its points (up to four) with their impulses, and
-//! its colour in the constraint graph (`graph.rs`). The caller keeps manifolds from step to step: a point's impulses
-//! go in as the last step's (the warm start) and come out as this step's.
+//! What the soft step solves a body pair's contact by: a manifold, its points (up to four) with their normal
+//! impulses, its friction impulses (at the friction centre, and the twist about the normal), and its colour in the
+//! constraint graph (`graph.rs`). The caller keeps manifolds from step to step: the impulses go in as the last
+//! step's (the warm start) and come out as this step's.
 
-use super::SoftImpulse;
 use crate::body::BodyState;
 use crate::error::ContactError;
 use nalgebra::{Point3, Vector3};
@@ -19,8 +19,8 @@ pub struct SoftPoint {
     pub normal: Vector3<f64>,
     /// Gap along the normal at the step's start (negative: overlapping).
     pub gap: f64,
-    /// Its impulses over a substep: the last step's on the way in, this step's last substep's on the way out.
-    pub impulse: SoftImpulse,
+    /// Its normal impulse over a substep: the last step's on the way in, this step's last substep's on the way out.
+    pub normal_impulse: f64,
     /// Its normal impulse over the whole step (out).
     pub step_normal: f64,
 }
@@ -39,6 +39,10 @@ pub struct SoftManifold {
     /// Its points (the first `count`).
     pub points: [SoftPoint; MANIFOLD_POINTS],
     pub count: usize,
+    /// Its friction impulse over a substep (a world vector, so that it carries to the next step's tangents) and its
+    /// twist impulse about the normal: in and out as the points' normal impulses.
+    pub tangent_impulse: Vector3<f64>,
+    pub twist_impulse: f64,
 }
 
 impl SoftManifold {
@@ -52,6 +56,8 @@ impl SoftManifold {
             restitution,
             points: [SoftPoint::default(); MANIFOLD_POINTS],
             count: 0,
+            tangent_impulse: Vector3::zeros(),
+            twist_impulse: 0.0,
         }
     }
 
@@ -79,12 +85,16 @@ impl SoftManifold {
         if !(self.friction >= 0.0 && self.friction.is_finite() && self.restitution >= 0.0 && self.restitution <= 1.0) {
             return bad(format!("friction {} and restitution {}", self.friction, self.restitution));
         }
+        let t = &self.tangent_impulse;
+        if ![t.x, t.y, t.z, self.twist_impulse].iter().all(|v| v.is_finite()) {
+            return bad("its friction impulse is not finite".into());
+        }
         for (k, p) in self.points().iter().enumerate() {
-            let numbers = [p.point.coords, p.normal, p.impulse.tangent].into_iter().flat_map(|v| [v.x, v.y, v.z]);
-            if !numbers.chain([p.gap, p.impulse.normal]).all(f64::is_finite) {
+            let numbers = [p.point.coords, p.normal].into_iter().flat_map(|v| [v.x, v.y, v.z]);
+            if !numbers.chain([p.gap, p.normal_impulse]).all(f64::is_finite) {
                 return bad(format!("point {k} has a number that is not finite"));
             }
-            if (p.normal.norm() - 1.0).abs() > 1e-6 {
+            if (p.normal.norm_squared() - 1.0).abs() > 1e-6 {
                 return bad(format!("point {k}'s normal is not of unit length"));
             }
         }

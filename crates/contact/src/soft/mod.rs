@@ -184,9 +184,13 @@ thread_local! {
     static LOCAL: std::cell::RefCell<Vec<usize>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// Contact points from which the step's group is solved on all the threads, colour by colour (a soft row costs tens
-/// of nanoseconds a sweep: threads pay from about a thousand).
+/// Contact points from which a group is solved on all the threads, colour by colour, and from which a step's groups
+/// are shared out among them (a soft row costs tens of nanoseconds a sweep: threads pay from about a thousand).
 const COLOUR_THREADS: usize = 1000;
+
+/// Contact points a batch of islands gathers before it is closed (a few hundred kilobytes of rows, which stay in the
+/// cache over the group's substeps).
+const BATCH_POINTS: usize = 512;
 
 /// Checks each joint against the bodies: indices in range, two different bodies, one of them moving, every number
 /// finite.
@@ -294,7 +298,8 @@ impl<'a> SoftProblem<'a> {
 
 /// A soft step of h by contacts: each body pair's contacts become manifolds of up to four points (in the order of
 /// their first contacts), coloured afresh in that order, and solved by `soft_solve`; each contact's impulses come
-/// back in `impulses` and `normal_impulses`.
+/// back in `impulses` and `normal_impulses`. A manifold's friction starts from its contacts' friction impulses
+/// summed and comes back shared among them by their normal impulses; its twist starts from none.
 pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> Result<SoftStep, ContactError> {
     let SoftProblem { bodies, contacts, warm, joints, joint_warm, springs } = *problem;
     if warm.len() != contacts.len() {
@@ -324,7 +329,7 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
                     point: c.point,
                     normal: c.normal.into_inner(),
                     gap: c.distance,
-                    impulse: warm[k],
+                    normal_impulse: warm[k].normal,
                     step_normal: 0.0,
                 };
                 m.points[p] = point;
@@ -351,6 +356,8 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
             first = false;
             part.count = run.len();
             part.points[..run.len()].copy_from_slice(&m.points[at..at + run.len()]);
+            // the manifold's friction starts from its contacts' friction impulses summed
+            part.tangent_impulse = run.iter().map(|x| warm[x.2].tangent).sum();
             at += run.len();
             origin.push(run.iter().map(|x| x.2).collect());
             split.push(part);
@@ -361,8 +368,11 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
     out.impulses = vec![SoftImpulse::default(); contacts.len()];
     out.normal_impulses = vec![0.0; contacts.len()];
     for (m, ks) in split.iter().zip(&origin) {
+        // a manifold's friction shared among its contacts by their normal impulses (evenly if none pushed)
+        let total: f64 = m.points().iter().map(|p| p.normal_impulse).sum();
         for (p, &k) in m.points().iter().zip(ks) {
-            out.impulses[k] = p.impulse;
+            let share = if total > 0.0 { p.normal_impulse / total } else { 1.0 / m.count as f64 };
+            out.impulses[k] = SoftImpulse { normal: p.normal_impulse, tangent: m.tangent_impulse * share };
             out.normal_impulses[k] = p.step_normal;
         }
     }
@@ -421,18 +431,34 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
         }
     }
     let converging: Vec<bool> = range.iter().map(|&(lo, hi)| lo > 0.0 && hi / lo > group::MASS_RATIO).collect();
-    // the groups: all that does not converge together, each island that does on its own
-    let mut place = vec![usize::MAX; islands];
-    let mut specs = vec![Spec::default()];
-    for (i, &c) in converging.iter().enumerate() {
-        if c {
-            place[i] = specs.len();
-            specs.push(Spec { converge: true, ..Spec::default() });
-        } else {
-            place[i] = 0;
-        }
-    }
+    // the groups, in island order: each island that converges on its own, each of a batch's points or more too, the
+    // rest gathered into batches of about `BATCH_POINTS` (islands share no moving body: a batch's rows side by
+    // side give the bits each gives alone, and a group's rows stay in the cache over all its substeps)
     let (nm, nj) = (touching.len(), joints.len());
+    let mut island_points = vec![0usize; islands];
+    for (k, &i) in of_link[..nm].iter().enumerate() {
+        island_points[i] += views[touching[k]].count;
+    }
+    let mut place = vec![usize::MAX; islands];
+    let mut specs: Vec<Spec> = Vec::new();
+    let mut open: Option<(usize, usize)> = None;
+    for i in 0..islands {
+        if converging[i] || island_points[i] >= BATCH_POINTS {
+            place[i] = specs.len();
+            specs.push(Spec { converge: converging[i], ..Spec::default() });
+            continue;
+        }
+        let (spec, points) = match open {
+            Some(batch) => batch,
+            None => {
+                specs.push(Spec::default());
+                (specs.len() - 1, 0)
+            }
+        };
+        place[i] = spec;
+        let points = points + island_points[i];
+        open = (points < BATCH_POINTS).then_some((spec, points));
+    }
     for (k, &i) in of_link.iter().enumerate() {
         let spec = &mut specs[place[i]];
         if k < nm {
@@ -447,41 +473,13 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
             spec.springs.push(k - nm - nj);
         }
     }
-    let build = |spec: &Spec, local: &dyn Fn(usize) -> usize, members: &[usize]| -> Group {
-        let movers = members.iter().map(|&b| Mover::new(&bodies[b])).collect();
-        let mut group = Group::new(movers, bodies, &views, &spec.manifolds, local, spec.converge);
-        for set in &spec.joints {
-            let placed = set.iter().map(|&k| {
-                let j = &joints[k];
-                (Joint { a: local(j.a), b: local(j.b), ..*j }, bodies[j.a].position.coords, bodies[j.b].position.coords)
-            });
-            group.joints.push(JointSet::new(placed.collect(), set.iter().map(|&k| joint_warm[k]).collect()));
-        }
-        if !spec.springs.is_empty() {
-            let placed = spec.springs.iter().map(|&k| {
-                let s = &springs[k];
-                (
-                    SoftSpring { a: local(s.a), b: local(s.b), ..*s },
-                    bodies[s.a].position.coords,
-                    bodies[s.b].position.coords,
-                )
-            });
-            group.springs = SpringSet::new(placed);
-        }
-        group
-    };
+    let points = |spec: &Spec| spec.manifolds.iter().map(|&m| views[m].count).sum::<usize>();
+    let size = |spec: &Spec| points(spec) + spec.joints.iter().map(Vec::len).sum::<usize>() + spec.springs.len();
     let threads = if settings.threads == 0 { cores() } else { settings.threads };
-    // the step's group: every body a mover (those in no manifold, joint or spring move freely, by the same
-    // substeps), on all the threads from a thousand contact points
-    let all: Vec<usize> = (0..bodies.len()).collect();
-    let mut main = build(&specs[0], &|b| b, &all);
-    let mut prepare_seconds = clock.elapsed().as_secs_f64();
-    let points: usize = specs[0].manifolds.iter().map(|&m| views[m].count).sum();
-    main.solve(h, settings, if threads > 1 && points >= COLOUR_THREADS { threads } else { 1 });
-    // the converging islands, each on its own, on the threads in turn
-    let size = |spec: &Spec| spec.manifolds.len() + spec.joints.iter().map(Vec::len).sum::<usize>();
-    let rows = specs[1..].iter().map(size).sum();
-    let solve_alone = |spec: &Spec| -> Result<(Vec<usize>, Group, f64), ContactError> {
+    // a group of many contact points is solved on all the threads, colour by colour; the others group by group on
+    // them
+    let whole = |spec: &Spec| threads > 1 && points(spec) >= COLOUR_THREADS;
+    let solve = |spec: &Spec, threads: usize| -> Result<(Vec<usize>, Group, f64), ContactError> {
         LOCAL.with(|slots| {
             let clock = std::time::Instant::now();
             let slots = &mut *slots.borrow_mut();
@@ -498,45 +496,78 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
                     members.push(b);
                 }
             }
-            let mut group = build(spec, &|b| slots[b], &members);
+            let local = |b: usize| slots[b];
+            let movers = members.iter().map(|&b| Mover::new(&bodies[b])).collect();
+            let mut group = Group::new(movers, bodies, &views, &spec.manifolds, local, spec.converge);
+            for set in &spec.joints {
+                let placed = set.iter().map(|&k| {
+                    let (j, xa, xb) = (&joints[k], bodies[joints[k].a].position, bodies[joints[k].b].position);
+                    (Joint { a: local(j.a), b: local(j.b), ..*j }, xa.coords, xb.coords)
+                });
+                group.joints.push(JointSet::new(placed.collect(), set.iter().map(|&k| joint_warm[k]).collect()));
+            }
+            if !spec.springs.is_empty() {
+                let placed = spec.springs.iter().map(|&k| {
+                    let (s, xa, xb) = (&springs[k], bodies[springs[k].a].position, bodies[springs[k].b].position);
+                    (SoftSpring { a: local(s.a), b: local(s.b), ..*s }, xa.coords, xb.coords)
+                });
+                group.springs = SpringSet::new(placed);
+            }
             for &b in &members {
                 slots[b] = usize::MAX;
             }
             let seconds = clock.elapsed().as_secs_f64();
-            group.solve(h, settings, 1);
+            group.solve(h, settings, threads);
             Ok((members, group, seconds))
         })
     };
-    let alone = in_parallel_by(&specs[1..], size, (rows, COLOUR_THREADS), settings.threads, solve_alone);
-    drop(views);
+    let setup = clock.elapsed().as_secs_f64();
+    let rest: Vec<&Spec> = specs.iter().filter(|s| !whole(s)).collect();
+    let rows = rest.iter().map(|s| size(s)).sum();
+    let mut rest = in_parallel_by(&rest, |s| size(s), (rows, COLOUR_THREADS), settings.threads, |s| solve(s, 1));
+    let mut rest = rest.drain(..);
     let mut out = SoftStep {
-        velocities: main.movers.iter().map(|m| BodyVelocity { linear: m.v, angular: m.w }).collect(),
-        displacements: main.movers.iter().map(|m| m.dp).collect(),
-        rotations: main.movers.iter().map(|m| m.dq).collect(),
+        velocities: Vec::with_capacity(bodies.len()),
+        displacements: vec![Vector3::zeros(); bodies.len()],
+        rotations: vec![UnitQuaternion::identity(); bodies.len()],
         impulses: Vec::new(),
         normal_impulses: Vec::new(),
         joint_impulses: vec![JointImpulse::default(); joints.len()],
         islands,
-        residual: main.residual(),
-        prepare_seconds,
+        residual: 0.0,
+        prepare_seconds: setup,
         pushing: 0,
         collisions: 0,
     };
-    out.take(&main, &specs[0], manifolds, settings.bounce_threshold);
-    main.give_back();
-    for (spec, solved) in specs[1..].iter().zip(alone) {
-        let (members, group, seconds) = solved?;
-        for (&b, m) in members.iter().zip(&group.movers) {
-            out.velocities[b] = BodyVelocity { linear: m.v, angular: m.w };
+    let mut velocities: Vec<Option<BodyVelocity>> = vec![None; bodies.len()];
+    let mut solved = Vec::with_capacity(specs.len());
+    for spec in &specs {
+        solved.push(if whole(spec) { solve(spec, threads) } else { rest.next().expect("one answer a group") });
+    }
+    drop(views);
+    for (spec, result) in specs.iter().zip(solved) {
+        let (members, group, seconds) = result?;
+        for (&b, m) in members.iter().zip(&group.movers).filter(|(&b, _)| bodies[b].is_dynamic()) {
+            velocities[b] = Some(BodyVelocity { linear: m.v, angular: m.w });
             out.displacements[b] = m.dp;
             out.rotations[b] = m.dq;
         }
         out.residual = out.residual.max(group.residual());
-        prepare_seconds += seconds;
+        out.prepare_seconds += seconds;
         out.take(&group, spec, manifolds, settings.bounce_threshold);
         group.give_back();
     }
-    out.prepare_seconds = prepare_seconds;
+    // bodies in no group (and static ones) move on their own, by the same substeps
+    for (b, body) in bodies.iter().enumerate() {
+        let v = velocities[b].unwrap_or_else(|| {
+            let mut m = Mover::new(body);
+            m.free(h, settings.substeps);
+            out.displacements[b] = m.dp;
+            out.rotations[b] = m.dq;
+            BodyVelocity { linear: m.v, angular: m.w }
+        });
+        out.velocities.push(v);
+    }
     Ok(out)
 }
 
@@ -546,10 +577,12 @@ impl SoftStep {
         for (bu, fr) in group.bundles.iter().zip(&group.frictions) {
             for l in 0..bu.lanes {
                 let m = manifolds[bu.manifold[l]].borrow_mut();
+                m.tangent_impulse = fr.vector(l);
+                m.twist_impulse = fr.twist[l];
                 for p in 0..bu.count[l] {
                     let row = &bu.rows[p];
                     let point = &mut m.points[p];
-                    point.impulse = SoftImpulse { normal: row.normal[l], tangent: fr.points[p].vector(l) };
+                    point.normal_impulse = row.normal[l];
                     point.step_normal = row.step[l];
                     if row.step[l] > 0.0 {
                         self.pushing += 1;

@@ -45,6 +45,15 @@ impl Mover {
         }
     }
 
+    /// Free motion over h in `substeps` (no contact): the same sequence the groups' bodies follow.
+    pub fn free(&mut self, h: f64, substeps: usize) {
+        let hs = h / substeps.max(1) as f64;
+        for _ in 0..substeps.max(1) {
+            self.integrate_velocity(hs);
+            self.integrate_position(hs);
+        }
+    }
+
     pub fn integrate_velocity(&mut self, h: f64) {
         self.v += self.accel * h;
         self.w += self.angular_accel * h;

@@ -49,6 +49,11 @@ impl Wide {
         Wide(std::array::from_fn(|l| a[l].max(b[l])))
     }
     #[inline(always)]
+    pub(crate) fn min(self, o: Wide) -> Wide {
+        let (a, b) = (self.0, o.0);
+        Wide(std::array::from_fn(|l| a[l].min(b[l])))
+    }
+    #[inline(always)]
     pub(crate) fn abs(self) -> Wide {
         let a = self.0;
         Wide(std::array::from_fn(|l| a[l].abs()))
