@@ -358,6 +358,37 @@ unsafe fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], 
     change.0.iter().fold(0.0f64, |m, c| m.max(*c))
 }
 
+/// How far the bundles' rows are from the exact contact conditions (m/s), the largest of: the approach speed of a
+/// point that touches (gap <= 0), the separating speed of one that pushes while apart, and the slip at the centre
+/// of a manifold whose friction is inside its Coulomb bound (sticking).
+pub(crate) fn residual(bundles: &[Bundle], frictions: &[FrictionBundle], movers: &[Mover]) -> f64 {
+    // read only: the pointer is never written through
+    let movers = MoverPtr::from_raw(movers.as_ptr().cast_mut(), movers.len());
+    let zero = Wide::splat(0.0);
+    let mut worst = zero;
+    for (bu, fr) in bundles.iter().zip(frictions) {
+        // SAFETY: nothing writes the bodies meanwhile
+        let v = unsafe { Gathered::new(bu, movers) };
+        let mut total = zero;
+        for row in &bu.rows[..bu.points] {
+            let vn = row.normal_axis.speed(&v);
+            let (gap, normal) = (Wide(row.gap), Wide(row.normal));
+            let apart = Wide::select(normal.gt(zero), vn, zero);
+            worst = worst.max(Wide::select(gap.gt(zero), apart, vn.neg()));
+            total = total + normal;
+        }
+        let [t0, t1] = &fr.axes;
+        let (f0, f1) = (Wide(fr.tangent[0]), Wide(fr.tangent[1]));
+        let (friction, size) = (Wide(fr.friction), (f0 * f0 + f1 * f1).sqrt());
+        let bound = friction * total * Wide::splat(1.0 - 1e-9);
+        let sticks: [bool; W] =
+            std::array::from_fn(|l| friction.0[l] > 0.0 && total.0[l] > 0.0 && size.0[l] < bound.0[l]);
+        let (s0, s1) = (t0.speed(&v), t1.speed(&v));
+        worst = worst.max(Wide::select(sticks, (s0 * s0 + s1 * s1).sqrt(), zero));
+    }
+    worst.0.iter().fold(0.0f64, |m, c| m.max(*c))
+}
+
 /// Applies every lane's carried impulses (each point's normal, then the twist and the two tangents), bundle by
 /// bundle, through shared bodies.
 /// SAFETY: as `sweep_shared`.

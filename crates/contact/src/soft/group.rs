@@ -197,14 +197,6 @@ impl Group {
         bundle::give_back((self.bundles, self.frictions, self.arms));
     }
 
-    /// Each used point of the bundles: (bundle, lane, point).
-    pub fn points(&self) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
-        self.bundles
-            .iter()
-            .enumerate()
-            .flat_map(|(k, bu)| (0..bu.lanes).flat_map(move |l| (0..bu.count[l]).map(move |p| (k, l, p))))
-    }
-
     /// The substeps of a step of h on up to `threads` workers (one stage list, `stages.rs`): the same bits on any
     /// number.
     pub fn solve(&mut self, h: f64, s: &SoftSettings, threads: usize) {
@@ -240,30 +232,7 @@ impl Group {
     /// approach speed of a contact that touches (gap <= 0), the separating speed of one that pushes while apart,
     /// and the slip of one whose friction is inside its Coulomb bound (sticking).
     pub fn residual(&self) -> f64 {
-        let mut worst = 0.0f64;
-        for (k, l, p) in self.points() {
-            let bu = &self.bundles[k];
-            let row = &bu.rows[p];
-            let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
-            let vn = row.normal_axis.speed_of(l, a, b);
-            if row.gap[l] <= 0.0 {
-                worst = worst.max(-vn);
-            } else if row.normal[l] > 0.0 {
-                worst = worst.max(vn);
-            }
-        }
-        // a manifold's friction inside its Coulomb bound sticks: its slip at the centre is left unsolved
-        for (bu, f) in self.bundles.iter().zip(&self.frictions) {
-            for l in 0..bu.lanes {
-                let normal: f64 = (0..bu.count[l]).map(|p| bu.rows[p].normal[l]).sum();
-                let (f0, f1) = (f.tangent[0][l], f.tangent[1][l]);
-                let friction = (f0 * f0 + f1 * f1).sqrt();
-                if f.friction[l] > 0.0 && normal > 0.0 && friction < f.friction[l] * normal * (1.0 - 1e-9) {
-                    let (a, b) = (&self.movers[bu.a[l]], &self.movers[bu.b[l]]);
-                    worst = worst.max(f.axes[0].speed_of(l, a, b).hypot(f.axes[1].speed_of(l, a, b)));
-                }
-            }
-        }
+        let worst = bundle::residual(&self.bundles, &self.frictions, &self.movers);
         self.joints.iter().fold(worst, |w, j| w.max(j.residual(&self.movers)))
     }
 

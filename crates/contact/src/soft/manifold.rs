@@ -85,18 +85,20 @@ impl SoftManifold {
         if !(self.friction >= 0.0 && self.friction.is_finite() && self.restitution >= 0.0 && self.restitution <= 1.0) {
             return bad(format!("friction {} and restitution {}", self.friction, self.restitution));
         }
+        // one sum of every number: finite only if each is (a sum of finite numbers can overflow, and is refused too)
         let t = &self.tangent_impulse;
-        if ![t.x, t.y, t.z, self.twist_impulse].iter().all(|v| v.is_finite()) {
-            return bad("its friction impulse is not finite".into());
+        let mut sum = t.x + t.y + t.z + self.twist_impulse;
+        let mut unit = true;
+        for p in self.points() {
+            let n = &p.normal;
+            sum += p.point.x + p.point.y + p.point.z + n.x + n.y + n.z + p.gap + p.normal_impulse;
+            unit &= (n.norm_squared() - 1.0).abs() <= 1e-6;
         }
-        for (k, p) in self.points().iter().enumerate() {
-            let numbers = [p.point.coords, p.normal].into_iter().flat_map(|v| [v.x, v.y, v.z]);
-            if !numbers.chain([p.gap, p.normal_impulse]).all(f64::is_finite) {
-                return bad(format!("point {k} has a number that is not finite"));
-            }
-            if (p.normal.norm_squared() - 1.0).abs() > 1e-6 {
-                return bad(format!("point {k}'s normal is not of unit length"));
-            }
+        if !sum.is_finite() {
+            return bad("a point or an impulse has a number that is not finite".into());
+        }
+        if !unit {
+            return bad("a point's normal is not of unit length".into());
         }
         Ok(())
     }

@@ -243,13 +243,14 @@ fn check_springs(bodies: &[BodyState], springs: &[SoftSpring]) -> Result<(), Con
 /// Checks the bodies' numbers: finite, inverse masses not negative (their inertias are taken as given: the caller
 /// keeps them positive definite).
 fn check_bodies(bodies: &[BodyState]) -> Result<(), ContactError> {
+    // one sum of each body's numbers: finite only if each is
     for (i, b) in bodies.iter().enumerate() {
-        let numbers = [b.position.coords, b.velocity, b.angular_velocity, b.force, b.torque]
-            .into_iter()
-            .flat_map(|v| [v.x, v.y, v.z])
-            .chain(b.inertia.iter().copied())
-            .chain(b.inv_inertia.iter().copied());
-        if !(b.inv_mass >= 0.0 && b.inv_mass.is_finite() && numbers.into_iter().all(f64::is_finite)) {
+        let sum =
+            [b.position.coords, b.velocity, b.angular_velocity, b.force, b.torque].iter().map(|v| v.sum()).sum::<f64>()
+                + b.inertia.sum()
+                + b.inv_inertia.sum()
+                + b.inv_mass;
+        if !(b.inv_mass >= 0.0 && sum.is_finite()) {
             return Err(ContactError::invalid("bodies", format!("body {i} has a non-finite number or negative mass")));
         }
     }
