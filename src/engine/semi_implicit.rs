@@ -1,16 +1,56 @@
 //! Positions from new velocities (semi-implicit Euler), shared by fast mode and accurate mode's contact steps.
 //! Orientations turn by the new angular velocity; angular momentum is taken from the inertia the velocities were
-//! solved with and scaled back so the turn does not raise the rotational energy.
+//! solved with and scaled back so the turn does not raise the rotational energy. Accurate mode's states hold
+//! momenta, fast mode's velocities (`Form`): a body's angular velocity after the turn is then its inertia there
+//! inverse times that momentum.
 
 use crate::model::layout::{get3, get_quat, set3, set_quat};
-use crate::model::Model;
-use nalgebra::UnitQuaternion;
+use crate::model::{BodyProps, Model};
+use nalgebra::{UnitQuaternion, Vector3};
 use tumble_contact::{BodyVelocity, SoftStep};
 
+/// What a state's rows after the positions hold: momenta (the world's state, accurate mode's) or velocities (fast
+/// mode's, `model/velocities.rs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Form {
+    Momenta,
+    Velocities,
+}
+
+/// Writes body `b`'s linear and angular rows in `form`, from its velocity `v` and its angular momentum `l` where it
+/// is turned to `q1`.
+fn set_motion(
+    y: &mut [f64],
+    (bp, bl): (usize, usize),
+    b: &BodyProps,
+    q1: &UnitQuaternion<f64>,
+    (v, l): (Vector3<f64>, Vector3<f64>),
+    form: Form,
+) {
+    match form {
+        Form::Momenta => {
+            set3(y, bp, &(v * b.mass));
+            set3(y, bl, &l);
+        }
+        Form::Velocities => {
+            set3(y, bp, &v);
+            set3(y, bl, &(q1 * (b.inv_inertia * q1.inverse_transform_vector(&l))));
+        }
+    }
+}
+
 /// Semi-implicit Euler over h: every actor for which `moves(actor)` holds gets its position and orientation from
-/// its new velocity `v[actor]`, and its momenta from that velocity (actors: particles first, then bodies).
+/// its new velocity `v[actor]`, and its momenta (or velocities, in `form`) from that velocity (actors: particles
+/// first, then bodies).
 #[allow(clippy::needless_range_loop)]
-pub(crate) fn update_positions(m: &Model, y: &mut [f64], v: &[BodyVelocity], h: f64, moves: impl Fn(usize) -> bool) {
+pub(crate) fn update_positions(
+    m: &Model,
+    y: &mut [f64],
+    v: &[BodyVelocity],
+    h: f64,
+    form: Form,
+    moves: impl Fn(usize) -> bool,
+) {
     let l = m.layout;
     for i in 0..l.particles {
         if !moves(i) {
@@ -32,16 +72,16 @@ pub(crate) fn update_positions(m: &Model, y: &mut [f64], v: &[BodyVelocity], h: 
         let momentum = turned_momentum(b, &q0, &q1, &w);
         set3(y, l.bx(j), &x);
         set_quat(y, l.bq(j), &q1);
-        set3(y, l.bp(j), &(lin * b.mass));
-        set3(y, l.bl(j), &momentum);
+        set_motion(y, (l.bp(j), l.bl(j)), b, &q1, (lin, momentum), form);
     }
 }
 
-/// The poses and velocities of a soft step (whose substeps moved the actors): every actor for which
-/// `moves(actor)` holds is displaced and turned as the step says, its momenta from its new velocities (angular
-/// momentum from the inertia at the step's start, scaled as in `update_positions` so the turn gains no energy; a
-/// jointed body's from its inertia at the step's end, as its rows had it). Keeping a jointed body's momentum from
-/// the start's inertia fed a whipping chain's thin links a spin about their own axes until it blew up.
+/// The poses and velocities of a soft step (whose substeps moved the actors) into fast mode's state (velocity
+/// form): every actor for which `moves(actor)` holds is displaced and turned as the step says, with its new
+/// velocity, and its angular velocity that of its angular momentum where it ends: the momentum from the inertia at
+/// the step's start, scaled as in `update_positions` so the turn gains no energy; a jointed body's angular velocity
+/// as its rows left it (they turned its inertia with it). Keeping a jointed body's momentum from the start's inertia
+/// fed a whipping chain's thin links a spin about their own axes until it blew up.
 pub(crate) fn apply_moves(m: &Model, y: &mut [f64], out: &SoftStep, moves: impl Fn(usize) -> bool) {
     let l = m.layout;
     let jointed = m.jointed_bodies();
@@ -59,18 +99,17 @@ pub(crate) fn apply_moves(m: &Model, y: &mut [f64], out: &SoftStep, moves: impl 
         let x = get3(y, l.bx(j)) + out.displacements[a];
         let q0 = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
         let q1 = out.rotations[a] * q0;
-        // a jointed body's velocities come from rows that turned its inertia with it (and its spin kept its
-        // momentum over each substep): its momentum is its inertia where it ends times its velocity
-        let momentum = if jointed.get(j).copied().unwrap_or(false) {
-            let r1 = q1.to_rotation_matrix().into_inner();
-            r1 * b.inertia * r1.transpose() * w
-        } else {
-            turned_momentum(b, &q0, &q1, &w)
-        };
         set3(y, l.bx(j), &x);
         set_quat(y, l.bq(j), &q1);
-        set3(y, l.bp(j), &(lin * b.mass));
-        set3(y, l.bl(j), &momentum);
+        // a jointed body's velocities come from rows that turned its inertia with it (and its spin kept its
+        // momentum over each substep): its angular velocity stays
+        if jointed.get(j).copied().unwrap_or(false) {
+            set3(y, l.bp(j), &lin);
+            set3(y, l.bl(j), &w);
+        } else {
+            let momentum = turned_momentum(b, &q0, &q1, &w);
+            set_motion(y, (l.bp(j), l.bl(j)), b, &q1, (lin, momentum), Form::Velocities);
+        }
     }
 }
 
@@ -79,7 +118,7 @@ pub(crate) fn apply_moves(m: &Model, y: &mut [f64], out: &SoftStep, moves: impl 
 /// (the second derivative is (w x L) . I^-1 (w x L) >= 0), a steady gain for a fast spin; scaling L back to the
 /// energy before the turn removes it.
 fn turned_momentum(
-    b: &crate::model::BodyProps,
+    b: &BodyProps,
     q0: &UnitQuaternion<f64>,
     q1: &UnitQuaternion<f64>,
     w: &nalgebra::Vector3<f64>,

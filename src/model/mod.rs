@@ -10,6 +10,8 @@ mod jacobian;
 pub(crate) mod joints;
 mod kinematic;
 pub(crate) mod layout;
+#[cfg(feature = "contact")]
+mod velocities;
 
 #[cfg(feature = "contact")]
 pub(crate) use actors::actor_poses;

@@ -13,7 +13,7 @@ use super::joint_forces::{bilateral_rows, project_joints, BilateralRows, JOINT_D
 use super::system::AccurateSystem;
 use crate::engine::contact_reduction::reduce;
 use crate::engine::found_contact::{ContactKey, FoundContact};
-use crate::engine::semi_implicit::update_positions;
+use crate::engine::semi_implicit::{update_positions, Form};
 use crate::model::breaking::JointLoad;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
@@ -112,7 +112,7 @@ pub fn convex_step(
     let mut next = y.to_vec();
     if found.is_empty() && model.joints.is_empty() {
         let v: Vec<_> = states.iter().map(|b| free_velocity(b, h)).collect();
-        update_positions(model, &mut next, &v, h, |_| true);
+        update_positions(model, &mut next, &v, h, Form::Momenta, |_| true);
         return Ok(Some(ConvexStep {
             y: next,
             forces: BTreeMap::new(),
@@ -201,7 +201,7 @@ pub fn convex_step(
     cx.report.islands += out.islands;
     *cx.solve_work += work;
     cx.report.stages.add(Stage::ContactConeProgram, solves.max(1));
-    update_positions(model, &mut next, &out.velocities, h, |_| true);
+    update_positions(model, &mut next, &out.velocities, h, Form::Momenta, |_| true);
     project_joints(model, &mut next, JOINT_DRIFT);
     let forces = found.iter().zip(&out.normal_impulses).map(|(f, p)| (f.key, p / h)).collect();
     let wrenches = found.iter().zip(impulse_vectors(&contacts, &out)).map(|(f, p)| (f.key, p / h)).collect();

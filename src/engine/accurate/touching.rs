@@ -26,6 +26,7 @@ use super::step_estimate::{extrapolate, interpolate, momenta, sinking, stopped_s
 use super::system::AccurateSystem;
 use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;
+use crate::engine::semi_implicit::Form;
 use crate::engine::state_error::state_difference;
 use crate::engine::Budget;
 use crate::run::Run;
@@ -237,7 +238,7 @@ pub fn touching_steps(
             }
             continue;
         };
-        let halves_error = state_difference(&system.model, Some(&involved), &whole.y, &second.y, h);
+        let halves_error = state_difference(&system.model, Some(&involved), (&whole.y, &second.y), Form::Momenta, h);
         let difference: Vec<f64> = second.y.iter().zip(&whole.y).map(|(a, b)| a - b).collect();
         // the extrapolated state's estimate, when the halves agree with the whole step on which contacts push and
         // the last step left a difference to compare with
@@ -270,7 +271,7 @@ pub fn touching_steps(
                 let r = (h / h_last).powi(2);
                 let change: Vec<f64> = difference.iter().zip(last).map(|(d, l)| d - r * l).collect();
                 let zero = vec![0.0; change.len()];
-                let changed = state_difference(model, Some(&involved), &change, &zero, h);
+                let changed = state_difference(model, Some(&involved), (&change, &zero), Form::Momenta, h);
                 changed.min(halves_error).max(if model.has_joints() { 0.0 } else { sink_extrapolated })
             }
             _ => halves_error,

@@ -8,16 +8,14 @@ use crate::mode::FastSolver;
 use crate::WorldError;
 use tumble_contact::BodyState;
 
-/// Evaluates the equations of motion at the current state; returns the actors with those forces. With the soft
-/// solver the springs are left out: its substeps evaluate them (`soft_solve.rs`).
+/// Evaluates the applied forces at the current state (velocity form: the body kinematics read from it); returns the
+/// actors with those forces. With the soft solver the springs are left out: its substeps evaluate them
+/// (`soft_solve.rs`).
 pub(super) fn applied_forces(cx: &mut StepContext<'_>) -> Result<Vec<BodyState>, WorldError> {
     let t = cx.t;
     let model = &mut cx.model;
-    match cx.settings.solver {
-        FastSolver::Soft(_) => model.rates(t, &cx.memory.y, &mut cx.dy, false),
-        FastSolver::Exact { .. } => model.rates(t, &cx.memory.y, &mut cx.dy, true),
-    }
-    .map_err(|e| failure(t, e.to_string()))?;
+    let springs = matches!(cx.settings.solver, FastSolver::Exact { .. });
+    model.velocity_forces(t, &cx.memory.y, cx.dy, springs).map_err(|e| failure(t, e.to_string()))?;
     actors(cx)
 }
 

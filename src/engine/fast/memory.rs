@@ -15,6 +15,8 @@ pub(crate) struct FastMemory {
     /// Time = origin + steps x dt, so that times are exact multiples of the step from where the engine started.
     pub origin: f64,
     pub steps: u64,
+    /// The state in velocity form (`model/velocities.rs`): positions, orientations, and each body's velocity and
+    /// angular velocity where the world's state has its momenta.
     pub y: Vec<f64>,
     /// Each contact's normal impulse of the last step (ordered: the warm start sums them in key order).
     pub previous: BTreeMap<ContactKey, f64>,

@@ -24,6 +24,7 @@ pub(crate) use memory::FastMemory;
 
 use crate::engine::collider_set::ColliderSet;
 use crate::engine::last_contacts::LastContact;
+use crate::engine::semi_implicit::Form;
 use crate::engine::{Budget, Engine, EngineCore, EngineMemory};
 use crate::error::WorldError;
 use crate::mode::{FastSettings, FastSolver};
@@ -58,6 +59,9 @@ pub(crate) struct FastEngine {
     /// The energy of the state where the last step ended, for the next step's report (none once the state or the
     /// memory was set).
     energy: Option<f64>,
+    /// The world's state (momenta) of the memory's (velocity form): made where a call's chunk ends or a frame is
+    /// recorded, not every step.
+    published: Vec<f64>,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> WorldError {
@@ -77,6 +81,8 @@ impl FastEngine {
         let Compiled { model, rows } = compiled;
         let actors = model.layout.particles + model.layout.bodies;
         let keeps_pairs = keeps_pairs(scene.is_some(), &settings);
+        let mut own = y.clone();
+        model.to_velocities(&y, &mut own);
         let memory = FastMemory {
             origin: t,
             steps: 0,
@@ -87,11 +93,12 @@ impl FastEngine {
             penetration: 0.0,
             pairs: keeps_pairs.then(Default::default),
             last_contacts: Vec::new(),
-            y,
+            y: own,
         };
         FastEngine {
             dy: vec![0.0; memory.y.len()],
             energy: None,
+            published: y,
             core: EngineCore::new(rows, divergence_limit, threads, WorldReport::new(method_name(&settings))),
             model,
             scene,
@@ -166,7 +173,10 @@ impl FastEngine {
         let (origin, dt) = (self.time(), self.settings.dt);
         (self.memory.origin, self.memory.steps, self.settings.dt) = (origin, 0, 0.5 * h);
         let halves = self.step(0.5 * h).and_then(|_| self.step(0.5 * h));
-        let error = crate::engine::state_error::state_difference(&self.model, None, &whole.y, &self.memory.y, h);
+        let error = {
+            let states = (&whole.y[..], &self.memory.y[..]);
+            crate::engine::state_error::state_difference(&self.model, None, states, Form::Velocities, h)
+        };
         self.settings.dt = dt;
         self.memory = whole;
         self.energy = None;
@@ -176,6 +186,11 @@ impl FastEngine {
         self.core.report.integrator.wall_seconds += clock.elapsed().as_secs_f64();
         self.core.report.step_error = Some(self.core.report.step_error.map_or(error, |e| e.max(error)));
         Ok(broken)
+    }
+
+    /// Makes the world's state (momenta) of the memory's.
+    fn publish(&mut self) {
+        self.model.to_momenta(&self.memory.y, &mut self.published);
     }
 
     /// The sizes a memory must fit.
@@ -215,12 +230,13 @@ impl Engine for FastEngine {
     }
 
     fn state(&self) -> &[f64] {
-        &self.memory.y
+        &self.published
     }
 
     fn set_state(&mut self, t: f64, y: &[f64]) -> Result<(), WorldError> {
         self.energy = None;
-        self.memory.y.copy_from_slice(y);
+        self.model.to_velocities(y, &mut self.memory.y);
+        self.published.copy_from_slice(y);
         (self.memory.origin, self.memory.steps) = (t, 0);
         Ok(())
     }
@@ -268,12 +284,14 @@ impl Engine for FastEngine {
             if reached > 0 {
                 delivered += reached;
                 if let Some(run) = run.as_deref_mut() {
+                    self.publish();
                     let contacts = self.last_contacts();
                     let contacts = contacts.iter().map(|c| (c.point, c.normal));
-                    run.record(&self.model, t, &self.memory.y, self.memory.penetration, contacts);
+                    run.record(&self.model, t, &self.published, self.memory.penetration, contacts);
                 }
             }
             if t >= pause.min(t_end) - slack {
+                self.publish();
                 return Ok(delivered);
             }
             let broken = if self.settings.step_doubling { self.doubled_step(h)? } else { self.step(h)? };
@@ -307,6 +325,7 @@ impl Engine for FastEngine {
                 }
                 self.memory = *m;
                 self.energy = None;
+                self.publish();
                 self.give_broken()
             }
             other => Err(format!("it is the memory of {}, which this world does not run", other.engine_name())),

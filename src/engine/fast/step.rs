@@ -14,7 +14,7 @@ use super::sleep::update_sleep;
 use super::soft_solve::soft_solve;
 use super::solve_velocities::solve_velocities;
 use crate::engine::collider_set::ColliderSet;
-use crate::engine::semi_implicit::{apply_moves, update_positions};
+use crate::engine::semi_implicit::{apply_moves, update_positions, Form};
 use crate::error::WorldError;
 use crate::mode::{FastSettings, FastSolver};
 use crate::model::Model;
@@ -64,7 +64,7 @@ pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<Vec<usize>, World
         FastSolver::Exact { .. } => {
             let velocities = solve_velocities(cx, &states, &found, h)?;
             let sleep = &cx.memory.sleep;
-            update_positions(cx.model, &mut cx.memory.y, &velocities, h, |a| !sleep.asleep(a));
+            update_positions(cx.model, &mut cx.memory.y, &velocities, h, Form::Velocities, |a| !sleep.asleep(a));
             (velocities, Vec::new())
         }
     };
@@ -84,9 +84,9 @@ pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<Vec<usize>, World
     Ok(broken)
 }
 
-/// The mechanical energy of state y (kinetic, gravity's and the springs' potential; J).
+/// The mechanical energy of fast mode's state y (velocity form: kinetic, gravity's and the springs' potential; J).
 pub(super) fn energy(model: &Model, y: &[f64]) -> f64 {
-    model.kinetic_energy(y) + model.potential_energy(y)
+    model.velocity_kinetic_energy(y) + model.potential_energy(y)
 }
 
 /// Fails the step if the new state is not finite or has diverged past the limit (one comparison a component; NaN
