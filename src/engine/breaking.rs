@@ -8,7 +8,7 @@ use crate::model::Model;
 pub(crate) fn set_broken(model: &mut Model, scene: Option<&mut ColliderSet>, broken: &[bool]) -> Result<(), String> {
     model.set_broken_joints(broken)?;
     if let Some(scene) = scene {
-        scene.joined = model.joined_pairs();
+        scene.set_joined(model.joined_pairs());
     }
     Ok(())
 }

@@ -81,7 +81,7 @@ pub(crate) struct ColliderSet {
     found_last: usize,
     /// Pairs of actors a joint joins directly (sorted, lower index first): they never touch (a joint's bodies
     /// overlap at the joint, as a ragdoll's limbs do at their sockets).
-    pub joined: Vec<(usize, usize)>,
+    joined: Vec<(usize, usize)>,
     /// Fast mode's fat boxes and the pairs whose fat boxes overlap (`broad_pairs_where`).
     fat: FatBoxes,
 }
@@ -197,28 +197,31 @@ impl ColliderSet {
         crate::model::actor_poses(self.layout, y, &self.static_poses)
     }
 
-    /// Whether two colliders may touch at all: not on one actor, not both static or asleep, not both static or
-    /// kinematic, not two particles, in a
-    /// collision group of both.
-    fn may_touch(&self, a: usize, b: usize) -> bool {
+    /// Whether two colliders may ever touch, whatever sleeps: not on one actor, not both static or kinematic, not two
+    /// particles, not joined, in a collision group of both.
+    fn may_ever_touch(&self, a: usize, b: usize) -> bool {
         if self.colliders[a].groups & self.colliders[b].groups == 0 {
             return false;
         }
         let (x, y) = (self.colliders[a].actor, self.colliders[b].actor);
         let (i, j) = (self.index(x), self.index(y));
-        if (self.inert[i] && self.inert[j]) || (self.immovable[i] && self.immovable[j]) {
+        if self.immovable[i] && self.immovable[j] {
             return false;
         }
-        if !self.joined.is_empty() {
-            let (i, j) = (self.index(x), self.index(y));
-            if self.joined.binary_search(&(i.min(j), i.max(j))).is_ok() {
-                return false;
-            }
+        if !self.joined.is_empty() && self.joined.binary_search(&(i.min(j), i.max(j))).is_ok() {
+            return false;
         }
         match (x, y) {
             (Actor::Particle(_), Actor::Particle(_)) => false,
             (x, y) => x != y,
         }
+    }
+
+    /// Sets the pairs of actors a joint joins directly (sorted, lower index first): they never touch.
+    pub fn set_joined(&mut self, joined: Vec<(usize, usize)>) {
+        self.joined = joined;
+        // the kept pairs were filtered with the old ones
+        self.fat.pairs.clear();
     }
 
     /// The world box of every collider at `poses`, each grown by its actor's `margins` entry.
@@ -337,8 +340,8 @@ impl ColliderSet {
 
     /// `broad_pairs` of boxes held in fat boxes kept from step to step (Box2D's): a box that leaves its fat box gets a
     /// new one, its own grown by a tenth of its collider's bounding radius, and the sort-and-sweep runs on the fat
-    /// boxes only when one changed; the pairs whose fat boxes overlap are then tested on `boxes` by `keep`, which
-    /// must hold only where they overlap (it sees the pair in either order).
+    /// boxes only when one changed, keeping the pairs that may ever touch; those are then tested on `boxes` (and on
+    /// sleep) every time, and by `keep`, which must hold only where they overlap (it sees the pair in either order).
     fn broad_pairs_where(
         &mut self,
         boxes: &[Aabb],
@@ -357,13 +360,20 @@ impl ColliderSet {
             }
         }
         if changed || fat.pairs.is_empty() {
-            fat.pairs = self.broad.update(&fat.boxes).map_err(|e| e.to_string())?.to_vec();
+            let mut all = self.broad.update(&self.fat.boxes).map_err(|e| e.to_string())?.to_vec();
+            all.retain(|&(i, j)| self.may_ever_touch(i as usize, j as usize));
+            self.fat.pairs = all;
         }
-        let fat = std::mem::take(&mut fat.pairs);
+        let fat = std::mem::take(&mut self.fat.pairs);
+        // not both static or asleep
+        let awake = |i: usize, j: usize| {
+            let (a, b) = (self.index(self.colliders[i].actor), self.index(self.colliders[j].actor));
+            !(self.inert[a] && self.inert[b])
+        };
         let mut pairs: Vec<(usize, usize)> = fat
             .iter()
             .map(|&(i, j)| (i as usize, j as usize))
-            .filter(|&(i, j)| self.may_touch(i, j) && boxes[i].overlaps(&boxes[j]) && keep(i, j))
+            .filter(|&(i, j)| awake(i, j) && boxes[i].overlaps(&boxes[j]) && keep(i, j))
             // Keep the moving actor as A when one side is static.
             .map(|(i, j)| if matches!(self.colliders[i].actor, Actor::Static(_)) { (j, i) } else { (i, j) })
             .collect();

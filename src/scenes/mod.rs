@@ -6,6 +6,8 @@
 #[cfg(feature = "contact")]
 mod benchmark;
 #[cfg(feature = "contact")]
+mod bin;
+#[cfg(feature = "contact")]
 mod box3d;
 #[cfg(feature = "contact")]
 mod contact;
@@ -16,6 +18,8 @@ pub mod meshes;
 mod registry;
 #[cfg(feature = "contact")]
 pub use benchmark::Benchmark;
+#[cfg(feature = "contact")]
+pub use bin::{Bin, Fill};
 #[cfg(feature = "contact")]
 pub use box3d::{LargePyramid, ManyPyramids};
 #[cfg(feature = "contact")]

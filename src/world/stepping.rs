@@ -50,7 +50,7 @@ impl World {
             &compiled.rows.bodies,
         )?;
         // bodies a joint joins directly do not collide with each other
-        scene.joined = compiled.model.joined_pairs();
+        scene.set_joined(compiled.model.joined_pairs());
         Some(scene)
     }
 

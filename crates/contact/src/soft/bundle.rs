@@ -257,14 +257,17 @@ pub(crate) struct Sweep<'a> {
 #[cfg(test)]
 pub(crate) static PORTABLE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// Whether to take the AVX2 build of the sweeps (four f64 lanes a register; the portable build has two).
+/// Whether to take the AVX2 build of the sweeps (four f64 lanes a register; the portable build has two, and the
+/// same bits): where the processor has it and the environment variable `TUMBLE_PORTABLE` is not set (tools that
+/// run the program on a processor of their own, as valgrind does, may not know every AVX2 instruction).
 #[cfg(target_arch = "x86_64")]
 pub(crate) fn avx2() -> bool {
+    static AVX2: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     #[cfg(test)]
     if PORTABLE.load(std::sync::atomic::Ordering::Relaxed) {
         return false;
     }
-    std::is_x86_feature_detected!("avx2")
+    *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2") && std::env::var_os("TUMBLE_PORTABLE").is_none())
 }
 
 /// One sweep over the bundles in order: normal rows with the soft bias or rigid, then friction (Coulomb's circle)
