@@ -307,7 +307,9 @@ impl ColliderSet {
     ) -> Result<(), String> {
         let (pairs, closing) = self.closing_pairs(poses, states, reach)?;
         let movable = |a: usize| !self.immovable[a];
-        let mut entries = store.open(&pairs, movable);
+        let actor = |c: usize| self.index(self.colliders[c].actor);
+        let rest = |(i, j): (usize, usize)| self.inert[actor(i)] && self.inert[actor(j)];
+        let mut entries = store.open(&pairs, movable, rest);
         self.kept_pair_contacts(&mut entries, poses, &|a, b| closing.of(a, b), states, threads);
         let movable = |a: usize| !self.immovable[a];
         store.close(entries, self.actors(), movable);

@@ -105,6 +105,9 @@ pub(crate) enum Found {
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub(crate) struct ContactPairs {
     pairs: Vec<Pair>,
+    /// The pairs of bodies asleep (or asleep on static ones), sorted: kept as they were, not searched or solved, so
+    /// that an island woken finds its contacts with their impulses (a woken pile started from none sags).
+    resting: Vec<Pair>,
     #[serde(skip)]
     graph: ColourGraph,
 }
@@ -287,30 +290,50 @@ impl Pair {
 }
 
 impl ContactPairs {
-    /// The last step's entries of `pairs` (sorted), moved out, a fresh one for a pair new this step; the rest are
-    /// dropped (their boxes no longer overlap), their colours given back (`moves` says which actors take colours:
-    /// those a sweep moves). `close` puts them back. A step whose pairs are the last step's takes them as they are.
-    pub fn open(&mut self, pairs: &[(usize, usize)], moves: impl Fn(usize) -> bool) -> Vec<Pair> {
+    /// The last step's entries of `pairs` (sorted), moved out, a fresh one for a pair new this step (a resting one
+    /// back if its bodies woke); of the rest (their boxes no longer overlap, or their bodies sleep), those that
+    /// `rest` says sleep are kept resting, the others dropped, their colours given back (`moves` says which actors
+    /// take colours: those a sweep moves). `close` puts them back. A step whose pairs are the last step's, with
+    /// nothing resting woken, takes them as they are.
+    pub fn open(
+        &mut self,
+        pairs: &[(usize, usize)],
+        moves: impl Fn(usize) -> bool,
+        rest: impl Fn((usize, usize)) -> bool,
+    ) -> Vec<Pair> {
+        if self.resting.iter().any(|p| !rest(p.pair)) {
+            let (woken, resting): (Vec<Pair>, Vec<Pair>) =
+                std::mem::take(&mut self.resting).into_iter().partition(|p| !rest(p.pair));
+            self.resting = resting;
+            self.pairs = merged(std::mem::take(&mut self.pairs), woken);
+        }
         if self.pairs.len() == pairs.len() && self.pairs.iter().zip(pairs).all(|(p, &q)| p.pair == q) {
             return std::mem::take(&mut self.pairs);
         }
         let mut kept = std::mem::take(&mut self.pairs).into_iter().peekable();
-        let graph = &mut self.graph;
-        let mut drop_pair = |p: Pair| {
-            for m in &p.contacts {
-                graph.remove(m.colour, (m.a, moves(m.a)), (m.b, moves(m.b)));
+        let (graph, mut asleep) = (&mut self.graph, Vec::new());
+        let mut leave = |p: Pair| {
+            if rest(p.pair) && !p.contacts.is_empty() {
+                asleep.push(p);
+            } else {
+                for m in &p.contacts {
+                    graph.remove(m.colour, (m.a, moves(m.a)), (m.b, moves(m.b)));
+                }
             }
         };
         let mut out: Vec<Pair> = pairs
             .iter()
             .map(|&pair| {
                 while let Some(gone) = kept.next_if(|p| p.pair < pair) {
-                    drop_pair(gone);
+                    leave(gone);
                 }
                 kept.next_if(|p| p.pair == pair).unwrap_or_else(|| Pair::new(pair))
             })
             .collect();
-        kept.for_each(drop_pair);
+        kept.for_each(leave);
+        if !asleep.is_empty() {
+            self.resting = merged(std::mem::take(&mut self.resting), asleep);
+        }
         out.shrink_to_fit();
         out
     }
@@ -344,7 +367,7 @@ impl ContactPairs {
     /// memory is given back. An error if two pairs of one colour share an actor that moves.
     pub fn rebuild(&mut self, actors: usize, moves: impl Fn(usize) -> bool) -> Result<(), String> {
         let mut graph = ColourGraph::new(actors);
-        for m in self.pairs.iter().flat_map(|p| &p.contacts) {
+        for m in self.pairs.iter().chain(&self.resting).flat_map(|p| &p.contacts) {
             if m.colour == UNCOLOURED {
                 continue;
             }
@@ -365,9 +388,9 @@ impl ContactPairs {
         self.pairs.iter_mut().flat_map(|p| p.contacts.iter_mut()).filter(|m| m.count > 0 && moving(m)).collect()
     }
 
-    /// The actor pairs of every pair with contacts.
+    /// The actor pairs of every pair with contacts, resting ones too.
     pub fn touching(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.pairs.iter().filter_map(|p| p.contacts.first()).map(|m| (m.a, m.b))
+        self.pairs.iter().chain(&self.resting).filter_map(|p| p.contacts.first()).map(|m| (m.a, m.b))
     }
 
     /// The deepest overlap among the contacts (0 if none overlaps).
@@ -409,14 +432,43 @@ impl ContactPairs {
             let fits = |m: &SoftManifold| m.count <= MANIFOLD_POINTS && m.colour <= tumble_contact::OVERFLOW;
             p.contacts.iter().all(fits) && p.features.len() == p.contacts.iter().map(|m| m.count).sum::<usize>()
         };
-        self.pairs.iter().all(|c| c.pair.0 < colliders && c.pair.1 < colliders && choice_fits(c) && contacts_fit(c))
-            && self.pairs.windows(2).all(|w| w[0].pair < w[1].pair)
+        let fits = |pairs: &[Pair]| {
+            pairs.iter().all(|c| c.pair.0 < colliders && c.pair.1 < colliders && choice_fits(c) && contacts_fit(c))
+                && pairs.windows(2).all(|w| w[0].pair < w[1].pair)
+        };
+        fits(&self.pairs) && fits(&self.resting)
     }
 
     /// Contact points kept, in all.
     #[cfg(test)]
     pub fn kept_points(&self) -> usize {
-        self.pairs.iter().flat_map(|p| &p.contacts).map(|m| m.count).sum()
+        self.pairs.iter().chain(&self.resting).flat_map(|p| &p.contacts).map(|m| m.count).sum()
+    }
+}
+
+/// Two lists of pairs sorted by pair (and sharing none) merged into one.
+fn merged(a: Vec<Pair>, b: Vec<Pair>) -> Vec<Pair> {
+    if b.is_empty() {
+        return a;
+    }
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let (mut a, mut b) = (a.into_iter().peekable(), b.into_iter().peekable());
+    loop {
+        let next = match (a.peek(), b.peek()) {
+            (Some(x), Some(y)) => {
+                if x.pair < y.pair {
+                    a.next()
+                } else {
+                    b.next()
+                }
+            }
+            (Some(_), None) => a.next(),
+            (None, _) => b.next(),
+        };
+        match next {
+            Some(p) => out.push(p),
+            None => return out,
+        }
     }
 }
 

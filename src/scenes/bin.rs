@@ -1,5 +1,5 @@
 //! A bin filled as an animator fills one: `count` bodies of random sizes (masses up to about 16 times each other),
-//! dropped in layers onto a square floor walled on four sides; boxes only, or a mix of boxes, balls, capsules and
+//! dropped in layers onto a 4 x 4 m floor walled on four sides 4 m high; boxes only, or a mix of boxes, balls, capsules and
 //! convex hulls. Seeded: the same bodies every time. Fast mode at 1/60 s.
 
 use crate::body::RigidBodyBuilder;
@@ -36,8 +36,8 @@ impl Default for Bin {
 }
 
 /// Side of the bin's square floor (m) and its walls' height.
-const SIDE: f64 = 3.0;
-const WALL: f64 = 1.0;
+const SIDE: f64 = 4.0;
+const WALL: f64 = 2.0;
 /// Density of every body (kg/m^3).
 const DENSITY: f64 = 500.0;
 
@@ -62,16 +62,18 @@ impl Bin {
         let floor = Shape::cuboid(Vector3::new(0.5 * SIDE + 0.1, 0.5 * SIDE + 0.1, 0.1))?;
         w.add_body(RigidBodyBuilder::fixed(Some(floor)).position(Vector3::new(0.0, 0.0, -0.1)).friction(0.6))?;
         for (x, y, along_x) in [(0.5, 0.0, false), (-0.5, 0.0, false), (0.0, 0.5, true), (0.0, -0.5, true)] {
-            let half = if along_x { Vector3::new(0.5 * SIDE, 0.05, WALL) } else { Vector3::new(0.05, 0.5 * SIDE, WALL) };
+            let half =
+                if along_x { Vector3::new(0.5 * SIDE, 0.05, WALL) } else { Vector3::new(0.05, 0.5 * SIDE, WALL) };
             let at = Vector3::new(x * (SIDE + 0.1), y * (SIDE + 0.1), WALL);
             w.add_body(RigidBodyBuilder::fixed(Some(Shape::cuboid(half)?)).position(at).friction(0.6))?;
         }
         let mut rng = Lcg(self.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0x5DEE_CE66);
-        // a grid of 8 x 8 a layer, 0.55 m apart (room for the largest body turned any way), layers 0.55 m apart
+        // a grid of 7 x 7 a layer within the walls, 0.55 m apart (room for the largest body turned any way), layers
+        // 0.55 m apart
         let mut bodies = Vec::with_capacity(self.count);
         for k in 0..self.count {
-            let (layer, i, j) = (k / 64, (k % 64) / 8, k % 8);
-            let at = Vector3::new(-1.925 + 0.55 * i as f64, -1.925 + 0.55 * j as f64, 0.5 + 0.55 * layer as f64);
+            let (layer, i, j) = (k / 49, (k % 49) / 7, k % 7);
+            let at = Vector3::new(-1.65 + 0.55 * i as f64, -1.65 + 0.55 * j as f64, 0.5 + 0.55 * layer as f64);
             let shape = match self.fill {
                 Fill::EqualBoxes => Shape::cuboid(Vector3::repeat(0.15))?,
                 Fill::MixedBoxes => Shape::cuboid(self.half(&mut rng))?,
@@ -81,9 +83,8 @@ impl Bin {
                     2 => Shape::capsule(rng.range(0.05, 0.15), rng.range(0.07, 0.18))?,
                     _ => {
                         let h = self.half(&mut rng);
-                        let corners = (0..10).map(|_| {
-                            Point3::new(rng.range(-h.x, h.x), rng.range(-h.y, h.y), rng.range(-h.z, h.z))
-                        });
+                        let corners = (0..10)
+                            .map(|_| Point3::new(rng.range(-h.x, h.x), rng.range(-h.y, h.y), rng.range(-h.z, h.z)));
                         Shape::convex_hull(&corners.collect::<Vec<_>>())?
                     }
                 },

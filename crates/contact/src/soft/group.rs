@@ -50,7 +50,7 @@ const FRICTION_FADE: f64 = 1e-3;
 
 /// Mass ratio above which an island's passes sweep until the impulses settle (a heavy body on a light one needs many
 /// Gauss-Seidel sweeps to pass its weight down: one or two leave it jittering at centimetres a second).
-pub(crate) const MASS_RATIO: f64 = 10.0;
+pub(crate) const MASS_RATIO: f64 = 100.0;
 
 impl Group {
     /// Rows for `manifolds` (the step's, taken in the order of `of_group`, indices into it), between `movers` (body
