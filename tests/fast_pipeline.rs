@@ -74,8 +74,7 @@ fn a_wall_40_cubes_high_stands_at_2_4_and_8_substeps() {
     // quarter of the substep rate) gives g / omega^2 a cube's weight, so the top sinks about
     // g / omega^2 (1 + 2 + ... + 39) / 2 = 390 g / omega^2: 108 mm at 2 substeps, 27 mm at 4, 6.8 mm at 8. Allowed:
     // 1.1 times that (the loads are not spread quite evenly: measured within 4%). A wall that stands moves no cube
-    // sideways by more than a
-    // tenth of its size; one that falls moves them metres.
+    // sideways by more than a tenth of its size; one that falls moves them metres.
     for substeps in [2, 4, 8] {
         let (mut w, cubes) = pyramid(40, substeps, 2, 1);
         let start: Vec<_> = cubes.iter().map(|&c| w.body(c).unwrap().position()).collect();
