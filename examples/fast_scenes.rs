@@ -6,6 +6,7 @@
 //! cargo run --release --example fast_scenes -- [soft|exact] [pile sizes, e.g. 100 1000] [--substeps N]
 //!     [--iterations K] [--hertz F] [--threads T]
 //! cargo run --release --example fast_scenes -- pyramids [--substeps N] ...   (Box3D's two walls of cubes instead)
+//! (`--only-piles`: the piles and nothing else)
 
 #[path = "../benches/peers/overlap.rs"]
 mod overlap;
@@ -167,6 +168,9 @@ fn main() {
                 pen * 1e3
             );
         }
+    }
+    if args.iter().any(|a| a == "--only-piles") {
+        return;
     }
     // the default job's scene: 20 dominoes, 6 s, frames at 60 Hz
     let (mut w, _) = tumble::scenes::Dominoes::default().build().unwrap();

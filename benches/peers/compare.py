@@ -11,6 +11,13 @@ take minutes.
     python3 benches/peers/compare.py 100 --exact # also tumble's exact solver (slow on large piles)
     python3 benches/peers/compare.py --joints    # the joint scenes: tumble (fast and accurate), Rapier (impulse and
                                                  # multibody joints), MuJoCo (``examples/joint_scenes.rs``)
+    python3 benches/peers/compare.py --front     # the 1,000-cube pile at every Rapier substep count (1 to 16) and
+                                                 # tumble settings from 2 x 1 to 16 x 2: time against penetration
+    python3 benches/peers/compare.py --pyramids  # Box3D's two walls of cubes in tumble (default, 4 x 2, 2 x 1) and
+                                                 # Rapier (4 substeps), beside Box3D's own figures
+
+Penetration is the deepest overlap recomputed from the poses in every engine (``benches/peers/overlap.rs``, which
+tumble's example and the Rapier project both include), never an engine's own manifolds.
 """
 
 from __future__ import annotations
@@ -54,8 +61,87 @@ def joint_commands() -> tuple[list[list[str]], list[str]]:
     return commands + [[sys.executable, os.path.join(PEERS, "python_engines.py"), "joints"]], []
 
 
+#: tumble's settings on the front (substeps, sweeps) and Rapier's substep counts.
+TUMBLE_FRONT = [(2, 1), (3, 1), (4, 1), (6, 1), (8, 1), (8, 2), (12, 2), (16, 2)]
+RAPIER_FRONT = [1, 2, 4, 8, 16]
+
+#: Box3D's own figures on its two walls (erincatto/box3d `shared/benchmarks.c`, f32, SSE2, 4 substeps, one worker),
+#: measured on this 2-core machine beside Rapier 0.36.1 and tumble: ms a step and the large pyramid top's sink after
+#: 200 steps. Box3D is not built here (its code stays out of this project); these are the numbers of that run.
+BOX3D = {"large": (15.6, 691.0), "many": (28.6, None)}
+
+
+def _pile_row(command: list[str]) -> tuple[float, float] | None:
+    """(ms a step, penetration in mm) of the 1,000-cube pile without sleeping, from an engine's table."""
+    _, rows, _ = _table(command)
+    for label, value in rows:
+        if label.startswith("pile 1000, no sleep"):
+            ms, pen = value.split("/")
+            return float(ms.strip().split()[0]), float(pen.strip().split()[0])
+    return None
+
+
+def front() -> None:
+    """The 1,000-cube pile at every Rapier substep count and at tumble's settings, one thread each, and for each
+    Rapier setting the quickest tumble setting that is no slower and penetrates no deeper."""
+    cargo = ["cargo", "run", "--quiet", "--release"]
+    rapier = cargo + ["--manifest-path", os.path.join(PEERS, "rapier", "Cargo.toml"), "--"]
+    tumble = {s: _pile_row(cargo + ["--example", "fast_scenes", "--", "soft", "1000", "--threads", "1", "--only-piles",
+                                    "--substeps", str(s[0]), "--iterations", str(s[1])]) for s in TUMBLE_FRONT}
+    peer = {n: _pile_row(rapier + ["1000", "--only-piles", "--substeps", str(n)]) for n in RAPIER_FRONT}
+    print(f"Measured {time.strftime('%Y-%m-%d')} on {platform.machine()}, {os.cpu_count()} cores, one thread each, "
+          f"one run (`python3 benches/peers/compare.py --front`): the 1,000-cube pile, ms a step / deepest overlap.\n")
+    print("| tumble substeps x sweeps | ms a step | overlap (mm) |\n|---|---|---|")
+    for (s, k), row in tumble.items():
+        print(f"| {s} x {k} | " + (f"{row[0]:.3f} | {row[1]:.3f} |" if row else "- | - |"))
+    print("\n| Rapier 0.36.1 substeps | ms a step | overlap (mm) | tumble no slower and no deeper |\n|---|---|---|---|")
+    for n, row in peer.items():
+        if row is None:
+            print(f"| {n} | - | - | - |")
+            continue
+        better = [(s, r) for s, r in tumble.items() if r and r[0] <= row[0] and r[1] <= row[1]]
+        best = min(better, key=lambda x: x[1][0]) if better else None
+        found = f"{best[0][0]} x {best[0][1]} ({best[1][0]:.3f} ms, {best[1][1]:.3f} mm)" if best else "none"
+        print(f"| {n} | {row[0]:.3f} | {row[1]:.3f} | {found} |")
+
+
+def pyramids() -> None:
+    """Box3D's two walls in tumble (default, 4 x 2, 2 x 1) and Rapier (4 substeps), one thread each, beside
+    Box3D's figures."""
+    cargo = ["cargo", "run", "--quiet", "--release"]
+    commands = [cargo + ["--example", "fast_scenes", "--", "pyramids", "--threads", "1"],
+                cargo + ["--example", "fast_scenes", "--", "pyramids", "--threads", "1", "--substeps", "4",
+                         "--iterations", "2"],
+                cargo + ["--example", "fast_scenes", "--", "pyramids", "--threads", "1", "--substeps", "2",
+                         "--iterations", "1"],
+                cargo + ["--manifest-path", os.path.join(PEERS, "rapier", "Cargo.toml"), "--", "pyramids"]]
+    columns = []
+    for command, name in zip(commands, ["tumble (default)", "tumble 4 x 2", "tumble 2 x 1", "Rapier 0.36.1 (4)"]):
+        _, rows, failure = _table(command)
+        columns.append((name, dict(rows), failure))
+    print(f"Measured {time.strftime('%Y-%m-%d')} on {platform.machine()}, {os.cpu_count()} cores, one thread each, "
+          f"one run (`python3 benches/peers/compare.py --pyramids`). Box3D's column is its own run on this machine "
+          f"(f32, SSE2, 4 substeps, one worker).\n")
+    labels = [label for label in columns[0][1]]
+    print("| scene | " + " | ".join(name for name, _, _ in columns) + " | Box3D |")
+    print("|---|" + "---|" * (len(columns) + 1))
+    for label in labels:
+        box3d = BOX3D["large" if label.startswith("large") else "many"]
+        box3d_cell = f"{box3d[0]} ms" + (f" / {box3d[1]:.0f} mm" if box3d[1] is not None else "")
+        print(f"| {label} | " + " | ".join(values.get(label, "-") for _, values, _ in columns) + f" | {box3d_cell} |")
+    for name, _, failure in columns:
+        if failure:
+            print(f"\n{name}: {failure}")
+
+
 def main() -> None:
     args = sys.argv[1:]
+    if "--front" in args:
+        front()
+        return
+    if "--pyramids" in args:
+        pyramids()
+        return
     sizes = [a for a in args if a.isdigit()] or ["100", "1000"]
     cargo = ["cargo", "run", "--quiet", "--release"]
     commands = [cargo + ["--example", "fast_scenes", "--", "soft", *sizes]]

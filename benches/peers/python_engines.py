@@ -50,8 +50,14 @@ def _cube(name: str, half: float, density: float, at: tuple[float, float, float]
             f'<geom type="box" size="{half} {half} {half}" density="{density}" friction="{mu} 0.005 0.0001"/></body>')
 
 
-def _penetration(data) -> float:
-    return max([-data.contact[i].dist for i in range(data.ncon)] + [0.0])
+def _penetration(model, data, names: list[str], half: float) -> float:
+    """The deepest overlap recomputed from the poses (``overlap.py``), as for every engine."""
+    import mujoco
+
+    from overlap import deepest
+
+    ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, n) for n in names]
+    return deepest([(np.full(3, half), data.xquat[i].copy(), data.xpos[i].copy()) for i in ids])
 
 
 def pile(n: int, sleep: bool) -> tuple[float, float]:
@@ -68,7 +74,7 @@ def pile(n: int, sleep: bool) -> tuple[float, float]:
         mujoco.mj_step(model, data)
         spent += time.perf_counter() - clock
         if step >= 500:
-            worst = max(worst, _penetration(data))
+            worst = max(worst, _penetration(model, data, [f"c{k}" for k in range(n)], 0.5))
     return spent * 1e3 / 600, worst
 
 

@@ -6,7 +6,9 @@
 //! 0.6, dt 1/240, 10 s (largest displacement); a slide (half extent 0.2 m, density 500, 2 m/s, mu 0.5, dt 1/240,
 //! 2 s; stop distance against v^2 / (2 mu g)); a resting cube of half extent 0.5 m for 10 s; a bullet (5 cm sphere
 //! at 1000 m/s against a 1 cm static wall, dt 1/60); the stack's and the resting cube's time a step (the fixed cost
-//! of a step). `meshes`: the 50-mesh pile (`meshes.rs`).
+//! of a step). `meshes`: the 50-mesh pile (`meshes.rs`). `pyramids`: Box3D's two benchmark walls of cubes instead.
+//! `--substeps N`: Rapier's solver iterations (its substeps; 4 by default). `--only-piles`: the piles alone.
+//! Penetration is the deepest overlap recomputed from the poses (`../overlap.rs`), as for every engine.
 
 use rapier3d_f64::prelude::*;
 use std::time::Instant;
@@ -309,6 +311,9 @@ fn main() {
                 pen * 1e3
             );
         }
+    }
+    if args.iter().any(|a| a == "--only-piles") {
+        return;
     }
     let dt = 1.0 / 240.0;
     let mut w = world(dt);
