@@ -73,7 +73,7 @@ struct Chosen {
 }
 
 /// What a collider pair keeps from one step to the next.
-#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Debug)]
 pub(crate) struct Pair {
     pair: (usize, usize),
     /// (Shared, as is the choice: a step moves every pair's entry, most pairs of a pile have neither, and a call's
@@ -91,6 +91,44 @@ pub(crate) struct Pair {
     carried: Option<Vec<u32>>,
 }
 
+impl Clone for Pair {
+    fn clone(&self) -> Self {
+        Pair {
+            pair: self.pair,
+            manifold: self.manifold.clone(),
+            chosen: self.chosen.clone(),
+            contacts: self.contacts.clone(),
+            features: self.features.clone(),
+            // a step's scratch, never kept between steps
+            carried: None,
+        }
+    }
+
+    /// Into the room of another pair: a shared manifold or choice that is already the same is not counted again.
+    fn clone_from(&mut self, o: &Self) {
+        self.pair = o.pair;
+        let same = |a: &Option<Arc<Manifold>>, b: &Option<Arc<Manifold>>| match (a, b) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        if !same(&self.manifold, &o.manifold) {
+            self.manifold.clone_from(&o.manifold);
+        }
+        let same_choice = match (&self.chosen, &o.chosen) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        if !same_choice {
+            self.chosen.clone_from(&o.chosen);
+        }
+        self.contacts.clone_from(&o.contacts);
+        self.features.clone_from(&o.features);
+        self.carried = None;
+    }
+}
+
 /// How a pair's contacts were found this step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Found {
@@ -102,7 +140,7 @@ pub(crate) enum Found {
 
 /// The pairs kept across steps, sorted by pair, and the colours their contacts hold in the constraint graph (a
 /// function of the pairs' colours, rebuilt from them where a memory is given back, `rebuild`).
-#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Debug, Default)]
 pub(crate) struct ContactPairs {
     pairs: Vec<Pair>,
     /// The pairs of bodies asleep (or asleep on static ones), sorted: kept as they were, not searched or solved, so
@@ -110,6 +148,18 @@ pub(crate) struct ContactPairs {
     resting: Vec<Pair>,
     #[serde(skip)]
     graph: ColourGraph,
+}
+
+impl Clone for ContactPairs {
+    fn clone(&self) -> Self {
+        ContactPairs { pairs: self.pairs.clone(), resting: self.resting.clone(), graph: self.graph.clone() }
+    }
+
+    fn clone_from(&mut self, o: &Self) {
+        self.pairs.clone_from(&o.pairs);
+        self.resting.clone_from(&o.resting);
+        self.graph.clone_from(&o.graph);
+    }
 }
 
 /// Whether a pair of these shapes keeps the reduction's choice while it carries the same points: not a decomposed

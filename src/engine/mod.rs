@@ -114,6 +114,13 @@ pub(crate) trait Engine: Send {
     /// Everything the engine carries from one call to the next.
     fn memory(&self) -> EngineMemory;
 
+    /// Keeps a copy of its memory, for `rollback` (the run loop's at the start of a call; an engine may reuse the
+    /// room of the copy it kept last).
+    fn checkpoint(&mut self);
+
+    /// Gives back the memory of the last `checkpoint` (a call failed); an error only for an engine fault.
+    fn rollback(&mut self) -> Result<(), String>;
+
     /// Gives back a memory taken from an engine of the same structure (a snapshot, or read from a file), checked
     /// against this engine first; on an error nothing changes.
     fn set_memory(&mut self, memory: EngineMemory) -> Result<(), String>;

@@ -189,7 +189,7 @@ impl World {
             Some(interval) => frame_times(t0, t_end, span, interval),
             None => Vec::new(),
         };
-        let snapshot = e.memory();
+        e.checkpoint();
         // One step budget for the whole call, across its chunks (fast mode's calls are bounded by their step
         // count, checked above), carrying the call's control.
         let limit = if e.counts_its_steps() { usize::MAX } else { max_steps };
@@ -230,7 +230,7 @@ impl World {
         let report = self.book_report();
         if let Err(err) = outcome {
             if let Some(e) = &mut self.engine {
-                e.set_memory(snapshot).map_err(|why| engine_fault(t0, why))?;
+                e.rollback().map_err(|why| engine_fault(t0, why))?;
             }
             self.failed_run = run.map(|mut run| {
                 run.report = report;

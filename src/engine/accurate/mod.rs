@@ -90,6 +90,8 @@ pub(crate) struct AccurateEngine {
     memory: AccurateMemory,
     /// The time tolerance of event times: a joint's break is located to it (as a collision's time is).
     time_tolerance: f64,
+    /// The memory where the current call began (`checkpoint`).
+    checkpoint: Option<EngineMemory>,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> OdeError {
@@ -129,6 +131,7 @@ impl AccurateEngine {
             contacts: None,
             memory: AccurateMemory { clock: t, integration, contact: None, broken },
             time_tolerance: accurate.time_tolerance,
+            checkpoint: None,
         };
         #[cfg(feature = "contact")]
         if let Some(scene) = scene {
@@ -377,6 +380,15 @@ impl Engine for AccurateEngine {
             model.layout.dim(),
             (model.has_joints(), model.can_break()),
         )
+    }
+
+    fn checkpoint(&mut self) {
+        self.checkpoint = Some(self.memory());
+    }
+
+    fn rollback(&mut self) -> Result<(), String> {
+        let memory = self.checkpoint.take().ok_or("no checkpoint to go back to")?;
+        self.set_memory(memory)
     }
 
     fn memory(&self) -> EngineMemory {

@@ -9,8 +9,9 @@ use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;
 use std::collections::BTreeMap;
 
-/// What fast mode carries from step to step.
-#[derive(serde::Serialize, serde::Deserialize, Clone)]
+/// What fast mode carries from step to step. (Copied into the room of an older copy, `clone_from`, by the run
+/// loop's checkpoint at every call.)
+#[derive(serde::Serialize, serde::Deserialize)]
 pub(crate) struct FastMemory {
     /// Time = origin + steps x dt, so that times are exact multiples of the step from where the engine started.
     pub origin: f64,
@@ -33,6 +34,34 @@ pub(crate) struct FastMemory {
     pub pairs: Option<ContactPairs>,
     /// The contacts of the last step, with their impulses: the exact solver's (the soft solver's are in `pairs`).
     pub last_contacts: Vec<LastContact>,
+}
+
+impl Clone for FastMemory {
+    fn clone(&self) -> Self {
+        FastMemory {
+            origin: self.origin,
+            steps: self.steps,
+            y: self.y.clone(),
+            previous: self.previous.clone(),
+            joint_warm: self.joint_warm.clone(),
+            broken: self.broken.clone(),
+            sleep: self.sleep.clone(),
+            penetration: self.penetration,
+            pairs: self.pairs.clone(),
+            last_contacts: self.last_contacts.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, o: &Self) {
+        (self.origin, self.steps, self.penetration) = (o.origin, o.steps, o.penetration);
+        self.y.clone_from(&o.y);
+        self.previous.clone_from(&o.previous);
+        self.joint_warm.clone_from(&o.joint_warm);
+        self.broken.clone_from(&o.broken);
+        self.sleep.clone_from(&o.sleep);
+        self.pairs.clone_from(&o.pairs);
+        self.last_contacts.clone_from(&o.last_contacts);
+    }
 }
 
 /// What a fast-mode memory must fit: the state's length, the dynamic actors, all actors, the colliders, the joints,

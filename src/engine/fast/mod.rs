@@ -62,6 +62,8 @@ pub(crate) struct FastEngine {
     /// The world's state (momenta) of the memory's (velocity form): made where a call's chunk ends or a frame is
     /// recorded, not every step.
     published: Vec<f64>,
+    /// The memory where the current call began (`checkpoint`), kept after it for its room.
+    checkpoint: Option<FastMemory>,
 }
 
 pub(crate) fn failure(t: f64, message: String) -> WorldError {
@@ -99,6 +101,7 @@ impl FastEngine {
             dy: vec![0.0; memory.y.len()],
             energy: None,
             published: y,
+            checkpoint: None,
             core: EngineCore::new(rows, divergence_limit, threads, WorldReport::new(method_name(&settings))),
             model,
             scene,
@@ -311,6 +314,20 @@ impl Engine for FastEngine {
 
     fn memory(&self) -> EngineMemory {
         EngineMemory::Fast(Box::new(self.memory.clone()))
+    }
+
+    /// The copy goes into the room of the last one (`FastMemory::clone_from`: a contact pair's manifold, shared and
+    /// seldom changed, is not even counted again).
+    fn checkpoint(&mut self) {
+        match &mut self.checkpoint {
+            Some(kept) => kept.clone_from(&self.memory),
+            None => self.checkpoint = Some(self.memory.clone()),
+        }
+    }
+
+    fn rollback(&mut self) -> Result<(), String> {
+        let memory = self.checkpoint.take().ok_or("no checkpoint to go back to")?;
+        self.set_memory(EngineMemory::Fast(Box::new(memory)))
     }
 
     fn set_memory(&mut self, memory: EngineMemory) -> Result<(), String> {
