@@ -6,7 +6,7 @@
 //! cargo run --release --example fast_scenes -- [soft|exact] [pile sizes, e.g. 100 1000] [--substeps N]
 //!     [--iterations K] [--hertz F] [--threads T]
 //! cargo run --release --example fast_scenes -- pyramids [--substeps N] ...   (Box3D's two walls of cubes instead)
-//! (`--only-piles`: the piles and nothing else)
+//! (`--only-piles`: the piles and nothing else; `bins`: the bins of `tumble::scenes::Bin` instead)
 
 #[path = "../benches/peers/overlap.rs"]
 mod overlap;
@@ -96,6 +96,35 @@ fn walls(
     (ms, sink, overlap::deepest(&boxes(&w, &all, 0.5)))
 }
 
+/// The bins (`tumble::scenes::Bin`): 500 equal boxes, boxes of random sizes, and mixed shapes, at `solver` with
+/// sleeping, each stepped 5 s, run 1 s (its deepest overlap), then 2 s more: ms a step over the first 6 s, the
+/// overlap, and how many sleep at 6 s and at 8 s.
+fn bins(solver: FastSolver, threads: usize) {
+    use tumble::scenes::{Bin, Fill};
+    for (fill, name) in [
+        (Fill::EqualBoxes, "equal boxes"),
+        (Fill::MixedBoxes, "boxes of random sizes"),
+        (Fill::MixedShapes, "boxes, balls, capsules, hulls"),
+    ] {
+        let (mut w, _) = Bin { count: 500, fill, seed: 1 }.build().unwrap();
+        let Mode::Fast(settings) = w.mode() else { unreachable!("a fast-mode scene") };
+        w.set_mode(Mode::Fast(FastSettings { solver, ..settings })).unwrap();
+        w.set_threads(threads).unwrap();
+        let clock = Instant::now();
+        w.step(5.0).unwrap();
+        let run = w.run(1.0, 1.0 / 60.0).unwrap();
+        let ms = clock.elapsed().as_secs_f64() * 1e3 / 360.0;
+        let overlap = run.penetration.iter().fold(0.0f64, |m, p| m.max(*p));
+        let asleep = w.report().sleepers;
+        w.step(2.0).unwrap();
+        println!(
+            "| bin of 500 {name}: ms a step / deepest contact in the last second / asleep at 6 s, 8 s | {ms:.2} ms / {:.2} mm / {asleep}, {} |",
+            overlap * 1e3,
+            w.report().sleepers
+        );
+    }
+}
+
 /// The rows of Box3D's two benchmark walls.
 fn pyramids(solver: FastSolver, threads: usize) {
     let (w, cubes) = tumble::scenes::LargePyramid::default().build().unwrap();
@@ -158,6 +187,10 @@ fn main() {
     println!("| tumble fast ({}) | value |\n|---|---|", solver.name());
     if args.iter().any(|a| a == "pyramids") {
         pyramids(solver, threads);
+        return;
+    }
+    if args.iter().any(|a| a == "bins") {
+        bins(solver, threads);
         return;
     }
     for &n in if sizes.is_empty() { &[100usize, 1000][..] } else { &sizes[..] } {

@@ -144,9 +144,10 @@ def main() -> None:
         return
     sizes = [a for a in args if a.isdigit()] or ["100", "1000"]
     cargo = ["cargo", "run", "--quiet", "--release"]
-    commands = [cargo + ["--example", "fast_scenes", "--", "soft", *sizes]]
+    # one thread each: the Rapier project is built without its parallel feature
+    commands = [cargo + ["--example", "fast_scenes", "--", "soft", *sizes, "--threads", "1"]]
     if "--exact" in args:
-        commands.append(cargo + ["--example", "fast_scenes", "--", "exact", *sizes])
+        commands.append(cargo + ["--example", "fast_scenes", "--", "exact", *sizes, "--threads", "1"])
     commands.append(cargo + ["--manifest-path", os.path.join(PEERS, "rapier", "Cargo.toml"), "--", *sizes])
     missing = []
     for module, script in (("mujoco", "python_engines.py"), ("pybullet", "pybullet_scenes.py")):
