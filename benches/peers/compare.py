@@ -65,7 +65,7 @@ def joint_commands() -> tuple[list[list[str]], list[str]]:
 TUMBLE_FRONT = [(2, 1), (3, 1), (4, 1), (6, 1), (8, 1), (8, 2), (12, 2), (16, 2)]
 RAPIER_FRONT = [1, 2, 4, 8, 16]
 
-#: Box3D's own figures on its two walls (erincatto/box3d `shared/benchmarks.c`, f32, SSE2, 4 substeps, one worker),
+#: Box3D's own figures on its two walls (erincatto/box3d's `benchmarks.c`, f32, SSE2, 4 substeps, one worker),
 #: measured on this 2-core machine beside Rapier 0.36.1 and tumble: ms a step and the large pyramid top's sink after
 #: 200 steps. Box3D is not built here (its code stays out of this project); these are the numbers of that run.
 BOX3D = {"large": (15.6, 691.0), "many": (28.6, None)}

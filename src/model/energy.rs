@@ -8,17 +8,26 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 impl Model {
     pub(crate) fn kinetic_energy(&self, y: &[f64]) -> f64 {
+        // L . w = (R^T L) . I_body^-1 (R^T L): the angular momentum turned into the body frame by the quaternion.
+        self.kinetic(y, |b, p, local| 0.5 * p.norm_squared() * b.inv_mass + 0.5 * local.dot(&(b.inv_inertia * local)))
+    }
+
+    /// The kinetic energy of state y, each body's from `body(props, its linear row, its angular row turned into the
+    /// body's frame)`: the particles' 1/2 m v^2 and the bodies' (kinematic bodies carry none).
+    pub(super) fn kinetic(
+        &self,
+        y: &[f64],
+        body: impl Fn(&crate::model::BodyProps, Vector3<f64>, Vector3<f64>) -> f64,
+    ) -> f64 {
         let l = self.layout;
         let particles: f64 =
             self.particles.iter().enumerate().map(|(i, p)| 0.5 * p.mass * get3(y, l.pv(i)).norm_squared()).sum();
-        // L . w = (R^T L) . I_body^-1 (R^T L): the angular momentum turned into the body frame by the quaternion.
         let bodies: f64 = (0..l.bodies)
             .filter(|&j| self.bodies[j].kinematic.is_none())
             .map(|j| {
                 let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
                 let local = q.inverse_transform_vector(&get3(y, l.bl(j)));
-                let b = &self.bodies[j];
-                0.5 * get3(y, l.bp(j)).norm_squared() * b.inv_mass + 0.5 * local.dot(&(b.inv_inertia * local))
+                body(&self.bodies[j], get3(y, l.bp(j)), local)
             })
             .sum();
         particles + bodies

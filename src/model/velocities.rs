@@ -5,7 +5,7 @@
 
 use crate::model::layout::{get3, get_quat, set3};
 use crate::model::{BodyKin, Model};
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::UnitQuaternion;
 use tumble_integrate::SystemError;
 
 impl Model {
@@ -55,18 +55,6 @@ impl Model {
 
     /// The kinetic energy of a state in velocity form: 1/2 m v^2 + 1/2 w . I(q) w (kinematic bodies carry none).
     pub(crate) fn velocity_kinetic_energy(&self, y: &[f64]) -> f64 {
-        let l = self.layout;
-        let particles: f64 =
-            self.particles.iter().enumerate().map(|(i, p)| 0.5 * p.mass * get3(y, l.pv(i)).norm_squared()).sum();
-        let bodies: f64 = (0..l.bodies)
-            .filter(|&j| self.bodies[j].kinematic.is_none())
-            .map(|j| {
-                let b = &self.bodies[j];
-                let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
-                let local: Vector3<f64> = q.inverse_transform_vector(&get3(y, l.bl(j)));
-                0.5 * b.mass * get3(y, l.bp(j)).norm_squared() + 0.5 * local.dot(&(b.inertia * local))
-            })
-            .sum();
-        particles + bodies
+        self.kinetic(y, |b, v, local| 0.5 * b.mass * v.norm_squared() + 0.5 * local.dot(&(b.inertia * local)))
     }
 }

@@ -1,4 +1,4 @@
-//! Box3D's benchmark walls of cubes (`shared/benchmarks.c` in erincatto/box3d), built in tumble's axes (z up; Box3D's
+//! Box3D's benchmark walls of cubes (its `benchmarks.c`, erincatto/box3d on GitHub), built in tumble's axes (z up; Box3D's
 //! y is tumble's z and its z tumble's -y): a large pyramid of unit cubes stacked exactly touching, and many small
 //! ones spread over a wide ground. Fast mode at 1/60 s with sleeping off, as Box3D runs them; the solver's
 //! substeps and sweeps are the caller's.

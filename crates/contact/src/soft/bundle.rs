@@ -1,6 +1,6 @@
 //! Manifolds of one colour swept eight at a time. A lane holds a manifold (a body pair and its contact points, up
 //! to four), solved point by point (normal, then its friction) as engines do, so that the pair's velocities are
-//! gathered once for its points. Manifolds of a colour share no moving body (`colour.rs`), so solving eight of them
+//! gathered once for its points. Manifolds of a colour share no moving body (`graph.rs`), so solving eight of them
 //! side by side gives what solving them one after another gives, bit for bit: the same arithmetic on each, lane by
 //! lane, which the compiler turns into vector instructions. A bundle holds its lanes' rows as structure of arrays;
 //! a sweep gathers its bodies' velocities into lanes, solves, and writes them back.

@@ -431,7 +431,18 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
             range[i] = (range[i].0.min(1.0 / m), range[i].1.max(1.0 / m));
         }
     }
-    let converging: Vec<bool> = range.iter().map(|&(lo, hi)| lo > 0.0 && hi / lo > group::MASS_RATIO).collect();
+    let mut joined = vec![false; islands];
+    for &i in &of_link[touching.len()..] {
+        joined[i] = true;
+    }
+    let converging: Vec<bool> = range
+        .iter()
+        .zip(&joined)
+        .map(|(&(lo, hi), &joined)| {
+            let limit = if joined { group::JOINED_MASS_RATIO } else { group::MASS_RATIO };
+            lo > 0.0 && hi / lo > limit
+        })
+        .collect();
     // the groups, in island order: each island that converges on its own, each of a batch's points or more too, the
     // rest gathered into batches of about `BATCH_POINTS` (islands share no moving body: a batch's rows side by
     // side give the bits each gives alone, and a group's rows stay in the cache over all its substeps)
