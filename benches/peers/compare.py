@@ -71,6 +71,19 @@ RAPIER_FRONT = [1, 2, 4, 8, 16]
 BOX3D = {"large": (15.6, 691.0), "many": (28.6, None)}
 
 
+def machine() -> str:
+    """The machine the numbers come from: its processor's model (from /proc/cpuinfo where there is one), the
+    architecture and the cores."""
+    model = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            names = [line.split(":", 1)[1].strip() for line in f if line.startswith("model name")]
+        model = names[0] if names else model
+    except OSError:
+        pass
+    return f"{model} ({platform.machine()}), {os.cpu_count()} cores"
+
+
 def _pile_row(command: list[str]) -> tuple[float, float] | None:
     """(ms a step, penetration in mm) of the 1,000-cube pile without sleeping, from an engine's table."""
     _, rows, _ = _table(command)
@@ -89,7 +102,7 @@ def front() -> None:
     tumble = {s: _pile_row(cargo + ["--example", "fast_scenes", "--", "soft", "1000", "--threads", "1", "--only-piles",
                                     "--substeps", str(s[0]), "--iterations", str(s[1])]) for s in TUMBLE_FRONT}
     peer = {n: _pile_row(rapier + ["1000", "--only-piles", "--substeps", str(n)]) for n in RAPIER_FRONT}
-    print(f"Measured {time.strftime('%Y-%m-%d')} on {platform.machine()}, {os.cpu_count()} cores, one thread each, "
+    print(f"Measured {time.strftime('%Y-%m-%d')} on {machine()}, one thread each, "
           f"one run (`python3 benches/peers/compare.py --front`): the 1,000-cube pile, ms a step / deepest overlap.\n")
     print("| tumble substeps x sweeps | ms a step | overlap (mm) |\n|---|---|---|")
     for (s, k), row in tumble.items():
@@ -119,7 +132,7 @@ def pyramids() -> None:
     for command, name in zip(commands, ["tumble (default)", "tumble 4 x 2", "tumble 2 x 1", "Rapier 0.36.1 (4)"]):
         _, rows, failure = _table(command)
         columns.append((name, dict(rows), failure))
-    print(f"Measured {time.strftime('%Y-%m-%d')} on {platform.machine()}, {os.cpu_count()} cores, one thread each, "
+    print(f"Measured {time.strftime('%Y-%m-%d')} on {machine()}, one thread each, "
           f"one run (`python3 benches/peers/compare.py --pyramids`). Box3D's column is its own run on this machine "
           f"(f32, SSE2, 4 substeps, one worker).\n")
     labels = [label for label in columns[0][1]]
@@ -163,7 +176,7 @@ def main() -> None:
         columns.append((header, dict(rows)))
         labels += [label for label, _ in rows if label not in labels]
         failures += [failure] if failure else []
-    print(f"Measured {time.strftime('%Y-%m-%d')} on {platform.machine()}, {os.cpu_count()} cores, one run each "
+    print(f"Measured {time.strftime('%Y-%m-%d')} on {machine()}, one run each "
           f"(`python3 benches/peers/compare.py {' '.join(args)}`).\n")
     print("| scene | " + " | ".join(h for h, _ in columns) + " |")
     print("|---|" + "---|" * len(columns))
