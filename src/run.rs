@@ -41,7 +41,8 @@ pub struct Run {
     pub(crate) angular_momentum: Vec<f64>,
     /// End time of every accepted step.
     pub step_times: Vec<f64>,
-    /// Size of every accepted step.
+    /// Size of every accepted step. A span where everything sleeps is no step (the clock jumps over it), so the
+    /// sizes of a run that slept sum to less than its duration.
     pub step_sizes: Vec<f64>,
     /// Largest penetration among the contacts at each frame (m; zero without contact).
     pub penetration: Vec<f64>,

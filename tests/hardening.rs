@@ -191,7 +191,8 @@ fn a_millimetre_pile_spends_its_budget_on_convex_solves_and_ends_clearly() {
     assert!(matches!(e, WorldError::Simulation(OdeError::TooManySteps { max_steps: 20_000, .. })), "{e}");
     assert!(e.to_string().contains("raise max_steps"), "{e}");
     let r = w.report();
-    assert!(r.qp_solves > 10 * r.contact_steps && r.qp_solves <= 20_000, "{} solves", r.qp_solves);
+    // (the contact step that crosses the budget finishes its solves, about 30, before the call ends)
+    assert!(r.qp_solves > 10 * r.contact_steps && r.qp_solves <= 20_000 + 50, "{} solves", r.qp_solves);
 }
 
 #[test]

@@ -49,7 +49,8 @@ def looks_of(world: Any) -> tuple[list[str | None], list[Any]]:
 class Run:
     """Frames of a run. Arrays are frame-major: ``particle_positions`` is (F, P, 3), ``body_orientations``
     (F, B, 4) as (w, x, y, z); particles and bodies appear in the order of ``particles`` and ``bodies``.
-    ``step_times`` and ``step_sizes`` hold every accepted integrator step; ``penetration`` (F,) the largest
+    ``step_times`` and ``step_sizes`` hold every accepted integrator step (a span where everything sleeps is no
+    step: the clock jumps over it, and the sizes of a run that slept sum to less than its duration); ``penetration`` (F,) the largest
     penetration among the contacts at each frame; ``contact_events`` the times of accurate mode's contact events
     (collisions located by bisection); ``joint_breaks`` the joints that broke during the run, in order, and
     ``joint_break_times`` when; ``contact_counts`` (F,) how many contacts each frame has and

@@ -179,17 +179,23 @@ impl ColliderSet {
         self.layout.particles + self.layout.bodies + self.static_poses.len()
     }
 
-    /// The size of the scene in state y: the diagonal of the box around every finite collider (at least 1e-3).
+    /// The size of the scene in state y: the diagonal of the box around every finite collider of an actor that moves
+    /// (static ground and walls do not set it: a 20 m floor under 0.4 m cubes is not a 20 m scene), or around every
+    /// finite collider when nothing moves; at least 1e-3.
     pub fn size(&self, y: &[f64]) -> f64 {
         let poses = self.poses(y);
         let zeros = vec![0.0; self.actors()];
-        let boxes: Vec<Aabb> =
-            self.boxes(&poses, &zeros).unwrap_or_default().into_iter().filter(|b| b.is_finite()).collect();
-        boxes
-            .iter()
-            .skip(1)
-            .fold(boxes.first().copied(), |acc, b| acc.map(|a| a.merged(b)))
-            .map_or(1e-3, |b| (b.max - b.min).norm().max(1e-3))
+        let boxes = self.boxes(&poses, &zeros).unwrap_or_default();
+        let around = |moving: bool| {
+            let mut finite = boxes
+                .iter()
+                .zip(&self.colliders)
+                .filter(|(b, c)| b.is_finite() && (!moving || !matches!(c.actor, Actor::Static(_))))
+                .map(|(b, _)| *b);
+            let first = finite.next();
+            finite.fold(first, |acc, b| acc.map(|a| a.merged(&b))).map(|b| (b.max - b.min).norm().max(1e-3))
+        };
+        around(true).or_else(|| around(false)).unwrap_or(1e-3)
     }
 
     /// The pose of every actor in state y (particles: translation only).

@@ -8,6 +8,8 @@
 
 pub(crate) mod accurate;
 #[cfg(feature = "contact")]
+mod bounce_scale;
+#[cfg(feature = "contact")]
 pub(crate) mod breaking;
 mod budget;
 #[cfg(feature = "contact")]
@@ -21,6 +23,8 @@ mod core;
 pub(crate) mod fast;
 #[cfg(feature = "contact")]
 pub(crate) mod found_contact;
+#[cfg(feature = "contact")]
+mod frames;
 #[cfg(feature = "contact")]
 pub(crate) mod last_contacts;
 mod memory;

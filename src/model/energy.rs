@@ -6,10 +6,22 @@ use crate::model::layout::{get3, get_quat};
 use crate::model::Model;
 use nalgebra::{UnitQuaternion, Vector3};
 
+/// A body's kinetic energy from its momenta (P, and L turned into its frame): 1/2 P^2 / M + 1/2 L . w, where
+/// L . w = (R^T L) . I_body^-1 (R^T L).
+fn momentum_form(b: &crate::model::BodyProps, p: Vector3<f64>, local: Vector3<f64>) -> f64 {
+    0.5 * p.norm_squared() * b.inv_mass + 0.5 * local.dot(&(b.inv_inertia * local))
+}
+
 impl Model {
     pub(crate) fn kinetic_energy(&self, y: &[f64]) -> f64 {
-        // L . w = (R^T L) . I_body^-1 (R^T L): the angular momentum turned into the body frame by the quaternion.
-        self.kinetic(y, |b, p, local| 0.5 * p.norm_squared() * b.inv_mass + 0.5 * local.dot(&(b.inv_inertia * local)))
+        self.kinetic(y, momentum_form)
+    }
+
+    /// The kinetic energy of one actor (a particle, then the bodies in order; a kinematic body carries none) in
+    /// state y.
+    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
+    pub(crate) fn actor_kinetic_energy(&self, y: &[f64], actor: usize) -> f64 {
+        self.actor_kinetic(y, actor, &momentum_form)
     }
 
     /// The kinetic energy of state y, each body's from `body(props, its linear row, its angular row turned into the
@@ -20,17 +32,29 @@ impl Model {
         body: impl Fn(&crate::model::BodyProps, Vector3<f64>, Vector3<f64>) -> f64,
     ) -> f64 {
         let l = self.layout;
-        let particles: f64 =
-            self.particles.iter().enumerate().map(|(i, p)| 0.5 * p.mass * get3(y, l.pv(i)).norm_squared()).sum();
-        let bodies: f64 = (0..l.bodies)
-            .filter(|&j| self.bodies[j].kinematic.is_none())
-            .map(|j| {
-                let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
-                let local = q.inverse_transform_vector(&get3(y, l.bl(j)));
-                body(&self.bodies[j], get3(y, l.bp(j)), local)
-            })
-            .sum();
+        let particles: f64 = (0..l.particles).map(|i| self.actor_kinetic(y, i, &body)).sum();
+        let bodies: f64 = (0..l.bodies).map(|j| self.actor_kinetic(y, l.particles + j, &body)).sum();
         particles + bodies
+    }
+
+    /// One actor's share of `kinetic`.
+    fn actor_kinetic(
+        &self,
+        y: &[f64],
+        actor: usize,
+        body: &impl Fn(&crate::model::BodyProps, Vector3<f64>, Vector3<f64>) -> f64,
+    ) -> f64 {
+        let l = self.layout;
+        if actor < l.particles {
+            return 0.5 * self.particles[actor].mass * get3(y, l.pv(actor)).norm_squared();
+        }
+        let j = actor - l.particles;
+        if self.bodies[j].kinematic.is_some() {
+            return 0.0;
+        }
+        let q = UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));
+        let local = q.inverse_transform_vector(&get3(y, l.bl(j)));
+        body(&self.bodies[j], get3(y, l.bp(j)), local)
     }
 
     pub(crate) fn potential_energy(&self, y: &[f64]) -> f64 {

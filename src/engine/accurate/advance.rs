@@ -5,6 +5,7 @@
 use super::integration::within_budget;
 use super::{breaking, detect, failure, impact, mechanical_energy, touching, AccurateEngine, AccurateMemory, STUCK};
 use crate::engine::budget::Budget;
+use crate::engine::frames::FrameCursor;
 use crate::error::WorldError;
 use crate::run::Run;
 
@@ -36,25 +37,23 @@ impl AccurateEngine {
             if stages.memory.touching.is_none() {
                 impact::impact(&mut stages, system, integrator)?;
             }
-            let (mut done, mut stuck, mut last) = (0, 0, integrator.time());
+            let (mut frames, mut stuck, mut last) = (FrameCursor::new(saves, t_end), 0, integrator.time());
             loop {
                 if stages.memory.touching.is_some() {
-                    let (t, y) = (integrator.time(), integrator.state().to_vec());
+                    let start = (integrator.time(), integrator.state().to_vec());
+                    let until = touching::Until { end: t_end, pause };
                     let end = touching::touching_steps(
                         &mut stages,
                         system,
-                        t,
-                        y,
-                        t_end,
-                        pause,
-                        &saves[done..],
+                        start,
+                        until,
+                        &mut frames,
                         run.as_deref_mut(),
                         budget,
                     )?;
-                    done += end.delivered;
                     integrator.set_state(end.t, &end.y)?;
                     if end.touching {
-                        return Ok(done);
+                        return Ok(frames.delivered());
                     }
                     continue;
                 }
@@ -67,7 +66,7 @@ impl AccurateEngine {
                         system,
                         t_end,
                         pause,
-                        &saves[done..],
+                        frames.rest(),
                         |m, t, y| {
                             if let Some(run) = run.as_deref_mut() {
                                 run.record(&m.model, t, y, penetration, []);
@@ -83,8 +82,8 @@ impl AccurateEngine {
                     }
                     adv
                 })?;
-                done += adv.delivered;
-                let Some(t) = adv.event else { return Ok(done) };
+                frames.skip(adv.delivered);
+                let Some(t) = adv.event else { return Ok(frames.delivered()) };
                 if let Some(run) = run.as_deref_mut() {
                     run.contact_events.push(t);
                 }

@@ -11,6 +11,7 @@ use super::contact_stages::ContactStages;
 use super::failure;
 use super::joint_forces::{bilateral_rows, project_joints, BilateralRows, JOINT_DRIFT};
 use super::system::AccurateSystem;
+use crate::engine::bounce_scale::largest_keeping_energy;
 use crate::engine::contact_reduction::reduce;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::engine::semi_implicit::{update_positions, Form};
@@ -149,53 +150,38 @@ pub fn convex_step(
         with_extra = states.iter().copied().chain(extra).collect();
         &with_extra[..]
     };
-    let mut solve = |bounds: &[f64], start: &[Vector3<f64>]| {
-        let problem = VelocityProblem::new(states, &contacts).lagged(bounds).bilateral(&bilateral).warm(start);
-        match velocity_step(&problem, &settings) {
-            Ok(out) => Ok(Some(out)),
-            Err(ContactError::InvalidArgument { name, reason }) => {
-                Err(failure(t, format!("contact step: invalid {name}: {reason}")))
-            }
-            Err(e) => {
-                *cx.last_solver_error = e.to_string();
-                Ok(None)
-            }
+    let ask = Asked { states, bilateral: &bilateral, settings: &settings, found, lagged, warm, t };
+    let mut tally = Tally::default();
+    let Some(mut out) = lagged_answer(cx, &ask, &contacts, &mut tally)? else { return Ok(None) };
+    // A bounce may put energy in (Newton's law with friction on a turning body, Kane's paradox; several corners at
+    // once): its restitution is then scaled back to the largest share that keeps the energy.
+    let threshold = settings.bounce_threshold;
+    if contacts.iter().any(|c| c.restitution > 0.0 && c.relative_normal_velocity(states) < -threshold) {
+        let members = moving_members(states, &contacts);
+        let energy = |v: &[tumble_contact::BodyVelocity], dt: f64| step_energy(states, &members, v, dt);
+        let start: Vec<_> = states
+            .iter()
+            .map(|b| tumble_contact::BodyVelocity { linear: b.velocity, angular: b.angular_velocity })
+            .collect();
+        let e0 = energy(&start, 0.0);
+        // (the answers' accuracy, `ANSWER_SHARE` of tol / h on the velocities, times the impulses, and rounding)
+        let pushed: f64 = out.normal_impulses.iter().zip(&out.friction_impulses).map(|(p, f)| p.abs() + f.norm()).sum();
+        let limit = e0 + 1e-12 * e0.abs() + settings.velocity_scale * ANSWER_SHARE * pushed;
+        let full = energy(&out.velocities, h);
+        if full > limit {
+            let solve = |scale: f64| {
+                let scaled: Vec<Contact> =
+                    contacts.iter().map(|c| Contact { restitution: c.restitution * scale, ..*c }).collect();
+                lagged_answer(cx, &ask, &scaled, &mut tally)
+            };
+            let kept = largest_keeping_energy(full, limit, solve, |o: &tumble_contact::VelocityStep| {
+                energy(&o.velocities, h)
+            })?;
+            let Some(kept) = kept else { return Ok(None) };
+            out = kept;
         }
-    };
-    let mut bounds: Vec<f64> = found.iter().map(|f| lagged.get(&f.key).map_or(0.0, |p| p * h)).collect();
-    let mut start: Vec<Vector3<f64>> = found
-        .iter()
-        .zip(&bounds)
-        .map(|(f, b)| warm.get(&f.key).map_or(f.contact.normal.into_inner() * *b, |force| force * h))
-        .collect();
-    let (mut solves, mut work) = (0, 0);
-    let Some(mut out) = solve(&bounds, &start)? else { return Ok(None) };
-    solves += out.solver_calls;
-    work += out.solver_work;
-    let mut building = out.building_seconds;
-    for _ in 1..LAGGED_ITERATIONS {
-        // judged pair by pair: how a pair's redundant points (a box's four corners) share its push is not fixed by
-        // the program and may wander from solve to solve, while their sum is
-        let mut pairs: BTreeMap<(usize, usize), (f64, f64)> = BTreeMap::new();
-        for ((c, b), p) in contacts.iter().zip(&bounds).zip(&out.normal_impulses) {
-            let e = pairs.entry((c.a, c.b)).or_default();
-            e.0 += b;
-            e.1 += p;
-        }
-        let largest = pairs.values().fold(0.0f64, |m, (_, p)| m.max(*p));
-        let moved = pairs.values().fold(0.0f64, |m, (b, p)| m.max((b - p).abs()));
-        let frictional = contacts.iter().any(|c| c.friction > 0.0);
-        if !frictional || moved <= cx.memory.scales.lagged_tolerance * largest {
-            break;
-        }
-        bounds.clone_from(&out.normal_impulses);
-        start = impulse_vectors(&contacts, &out);
-        let Some(next) = solve(&bounds, &start)? else { return Ok(None) };
-        out = next;
-        solves += out.solver_calls;
-        work += out.solver_work;
-        building += out.building_seconds;
     }
+    let Tally { solves, work, building } = tally;
     cx.report.qp_solves += solves;
     cx.report.program_seconds += building;
     cx.report.islands += out.islands;
@@ -217,6 +203,109 @@ pub fn convex_step(
     }
     cx.report.contact_seconds += clock.elapsed().as_secs_f64();
     Ok(Some(ConvexStep { y: next, forces, pressing, wrenches, joint_loads }))
+}
+
+/// What a step asks its programs (`lagged_answer`).
+struct Asked<'a> {
+    states: &'a [BodyState],
+    bilateral: &'a [tumble_contact::BilateralRow],
+    settings: &'a StepSettings,
+    found: &'a [FoundContact],
+    lagged: &'a BTreeMap<ContactKey, f64>,
+    warm: &'a BTreeMap<ContactKey, Vector3<f64>>,
+    t: f64,
+}
+
+/// The solves, their work units and their programs' building time, over every answer a step asked for.
+#[derive(Default)]
+struct Tally {
+    solves: usize,
+    work: usize,
+    building: f64,
+}
+
+/// The answer of the step's programs with `contacts` (the asked ones, or with their restitution scaled), friction
+/// lagged to its fixed point: each contact's friction bounded by mu times a normal impulse (the last step's force
+/// times h to start), iterated to the answer's own normal impulses, judged pair by pair, until no pair's moved by
+/// more than `lagged_tolerance` of the largest or `LAGGED_ITERATIONS` solves. `None` if a program had no answer.
+fn lagged_answer(
+    cx: &mut ContactStages<'_>,
+    ask: &Asked<'_>,
+    contacts: &[Contact],
+    tally: &mut Tally,
+) -> Result<Option<tumble_contact::VelocityStep>, OdeError> {
+    let h = ask.settings.dt;
+    let mut solve = |bounds: &[f64], start: &[Vector3<f64>], tally: &mut Tally| {
+        let problem = VelocityProblem::new(ask.states, contacts).lagged(bounds).bilateral(ask.bilateral).warm(start);
+        match velocity_step(&problem, ask.settings) {
+            Ok(out) => {
+                tally.solves += out.solver_calls;
+                tally.work += out.solver_work;
+                tally.building += out.building_seconds;
+                Ok(Some(out))
+            }
+            Err(ContactError::InvalidArgument { name, reason }) => {
+                Err(failure(ask.t, format!("contact step: invalid {name}: {reason}")))
+            }
+            Err(e) => {
+                *cx.last_solver_error = e.to_string();
+                Ok(None)
+            }
+        }
+    };
+    let mut bounds: Vec<f64> = ask.found.iter().map(|f| ask.lagged.get(&f.key).map_or(0.0, |p| p * h)).collect();
+    let mut start: Vec<Vector3<f64>> = ask
+        .found
+        .iter()
+        .zip(&bounds)
+        .map(|(f, b)| ask.warm.get(&f.key).map_or(f.contact.normal.into_inner() * *b, |force| force * h))
+        .collect();
+    let Some(mut out) = solve(&bounds, &start, tally)? else { return Ok(None) };
+    for _ in 1..LAGGED_ITERATIONS {
+        // judged pair by pair: how a pair's redundant points (a box's four corners) share its push is not fixed by
+        // the program and may wander from solve to solve, while their sum is
+        let mut pairs: BTreeMap<(usize, usize), (f64, f64)> = BTreeMap::new();
+        for ((c, b), p) in contacts.iter().zip(&bounds).zip(&out.normal_impulses) {
+            let e = pairs.entry((c.a, c.b)).or_default();
+            e.0 += b;
+            e.1 += p;
+        }
+        let largest = pairs.values().fold(0.0f64, |m, (_, p)| m.max(*p));
+        let moved = pairs.values().fold(0.0f64, |m, (b, p)| m.max((b - p).abs()));
+        let frictional = contacts.iter().any(|c| c.friction > 0.0);
+        if !frictional || moved <= cx.memory.scales.lagged_tolerance * largest {
+            break;
+        }
+        bounds.clone_from(&out.normal_impulses);
+        start = impulse_vectors(contacts, &out);
+        let Some(next) = solve(&bounds, &start, tally)? else { return Ok(None) };
+        out = next;
+    }
+    Ok(Some(out))
+}
+
+/// The moving bodies that `contacts` touch, in order.
+fn moving_members(states: &[BodyState], contacts: &[Contact]) -> Vec<usize> {
+    let mut members: Vec<usize> =
+        contacts.iter().flat_map(|c| [c.a, c.b]).filter(|&k| states[k].is_dynamic()).collect();
+    members.sort_unstable();
+    members.dedup();
+    members
+}
+
+/// The mechanical energy of the bodies `members` after a step of `dt` at velocities v, counted from the step's
+/// start: their kinetic energy less the work their applied forces would do over the step's displacement (gravity's
+/// potential energy, for gravity).
+fn step_energy(states: &[BodyState], members: &[usize], v: &[tumble_contact::BodyVelocity], dt: f64) -> f64 {
+    members
+        .iter()
+        .map(|&k| {
+            let b = &states[k];
+            let kinetic =
+                0.5 * v[k].linear.norm_squared() / b.inv_mass + 0.5 * v[k].angular.dot(&(b.inertia * v[k].angular));
+            kinetic - b.force.dot(&(v[k].linear * dt))
+        })
+        .sum()
 }
 
 /// Each contact's whole impulse (normal and friction, on B) of a velocity step.

@@ -37,7 +37,11 @@ mod convex_step;
 #[cfg(feature = "contact")]
 mod detect;
 #[cfg(feature = "contact")]
+mod doubled_step;
+#[cfg(feature = "contact")]
 mod drift;
+#[cfg(feature = "contact")]
+mod energy_guard;
 #[cfg(feature = "contact")]
 mod free_flight;
 #[cfg(feature = "contact")]
@@ -53,6 +57,8 @@ mod resting;
 mod sleep;
 #[cfg(feature = "contact")]
 mod step_estimate;
+#[cfg(feature = "contact")]
+mod step_judgement;
 mod system;
 #[cfg(all(test, feature = "contact"))]
 mod tests;

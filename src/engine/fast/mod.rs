@@ -23,6 +23,7 @@ mod warm_start;
 pub(crate) use memory::FastMemory;
 
 use crate::engine::collider_set::ColliderSet;
+use crate::engine::frames::FrameCursor;
 use crate::engine::last_contacts::LastContact;
 use crate::engine::semi_implicit::Form;
 use crate::engine::{Budget, Engine, EngineCore, EngineMemory};
@@ -279,13 +280,10 @@ impl Engine for FastEngine {
         budget: &mut Budget<'_>,
     ) -> Result<usize, WorldError> {
         let h = self.settings.dt;
-        let slack = 1e-9 * h;
-        let mut delivered = 0;
+        let mut frames = FrameCursor::new(saves, t_end);
         loop {
             let t = self.time();
-            let reached = saves[delivered..].iter().take_while(|&&s| s <= t + slack).count();
-            if reached > 0 {
-                delivered += reached;
+            if frames.pass_reached(t) > 0 {
                 if let Some(run) = run.as_deref_mut() {
                     self.publish();
                     let contacts = self.last_contacts();
@@ -293,9 +291,9 @@ impl Engine for FastEngine {
                     run.record(&self.model, t, &self.published, self.memory.penetration, contacts);
                 }
             }
-            if t >= pause.min(t_end) - slack {
+            if t >= pause.min(t_end) - frames.slack() {
                 self.publish();
-                return Ok(delivered);
+                return Ok(frames.delivered());
             }
             let broken = if self.settings.step_doubling { self.doubled_step(h)? } else { self.step(h)? };
             if let Some(run) = run.as_deref_mut() {

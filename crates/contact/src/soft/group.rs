@@ -36,6 +36,8 @@ pub(crate) struct Group {
     pub joints: Vec<JointSet>,
     /// Its springs (evaluated at the start of every substep).
     pub springs: SpringSet,
+    /// Each mover's velocities at the step's start, kept where a contact may bounce (`restitution`).
+    start: Option<Vec<(Vector3<f64>, Vector3<f64>)>>,
 }
 
 /// How much a point counts towards its manifold's friction centre by its gap (Box3D's friction centre decay, with a
@@ -184,6 +186,10 @@ impl Group {
                 }
             }
         }
+        let bounces = bundles.iter().any(|bu| {
+            (0..bu.lanes).any(|l| bu.restitution[l] != 0.0 && (0..bu.count[l]).any(|p| bu.rows[p].closing[l] < 0.0))
+        });
+        let start = bounces.then(|| movers.iter().map(|m| (m.v, m.w)).collect());
         Group {
             movers,
             bundles,
@@ -193,6 +199,7 @@ impl Group {
             converge,
             joints: Vec::new(),
             springs: SpringSet::empty(),
+            start,
         }
     }
 
@@ -241,9 +248,17 @@ impl Group {
     }
 
     /// Newton's restitution for contacts that closed faster than the threshold and pushed: the normal velocity is
-    /// raised to -e times the closing one (the impulse only grows).
+    /// raised to -e times the closing one (the impulse only grows). Newton's law at several points at once, or with
+    /// friction on a turning body (Kane's paradox: a spinning mesh hitting the floor came off with 25 J more than it
+    /// brought), can put energy in: the bounce is then scaled back, as a whole, to the largest share of it that keeps
+    /// the group's energy (`keep_energy`).
     fn restitution(&mut self, threshold: f64) {
-        for bu in &mut self.bundles {
+        if self.start.is_none() {
+            return;
+        }
+        let before: Vec<(Vector3<f64>, Vector3<f64>)> = self.movers.iter().map(|m| (m.v, m.w)).collect();
+        let mut applied = Vec::new();
+        for (k, bu) in self.bundles.iter_mut().enumerate() {
             for l in (0..bu.lanes).filter(|&l| bu.restitution[l] != 0.0) {
                 for p in 0..bu.count[l] {
                     let row = &mut bu.rows[p];
@@ -259,9 +274,54 @@ impl Group {
                     row.step[l] += delta;
                     if delta != 0.0 {
                         n.apply_of(l, a, b, delta);
+                        applied.push((k, l, p, delta));
                     }
                 }
             }
+        }
+        if !applied.is_empty() {
+            self.keep_energy(&before, &applied);
+        }
+    }
+
+    /// Scales the bounce just applied (the movers' velocities from `before`, the impulses `applied`: bundle, lane,
+    /// point, impulse) by the largest share s in [0, 1] whose kinetic energy keeps the group's mechanical energy at
+    /// most its start's, or at most what it was before the bounce if the soft contacts' push-out had already raised
+    /// it: kinetic energy is quadratic in s, so s is the root of a quadratic (rotational energy at the step's start
+    /// inertia, gravity's and the other applied forces' work over the step's displacement).
+    fn keep_energy(&mut self, before: &[(Vector3<f64>, Vector3<f64>)], applied: &[(usize, usize, usize, f64)]) {
+        let Some(start) = &self.start else { return };
+        let (mut k0, mut k_before, mut work, mut b, mut c) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for ((m, &(v0, w0)), &(vr, wr)) in self.movers.iter().zip(start).zip(before) {
+            if !m.moves() {
+                continue;
+            }
+            let mass = if m.inv_mass > 0.0 { 1.0 / m.inv_mass } else { 0.0 };
+            let inertia = m.inv_inertia.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
+            let (dv, dw) = (m.v - vr, m.w - wr);
+            k0 += 0.5 * (mass * v0.norm_squared() + w0.dot(&(inertia * w0)));
+            k_before += 0.5 * (mass * vr.norm_squared() + wr.dot(&(inertia * wr)));
+            b += mass * vr.dot(&dv) + wr.dot(&(inertia * dw));
+            c += 0.5 * (mass * dv.norm_squared() + dw.dot(&(inertia * dw)));
+            work += m.force_work();
+        }
+        // kinetic energy allowed at the end: the start's plus the forces' work (the start's mechanical energy), or
+        // what the bounce found if more, and rounding
+        let target = (k0 + work).max(k_before) + 1e-12 * (k0 + work.abs());
+        let at = |s: f64| k_before + s * (b + s * c);
+        if at(1.0) <= target || c <= 0.0 {
+            return;
+        }
+        let disc = (b * b + 4.0 * c * (target - k_before)).max(0.0);
+        let s = ((-b + disc.sqrt()) / (2.0 * c)).clamp(0.0, 1.0);
+        for (m, &(vr, wr)) in self.movers.iter_mut().zip(before) {
+            m.v = vr + (m.v - vr) * s;
+            m.w = wr + (m.w - wr) * s;
+        }
+        for &(k, l, p, delta) in applied {
+            let row = &mut self.bundles[k].rows[p];
+            row.normal[l] -= (1.0 - s) * delta;
+            row.step[l] -= (1.0 - s) * delta;
         }
     }
 }

@@ -72,4 +72,14 @@ impl Mover {
     pub fn moves(&self) -> bool {
         self.moving
     }
+
+    /// The work its applied force did over its displacement since the step's start (J; zero for a body that does
+    /// not move).
+    pub fn force_work(&self) -> f64 {
+        if self.moving && self.inv_mass > 0.0 {
+            self.accel.dot(&self.dp) / self.inv_mass
+        } else {
+            0.0
+        }
+    }
 }
