@@ -2,6 +2,7 @@
 numbers as the Rust library."""
 
 import _thread
+import signal
 import threading
 import time
 
@@ -77,6 +78,9 @@ def test_progress_and_interruption():
 
 def _interrupt_after(seconds):
     # What Ctrl-C does: the SIGINT handler's KeyboardInterrupt, raised in the main thread at its next signal check.
+    # Python's own handler is put back first: a library an earlier test started (a local cluster, a browser) may
+    # have left SIGINT ignored, and interrupt_main does nothing then.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(seconds, _thread.interrupt_main)
     timer.start()
     return timer
