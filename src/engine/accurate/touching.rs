@@ -11,8 +11,10 @@
 //! which contacts push, a stop) take the halves' estimate. A step is accepted when its estimate is at most the
 //! contact tolerance, and the next h is h (tol / err)^(1/3) after a smooth extrapolated step and h (tol / err)^(1/2)
 //! otherwise, within 0.2 to 2 times h and at most the scene's time scale (what bounds the pairs a step's reach takes
-//! in). Only the end of an advance cuts a step: frames inside one are its linear interpolation. Contacts that sank
-//! past the tolerance are lifted apart by a position projection before the step. Sleeping islands (`sleep.rs`) are
+//! in; the judgement itself is `step_judgement.rs`, the step `doubled_step.rs`, the energy guard `energy_guard.rs`).
+//! Only the end of an advance cuts a step: frames inside one are its interpolation (`interpolate`: positions on the
+//! step's path, each body's kinetic energy the blend of the ends'). Contacts that sank past the tolerance are lifted
+//! apart by a position projection before the step. Sleeping islands (`sleep.rs`) are
 //! fixed bodies to the steps. The phase ends when no pair is within reach of a step and nothing sleeps: the
 //! integrator takes over.
 
