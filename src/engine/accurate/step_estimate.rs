@@ -135,7 +135,7 @@ pub(super) fn interpolate(model: &Model, a: &[f64], b: &[f64], s: f64) -> Vec<f6
 
 /// The indices of an actor's momentum rows in the state: a particle's velocity, a body's linear and angular
 /// momenta.
-fn momentum_rows(model: &Model, actor: usize) -> Vec<usize> {
+pub(super) fn momentum_rows(model: &Model, actor: usize) -> Vec<usize> {
     let l = model.layout;
     if actor < l.particles {
         (l.pv(actor)..l.pv(actor) + 3).collect()

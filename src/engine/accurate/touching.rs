@@ -243,7 +243,7 @@ pub fn touching_steps(
         cx.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
         if cx.memory.penetration > cx.memory.scales.tolerance {
             // Linearised contacts of turning bodies sink a little each step; past the tolerance, the bodies are
-            // moved apart by the smallest position change (velocities untouched, so no energy but the lift's).
+            // moved apart by the smallest position change, the energy it gives each body taken from its motion.
             let sunk: Vec<_> = found.iter().filter(|f| f.contact.distance < 0.0).map(|f| f.contact).collect();
             cx.report.qp_solves += correct_drift(&system.model, &mut y, &states, &sunk, cx.solver, t)?;
             cx.report.stages.mark(crate::plan::Stage::Impulses);
