@@ -58,6 +58,11 @@ fn scenes() -> u64 {
     std::env::var("TUMBLE_ENERGY_SCENES").map_or(150, |s| s.parse().expect("TUMBLE_ENERGY_SCENES is a count"))
 }
 
+/// A scene's 2 s at frames of 1/60 s; a failed run is listed among `failures` (the scene is then left out).
+fn two_seconds(w: &mut World, seed: u64, failures: &mut Vec<String>) -> Option<tumble::Run> {
+    w.run(2.0, 1.0 / 60.0).map_err(|e| failures.push(format!("seed {seed}: {e}"))).ok()
+}
+
 /// The largest rise of a run's frame energies over the lowest frame energy before each (J).
 fn largest_rise(run: &tumble::Run) -> f64 {
     let mut lowest = f64::INFINITY;
@@ -89,13 +94,7 @@ fn accurate_mode_never_gains_energy_beyond_its_stated_bound_nor_sinks_past_its_t
     let mut failures: Vec<String> = Vec::new();
     for seed in 0..n {
         let mut w = random_scene(seed, Mode::default());
-        let run = match w.run(2.0, 1.0 / 60.0) {
-            Ok(run) => run,
-            Err(e) => {
-                failures.push(format!("seed {seed}: {e}"));
-                continue;
-            }
-        };
+        let Some(run) = two_seconds(&mut w, seed, &mut failures) else { continue };
         let report = w.report();
         let tol = report.contact_tolerance.expect("accurate mode reports its contact tolerance");
         // The law (docs/modes.md): a contact sunk past the tolerance is lifted by moving positions alone, by at most
@@ -140,13 +139,7 @@ fn accurate_mode_holds_its_bound_at_a_tight_tolerance_too() {
     for seed in 0..n {
         let tight = AccurateSettings { contact_tolerance: Some(1e-7), ..AccurateSettings::default() };
         let mut w = random_scene(seed, Mode::Accurate(tight));
-        let run = match w.run(2.0, 1.0 / 60.0) {
-            Ok(run) => run,
-            Err(e) => {
-                failures.push(format!("seed {seed}: {e}"));
-                continue;
-            }
-        };
+        let Some(run) = two_seconds(&mut w, seed, &mut failures) else { continue };
         let bound = weight(&w) * 1e-7 + 1e-6 * energy_scale(&run);
         let rise = largest_rise(&run);
         if !(rise <= bound) {
@@ -170,13 +163,7 @@ fn fast_mode_never_gains_energy_beyond_its_stated_bound_nor_sinks_past_5_cm() {
     let mut failures: Vec<String> = Vec::new();
     for seed in 0..n {
         let mut w = random_scene(seed, Mode::Fast(FastSettings::new(1.0 / 240.0)));
-        let run = match w.run(2.0, 1.0 / 60.0) {
-            Ok(run) => run,
-            Err(e) => {
-                failures.push(format!("seed {seed}: {e}"));
-                continue;
-            }
-        };
+        let Some(run) = two_seconds(&mut w, seed, &mut failures) else { continue };
         let report = w.report();
         let depth = report.max_penetration;
         // The law (docs/modes.md): pushing an overlap out lifts bodies by at most the deepest penetration: the

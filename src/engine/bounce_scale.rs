@@ -44,6 +44,32 @@ pub(crate) fn largest_keeping_energy<T, E>(
     Ok(None)
 }
 
+/// The moving bodies that `contacts` touch, in order.
+pub(crate) fn moving_bodies<'a>(
+    states: &[tumble_contact::BodyState],
+    contacts: impl IntoIterator<Item = &'a tumble_contact::Contact>,
+) -> Vec<usize> {
+    let mut members: Vec<usize> =
+        contacts.into_iter().flat_map(|c| [c.a, c.b]).filter(|&k| states[k].is_dynamic()).collect();
+    members.sort_unstable();
+    members.dedup();
+    members
+}
+
+/// The kinetic energy of the bodies `members` at velocities v (their inertia at the step's start).
+pub(crate) fn kinetic(
+    states: &[tumble_contact::BodyState],
+    v: &[tumble_contact::BodyVelocity],
+    members: &[usize],
+) -> f64 {
+    members.iter().map(|&k| body_kinetic(&states[k], &v[k])).sum()
+}
+
+/// One body's kinetic energy at velocity v (its inertia at the step's start).
+pub(crate) fn body_kinetic(b: &tumble_contact::BodyState, v: &tumble_contact::BodyVelocity) -> f64 {
+    0.5 * v.linear.norm_squared() / b.inv_mass + 0.5 * v.angular.dot(&(b.inertia * v.angular))
+}
+
 #[cfg(test)]
 mod tests {
     use super::largest_keeping_energy;

@@ -11,7 +11,7 @@ use super::contact_stages::ContactStages;
 use super::failure;
 use super::joint_forces::{bilateral_rows, project_joints, BilateralRows, JOINT_DRIFT};
 use super::system::AccurateSystem;
-use crate::engine::bounce_scale::largest_keeping_energy;
+use crate::engine::bounce_scale::{body_kinetic, largest_keeping_energy, moving_bodies};
 use crate::engine::contact_reduction::reduce;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::engine::semi_implicit::{update_positions, Form};
@@ -157,7 +157,7 @@ pub fn convex_step(
     // once): its restitution is then scaled back to the largest share that keeps the energy.
     let threshold = settings.bounce_threshold;
     if contacts.iter().any(|c| c.restitution > 0.0 && c.relative_normal_velocity(states) < -threshold) {
-        let members = moving_members(states, &contacts);
+        let members = moving_bodies(states, &contacts);
         let energy = |v: &[tumble_contact::BodyVelocity], dt: f64| step_energy(states, &members, v, dt);
         let start: Vec<_> = states
             .iter()
@@ -285,28 +285,11 @@ fn lagged_answer(
     Ok(Some(out))
 }
 
-/// The moving bodies that `contacts` touch, in order.
-fn moving_members(states: &[BodyState], contacts: &[Contact]) -> Vec<usize> {
-    let mut members: Vec<usize> =
-        contacts.iter().flat_map(|c| [c.a, c.b]).filter(|&k| states[k].is_dynamic()).collect();
-    members.sort_unstable();
-    members.dedup();
-    members
-}
-
 /// The mechanical energy of the bodies `members` after a step of `dt` at velocities v, counted from the step's
 /// start: their kinetic energy less the work their applied forces would do over the step's displacement (gravity's
 /// potential energy, for gravity).
 fn step_energy(states: &[BodyState], members: &[usize], v: &[tumble_contact::BodyVelocity], dt: f64) -> f64 {
-    members
-        .iter()
-        .map(|&k| {
-            let b = &states[k];
-            let kinetic =
-                0.5 * v[k].linear.norm_squared() / b.inv_mass + 0.5 * v[k].angular.dot(&(b.inertia * v[k].angular));
-            kinetic - b.force.dot(&(v[k].linear * dt))
-        })
-        .sum()
+    members.iter().map(|&k| body_kinetic(&states[k], &v[k]) - states[k].force.dot(&(v[k].linear * dt))).sum()
 }
 
 /// Each contact's whole impulse (normal and friction, on B) of a velocity step.

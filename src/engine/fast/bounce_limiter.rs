@@ -6,10 +6,10 @@
 //! m g u h, about 2% of its energy at 4 m/s and h = 1/240 s, so the factor is about 0.99).
 
 use super::solve_velocities::Solver;
-use crate::engine::bounce_scale::largest_keeping_energy;
+use crate::engine::bounce_scale::{kinetic, largest_keeping_energy, moving_bodies};
 use crate::error::WorldError;
 use nalgebra::Vector3;
-use tumble_contact::{BodyState, BodyVelocity, Contact, VelocityStep};
+use tumble_contact::{BodyVelocity, Contact, VelocityStep};
 
 /// Replaces in `out` the answer of every island (`groups`) whose bounce would gain energy.
 pub(super) fn limit_bounce_energy(
@@ -28,7 +28,7 @@ pub(super) fn limit_bounce_energy(
         if !bounces {
             continue;
         }
-        let members = island_bodies(states, contacts, island);
+        let members = moving_bodies(states, island.iter().map(|&i| &contacts[i]));
         let start: Vec<BodyVelocity> =
             states.iter().map(|b| BodyVelocity { linear: b.velocity, angular: b.angular_velocity }).collect();
         let energy = |v: &[BodyVelocity], dt: f64| {
@@ -63,24 +63,4 @@ pub(super) fn limit_bounce_energy(
         }
     }
     Ok(())
-}
-
-/// The moving bodies of an island.
-fn island_bodies(states: &[BodyState], contacts: &[Contact], island: &[usize]) -> Vec<usize> {
-    let mut members: Vec<usize> =
-        island.iter().flat_map(|&i| [contacts[i].a, contacts[i].b]).filter(|&k| states[k].is_dynamic()).collect();
-    members.sort_unstable();
-    members.dedup();
-    members
-}
-
-/// Kinetic energy of the bodies `members` at velocities v.
-fn kinetic(states: &[BodyState], v: &[BodyVelocity], members: &[usize]) -> f64 {
-    members
-        .iter()
-        .map(|&k| {
-            let b = &states[k];
-            0.5 * v[k].linear.norm_squared() / b.inv_mass + 0.5 * v[k].angular.dot(&(b.inertia * v[k].angular))
-        })
-        .sum()
 }
