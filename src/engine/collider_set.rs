@@ -543,6 +543,15 @@ impl ColliderSet {
         }
     }
 
+    /// The distance between the colliders i and j at the actors' `poses` (m; zero where they overlap, infinite where
+    /// it cannot be had).
+    pub fn pair_distance(&mut self, i: usize, j: usize, poses: &[Isometry3<f64>]) -> f64 {
+        let (ca, cb) = (&self.colliders[i], &self.colliders[j]);
+        let (pa, pb) = (poses[self.index(ca.actor)] * ca.offset, poses[self.index(cb.actor)] * cb.offset);
+        self.checks += 1;
+        tumble_collide::distance(&ca.shape, &pa, &cb.shape, &pb).unwrap_or(f64::INFINITY)
+    }
+
     /// The shapes of a collider pair.
     pub fn shapes(&self, i: usize, j: usize) -> (&Shape, &Shape, Isometry3<f64>, Isometry3<f64>, usize, usize) {
         let (ca, cb) = (&self.colliders[i], &self.colliders[j]);

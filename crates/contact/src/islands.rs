@@ -120,3 +120,34 @@ pub(crate) fn link_islands(
         .collect();
     (of_link, count)
 }
+
+/// Each moving body's island among `bodies` joined by `links` (the islands numbered from zero in the order of their
+/// first body), `usize::MAX` for a body that does not move; and how many islands there are.
+pub(crate) fn body_islands(
+    bodies: usize,
+    moves: impl Fn(usize) -> bool,
+    links: impl Iterator<Item = (usize, usize)>,
+) -> (Vec<usize>, usize) {
+    let mut uf = UnionFind::new(bodies);
+    for (a, b) in links {
+        if moves(a) && moves(b) {
+            uf.union(a, b);
+        }
+    }
+    let mut index_of_root = vec![usize::MAX; bodies];
+    let mut count = 0;
+    let island = (0..bodies)
+        .map(|b| {
+            if !moves(b) {
+                return usize::MAX;
+            }
+            let root = uf.find(b);
+            if index_of_root[root] == usize::MAX {
+                index_of_root[root] = count;
+                count += 1;
+            }
+            index_of_root[root]
+        })
+        .collect();
+    (island, count)
+}

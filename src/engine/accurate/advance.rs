@@ -26,11 +26,11 @@ impl AccurateEngine {
         let (Some(integration), Some(contact)) = (integration.as_mut(), contact.as_mut()) else {
             return Err(failure(0.0, "contact stages without an integration".into()).into());
         };
+        let energy = mechanical_energy(&system.model, contact.state_or(integration.live().state()));
         let integrator = integration.live_mut();
         let (threads, limit) = (core.threads, core.divergence_limit);
         let mut stages = rules.stages(contact, broken, &mut core.report, threads, limit);
         integrator.log_steps(run.is_some());
-        let energy = mechanical_energy(&system.model, integrator.state());
         let result = (|| {
             // a touching phase carries on from the last call (so pausing, for frames or progress, changes nothing);
             // otherwise the contacts at the start are an event
@@ -39,8 +39,9 @@ impl AccurateEngine {
             }
             let (mut frames, mut stuck, mut last) = (FrameCursor::new(saves, t_end), 0, integrator.time());
             loop {
-                if stages.memory.touching.is_some() {
-                    let start = (integrator.time(), integrator.state().to_vec());
+                if let Some(phase) = stages.memory.touching.as_mut() {
+                    // the phase goes on from where it got to; the integrator's state is set only when it ends
+                    let start = phase.at.take().unwrap_or_else(|| (integrator.time(), integrator.state().to_vec()));
                     let until = touching::Until { end: t_end, pause };
                     let end = touching::touching_steps(
                         &mut stages,
@@ -51,10 +52,13 @@ impl AccurateEngine {
                         run.as_deref_mut(),
                         budget,
                     )?;
-                    integrator.set_state(end.t, &end.y)?;
                     if end.touching {
+                        if let Some(phase) = stages.memory.touching.as_mut() {
+                            phase.at = Some((end.t, end.y));
+                        }
                         return Ok(frames.delivered());
                     }
+                    integrator.set_state(end.t, &end.y)?;
                     continue;
                 }
                 // The integrator's own budget restarts at every event: it gets what is left of the call's.
@@ -104,7 +108,8 @@ impl AccurateEngine {
                 impact::impact(&mut stages, system, integrator)?;
             }
         })();
-        stages.report.energy_change += mechanical_energy(&system.model, integrator.state()) - energy;
+        let end = stages.memory.state_or(integrator.state());
+        stages.report.energy_change += mechanical_energy(&system.model, end) - energy;
         Ok(result?)
     }
 }

@@ -95,6 +95,16 @@ impl ContactMemory {
         }
     }
 
+    /// The touching phase's time and state where it keeps its own (between the calls it spans), else none.
+    pub fn touching_at(&self) -> Option<(f64, &[f64])> {
+        self.touching.as_ref().and_then(|p| p.at.as_ref()).map(|(t, y)| (*t, y.as_slice()))
+    }
+
+    /// The state the engine is in: the touching phase's own, else `integrator`'s.
+    pub fn state_or<'a>(&'a self, integrator: &'a [f64]) -> &'a [f64] {
+        self.touching_at().map_or(integrator, |(_, y)| y)
+    }
+
     /// With the free flight's integration made live: one read from a file is given to an integrator of `system`
     /// with its touching actors held (built at (t, y) with `settings`), which checks it.
     pub fn into_live(

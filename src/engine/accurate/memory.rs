@@ -30,14 +30,28 @@ pub(crate) struct AccurateMemory {
 }
 
 impl AccurateMemory {
-    /// The current time.
+    /// The current time (the touching phase's while it keeps its own state).
     pub fn time(&self) -> f64 {
+        if let Some((t, _)) = self.touching_at() {
+            return t;
+        }
         self.integration.as_ref().map_or(self.clock, |i| i.live().time())
     }
 
-    /// The current state.
+    /// The current state (the touching phase's while it keeps its own).
     pub fn state(&self) -> &[f64] {
+        if let Some((_, y)) = self.touching_at() {
+            return y;
+        }
         self.integration.as_ref().map_or(&[], |i| i.live().state())
+    }
+
+    /// The touching phase's time and state while it keeps its own.
+    fn touching_at(&self) -> Option<(f64, &[f64])> {
+        #[cfg(feature = "contact")]
+        return self.contact.as_ref().and_then(|c| c.touching_at());
+        #[cfg(not(feature = "contact"))]
+        None
     }
 }
 

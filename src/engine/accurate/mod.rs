@@ -286,7 +286,9 @@ impl AccurateEngine {
         #[cfg(feature = "contact")]
         let contact = match (contact, &integration) {
             (Some(c), Some(main)) => {
-                let (t, y) = (main.live().time(), main.live().state().to_vec());
+                let (t, y) = c
+                    .touching_at()
+                    .map_or_else(|| (main.live().time(), main.live().state().to_vec()), |(t, y)| (t, y.to_vec()));
                 let free_settings = &self.contacts.as_ref().expect("checked above").free_settings;
                 Some(c.into_live(&mut self.system, free_settings, t, &y)?)
             }
@@ -479,7 +481,14 @@ impl AccurateEngine {
         if !model.has_kinematic() {
             return Ok((t_end, pause));
         }
-        if let Some(integration) = &mut self.memory.integration {
+        // (a touching phase keeping its own state is driven in it)
+        #[cfg(feature = "contact")]
+        let in_phase = self.memory.contact.as_mut().and_then(|c| c.touching.as_mut()).and_then(|p| p.at.as_mut());
+        #[cfg(not(feature = "contact"))]
+        let in_phase: Option<&mut (f64, Vec<f64>)> = None;
+        if let Some((t, y)) = in_phase {
+            model.drive_kinematic(*t, y, None);
+        } else if let Some(integration) = &mut self.memory.integration {
             let live = integration.live_mut();
             let (t, mut y) = (live.time(), live.state().to_vec());
             if model.drive_kinematic(t, &mut y, None) {
