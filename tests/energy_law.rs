@@ -88,7 +88,7 @@ fn energy_scale(run: &tumble::Run) -> f64 {
 }
 
 #[test]
-fn accurate_mode_never_gains_energy_beyond_its_stated_bound_nor_sinks_past_its_tolerance() {
+fn accurate_mode_never_gains_energy_beyond_its_stated_bound_nor_sinks_past_five_tolerances() {
     let (mut worst_gain, mut worst_depth) = ((0.0f64, 0), (0.0f64, 0));
     let n = scenes();
     let mut failures: Vec<String> = Vec::new();
@@ -107,10 +107,10 @@ fn accurate_mode_never_gains_energy_beyond_its_stated_bound_nor_sinks_past_its_t
         if !(rise <= bound) {
             failures.push(format!("seed {seed}: energy rose {rise:.3e} J over an earlier frame (bound {bound:.3e} J)"));
         }
-        // Drift is lifted once a contact sinks past the tolerance, but a contact a step's start did not hold (a
-        // hull's face reduced to other points, a corner coming round) can sink further inside the step: the drops'
-        // bound, 20 times the tolerance (`accurate_drops.rs`).
-        if !(depth <= 20.0 * tol) {
+        // Drift is lifted once a contact sinks past the tolerance, and a kept step's own contacts sink at most two
+        // tolerances past its start's deepest (`touching.rs`, LATE_SINK): measured at most 3.4 tolerances over 2,000
+        // scenes; bound 5.
+        if !(depth <= 5.0 * tol) {
             failures.push(format!("seed {seed}: penetration {depth:.3e} m at a tolerance of {tol:.3e} m"));
         }
         let share = rise / bound;
@@ -174,9 +174,10 @@ fn fast_mode_never_gains_energy_beyond_its_stated_bound_nor_sinks_past_5_cm() {
         if !(rise <= bound) {
             failures.push(format!("seed {seed}: energy rose {rise:.3e} J over an earlier frame (bound {bound:.3e} J)"));
         }
-        // Impacts at 1/240 s sink at most 5 mm in most scenes, but a body spinning into the floor (a mesh's piece
-        // at 60 rad/s) or a light body struck by a much heavier one (a 12 kg ball on a 25 g box: 48.5 mm) sinks
-        // further within the step; held to 5 cm (docs/modes.md).
+        // Impacts at 1/240 s sink at most 5 mm in most scenes, but a light body struck or crushed by a much heavier
+        // one (a 12 kg ball landing on a 25 g box: 20 mm) or a concave mesh's piece spinning a corner into the floor
+        // sinks further within the step (121 of 2,000 scenes past 5 mm, docs/modes.md); held to 5 cm, which two of
+        // those 2,000 do not meet (94 and 134 mm).
         if !(depth <= 0.05) {
             failures.push(format!("seed {seed}: penetration {depth:.3e} m"));
         }

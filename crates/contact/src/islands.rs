@@ -151,3 +151,17 @@ pub(crate) fn body_islands(
         .collect();
     (island, count)
 }
+
+#[cfg(test)]
+mod body_island_tests {
+    use super::body_islands;
+
+    #[test]
+    fn moving_bodies_are_numbered_by_island_and_fixed_ones_join_none() {
+        // 0-1 linked, 3 alone, 2 fixed (links through it join nothing), 4 linked to 1 through the fixed 2? no: 4-2
+        let moves = |b: usize| b != 2;
+        let (island, count) = body_islands(5, moves, [(0, 1), (1, 2), (2, 4)].into_iter());
+        assert_eq!(count, 3);
+        assert_eq!(island, vec![0, 0, usize::MAX, 1, 2]);
+    }
+}

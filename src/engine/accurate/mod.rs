@@ -48,6 +48,8 @@ mod free_flight;
 mod impact;
 mod integration;
 mod joint_forces;
+#[cfg(feature = "contact")]
+mod late_sink;
 mod memory;
 #[cfg(feature = "contact")]
 mod pass_through;
@@ -55,6 +57,8 @@ mod pass_through;
 mod resting;
 #[cfg(feature = "contact")]
 mod sleep;
+#[cfg(feature = "contact")]
+mod slide_limit;
 #[cfg(feature = "contact")]
 mod step_estimate;
 #[cfg(feature = "contact")]

@@ -14,7 +14,9 @@ use std::collections::BTreeMap;
 /// stop. The time to the stop is read from the whole step's friction: of the friction a pair's contacts could give
 /// over the step (mu times the normal force, summed), the part they gave (summed as vectors) stopped them, so at a
 /// steady deceleration the stop came at that fraction of the step (`wrenches`: each contact's force, normal and
-/// friction, on B).
+/// friction, on B). A contact apart by more than `apart` at the start (an impact inside the step, which the halves'
+/// estimate governs) has no slide to stop: the share its friction gave is not a stop's time (a 29 g piece struck
+/// against the floor at 4 m/s was cut at 0.2 of every step that reached the floor, steps of 1e-8 s).
 pub(super) struct Stop {
     /// The slip cut short per second of the step (0 when no sliding contact stopped).
     pub slip: f64,
@@ -27,6 +29,7 @@ pub(super) fn stopped_slip(
     before: &[tumble_contact::BodyState],
     after: &[tumble_contact::BodyState],
     wrenches: &BTreeMap<ContactKey, Vector3<f64>>,
+    apart: f64,
 ) -> Stop {
     let slip = |states: &[tumble_contact::BodyState], c: &tumble_contact::Contact| {
         let rel = states[c.b].point_velocity(&c.point) - states[c.a].point_velocity(&c.point);
@@ -44,7 +47,7 @@ pub(super) fn stopped_slip(
         e.1 += c.friction * n.dot(&w).max(0.0);
     }
     let mut stop = Stop { slip: 0.0, at: 1.0 };
-    for c in found.iter().map(|f| &f.contact).filter(|c| c.friction > 0.0) {
+    for c in found.iter().map(|f| &f.contact).filter(|c| c.friction > 0.0 && c.distance <= apart) {
         let (start, end) = (slip(before, c), slip(after, c));
         if start > 1e3 * end {
             let (given, bound) = pairs[&(c.a, c.b)];

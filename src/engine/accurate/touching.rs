@@ -11,12 +11,14 @@
 //! which contacts push, a stop) take the halves' estimate. A step is accepted when its estimate is at most the
 //! contact tolerance, and the next h is h (tol / err)^(1/3) after a smooth extrapolated step and h (tol / err)^(1/2)
 //! otherwise, within 0.2 to 2 times h and at most the scene's time scale (what bounds the pairs a step's reach takes
-//! in; the judgement itself is `step_judgement.rs`, the step `doubled_step.rs`, the energy guard `energy_guard.rs`).
+//! in; the judgement itself is `step_judgement.rs`, the step `doubled_step.rs`, the energy guard `energy_guard.rs`,
+//! the kept state's own contacts `late_sink.rs`, the slide and turn limits `slide_limit.rs`).
 //! Only the end of an advance cuts a step: frames inside one are its interpolation (`interpolate`: positions on the
 //! step's path, each body's kinetic energy the blend of the ends'). Contacts that sank past the tolerance are lifted
 //! apart by a position projection before the step. Sleeping islands (`sleep.rs`) are
-//! fixed bodies to the steps. The phase ends when no pair is within reach of a step and nothing sleeps: the
-//! integrator takes over.
+//! fixed bodies to the steps. The phase keeps its own (t, y) between the calls it spans (`TouchingPhase::at`) and
+//! ends when no pair is within reach of a step and nothing sleeps: the integrator's state is set then, and it takes
+//! over (`advance.rs`).
 
 use super::contact_stages::ContactStages;
 use super::convex_step::{actors_with_forces, every_contact_in_reach, ConvexStep};
@@ -25,7 +27,9 @@ use super::drift::correct_drift;
 use super::energy_guard::Guarded;
 use super::failure;
 use super::free_flight::{copy_free, free_flight, links, FreeFlight};
+use super::late_sink::{deepest, sunk_step, LATE_SINK};
 use super::sleep::Sleep;
+use super::slide_limit::slide_limit;
 use super::step_estimate::{extrapolate, interpolate, sinking, stopped_slip};
 use super::step_judgement::{judge, judge_kept, next_step, Estimates, Verdict};
 use super::system::AccurateSystem;
@@ -114,57 +118,6 @@ pub fn start_touching(cx: &mut ContactStages<'_>) {
         at: None,
     });
 }
-
-/// How far a contact step may slide a touching pair, as a share of the smaller shape's bounding radius.
-const SLIDE_SHARE: f64 = 0.1;
-/// How far a contact step may turn a touching pair against each other (rad), unless both are balls.
-const TURN_LIMIT: f64 = 0.1;
-
-/// The longest step that slides no touching pair of `found` (at its relative tangential speed at the contact
-/// point) more than `SLIDE_SHARE` of its smaller shape's radius (pairs with a half-space, whose face has no edge,
-/// excepted) and turns none more than `TURN_LIMIT` against each other (a ball's own turn not counted); pairs apart
-/// by more than the tolerance are not limited.
-fn slide_limit(
-    cx: &ContactStages<'_>,
-    found: &[crate::engine::found_contact::FoundContact],
-    states: &[tumble_contact::BodyState],
-) -> f64 {
-    let mut limit = f64::INFINITY;
-    let touching = cx.memory.scales.tolerance.max(cx.settings.contact_distance);
-    for f in found {
-        let (ca, cb) = f.key.colliders;
-        let (ra, rb) = (cx.scene.colliders[ca as usize].radius, cx.scene.colliders[cb as usize].radius);
-        let c = &f.contact;
-        if c.distance > touching {
-            continue;
-        }
-        let v = states[c.a].point_velocity(&c.point) - states[c.b].point_velocity(&c.point);
-        let speed = (v - c.normal.into_inner() * c.normal.dot(&v)).norm();
-        if speed > 0.0 && ra.max(rb).is_finite() {
-            limit = limit.min(SLIDE_SHARE * ra.min(rb) / speed);
-        }
-        // a pair that turns against each other brings other points of its shapes into contact (a domino tipping on
-        // its edge), which a step's contacts, found at its start, do not hold; a ball's own turn changes nothing (a
-        // ball rolling on the floor is not limited), so against a ball the other shape's turn counts
-        let round = |k: u32| matches!(cx.scene.colliders[k as usize].shape, tumble_collide::Shape::Sphere { .. });
-        let (wa, wb) = (states[c.a].angular_velocity, states[c.b].angular_velocity);
-        let turn = match (round(ca), round(cb)) {
-            (true, true) => 0.0,
-            (true, false) => wb.norm(),
-            (false, true) => wa.norm(),
-            (false, false) => (wa - wb).norm(),
-        };
-        if turn > 0.0 {
-            limit = limit.min(TURN_LIMIT / turn);
-        }
-    }
-    limit
-}
-
-/// How many tolerances past the deepest contact of its start a kept step's own contacts may sink (a hull's vertex
-/// coming round inside a step sank 48 tolerances; one tolerance rejected steps of ten dominoes that two do not, 16%
-/// more steps for 0.1 mm less depth).
-const LATE_SINK: f64 = 2.0;
 
 /// The smallest step: 16 ulps of the time, and no less than 1e-14 s.
 fn min_step(t: f64) -> f64 {
@@ -409,7 +362,7 @@ fn judged(
         phase.last.iter().filter(|c| c.impulse > 0.0).map(|c| (c.a, c.b)).collect();
     let after = held(system, statics, t + h, &second.y, &phase.sleep)?;
     let model = &system.model;
-    let stopped = stopped_slip(found, states, &after, &whole.wrenches);
+    let stopped = stopped_slip(found, states, &after, &whole.wrenches, cx.settings.contact_distance);
     // A try already cut to end just before a stop that finds a stop again well inside itself (a slide's stop moves to
     // the cut try's end) met an impact whose friction stops the slip within the impulse, whatever the step (a
     // spinning hull landing with sticking friction stopped at 0.55 of every step tried, down to steps of 1e-8 s):
@@ -499,30 +452,6 @@ fn judged(
         return Ok(Judged::Again { h: sunk_step(h, depth - cx.memory.penetration, tolerance), located: false });
     }
     Ok(Judged::Kept(Box::new(Kept { y: next, error: kept_error, grow, second, whole, difference })))
-}
-
-/// The deepest penetration of the collider pairs of `every` in state y, their contacts computed afresh (m).
-fn deepest(
-    cx: &mut ContactStages<'_>,
-    model: &crate::model::Model,
-    statics: &[nalgebra::Isometry3<f64>],
-    every: &[FoundContact],
-    y: &[f64],
-) -> f64 {
-    let pairs: BTreeSet<(usize, usize)> =
-        every.iter().map(|f| (f.key.colliders.0 as usize, f.key.colliders.1 as usize)).collect();
-    let pairs: Vec<(usize, usize)> = pairs.into_iter().collect();
-    let poses = crate::model::actor_poses(model.layout, y, statics);
-    let checks = cx.scene.checks;
-    let found = cx.scene.pair_contacts(&pairs, &poses, |_, _| 0.0);
-    cx.report.collision_checks += cx.scene.checks - checks;
-    found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max)
-}
-
-/// The step to try again after a step of h sank a contact `sunk` deeper than the step started (m): short enough
-/// that a sinking proportional to h stays within half the tolerance, and at most half of h.
-fn sunk_step(h: f64, sunk: f64, tolerance: f64) -> f64 {
-    (h * 0.5 * tolerance / sunk).clamp(0.1 * h, 0.5 * h)
 }
 
 /// Fails when `STALL_WINDOW` steps tried have advanced less than that many stall steps (1e-5 of the scene's

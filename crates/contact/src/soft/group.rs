@@ -440,3 +440,23 @@ fn pair(movers: &mut [Mover], a: usize, b: usize) -> (&mut Mover, &mut Mover) {
         (&mut hi[0], &mut lo[b])
     }
 }
+
+#[cfg(test)]
+mod energy_path_tests {
+    use super::EnergyPath;
+
+    #[test]
+    fn the_share_kept_is_the_root_of_the_kinetic_energys_quadratic() {
+        // K(s) = 1 + s (2 + s 3): K(1) = 6
+        let path = EnergyPath { from: 1.0, b: 2.0, c: 3.0, start: 0.0, rounding: 0.0 };
+        assert_eq!(path.share_within(6.0), None);
+        assert_eq!(path.share_within(7.0), None);
+        // K(s) = 2.5 at s = 1/3 (3 s^2 + 2 s - 1.5 = 0 -> s = (-2 + sqrt(4 + 18)) / 6)
+        let s = path.share_within(2.5).unwrap();
+        assert!((path.at(s) - 2.5).abs() < 1e-15, "{s}");
+        // below what s = 0 gives: the least energy on the way, clamped to [0, 1]
+        assert_eq!(path.share_within(0.5), Some(0.0));
+        // nothing changes along the way (c = 0): nothing to scale
+        assert_eq!(EnergyPath { c: 0.0, ..path }.share_within(0.5), None);
+    }
+}
