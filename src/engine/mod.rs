@@ -13,6 +13,8 @@ mod bounce_scale;
 pub(crate) mod breaking;
 mod budget;
 #[cfg(feature = "contact")]
+mod closing_pairs;
+#[cfg(feature = "contact")]
 pub(crate) mod collider_set;
 #[cfg(feature = "contact")]
 mod contact_pairs;

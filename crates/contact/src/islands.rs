@@ -39,22 +39,10 @@ impl UnionFind {
 /// The contacts grouped by island: each inner list holds the indices of the contacts of one island, in their
 /// original order; islands come in the order of their first contact.
 pub fn islands(bodies: &[BodyState], contacts: &[Contact]) -> Vec<Vec<usize>> {
-    let mut uf = UnionFind::new(bodies.len());
-    for c in contacts {
-        if bodies[c.a].is_dynamic() && bodies[c.b].is_dynamic() {
-            uf.union(c.a, c.b);
-        }
-    }
-    let mut index_of_root = vec![usize::MAX; bodies.len()];
-    let mut out: Vec<Vec<usize>> = Vec::new();
-    for (i, c) in contacts.iter().enumerate() {
-        let body = if bodies[c.a].is_dynamic() { c.a } else { c.b };
-        let root = uf.find(body);
-        if index_of_root[root] == usize::MAX {
-            index_of_root[root] = out.len();
-            out.push(Vec::new());
-        }
-        out[index_of_root[root]].push(i);
+    let (of_link, count) = link_islands(bodies.len(), |b| bodies[b].is_dynamic(), contacts.iter().map(|c| (c.a, c.b)));
+    let mut out = vec![Vec::new(); count];
+    for (i, &k) in of_link.iter().enumerate() {
+        out[k].push(i);
     }
     out
 }
@@ -62,35 +50,55 @@ pub fn islands(bodies: &[BodyState], contacts: &[Contact]) -> Vec<Vec<usize>> {
 /// Islands of contacts and joints together: bodies joined by either are one island. Each island lists its
 /// contacts and its joints (`pairs`, the joints' bodies), each in their original order; islands come in the order
 /// of their first contact, then of their first joint.
+#[cfg(feature = "clarabel")]
 pub(crate) fn joint_islands(
     bodies: &[BodyState],
     contacts: &[Contact],
     pairs: &[(usize, usize)],
 ) -> Vec<(Vec<usize>, Vec<usize>)> {
-    let mut uf = UnionFind::new(bodies.len());
-    let links = contacts.iter().map(|c| (c.a, c.b)).chain(pairs.iter().copied());
-    for (a, b) in links {
-        if bodies[a].is_dynamic() && bodies[b].is_dynamic() {
-            uf.union(a, b);
-        }
-    }
-    let mut index_of_root = vec![usize::MAX; bodies.len()];
-    let mut out: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
     let ends = contacts.iter().map(|c| (c.a, c.b)).chain(pairs.iter().copied());
-    for (i, (a, b)) in ends.enumerate() {
-        let root = uf.find(if bodies[a].is_dynamic() { a } else { b });
-        if index_of_root[root] == usize::MAX {
-            index_of_root[root] = out.len();
-            out.push((Vec::new(), Vec::new()));
-        }
-        let island = &mut out[index_of_root[root]];
+    let (of_link, count) = link_islands(bodies.len(), |b| bodies[b].is_dynamic(), ends);
+    let mut out = vec![(Vec::new(), Vec::new()); count];
+    for (i, &k) in of_link.iter().enumerate() {
         if i < contacts.len() {
-            island.0.push(i);
+            out[k].0.push(i);
         } else {
-            island.1.push(i - contacts.len());
+            out[k].1.push(i - contacts.len());
         }
     }
     out
+}
+
+/// The union-find of `bodies` joined by `links`, only moving bodies (`moves`) joining.
+fn joined(bodies: usize, moves: &impl Fn(usize) -> bool, links: impl Iterator<Item = (usize, usize)>) -> UnionFind {
+    let mut uf = UnionFind::new(bodies);
+    for (a, b) in links {
+        if moves(a) && moves(b) {
+            uf.union(a, b);
+        }
+    }
+    uf
+}
+
+/// Islands numbered from zero in the order their roots are first asked for.
+struct Numbering {
+    index_of_root: Vec<usize>,
+    count: usize,
+}
+
+impl Numbering {
+    fn new(bodies: usize) -> Numbering {
+        Numbering { index_of_root: vec![usize::MAX; bodies], count: 0 }
+    }
+
+    /// The number of the island whose root is `root`.
+    fn of(&mut self, root: usize) -> usize {
+        if self.index_of_root[root] == usize::MAX {
+            self.index_of_root[root] = self.count;
+            self.count += 1;
+        }
+        self.index_of_root[root]
+    }
 }
 
 /// Islands of links between bodies (a body pair each: manifolds, joints, springs), only moving bodies joining them
@@ -100,25 +108,10 @@ pub(crate) fn link_islands(
     moves: impl Fn(usize) -> bool,
     links: impl Iterator<Item = (usize, usize)> + Clone,
 ) -> (Vec<usize>, usize) {
-    let mut uf = UnionFind::new(bodies);
-    for (a, b) in links.clone() {
-        if moves(a) && moves(b) {
-            uf.union(a, b);
-        }
-    }
-    let mut index_of_root = vec![usize::MAX; bodies];
-    let mut count = 0;
-    let of_link = links
-        .map(|(a, b)| {
-            let root = uf.find(if moves(a) { a } else { b });
-            if index_of_root[root] == usize::MAX {
-                index_of_root[root] = count;
-                count += 1;
-            }
-            index_of_root[root]
-        })
-        .collect();
-    (of_link, count)
+    let mut uf = joined(bodies, &moves, links.clone());
+    let mut numbering = Numbering::new(bodies);
+    let of_link = links.map(|(a, b)| numbering.of(uf.find(if moves(a) { a } else { b }))).collect();
+    (of_link, numbering.count)
 }
 
 /// Each moving body's island among `bodies` joined by `links` (the islands numbered from zero in the order of their
@@ -128,28 +121,10 @@ pub(crate) fn body_islands(
     moves: impl Fn(usize) -> bool,
     links: impl Iterator<Item = (usize, usize)>,
 ) -> (Vec<usize>, usize) {
-    let mut uf = UnionFind::new(bodies);
-    for (a, b) in links {
-        if moves(a) && moves(b) {
-            uf.union(a, b);
-        }
-    }
-    let mut index_of_root = vec![usize::MAX; bodies];
-    let mut count = 0;
-    let island = (0..bodies)
-        .map(|b| {
-            if !moves(b) {
-                return usize::MAX;
-            }
-            let root = uf.find(b);
-            if index_of_root[root] == usize::MAX {
-                index_of_root[root] = count;
-                count += 1;
-            }
-            index_of_root[root]
-        })
-        .collect();
-    (island, count)
+    let mut uf = joined(bodies, &moves, links);
+    let mut numbering = Numbering::new(bodies);
+    let island = (0..bodies).map(|b| if moves(b) { numbering.of(uf.find(b)) } else { usize::MAX }).collect();
+    (island, numbering.count)
 }
 
 #[cfg(test)]

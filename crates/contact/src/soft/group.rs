@@ -355,9 +355,9 @@ impl Group {
 }
 
 /// The kinetic energy of each of `count` sets of `movers` (`set` of each moving one) on the way from the velocities
-/// `from` to the movers' own (`start`: their velocities at the step's start): K(s) = from + s (b + s c), with the start's kinetic energy plus the applied forces'
-/// work over the step's displacement (rotational energy at the step's start inertia, as the end's is kept:
-/// `semi_implicit::turned_momentum`).
+/// `from` to the movers' own (`start`: their velocities at the step's start): K(s) = from + s (b + s c), with the
+/// start's kinetic energy plus the applied forces' work over the step's displacement (rotational energy at the
+/// step's start inertia, as the end's is kept: `semi_implicit::turned_momentum`).
 fn paths_from(
     movers: &[Mover],
     start: &[(Vector3<f64>, Vector3<f64>)],
