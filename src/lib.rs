@@ -20,6 +20,7 @@
 mod body;
 mod body_builder;
 mod collider;
+mod control;
 mod engine;
 mod error;
 mod handle;
@@ -44,6 +45,7 @@ mod world;
 
 pub use body::{RigidBody, RigidBodyBuilder, ALL_GROUPS};
 pub use collider::{Collider, Material};
+pub use control::Control;
 pub use error::WorldError;
 pub use handle::Handle;
 pub use keyframes::Keyframes;

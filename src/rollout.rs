@@ -3,6 +3,7 @@
 //! and each is deterministic, so the runs are the same bit for bit as the same copies run one after another, on
 //! any number of threads.
 
+use crate::control::Quiet;
 use crate::error::WorldError;
 use crate::limits;
 use crate::run::Run;
@@ -62,7 +63,7 @@ pub fn rollout(
         copy.set_threads(1)?;
         copy.set_state(s)?;
         let run = copy
-            .run_with(settings.duration, settings.frame_interval, |_| !stop.load(Ordering::Relaxed))
+            .run_with(settings.duration, settings.frame_interval, Quiet(|_| !stop.load(Ordering::Relaxed)))
             .map_err(|e| at(k, e))?;
         done.fetch_add(1, Ordering::Relaxed);
         Ok(run)

@@ -57,6 +57,9 @@ pub struct Run {
     pub(crate) contact_points: Vec<f64>,
     /// What the run cost.
     pub report: WorldReport,
+    /// Whether the run was interrupted (its control stopped it, Ctrl-C in Python): its frames are those done, and
+    /// the world was left at the last of them.
+    pub interrupted: bool,
     pub(crate) sources: Vec<BodySource>,
 }
 
@@ -90,6 +93,7 @@ impl Run {
             contact_counts: Vec::new(),
             contact_points: Vec::new(),
             report: WorldReport::new(method),
+            interrupted: false,
             sources,
         }
     }

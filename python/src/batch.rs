@@ -31,9 +31,11 @@ pub fn _rollout<'py>(
         frame_interval: frame_interval.unwrap_or(tumble::DEFAULT_FRAME_INTERVAL),
         threads: threads.unwrap_or(0),
     };
-    let mut control = Control::new(progress);
-    let c = &mut control;
-    let result = py.detach(move || tumble::rollout(&template, &states, settings, |fraction| c.go_on(fraction)));
+    let mut control = Control::new(progress, None);
+    let mut c = &mut control;
+    let result = py.detach(move || {
+        tumble::rollout(&template, &states, settings, |fraction| tumble::Control::go_on(&mut c, fraction))
+    });
     match result {
         Ok(runs) => runs.into_iter().map(|run| run_arrays(py, run)).collect(),
         Err(WorldError::Interrupted) => Err(control.take_error()),

@@ -29,6 +29,7 @@ pub fn run_arrays<'py>(py: Python<'py>, run: Run) -> PyResult<Bound<'py, PyDict>
     let particles: Vec<PyParticleHandle> = run.particles.iter().map(|&h| h.into()).collect();
     let bodies: Vec<PyBodyHandle> = run.bodies.iter().map(|&h| h.into()).collect();
     let broken: Vec<PyJointHandle> = run.joint_breaks.iter().map(|&(_, h)| h.into()).collect();
+    let interrupted = run.interrupted;
     let (a, report) = run.into_arrays();
     let report = &report;
     let (f, p, b) = (a.times.len(), a.particle_count, a.body_count);
@@ -59,6 +60,7 @@ pub fn run_arrays<'py>(py: Python<'py>, run: Run) -> PyResult<Bound<'py, PyDict>
     d.set_item("contact_counts", array(py, counts, &[f])?)?;
     d.set_item("contact_points", array(py, a.contact_points, &[points, 2, 3])?)?;
     d.set_item("report", report_dict(py, report)?)?;
+    d.set_item("interrupted", interrupted)?;
     d.set_item("particles", PyList::new(py, particles)?)?;
     d.set_item("bodies", PyList::new(py, bodies)?)?;
     Ok(d)

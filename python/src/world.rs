@@ -335,11 +335,11 @@ impl PyWorld {
 
     /// Advances by exactly `dt` (several internal steps if the integrator is adaptive). Raises SimulationError,
     /// leaving the world unchanged, if the step cannot be completed; Ctrl-C stops it and leaves the world
-    /// unchanged too.
+    /// unchanged too (a step records no frame to keep).
     fn step(&mut self, py: Python<'_>, dt: f64) -> PyResult<()> {
-        let mut control = Control::new(None);
+        let mut control = Control::new(None, None);
         let inner = self.w();
-        let r = py.detach(|| inner.step_with(dt, |fraction| control.go_on(fraction)));
+        let r = py.detach(|| inner.step_with(dt, &mut control));
         match r {
             Err(WorldError::Interrupted) => Err(control.take_error()),
             r => r.map_err(|e| self.error(py, e)),
@@ -347,34 +347,31 @@ impl PyWorld {
     }
 
     /// Runs for `duration`, recording a frame every `frame_interval`; returns a dict of arrays (the package
-    /// wraps it in `tumble.Run`). `progress(fraction)` is called between chunks; Ctrl-C stops the run and
-    /// restores the world.
-    #[pyo3(signature = (duration, frame_interval = None, progress = None))]
+    /// wraps it in `tumble.Run`). `progress(fraction)` is called between chunks, `hint(line)` with the one line a
+    /// slow accurate run says; Ctrl-C stops the run at its last whole frame, the world left there and the frames
+    /// done riding on the exception (a failure restores the world, its frames riding on the error too).
+    #[pyo3(signature = (duration, frame_interval = None, progress = None, hint = None))]
     fn _run<'py>(
         &mut self,
         py: Python<'py>,
         duration: f64,
         frame_interval: Option<f64>,
         progress: Option<Py<PyAny>>,
+        hint: Option<Py<PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let mut control = Control::new(progress);
+        let mut control = Control::new(progress, hint);
         let inner = self.w();
-        let result = py.detach(|| {
-            inner.run_with(duration, frame_interval.unwrap_or(tumble::DEFAULT_FRAME_INTERVAL), |fraction| {
-                control.go_on(fraction)
-            })
-        });
-        match result {
-            Ok(run) => run_arrays(py, run),
-            Err(WorldError::Interrupted) => Err(control.take_error()),
-            Err(e) => {
-                let err = self.error(py, e);
-                // the frames up to the failure ride on the exception (the package makes them `error.run`)
-                if let Some(run) = self.w().take_failed_run() {
-                    err.value(py).setattr("_partial", run_arrays(py, run)?)?;
-                }
-                Err(err)
-            }
+        let interval = frame_interval.unwrap_or(tumble::DEFAULT_FRAME_INTERVAL);
+        let result = py.detach(|| inner.run_with(duration, interval, &mut control));
+        let err = match result {
+            Ok(run) => return run_arrays(py, run),
+            Err(WorldError::Interrupted) => control.take_error(),
+            Err(e) => self.error(py, e),
+        };
+        // the frames up to the failure or interrupt ride on the exception (the package makes them `error.run`)
+        if let Some(run) = self.w().take_failed_run() {
+            err.value(py).setattr("_partial", run_arrays(py, run)?)?;
         }
+        Err(err)
     }
 }

@@ -56,6 +56,8 @@ def test_the_default_job_writes_what_it_says_and_times_it(tmp_path):
     # progress went to standard error, which is a pipe here: plain lines, no carriage returns
     assert "\r" not in done.stderr
     assert "run 100% done after" in done.stderr
+    # the default job (fast mode) never hears the slow-run line
+    assert "accurate mode projects" not in done.stderr
 
 
 def test_progress_in_a_log_is_occasional_plain_lines():
@@ -71,4 +73,12 @@ def test_progress_in_a_log_is_occasional_plain_lines():
     lines = log.getvalue().splitlines()
     # a line at each quarter (the clock's ten-second rule never fires in this fast loop)
     assert [line.split()[1] for line in lines] == ["25%", "50%", "75%", "100%"]
+    # each with the time left, projected from the time taken
+    assert all(" left" in line for line in lines[:3]) and lines[-1].endswith("about 0 s left")
+    # the default display (progress=None) puts nothing in a log
+    quiet = io.StringIO()
+    shown = Progress("run", stream=quiet, terminal=False, quiet_log=True)
+    for k in range(1001):
+        shown(k / 1000)
+    assert quiet.getvalue() == ""
     assert "\r" not in log.getvalue()

@@ -63,17 +63,67 @@ def test_progress_and_interruption():
     seen = []
     run = w.run(1.0, 1 / 60, progress=seen.append)
     assert seen == sorted(seen) and seen[-1] == pytest.approx(1.0) and len(seen) > 10
-    t, x = w.time, w.particles.positions.copy()
+    assert run.frames == 61 and not run.interrupted
+    t = w.time
 
     def stop(fraction):
         if fraction > 0.3:
             raise KeyboardInterrupt
 
-    with pytest.raises(KeyboardInterrupt):
+    # an interrupt keeps the frames done: the world is at the last of them, and the next run carries on
+    with pytest.raises(KeyboardInterrupt) as caught:
         w.run(1.0, 1 / 60, progress=stop)
-    assert w.time == t
-    np.testing.assert_array_equal(w.particles.positions, x)
-    assert run.frames == 61
+    kept = caught.value.run
+    assert kept.interrupted and 0.3 * 61 < kept.frames < 61
+    assert w.time == kept.times[-1] and kept.times[0] == t
+    np.testing.assert_array_equal(w.particles.positions, kept.particle_positions[-1])
+    rest = w.run(t + 1.0 - w.time, 1 / 60)
+    assert rest.times[0] == kept.times[-1] and rest.times[-1] == pytest.approx(t + 1.0, abs=1e-12)
+
+
+def test_ctrl_c_during_run_keeps_the_frames_done_and_the_next_run_carries_on():
+    # A real SIGINT, sent from a timer thread 0.5 s into a run of accurate mode that takes several seconds (60 boxes
+    # dropped into a pile); the frames done come with the KeyboardInterrupt and the world is at the last of them (the
+    # frames an interrupt keeps are bit for bit those of a run not interrupted: tests/long_runs.rs).
+    w = tumble.World()
+    w.add_ground()
+    for k in range(60):
+        w.add_body(tumble.Box((0.1, 0.1, 0.1)), position=(0.25 * (k % 4), 0.25 * ((k // 4) % 4), 0.15 + 0.25 * (k // 16)),
+                   angular_velocity=(0.3 * (k % 3), 0.2, 0.1))
+    timer = _interrupt_after(0.5)
+    with pytest.raises(KeyboardInterrupt) as caught:
+        w.run(10.0, 1 / 60)
+    timer.join()
+    kept = caught.value.run
+    assert kept.interrupted and 1 < kept.frames < 601
+    assert w.time == kept.times[-1]
+    np.testing.assert_array_equal(w.bodies.positions[1:], kept.body_positions[-1][1:])
+    assert np.all(np.diff(kept.times) > 0) and kept.times[0] == 0.0
+    # the next run carries on from the last frame kept
+    rest = w.run(0.1, 1 / 60)
+    assert rest.times[0] == kept.times[-1] and not rest.interrupted
+    assert np.all(np.isfinite(rest.body_positions))
+
+
+def test_a_slow_accurate_run_says_so_once_on_standard_error(capsys):
+    # A box dropped for 0.2 s whose progress callable takes fifteen times the simulated time it is told of: the run
+    # takes 3 s for 0.2 s, and the line (due past two seconds, over ten times) comes once, naming fast mode.
+    w = tumble.World()
+    w.add_ground()
+    w.add_body(tumble.Box((0.1, 0.1, 0.1)), position=(0.0, 0.0, 0.3))
+    done = [0.0]
+
+    def slow(fraction):
+        time.sleep(15.0 * 0.2 * (fraction - done[0]))
+        done[0] = fraction
+
+    w.run(0.2, 1 / 200, progress=slow)
+    err = capsys.readouterr().err
+    assert err.count("tumble: accurate mode projects") == 1, err
+    assert 'fast mode (mode "fast", steps of 1/240 s) would take about' in err
+    done[0] = 0.0
+    w.run(0.2, 1 / 200, progress=slow)
+    assert "accurate mode projects" not in capsys.readouterr().err, "once a world"
 
 
 def _interrupt_after(seconds):

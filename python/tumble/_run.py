@@ -58,7 +58,8 @@ class Run:
     frame's). ``links`` lists the springs and joints to draw (``link_segments``; ``link_ends`` the time at which each
     link whose joint broke ended, by link), ``name`` the scene's name;
     ``names`` and ``colors`` each body's name and linear RGBA colour as given to ``add_body`` (None where not given),
-    which the exporters and the viewer use."""
+    which the exporters and the viewer use; ``interrupted`` whether Ctrl-C stopped the run (its frames those done,
+    the world left at the last)."""
 
     times: np.ndarray
     particle_positions: np.ndarray
@@ -89,6 +90,7 @@ class Run:
     names: list[str | None] = field(default_factory=list, repr=False)
     colors: list[tuple[float, float, float, float] | None] = field(default_factory=list, repr=False)
     link_ends: dict[int, float] = field(default_factory=dict, repr=False)
+    interrupted: bool = False
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], shapes: list[Colliders] | None = None, links: list[Any] | None = None,
@@ -100,6 +102,7 @@ class Run:
         broke = dict(zip(data.get("joint_breaks", []), data.get("joint_break_times", [])))
         ends = {i: float(broke[j]) for i, j in enumerate(link_joints or []) if j is not None and j in broke}
         data["report"] = Report(data["report"])
+        data["interrupted"] = bool(data.get("interrupted", False))
         data["contact_counts"] = np.asarray(data["contact_counts"], dtype=np.int64)
         from ._geometry import normal_links  # noqa: PLC0415
 
@@ -157,7 +160,8 @@ class Run:
                             report=np.array(json.dumps(report)), shapes=np.array(json.dumps(shapes)),
                             links=np.array(json.dumps(self.links)), name=np.array(self.name),
                             looks=np.array(json.dumps([self.names, self.colors])),
-                            link_ends=np.array(json.dumps(sorted(self.link_ends.items()))))
+                            link_ends=np.array(json.dumps(sorted(self.link_ends.items()))),
+                            interrupted=np.array(self.interrupted))
         return path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
 
     @classmethod
@@ -181,9 +185,10 @@ class Run:
             names, colors = json.loads(str(data["looks"])) if "looks" in data else ([], [])
             ends = json.loads(str(data["link_ends"])) if "link_ends" in data else []
             link_ends = {int(i): float(t) for i, t in ends}
+            interrupted = bool(data["interrupted"]) if "interrupted" in data else False
         return cls(**arrays, report=report, particles=particles, bodies=bodies, joint_breaks=breaks, shapes=shapes,
                    links=links, name=name, names=names, colors=[None if c is None else rgba(c) for c in colors],
-                   link_ends=link_ends)
+                   link_ends=link_ends, interrupted=interrupted)
 
     def to_csv(self, path: str | Path) -> Path:
         """Writes the per-frame scalars as CSV, a row a frame: time, kinetic, potential and total energy, momentum

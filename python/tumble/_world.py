@@ -279,24 +279,32 @@ class World(_World):
         self,
         duration: float,
         frame_interval: float | None = None,
-        progress: bool | Callable[[float], None] = False,
+        progress: bool | Callable[[float], None] | None = None,
     ) -> Run:
         """Runs for ``duration`` seconds, recording a frame every ``frame_interval`` (default 1/60 s) and at the end.
 
-        The interpreter lock is released while the world steps. ``progress=True`` shows a progress bar (tqdm if
-        installed); a callable is called with the fraction done (about a hundred times a run, and every 50 ms of
-        work in between). Ctrl-C stops the run within 50 ms of work and restores the world; ``step`` answers it too.
-        Raises SimulationError, leaving the world unchanged, if a step cannot be completed; the frames recorded up
-        to the failure come with it as ``error.run`` (a ``Run``, its report covering the steps taken).
+        The interpreter lock is released while the world steps. ``progress``: None (the default) shows a tqdm bar on
+        a terminal once the run has taken two seconds, with the time left, and nothing in a log; True shows it
+        from the start (plain lines with the time left, where standard error is a log); False nothing; a callable
+        is called with the fraction done (about a hundred times a run, and every 50 ms of work in between). When
+        accurate mode projects more than ten times the simulated time, one line (once a world) says so and names
+        fast mode with its time measured on a copy; the run goes on as asked.
+
+        Ctrl-C (or an exception from the callable) stops the run within 50 ms of work at its last whole frame: the
+        world is left at that frame, so the next ``run`` carries on from it, and the frames done come with the
+        exception as ``error.run`` (a ``Run`` with ``interrupted`` True). ``step`` answers Ctrl-C too, leaving the
+        world as it was. Raises SimulationError, leaving the world unchanged, if a step cannot be completed; the
+        frames recorded up to the failure come with it as ``error.run`` (its report covering the steps taken).
         """
         shown = _progress(progress)
+        hint = shown.write if isinstance(shown, Progress) else None
         try:
-            data = self._run(duration, frame_interval, shown)
-        except SimulationError as error:
+            data = self._run(duration, frame_interval, shown, hint)
+        except BaseException as error:
             partial = getattr(error, "_partial", None)
             if partial is not None:
-                error.run = Run.from_dict(partial, self._body_shapes(), self._links(), looks=looks_of(self),
-                                          link_joints=self._link_joints())
+                error.run = Run.from_dict(partial, self._body_shapes(), self._links(),  # type: ignore[attr-defined]
+                                          looks=looks_of(self), link_joints=self._link_joints())
             raise
         finally:
             if isinstance(shown, Progress):

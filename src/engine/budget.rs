@@ -8,6 +8,8 @@
 //! never what is computed), and a control that answers false (Ctrl-C in Python) stops the call, which the world
 //! then puts back as it was.
 
+use crate::control::Control;
+use crate::world::Pace;
 use std::time::{Duration, Instant};
 use tumble_integrate::OdeError;
 
@@ -21,7 +23,9 @@ pub(crate) struct Budget<'c> {
     t0: f64,
     t_end: f64,
     /// Told the fraction of the span done; false stops the call.
-    control: Option<&'c mut dyn FnMut(f64) -> bool>,
+    control: Option<&'c mut dyn Control>,
+    /// The call's pace, watched at every tell (`world/pace.rs`).
+    pace: Option<Pace<'c>>,
     /// The largest fraction told so far (what the control sees never goes back).
     shown: f64,
     /// Whether the control stopped the call.
@@ -39,6 +43,7 @@ impl<'c> Budget<'c> {
             t0,
             t_end,
             control: None,
+            pace: None,
             shown: 0.0,
             stopped: false,
             told: Instant::now(),
@@ -46,17 +51,33 @@ impl<'c> Budget<'c> {
     }
 
     /// The same, telling `control` how far the call has come at every charge.
-    pub fn with_control(mut self, control: &'c mut dyn FnMut(f64) -> bool) -> Budget<'c> {
+    pub fn with_control(mut self, control: &'c mut dyn Control) -> Budget<'c> {
         self.control = Some(control);
         self
+    }
+
+    /// The same, watching the call's pace and giving the control its line when one is due.
+    pub fn with_pace(mut self, pace: Option<Pace<'c>>) -> Budget<'c> {
+        self.pace = pace;
+        self
+    }
+
+    /// Whether the pace's line was given.
+    pub fn hinted(&self) -> bool {
+        self.pace.as_ref().is_some_and(|p| p.given)
     }
 
     /// Tells the control that `fraction` of the call is done; false (and `stopped`) if it stops the call.
     pub fn tell(&mut self, fraction: f64) -> bool {
         self.shown = self.shown.max(fraction.clamp(0.0, 1.0));
         self.told = Instant::now();
-        let go_on = self.control.as_mut().is_none_or(|c| c(self.shown));
+        let go_on = self.control.as_mut().is_none_or(|c| c.go_on(self.shown));
         self.stopped |= !go_on;
+        if let (Some(pace), Some(control)) = (self.pace.as_mut(), self.control.as_mut()) {
+            if let Some(line) = pace.watch(self.shown) {
+                control.hint(&line);
+            }
+        }
         go_on
     }
 

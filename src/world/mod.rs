@@ -8,13 +8,16 @@ mod build;
 mod contacts;
 mod files;
 mod joints;
+mod interrupt;
 mod materials;
+mod pace;
 mod plan;
 mod state;
 mod stepping;
 mod whole_state;
 
 pub use contacts::ContactInfo;
+pub(crate) use pace::Pace;
 pub use whole_state::WorldState;
 
 use crate::body::{RigidBody, RigidBodyBuilder};
@@ -71,6 +74,8 @@ pub struct World {
     /// How many times the structure or settings changed (each retires the engine): a state's memory applies only
     /// to an engine of the structure it was read from.
     pub(crate) structure: u64,
+    /// Whether a slow call has said so (`pace.rs`: once a world).
+    pub(crate) hinted: bool,
 }
 
 impl Default for World {
@@ -108,6 +113,7 @@ impl World {
             starts: Default::default(),
             stepped: false,
             structure: 0,
+            hinted: false,
         }
     }
 

@@ -4,6 +4,8 @@
 //! exactly as it was.
 
 use super::World;
+use super::Pace;
+use crate::control::Control;
 use crate::engine::{Budget, Engine, EngineSpec};
 use crate::error::WorldError;
 use crate::limits;
@@ -120,10 +122,10 @@ impl World {
         self.step_with(dt, |_| true)
     }
 
-    /// [`step`](World::step), calling `control(fraction_done)` as the work goes (after each contact step,
-    /// fast-mode step or stretch of integrator steps); when it returns false the call stops with
-    /// [`WorldError::Interrupted`] and the world is as it was.
-    pub fn step_with(&mut self, dt: f64, control: impl FnMut(f64) -> bool) -> Result<(), WorldError> {
+    /// [`step`](World::step), telling `control` the fraction done as the work goes (after each contact step,
+    /// fast-mode step or stretch of integrator steps); when it answers false the call stops with
+    /// [`WorldError::Interrupted`] and the world is as it was (a step records no frame to keep).
+    pub fn step_with(&mut self, dt: f64, control: impl Control) -> Result<(), WorldError> {
         limits::positive("dt", dt, limits::TIME, "s")?;
         self.run_loop(dt, "dt", None, control).map(|_| ())
     }
@@ -133,17 +135,15 @@ impl World {
         self.run_with(duration, frame_interval, |_| true)
     }
 
-    /// [`run`](World::run), calling `control(fraction_done)` between chunks of about a hundredth of the frames and
-    /// as the work goes within them (the fraction never goes back); when it returns false the run stops with
-    /// [`WorldError::Interrupted`]. On any error the world is as it was
-    /// before the call. In fast mode `duration` must be a whole number of steps, and each frame is the state of
-    /// the first step that reaches its time (frames closer than a step apart share it, and are recorded once).
-    pub fn run_with(
-        &mut self,
-        duration: f64,
-        frame_interval: f64,
-        control: impl FnMut(f64) -> bool,
-    ) -> Result<Run, WorldError> {
+    /// [`run`](World::run), telling `control` the fraction done between chunks of about a hundredth of the frames
+    /// and as the work goes within them (the fraction never goes back), and giving it the one line a slow accurate
+    /// run says about fast mode ([`Control::hint`]). When it answers false the run stops with
+    /// [`WorldError::Interrupted`]: the frames done are kept ([`take_failed_run`](World::take_failed_run) gives
+    /// them, marked `interrupted`) and the world is at the last of them, so the next call carries on from there. On
+    /// any other error the world is as it was before the call. In fast mode `duration` must be a whole number of
+    /// steps, and each frame is the state of the first step that reaches its time (frames closer than a step apart
+    /// share it, and are recorded once).
+    pub fn run_with(&mut self, duration: f64, frame_interval: f64, control: impl Control) -> Result<Run, WorldError> {
         limits::positive("duration", duration, limits::TIME, "s")?;
         limits::positive("frame_interval", frame_interval, limits::TIME, "s")?;
         let count = (duration / frame_interval * (1.0 + 1e-12)).floor();
@@ -168,12 +168,58 @@ impl World {
         span: f64,
         name: &'static str,
         frame_interval: Option<f64>,
-        mut control: impl FnMut(f64) -> bool,
+        mut control: impl Control,
     ) -> Result<Option<Run>, WorldError> {
         self.failed_run = None;
         let mut run = frame_interval.map(|_| self.new_run());
-        let max_steps = self.settings.max_steps;
-        let e = self.engine()?;
+        self.engine()?;
+        // the engine is held apart for the call, so that the pace's fast-mode estimate can copy the world as the
+        // call found it
+        let mut engine = self.engine.take().expect("built above");
+        let advanced = self.advance_engine(engine.as_mut(), span, name, frame_interval, &mut run, &mut control);
+        self.engine = Some(engine);
+        let outcome = match advanced {
+            Ok((outcome, hinted)) => {
+                self.hinted |= hinted;
+                outcome
+            }
+            Err(err) => return Err(err),
+        };
+        let report = self.book_report();
+        if let Err(err) = outcome {
+            if let Some(e) = &mut self.engine {
+                let t0 = e.time();
+                e.rollback().map_err(|why| engine_fault(t0, why))?;
+            }
+            self.failed_run = run.map(|mut run| {
+                run.report = report;
+                if matches!(err, WorldError::Interrupted) {
+                    self.keep_to_last_frame(&mut run);
+                }
+                run
+            });
+            return Err(err);
+        }
+        self.store_state();
+        self.stepped = true;
+        Ok(run.map(|mut run| {
+            run.report = report;
+            run
+        }))
+    }
+
+    /// Advances `e` (the world's engine, held apart) by `span`: the outcome of the chunks and whether the pace's
+    /// line was given. An error before any step (a bad span) is the outer one, the engine untouched.
+    #[allow(clippy::type_complexity)]
+    fn advance_engine(
+        &self,
+        e: &mut dyn Engine,
+        span: f64,
+        name: &'static str,
+        frame_interval: Option<f64>,
+        run: &mut Option<Run>,
+        control: &mut dyn Control,
+    ) -> Result<(Result<(), WorldError>, bool), WorldError> {
         let t0 = e.time();
         let t_end = e.end_time(span, name)?;
         if !(t_end > t0 && t_end <= limits::TIME) {
@@ -191,9 +237,9 @@ impl World {
         };
         e.checkpoint();
         // One step budget for the whole call, across its chunks (fast mode's calls are bounded by their step
-        // count, checked above), carrying the call's control.
-        let limit = if e.counts_its_steps() { usize::MAX } else { max_steps };
-        let mut budget = Budget::new(limit, t0, t_end).with_control(&mut control);
+        // count, checked above), carrying the call's control and watching its pace.
+        let limit = if e.counts_its_steps() { usize::MAX } else { self.settings.max_steps };
+        let mut budget = Budget::new(limit, t0, t_end).with_control(control).with_pace(Pace::new(self, span));
         // Pause about a hundred times to report progress; pausing does not shorten a step, so the run takes the
         // same steps as one call would.
         let chunk = times.len().div_ceil(100).max(1);
@@ -227,27 +273,12 @@ impl World {
             }
         };
         e.core_mut().report.wall_seconds += clock.elapsed().as_secs_f64();
-        let report = self.book_report();
-        if let Err(err) = outcome {
-            if let Some(e) = &mut self.engine {
-                e.rollback().map_err(|why| engine_fault(t0, why))?;
-            }
-            self.failed_run = run.map(|mut run| {
-                run.report = report;
-                run
-            });
-            return Err(err);
-        }
-        self.store_state();
-        self.stepped = true;
-        Ok(run.map(|mut run| {
-            run.report = report;
-            run
-        }))
+        Ok((outcome, budget.hinted()))
     }
 
-    /// The frames a run recorded before it failed (the world itself is back where that run started), with the
-    /// report of the steps it took; `None` once taken, or if the last run did not fail after recording.
+    /// The frames a run recorded before it failed (the world itself back where that run started) or was
+    /// interrupted (the world at its last frame; the run marked `interrupted`), with the report of the steps it
+    /// took; `None` once taken, or if the last run did not fail after recording.
     pub fn take_failed_run(&mut self) -> Option<Run> {
         self.failed_run.take()
     }
