@@ -7,8 +7,8 @@
 mod build;
 mod contacts;
 mod files;
-mod joints;
 mod interrupt;
+mod joints;
 mod materials;
 mod pace;
 mod plan;

@@ -3,8 +3,8 @@
 //! reporting progress between chunks), book the report, and on failure restore the snapshot so the world is
 //! exactly as it was.
 
-use super::World;
 use super::Pace;
+use super::World;
 use crate::control::Control;
 use crate::engine::{Budget, Engine, EngineSpec};
 use crate::error::WorldError;

@@ -19,6 +19,7 @@ use crate::impulse::BodyVelocity;
 use crate::lcp::SolverSettings;
 use crate::threads::in_parallel_by;
 use nalgebra::Vector3;
+use std::collections::BTreeMap;
 
 /// Settings of one time step.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -241,10 +242,16 @@ impl<'a> VelocityProblem<'a> {
 /// program per island.
 pub fn velocity_step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<VelocityStep, ContactError> {
     problem.check()?;
-    step(problem, settings)
+    step(problem, settings, true)
 }
 
-fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<VelocityStep, ContactError> {
+/// One step; `apart_alone`: islands joined only by contacts apart and unbound are solved apart until an answer
+/// closes such a contact (false joins them from the start: the reference the tests hold the split to).
+fn step(
+    problem: &VelocityProblem<'_>,
+    settings: &StepSettings,
+    apart_alone: bool,
+) -> Result<VelocityStep, ContactError> {
     let VelocityProblem { bodies, contacts, lagged: bounds, bilateral, warm } = *problem;
     check_all(bodies, contacts)?;
     settings.check()?;
@@ -255,8 +262,8 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
     let (mut iterations, mut solver_calls, mut solver_work, mut newton_calls) = (0, 0, 0, 0);
     let mut building_seconds = 0.0;
     let pairs: Vec<(usize, usize)> = bilateral.iter().map(|r| (r.a, r.b)).collect();
-    let groups = crate::islands::joint_islands(bodies, contacts, &pairs);
-    let free = &velocities;
+    let unconstrained = velocities.clone();
+    let free = &unconstrained;
     let solve = |(island, linked): &(Vec<usize>, Vec<usize>)| -> Result<IslandSolution, ContactError> {
         let rows: Vec<&BilateralRow> = linked.iter().map(|&k| &bilateral[k]).collect();
         let lone = if island.len() == 1 && rows.is_empty() {
@@ -272,17 +279,44 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
     // a clarabel call takes tens of microseconds or more: worth a thread from a few dozen contacts
     let size = |(island, linked): &(Vec<usize>, Vec<usize>)| island.len() + linked.len();
     let rows = contacts.len() + bilateral.len();
-    let solved = in_parallel_by(&groups, size, (rows, 32), settings.threads, solve);
-    for ((island, linked), result) in groups.iter().zip(solved) {
-        let sol = result?;
-        solver_calls += usize::from(sol.solved);
-        newton_calls += usize::from(sol.newton);
-        if sol.solved {
-            solver_work += island.len().div_ceil(CONTACTS_A_UNIT);
+    // Islands joined only by contacts still apart, with no friction bound, are solved apart (a row of standing
+    // dominoes, each in reach of the next, is then two hundred small programs, not one of 1200 velocities), and
+    // joined where the answer would close such a contact: an answer that keeps every constraint left out is the
+    // joined program's own (adding a constraint it keeps changes no convex program's optimum).
+    let mut links: Vec<bool> =
+        (0..contacts.len()).map(|i| !apart_alone || !apart_and_unbound(&contacts[i], bounds.map(|b| b[i]))).collect();
+    let mut answers: BTreeMap<(Vec<usize>, Vec<usize>), IslandSolution> = BTreeMap::new();
+    let groups = loop {
+        let (groups, apart) = crate::islands::joint_islands(bodies, contacts, &pairs, &links);
+        let new: Vec<(Vec<usize>, Vec<usize>)> = groups.iter().filter(|g| !answers.contains_key(*g)).cloned().collect();
+        let solved = in_parallel_by(&new, size, (rows, 32), settings.threads, solve);
+        for (group, result) in new.into_iter().zip(solved) {
+            let sol = result?;
+            solver_calls += usize::from(sol.solved);
+            newton_calls += usize::from(sol.newton);
+            if sol.solved {
+                solver_work += group.0.len().div_ceil(CONTACTS_A_UNIT);
+            }
+            iterations += sol.iterations;
+            building_seconds += sol.building_seconds;
+            answers.insert(group, sol);
         }
-        for (k, v) in sol.velocities {
-            velocities[k] = v;
+        for group in &groups {
+            for &(k, v) in &answers[group].velocities {
+                velocities[k] = v;
+            }
         }
+        let closed: Vec<usize> =
+            apart.into_iter().filter(|&i| closes(&contacts[i], bodies, &velocities, settings)).collect();
+        if closed.is_empty() {
+            break groups;
+        }
+        closed.into_iter().for_each(|i| links[i] = true);
+        velocities.clone_from(&unconstrained);
+    };
+    for group in &groups {
+        let (island, linked) = group;
+        let sol = &answers[group];
         for (slot, &i) in island.iter().enumerate() {
             normal_impulses[i] = sol.normal[slot];
             friction_impulses[i] = sol.friction[slot];
@@ -290,8 +324,6 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
         for (&k, &p) in linked.iter().zip(&sol.joints) {
             joint_impulses[k] = p;
         }
-        iterations += sol.iterations;
-        building_seconds += sol.building_seconds;
     }
     let islands = groups.len();
     Ok(VelocityStep {
@@ -306,6 +338,20 @@ fn step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<Veloci
         solver_work,
         building_seconds,
     })
+}
+
+/// Whether a contact may be left out of the programs until an answer closes it: apart (a positive gap) with no
+/// friction bound (`bound`, its lagged normal impulse: none, or none pushing), so that left out it changes nothing.
+fn apart_and_unbound(c: &Contact, bound: Option<f64>) -> bool {
+    c.distance > 0.0 && (c.friction == 0.0 || bound.is_some_and(|b| b == 0.0))
+}
+
+/// Whether velocities `v` close contact `c` past its constraint (its normal velocity below minus its bias, beyond
+/// the solver's own tolerance of the step's velocity scale, as `untouched` judges an island without a solve).
+fn closes(c: &Contact, bodies: &[BodyState], v: &[BodyVelocity], s: &StepSettings) -> bool {
+    let point = |k: usize| v[k].linear + v[k].angular.cross(&(c.point - bodies[k].position));
+    let closing = -(c.normal.dot(&(point(c.b) - point(c.a))) + bias(c, bodies, s));
+    closing > s.solver.complementarity_tolerance * s.velocity_scale
 }
 
 /// The closed form for one particle touching something static, frictionless or with lagged friction: the normal
@@ -355,4 +401,76 @@ fn lone_particle(
         building_seconds: 0.0,
         joints: Vec::new(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix3, Point3, Unit};
+
+    /// A seeded uniform number in [0, 1).
+    fn uniform(state: &mut u64) -> f64 {
+        *state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (*state >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn islands_solved_apart_give_the_joined_programs_answer() {
+        // Seeded rows of boxes on a floor (random masses 0.1-10 kg, sizes, spins, speeds toward or away from their
+        // neighbours, gaps 0-5 mm, friction 0-1, lagged floor bounds): each box's contacts with the next are apart
+        // and unbound, so the split solves the boxes apart and joins them where an answer would close a gap. The
+        // joined program's velocities are unique (its objective is strictly convex in them): the split's must equal
+        // them to the solver's accuracy (its residual tolerance of the step's velocity scale; 1e-6 of the largest
+        // speed allows the two answers' own errors).
+        let (mut split_somewhere, mut joined_somewhere) = (false, false);
+        for seed in 0..60u64 {
+            let mut r = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0xD1B5;
+            let h = 1.0 / 240.0;
+            let n = 2 + (uniform(&mut r) * 6.0) as usize;
+            let mut bodies = vec![BodyState::fixed(Point3::origin())];
+            let mut contacts = Vec::new();
+            let mut bounds = Vec::new();
+            let mut x = 0.0;
+            for k in 0..n {
+                let (m, half) = (0.1 + 9.9 * uniform(&mut r), 0.05 + 0.1 * uniform(&mut r));
+                let inertia = Matrix3::identity() * (m * half * half * 2.0 / 3.0);
+                let speed = 2.0 * (uniform(&mut r) - 0.5);
+                let mut b = BodyState::rigid(m, inertia, Point3::new(x + half, 0.0, half));
+                b.velocity = Vector3::new(speed, 0.0, -0.01 * uniform(&mut r));
+                b.angular_velocity = Vector3::new(0.0, 2.0 * (uniform(&mut r) - 0.5), 0.0);
+                b.force = Vector3::new(0.0, 0.0, -9.81 * m);
+                let mu = uniform(&mut r);
+                for dy in [-half, half] {
+                    let point = Point3::new(x + half, dy, 0.0);
+                    contacts.push(Contact::new(0, k + 1, point, Unit::new_normalize(Vector3::z())).with_friction(mu));
+                    bounds.push(9.81 * m * h * 0.5);
+                }
+                if k + 1 < n {
+                    let gap = 0.005 * uniform(&mut r);
+                    let point = Point3::new(x + 2.0 * half, 0.0, half);
+                    let c = Contact {
+                        distance: gap,
+                        ..Contact::new(k + 1, k + 2, point, Unit::new_normalize(Vector3::x()))
+                    };
+                    contacts.push(c.with_friction(mu));
+                    bounds.push(0.0);
+                }
+                x += 2.0 * half + 0.005 * uniform(&mut r);
+                bodies.push(b);
+            }
+            // the gaps are the contacts' own: x above only spaces the boxes for the points
+            let problem = VelocityProblem::new(&bodies, &contacts).lagged(&bounds);
+            let settings = StepSettings { threads: 1, ..StepSettings::new(h) };
+            let split = step(&problem, &settings, true).unwrap();
+            let joined = step(&problem, &settings, false).unwrap();
+            let scale = bodies.iter().map(|b| b.velocity.norm() + 9.81 * h).fold(0.0, f64::max);
+            for (k, (a, b)) in split.velocities.iter().zip(&joined.velocities).enumerate() {
+                let d = (a.linear - b.linear).norm() + (a.angular - b.angular).norm() * 0.15;
+                assert!(d <= 1e-6 * scale, "seed {seed}, body {k}: {d:e} of {scale:e}");
+            }
+            split_somewhere |= split.islands > joined.islands;
+            joined_somewhere |= split.islands < n && joined.islands == 1;
+        }
+        assert!(split_somewhere && joined_somewhere, "some rows solve apart, and some join where a gap closes");
+    }
 }

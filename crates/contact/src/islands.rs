@@ -47,26 +47,40 @@ pub fn islands(bodies: &[BodyState], contacts: &[Contact]) -> Vec<Vec<usize>> {
     out
 }
 
-/// Islands of contacts and joints together: bodies joined by either are one island. Each island lists its
-/// contacts and its joints (`pairs`, the joints' bodies), each in their original order; islands come in the order
-/// of their first contact, then of their first joint.
+/// Islands of contacts and joints: bodies joined by a joint, or by a contact that `links`, are one island. Each
+/// island lists its contacts and its joints (`pairs`, the joints' bodies), each in their original order; islands
+/// come in the order of their first contact, then of their first joint. A contact that does not link goes with the
+/// island of its bodies where both are in one (or one does not move), and is set aside (the second list) otherwise.
 #[cfg(feature = "clarabel")]
 pub(crate) fn joint_islands(
     bodies: &[BodyState],
     contacts: &[Contact],
     pairs: &[(usize, usize)],
-) -> Vec<(Vec<usize>, Vec<usize>)> {
+    link: &[bool],
+) -> (Vec<(Vec<usize>, Vec<usize>)>, Vec<usize>) {
+    let moves = |b: usize| bodies[b].is_dynamic();
+    let linking = contacts.iter().zip(link).filter(|(_, &l)| l).map(|(c, _)| (c.a, c.b));
+    let mut uf = joined(bodies.len(), &moves, linking.chain(pairs.iter().copied()));
+    let mut numbering = Numbering::new(bodies.len());
+    let (mut out, mut apart) = (Vec::<(Vec<usize>, Vec<usize>)>::new(), Vec::new());
     let ends = contacts.iter().map(|c| (c.a, c.b)).chain(pairs.iter().copied());
-    let (of_link, count) = link_islands(bodies.len(), |b| bodies[b].is_dynamic(), ends);
-    let mut out = vec![(Vec::new(), Vec::new()); count];
-    for (i, &k) in of_link.iter().enumerate() {
+    for (i, (a, b)) in ends.enumerate() {
+        let root = uf.find(if moves(a) { a } else { b });
+        if i < contacts.len() && moves(a) && moves(b) && uf.find(b) != root {
+            apart.push(i);
+            continue;
+        }
+        let k = numbering.of(root);
+        if k == out.len() {
+            out.push((Vec::new(), Vec::new()));
+        }
         if i < contacts.len() {
             out[k].0.push(i);
         } else {
             out[k].1.push(i - contacts.len());
         }
     }
-    out
+    (out, apart)
 }
 
 /// The union-find of `bodies` joined by `links`, only moving bodies (`moves`) joining.
