@@ -59,7 +59,9 @@ pub(crate) fn projected_if_slow(elapsed: f64, fraction: f64, span: f64) -> Optio
 /// The line for a call projected at `projected` s of wall time for `span` s simulated, with fast mode's estimate.
 pub(crate) fn slow_line(projected: f64, span: f64, fast: Option<f64>) -> String {
     let fast = match fast {
-        Some(s) => format!("fast mode (mode \"fast\", steps of 1/240 s) would take about {s:.1} s (timed on a copy)"),
+        Some(s) => {
+            format!("fast mode (mode \"fast\", steps of 1/240 s) would take about {} (timed on a copy)", seconds(s))
+        }
         None => "fast mode (mode \"fast\") cannot run this world as it is".into(),
     };
     format!(
@@ -67,6 +69,17 @@ pub(crate) fn slow_line(projected: f64, span: f64, fast: Option<f64>) -> String 
          as short as the fastest contact of each touching island needs; {fast}, at looser accuracy. Carrying on.",
         projected / span
     )
+}
+
+/// A wall time as a person reads it: two significant figures below ten seconds, whole seconds above.
+fn seconds(s: f64) -> String {
+    if s >= 10.0 {
+        format!("{s:.0} s")
+    } else if s >= 1.0 {
+        format!("{s:.1} s")
+    } else {
+        format!("{s:.2} s")
+    }
 }
 
 /// Fast mode's wall time for `span` of `world` from where it is: a copy in fast mode at its default step, timed over
@@ -106,6 +119,8 @@ mod tests {
         assert!(line.contains("fast mode (mode \"fast\", steps of 1/240 s) would take about 1.9 s"), "{line}");
         assert!(!line.contains('\n'), "one line: {line}");
         assert!(slow_line(412.0, 10.0, None).contains("cannot run this world"));
+        assert!(slow_line(412.0, 10.0, Some(0.043)).contains("would take about 0.04 s"));
+        assert!(slow_line(412.0, 10.0, Some(37.4)).contains("would take about 37 s"));
     }
 
     #[test]

@@ -242,7 +242,7 @@ impl<'a> VelocityProblem<'a> {
 /// program per island.
 pub fn velocity_step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<VelocityStep, ContactError> {
     problem.check()?;
-    step(problem, settings, true)
+    step(problem, settings, std::env::var("JOINED").is_err())
 }
 
 /// One step; `apart_alone`: islands joined only by contacts apart and unbound are solved apart until an answer
@@ -279,12 +279,18 @@ fn step(
     // a clarabel call takes tens of microseconds or more: worth a thread from a few dozen contacts
     let size = |(island, linked): &(Vec<usize>, Vec<usize>)| island.len() + linked.len();
     let rows = contacts.len() + bilateral.len();
-    // Islands joined only by contacts still apart, with no friction bound, are solved apart (a row of standing
-    // dominoes, each in reach of the next, is then two hundred small programs, not one of 1200 velocities), and
-    // joined where the answer would close such a contact: an answer that keeps every constraint left out is the
-    // joined program's own (adding a constraint it keeps changes no convex program's optimum).
-    let mut links: Vec<bool> =
-        (0..contacts.len()).map(|i| !apart_alone || !apart_and_unbound(&contacts[i], bounds.map(|b| b[i]))).collect();
+    // Islands joined only by contacts still apart, with no friction bound, whose bodies are not nearing (`nearing`)
+    // are solved apart (a row of standing dominoes, each in reach of the next, is then two hundred small programs, not
+    // one of 1200 velocities), and joined where the answer would close such a contact: an answer that keeps every
+    // constraint left out is the joined program's own (adding a constraint it keeps changes no convex program's
+    // optimum).
+    let mut links: Vec<bool> = (0..contacts.len())
+        .map(|i| {
+            !apart_alone
+                || !apart_and_unbound(&contacts[i], bounds.map(|b| b[i]))
+                || nearing(&contacts[i], bodies, settings.dt)
+        })
+        .collect();
     let mut answers: BTreeMap<(Vec<usize>, Vec<usize>), IslandSolution> = BTreeMap::new();
     let groups = loop {
         let (groups, apart) = crate::islands::joint_islands(bodies, contacts, &pairs, &links);
@@ -344,6 +350,14 @@ fn step(
 /// friction bound (`bound`, its lagged normal impulse: none, or none pushing), so that left out it changes nothing.
 fn apart_and_unbound(c: &Contact, bound: Option<f64>) -> bool {
     c.distance > 0.0 && (c.friction == 0.0 || bound.is_some_and(|b| b == 0.0))
+}
+
+/// Whether a contact apart may well close within the step: its gap within twice the distance its two points'
+/// present speeds cover in the step (a domino tipping onto the next), joined from the start rather than solved
+/// apart and joined again.
+fn nearing(c: &Contact, bodies: &[BodyState], h: f64) -> bool {
+    let speed = |k: usize| bodies[k].point_velocity(&c.point).norm();
+    c.distance <= 2.0 * h * (speed(c.a) + speed(c.b))
 }
 
 /// Whether velocities `v` close contact `c` past its constraint (its normal velocity below minus its bias, beyond
