@@ -45,6 +45,8 @@ mod energy_guard;
 #[cfg(feature = "contact")]
 mod free_flight;
 #[cfg(feature = "contact")]
+mod held;
+#[cfg(feature = "contact")]
 mod impact;
 mod integration;
 mod joint_forces;

@@ -5,7 +5,8 @@
 //! solve, and contacts among them are not even kept), held still in free flight, and a world with nothing awake
 //! advances its clock alone. An island wakes, whole, when an awake actor comes within a step's reach of one of its
 //! actors; every island wakes when the state is set (a push, an edit) or a material changes. What sleeps is part of
-//! the engine's memory, so a saved and loaded world sleeps and wakes with the same bits.
+//! the engine's memory, so a saved and loaded world sleeps and wakes with the same bits. Actors at rest inside an
+//! island that still moves are held one by one (`held.rs`).
 
 use crate::engine::found_contact::FoundContact;
 use crate::model::layout::get3;
@@ -21,6 +22,10 @@ pub(crate) struct Sleep {
     pub calm_since: Vec<(usize, f64)>,
     /// The islands asleep, each its actors in increasing order, the islands in the order they fell asleep.
     pub islands: Vec<Vec<usize>>,
+    /// The actors held inside moving islands (`held.rs`), in increasing order. (Absent from files written before
+    /// actors were held: none.)
+    #[serde(default)]
+    pub held: Vec<usize>,
 }
 
 impl Sleep {
@@ -28,11 +33,18 @@ impl Sleep {
     pub fn fits(&self, actors: usize) -> bool {
         self.calm_since.iter().all(|(a, t)| *a < actors && t.is_finite())
             && self.islands.iter().flatten().all(|a| *a < actors)
+            && self.held.windows(2).all(|w| w[0] < w[1])
+            && self.held.iter().all(|a| *a < actors)
     }
 
-    /// Actors asleep.
+    /// Actors asleep or held.
     pub fn count(&self) -> usize {
-        self.islands.iter().map(Vec::len).sum()
+        self.islands.iter().map(Vec::len).sum::<usize>() + self.held.len()
+    }
+
+    /// The actors asleep or held.
+    fn resting(&self) -> impl Iterator<Item = usize> + '_ {
+        self.islands.iter().flatten().copied().chain(self.held.iter().copied())
     }
 
     /// Whether `actor` sleeps.
@@ -44,31 +56,32 @@ impl Sleep {
     pub fn wake_all(&mut self) {
         self.islands.clear();
         self.calm_since.clear();
+        self.held.clear();
     }
 
-    /// The sleeping actors made fixed bodies at rest in the contact steps' view of the actors.
+    /// The sleeping and held actors made fixed bodies at rest in the contact steps' view of the actors.
     pub fn hold(&self, states: &mut [BodyState]) {
-        for &a in self.islands.iter().flatten() {
+        for a in self.resting() {
             let s = &mut states[a];
             *s = BodyState::fixed(s.position);
         }
     }
 
-    /// Marks the sleeping actors as held (`involved`, in free flight's sense).
+    /// Marks the sleeping and held actors as held (`involved`, in free flight's sense).
     pub fn mark(&self, involved: &mut [bool]) {
-        for &a in self.islands.iter().flatten() {
+        for a in self.resting() {
             involved[a] = true;
         }
     }
 
     /// Wakes each island one of whose actors is in a contact of `found` with an awake moving actor (`actors` of
-    /// them); whether any woke.
+    /// them; a held actor is not awake, and is woken by its loads, not by touch); whether any woke.
     pub fn wake_touched(&mut self, found: &[FoundContact], actors: usize) -> bool {
         let mut woke = false;
         for f in found {
             let (a, b) = (f.contact.a, f.contact.b);
             for (sleeper, other) in [(a, b), (b, a)] {
-                if other < actors && !self.asleep(other) {
+                if other < actors && !self.asleep(other) && !self.is_held(other) {
                     if let Some(k) = self.islands.iter().position(|i| i.binary_search(&sleeper).is_ok()) {
                         for actor in self.islands.remove(k) {
                             self.calm_since.retain(|(x, _)| *x != actor);
@@ -81,10 +94,10 @@ impl Sleep {
         woke
     }
 
-    /// After a step accepted at time t with the contacts `found` and `links` (springs and joints between actors):
-    /// brings each touching actor's calm time up to date from its speed in y, and puts to sleep, with their
-    /// velocities zeroed in y, the islands whose actors have all been calm for `sleep_time`. Whether any fell
-    /// asleep.
+    /// After a step accepted at time t with the contacts `found` and `links` (springs and joints between actors): brings each touching actor's calm time up to date from its speed in y,
+    /// puts to sleep, with their velocities zeroed in y, the islands whose actors have all been calm for
+    /// `sleep_time`, and holds (`held.rs`) the actors calm that long in the islands that still move. Whether any
+    /// fell asleep or was held.
     pub fn settle(
         &mut self,
         model: &Model,
@@ -96,7 +109,7 @@ impl Sleep {
     ) -> bool {
         let l = model.layout;
         let actors = l.particles + l.bodies;
-        let touching = |a: usize| a < actors && !self.asleep(a);
+        let touching = |a: usize| a < actors && !self.asleep(a) && !self.is_held(a);
         // union-find over the awake touching actors
         let mut parent: Vec<usize> = (0..actors).collect();
         fn root(parent: &mut [usize], mut a: usize) -> usize {
@@ -148,6 +161,7 @@ impl Sleep {
             islands[slot[r]].push(a);
         }
         let mut fell = false;
+        let mut holding = Vec::new();
         for island in islands {
             let r = root(&mut parent, island[0]);
             let calm = |a: &usize| self.calm_since.iter().any(|(x, since)| x == a && t - since >= sleep_time);
@@ -158,15 +172,24 @@ impl Sleep {
                 self.calm_since.retain(|(x, _)| island.binary_search(x).is_err());
                 self.islands.push(island);
                 fell = true;
+            } else {
+                holding.extend(island.iter().copied().filter(calm));
             }
         }
+        // the calm actors of islands that still move are held
+        for &a in &holding {
+            self.hold_actor(a);
+            zero_velocity(model, y, a);
+            fell = true;
+        }
+        self.calm_since.retain(|(x, _)| !holding.contains(x));
         fell
     }
 }
 
 /// The fastest an actor's points move in state y (m/s): its centre's speed, plus for a body its angular momentum's
 /// share at the radius of gyration (|L| / (m r)).
-fn speed(model: &Model, y: &[f64], a: usize) -> f64 {
+pub(super) fn speed(model: &Model, y: &[f64], a: usize) -> f64 {
     let l = model.layout;
     if a < l.particles {
         return get3(y, l.pv(a)).norm();

@@ -27,6 +27,7 @@ use super::drift::correct_drift;
 use super::energy_guard::Guarded;
 use super::failure;
 use super::free_flight::{copy_free, free_flight, links, FreeFlight};
+use super::held::set_moving;
 use super::late_sink::{deepest, sunk_step, LATE_SINK};
 use super::sleep::Sleep;
 use super::slide_limit::slide_limit;
@@ -210,6 +211,10 @@ pub fn touching_steps(
             // Linearised contacts of turning bodies sink a little each step; past the tolerance, the bodies are
             // moved apart by the smallest position change, the energy it gives each body taken from its motion.
             let sunk: Vec<_> = found.iter().filter(|f| f.contact.distance < 0.0).map(|f| f.contact).collect();
+            // a held actor sunk into is no longer resting: it moves apart with the others
+            if phase.sleep.release(sunk.iter().flat_map(|c| [c.a, c.b])) {
+                states = held(system, &statics, t, &y, &phase.sleep)?;
+            }
             cx.report.qp_solves += correct_drift(&system.model, &mut y, &states, &sunk, cx.solver, t)?;
             cx.report.stages.mark(crate::plan::Stage::Impulses);
             states = actors_with_forces(system, &statics, t, &y)?;
@@ -250,6 +255,15 @@ pub fn touching_steps(
                 continue;
             }
         };
+        // a held actor the step's awake actors would set moving wakes, and the step is taken again with it moving
+        // (`held.rs`)
+        if !phase.sleep.held.is_empty() {
+            let moving = set_moving(cx, system, &statics, &phase, &found, &kept.whole.wrenches, (t, &y))?;
+            if phase.sleep.release(moving.into_iter()) {
+                cx.report.contact_rejected += 1;
+                continue;
+            }
+        }
         if let Some(index) = kept.y.iter().position(|v| !v.is_finite()) {
             break Err(OdeError::NonFinite { t: t + h, what: "state after a contact step", index });
         }
