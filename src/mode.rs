@@ -86,6 +86,11 @@ pub struct AccurateSettings {
     /// The contact steps' solver; the Newton method by default.
     #[serde(default)]
     pub solver: AccurateSolver,
+    /// Whether groups of actors that cannot meet before the next frame go on their own clocks
+    /// (`engine/accurate/clocks.rs`; worlds of up to 64 actors without joints); true by default. False keeps one
+    /// clock for every actor (the reference the own clocks are tested against).
+    #[serde(default = "yes")]
+    pub island_clocks: bool,
 }
 
 fn yes() -> bool {
@@ -141,6 +146,7 @@ impl Default for AccurateSettings {
             sleep: true,
             sleep_time: 0.5,
             solver: AccurateSolver::Newton,
+            island_clocks: true,
         }
     }
 }

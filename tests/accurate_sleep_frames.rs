@@ -1,5 +1,5 @@
 //! Accurate mode's frames and sleep: recording frames never changes the physics (the same final bits with frames
-//! every 1/30, 1/60 and 1/240 s and with none, on contact scenes and in free flight), and a pile falls asleep,
+//! every 1/30, 1/60 and 1/240 s and with none, on contact scenes, islands on their own clocks and in free flight), and a pile falls asleep,
 //! costs no contact step while asleep, wakes when a body is dropped on it, with the same bits on one and two
 //! threads and across a save and load.
 
@@ -22,6 +22,22 @@ fn final_bits(mut w: World, span: f64, interval: Option<f64>) -> Vec<u64> {
     state_bits(&w)
 }
 
+/// `n` spinning boxes dropped 2 m apart from slightly different heights (each a group on its own clock).
+fn boxes_apart(n: usize) -> World {
+    let mut w = World::new();
+    w.add_ground(0.0, tumble::Material { restitution: 0.3, friction: 0.5 }).unwrap();
+    for k in 0..n {
+        let at = Vector3::new(2.0 * (k % 4) as f64, 2.0 * (k / 4) as f64, 0.5 + 0.01 * (k % 7) as f64);
+        w.add_body(
+            RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::repeat(0.1)).unwrap(), 500.0)
+                .position(at)
+                .angular_velocity(Vector3::new(0.3 * (k % 5) as f64, 0.2, 0.1)),
+        )
+        .unwrap();
+    }
+    w
+}
+
 #[test]
 fn frames_do_not_change_the_final_state() {
     let scenes: Vec<(&str, Box<dyn Fn() -> World>, f64)> = vec![
@@ -29,6 +45,7 @@ fn frames_do_not_change_the_final_state() {
         ("roll", Box::new(|| Benchmark::Roll.build().unwrap().0), 0.5),
         ("dominoes", Box::new(|| Benchmark::DominoRow.build().unwrap().0), 0.6),
         ("bouncing ball", Box::new(|| BouncingBall::default().build().unwrap().0), 1.5),
+        ("ten boxes apart, on their own clocks", Box::new(|| boxes_apart(10)), 1.2),
     ];
     for (name, build, span) in scenes {
         let plain = final_bits(build(), span, None);

@@ -149,6 +149,11 @@ impl ColliderSet {
         }
     }
 
+    /// The actor index (as `index` gives it) of collider `c`, if there is one.
+    pub fn actor_of_collider(&self, c: usize) -> Option<usize> {
+        self.colliders.get(c).map(|c| self.index(c.actor))
+    }
+
     /// Number of actors.
     pub fn actors(&self) -> usize {
         self.layout.particles + self.layout.bodies + self.static_poses.len()

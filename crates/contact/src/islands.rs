@@ -130,7 +130,7 @@ pub(crate) fn link_islands(
 
 /// Each moving body's island among `bodies` joined by `links` (the islands numbered from zero in the order of their
 /// first body), `usize::MAX` for a body that does not move; and how many islands there are.
-pub(crate) fn body_islands(
+pub fn body_islands(
     bodies: usize,
     moves: impl Fn(usize) -> bool,
     links: impl Iterator<Item = (usize, usize)>,

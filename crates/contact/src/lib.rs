@@ -74,7 +74,7 @@ pub use friction::{
     free_velocity, velocity_step, BilateralKind, BilateralRow, StepMethod, StepSettings, VelocityProblem, VelocityStep,
 };
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
-pub use islands::islands;
+pub use islands::{body_islands, islands};
 pub use joint::{
     across, delassus, factor, joint_rows, BoundedSolve, Joint, JointFrame, JointImpulse, JointKind, JointMotor,
     JointRow, JointSpring, RowKind, RowPart, MAX_ROWS,

@@ -42,7 +42,7 @@ impl AccurateEngine {
                 if let Some(phase) = stages.memory.touching.as_mut() {
                     // the phase goes on from where it got to; the integrator's state is set only when it ends
                     let start = phase.at.take().unwrap_or_else(|| (integrator.time(), integrator.state().to_vec()));
-                    let until = touching::Until { end: t_end, pause };
+                    let until = touching::Until { end: t_end, pause, one_clock: false };
                     let end = touching::touching_steps(
                         &mut stages,
                         system,

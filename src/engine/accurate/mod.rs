@@ -27,6 +27,8 @@
 mod advance;
 mod breaking;
 #[cfg(feature = "contact")]
+mod clocks;
+#[cfg(feature = "contact")]
 mod collision_time;
 #[cfg(feature = "contact")]
 mod contact_memory;

@@ -20,8 +20,9 @@
 //! ends when no pair is within reach of a step and nothing sleeps: the integrator's state is set then, and it takes
 //! over (`advance.rs`).
 
+use super::clocks::{advance_groups, clock_groups, next_sync, sync_due};
 use super::contact_stages::ContactStages;
-use super::convex_step::{actors_with_forces, every_contact_in_reach, ConvexStep};
+use super::convex_step::{every_contact_in_reach, ConvexStep};
 use super::doubled_step::{doubled_step, held};
 use super::drift::correct_drift;
 use super::energy_guard::Guarded;
@@ -70,6 +71,18 @@ pub(crate) struct TouchingPhase {
     /// (Absent from files written before the phase kept it: the integrator's state is the phase's.)
     #[serde(default)]
     pub at: Option<(f64, Vec<f64>)>,
+    /// Each group's step size where the actors are advanced in groups on their own clocks (`clocks.rs`), by the
+    /// group's first actor. (Absent from files written before: one clock.)
+    #[serde(default)]
+    pub clocks: BTreeMap<usize, f64>,
+    /// When the groups were last looked for (`clocks.rs`: once a sync period, at the first step past each sync
+    /// time).
+    #[serde(default = "never")]
+    pub synced: f64,
+}
+
+fn never() -> f64 {
+    f64::NEG_INFINITY
 }
 
 impl TouchingPhase {
@@ -87,6 +100,7 @@ impl TouchingPhase {
                 .as_ref()
                 .is_none_or(|(h, d)| *h > 0.0 && d.len() == dim && d.iter().all(|x| x.is_finite()))
             && self.at.as_ref().is_none_or(|(t, y)| t.is_finite() && y.len() == dim && y.iter().all(|x| x.is_finite()))
+            && self.clocks.iter().all(|(&a, &h)| a < actors && h > 0.0 && h.is_finite())
     }
 }
 
@@ -99,6 +113,8 @@ pub(crate) struct TouchingEnd {
     pub y: Vec<f64>,
     /// Whether the bodies still touch (the advance reached its end); false when they parted.
     pub touching: bool,
+    /// A group's advance's frames (`Until::one_clock`): each frame time reached and the state there.
+    pub frames: Vec<(f64, Vec<f64>)>,
 }
 
 /// Enters the touching phase with a first step from the tolerance: the time to fall the tolerance, sqrt(2 tol
@@ -117,6 +133,8 @@ pub fn start_touching(cx: &mut ContactStages<'_>) {
         sleep: Sleep::default(),
         warm: BTreeMap::new(),
         at: None,
+        clocks: BTreeMap::new(),
+        synced: f64::NEG_INFINITY,
     });
 }
 
@@ -130,6 +148,10 @@ fn min_step(t: f64) -> f64 {
 pub(crate) struct Until {
     pub end: f64,
     pub pause: f64,
+    /// Whether every actor keeps one clock (a group's own advance, `clocks.rs`, which gives back its frames'
+    /// states instead of recording them); otherwise groups that cannot meet before the next sync time each go on
+    /// their own.
+    pub one_clock: bool,
 }
 
 /// A contact step that was kept: the state it ends in and what the phase carries on from it.
@@ -165,10 +187,13 @@ pub fn touching_steps(
     let sleeping = (cx.memory.scales.resting_speed, cx.settings.sleep_time);
     // whether the step being tried was cut at a stop
     let mut located = false;
+    let mut kept_frames = Vec::new();
     let result = loop {
         // (each frame at its own time: while everything sleeps the clock jumps past several frames at once)
         while let Some(s) = frames.reached(t) {
-            if let Some(run) = run.as_deref_mut() {
+            if until.one_clock {
+                kept_frames.push((s, y.clone()));
+            } else if let Some(run) = run.as_deref_mut() {
                 let contacts = phase.last.iter().map(|c| (c.point, c.normal));
                 run.record(&system.model, s, &y, cx.memory.penetration, contacts);
             }
@@ -176,6 +201,31 @@ pub fn touching_steps(
         }
         if t >= until.pause.min(until.end) - frames.slack() {
             break Ok(true);
+        }
+        // groups that cannot meet before the next sync time go on their own clocks to it (`clocks.rs`)
+        if !until.one_clock && cx.settings.island_clocks && !system.model.has_joints() && sync_due(&mut phase, t) {
+            let meet = next_sync(t).min(until.end);
+            let span = (t, y.as_slice(), meet - t);
+            if meet > t + frames.slack() {
+                if let Some(groups) = clock_groups(cx, system, &statics, &phase.sleep, span)? {
+                    let inside = frames.rest().partition_point(|&s| s < meet - frames.slack());
+                    let times = &frames.rest()[..inside];
+                    let window = (t, y.as_slice(), meet);
+                    let grouped = advance_groups(cx, system, &mut phase, &groups, &statics, window, times, budget)?;
+                    // (groups that met after all: the span is taken on one clock)
+                    if let Some((next, states)) = grouped {
+                        for (s, state) in states {
+                            if let Some(run) = run.as_deref_mut() {
+                                let contacts = phase.last.iter().map(|c| (c.point, c.normal));
+                                run.record(&system.model, s, &state, cx.memory.penetration, contacts);
+                            }
+                            frames.advance();
+                        }
+                        (y, t) = (next, meet);
+                        continue;
+                    }
+                }
+            }
         }
         // frames do not steer the steps: only the end of the advance cuts one
         let h = phase.h.min(until.end - t);
@@ -217,7 +267,7 @@ pub fn touching_steps(
             }
             cx.report.qp_solves += correct_drift(&system.model, &mut y, &states, &sunk, cx.solver, t)?;
             cx.report.stages.mark(crate::plan::Stage::Impulses);
-            states = actors_with_forces(system, &statics, t, &y)?;
+            states = held(system, &statics, t, &y, &phase.sleep)?;
             (found, every) = every_contact_in_reach(cx, &system.model, &states, &y, t, h)?;
         }
         cx.report.max_penetration = cx.report.max_penetration.max(cx.memory.penetration);
@@ -278,7 +328,9 @@ pub fn touching_steps(
         t = if h == until.end - t { until.end } else { t + h };
         // frames inside the step from the step's own interpolation (`interpolate`); a frame at its end is its state
         while let Some(s) = frames.inside(t) {
-            if let Some(run) = run.as_deref_mut() {
+            if until.one_clock {
+                kept_frames.push((s, interpolate(&system.model, &y0, &y, (s - t0) / (t - t0))));
+            } else if let Some(run) = run.as_deref_mut() {
                 let frame = interpolate(&system.model, &y0, &y, (s - t0) / (t - t0));
                 let contacts = phase.last.iter().map(|c| (c.point, c.normal));
                 run.record(&system.model, s, &frame, cx.memory.penetration, contacts);
@@ -316,7 +368,7 @@ pub fn touching_steps(
             if touching {
                 cx.memory.touching = Some(phase);
             }
-            Ok(TouchingEnd { t, y, touching })
+            Ok(TouchingEnd { t, y, touching, frames: kept_frames })
         }
         Err(e) => {
             cx.memory.touching = Some(phase);
