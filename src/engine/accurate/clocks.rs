@@ -18,6 +18,7 @@ use super::system::AccurateSystem;
 use super::touching::{touching_steps, TouchingPhase, Until};
 use crate::engine::frames::FrameCursor;
 use crate::engine::Budget;
+use crate::run::Run;
 use std::collections::BTreeMap;
 use tumble_integrate::OdeError;
 
@@ -33,7 +34,7 @@ const MAX_ACTORS: usize = 64;
 const SYNC: f64 = 1.0 / 60.0;
 
 /// The first sync time after t.
-pub(super) fn next_sync(t: f64) -> f64 {
+fn next_sync(t: f64) -> f64 {
     let next = ((t / SYNC).floor() + 1.0) * SYNC;
     if next > t {
         next
@@ -55,7 +56,7 @@ pub(super) fn sync_due(phase: &mut TouchingPhase, t: f64) -> bool {
 /// The groups of actors that cannot meet over [t, t + span] and have awake actors, each its actors in increasing
 /// order, the groups in the order of their first actor (actors in no pair and awake join the first group); None
 /// unless there are two or more, and at most `MAX_CLOCKS` of them among at most `MAX_ACTORS` actors.
-pub(super) fn clock_groups(
+fn clock_groups(
     cx: &mut ContactStages<'_>,
     system: &mut AccurateSystem,
     statics: &[nalgebra::Isometry3<f64>],
@@ -100,13 +101,47 @@ pub(super) fn clock_groups(
     Ok(Some(groups))
 }
 
+/// The touching phase's span on own clocks from (t, y) to the next sync time (at most `end`), if the actors split into
+/// groups (`clock_groups`) that stay apart: the time and state reached, each frame inside recorded into `run` from
+/// its groups' own steps; None where one clock takes the span (one group, or groups that met after all).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn own_clocks(
+    cx: &mut ContactStages<'_>,
+    system: &mut AccurateSystem,
+    statics: &[nalgebra::Isometry3<f64>],
+    phase: &mut TouchingPhase,
+    (t, y, end): (f64, &[f64], f64),
+    frames: &mut FrameCursor<'_>,
+    mut run: Option<&mut Run>,
+    budget: &mut Budget<'_>,
+) -> Result<Option<(f64, Vec<f64>)>, OdeError> {
+    let meet = next_sync(t).min(end);
+    if meet <= t + frames.slack() {
+        return Ok(None);
+    }
+    let Some(groups) = clock_groups(cx, system, statics, &phase.sleep, (t, y, meet - t))? else { return Ok(None) };
+    let inside = frames.rest().partition_point(|&s| s < meet - frames.slack());
+    let times = &frames.rest()[..inside];
+    let Some((next, states)) = advance_groups(cx, system, phase, &groups, statics, (t, y, meet), times, budget)? else {
+        return Ok(None);
+    };
+    for (s, state) in states {
+        if let Some(run) = run.as_deref_mut() {
+            let contacts = phase.last.iter().map(|c| (c.point, c.normal));
+            run.record(&system.model, s, &state, cx.memory.penetration, contacts);
+        }
+        frames.advance();
+    }
+    Ok(Some((meet, next)))
+}
+
 /// Advances each of `groups` from (t, y) to `end` on its own clock (the module's scheme), the others held still;
 /// the phase carries on with the groups' contacts, sleep and step sizes. Returns the state at `end` and at each of
 /// the frame `times` inside, each group's actors from its own steps; or None, the phase untouched, where two groups
 /// met after all (a collision inside a group threw a body farther than its speed at the start said: the reach is
 /// judged at the start), to be taken again on one clock.
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
-pub(super) fn advance_groups(
+fn advance_groups(
     cx: &mut ContactStages<'_>,
     system: &mut AccurateSystem,
     phase: &mut TouchingPhase,

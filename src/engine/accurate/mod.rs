@@ -72,6 +72,8 @@ mod system;
 mod tests;
 #[cfg(feature = "contact")]
 mod touching;
+#[cfg(feature = "contact")]
+mod touching_phase;
 
 pub(crate) use memory::{engine_name, AccurateMemory};
 pub(crate) use system::AccurateSystem;

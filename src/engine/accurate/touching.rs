@@ -20,14 +20,14 @@
 //! ends when no pair is within reach of a step and nothing sleeps: the integrator's state is set then, and it takes
 //! over (`advance.rs`).
 
-use super::clocks::{advance_groups, clock_groups, next_sync, sync_due};
+use super::clocks::{own_clocks, sync_due};
 use super::contact_stages::ContactStages;
 use super::convex_step::{every_contact_in_reach, ConvexStep};
 use super::doubled_step::{doubled_step, held};
 use super::drift::correct_drift;
 use super::energy_guard::Guarded;
 use super::failure;
-use super::free_flight::{copy_free, free_flight, links, FreeFlight};
+use super::free_flight::{copy_free, free_flight, links};
 use super::held::set_moving;
 use super::late_sink::{deepest, sunk_step, LATE_SINK};
 use super::sleep::Sleep;
@@ -35,7 +35,8 @@ use super::slide_limit::slide_limit;
 use super::step_estimate::{extrapolate, interpolate, sinking, stopped_slip};
 use super::step_judgement::{judge, judge_kept, next_step, Estimates, Verdict};
 use super::system::AccurateSystem;
-use crate::engine::found_contact::{ContactKey, FoundContact};
+pub(crate) use super::touching_phase::TouchingPhase;
+use crate::engine::found_contact::FoundContact;
 use crate::engine::frames::FrameCursor;
 use crate::engine::last_contacts::LastContact;
 use crate::engine::semi_implicit::Form;
@@ -44,65 +45,6 @@ use crate::engine::Budget;
 use crate::run::Run;
 use std::collections::{BTreeMap, BTreeSet};
 use tumble_integrate::OdeError;
-
-/// What the touching phase carries from step to step (part of the engine's memory).
-#[derive(Clone, serde::Serialize, serde::Deserialize)]
-pub(crate) struct TouchingPhase {
-    /// Each contact's normal force of the last accepted step (the next step's first friction bound).
-    pub lagged: BTreeMap<ContactKey, f64>,
-    /// The step the error control proposes.
-    pub h: f64,
-    /// The stall window: its start time and the steps tried in it.
-    pub window: (f64, usize),
-    /// The integrator of the actors that touch nothing (`free_flight.rs`).
-    pub free: Option<FreeFlight>,
-    /// The contacts of the last accepted step, with the whole step's impulses.
-    pub last: Vec<LastContact>,
-    /// The last accepted step's h and its halves' difference d = y_half - y_whole (for the extrapolated state's
-    /// error estimate).
-    pub difference: Option<(f64, Vec<f64>)>,
-    /// The islands asleep and the actors calm (`sleep.rs`).
-    pub sleep: Sleep,
-    /// Each contact's whole force of the last accepted step (N, normal and friction), where the next step's
-    /// solves start from.
-    pub warm: BTreeMap<ContactKey, nalgebra::Vector3<f64>>,
-    /// Where the phase has got to, (t, y), between the calls it spans: the phase keeps its own state and the
-    /// integrator's is set only when it ends (`advance.rs`). None until its first pause.
-    /// (Absent from files written before the phase kept it: the integrator's state is the phase's.)
-    #[serde(default)]
-    pub at: Option<(f64, Vec<f64>)>,
-    /// Each group's step size where the actors are advanced in groups on their own clocks (`clocks.rs`), by the
-    /// group's first actor. (Absent from files written before: one clock.)
-    #[serde(default)]
-    pub clocks: BTreeMap<usize, f64>,
-    /// When the groups were last looked for (`clocks.rs`: once a sync period, at the first step past each sync
-    /// time).
-    #[serde(default = "never")]
-    pub synced: f64,
-}
-
-fn never() -> f64 {
-    f64::NEG_INFINITY
-}
-
-impl TouchingPhase {
-    /// Whether it fits a scene of `actors` actors and `colliders` colliders and a state of length `dim`.
-    pub fn fits(&self, actors: usize, colliders: usize, dim: usize) -> bool {
-        self.h > 0.0
-            && self.h.is_finite()
-            && self.lagged.iter().all(|(k, f)| k.fits(colliders) && f.is_finite())
-            && self.last.iter().all(|c| c.a < actors && c.b < actors)
-            && self.free.as_ref().is_none_or(|f| f.frozen.iter().all(|&k| k < dim))
-            && self.sleep.fits(actors)
-            && self.warm.iter().all(|(k, f)| k.fits(colliders) && f.iter().all(|x| x.is_finite()))
-            && self
-                .difference
-                .as_ref()
-                .is_none_or(|(h, d)| *h > 0.0 && d.len() == dim && d.iter().all(|x| x.is_finite()))
-            && self.at.as_ref().is_none_or(|(t, y)| t.is_finite() && y.len() == dim && y.iter().all(|x| x.is_finite()))
-            && self.clocks.iter().all(|(&a, &h)| a < actors && h > 0.0 && h.is_finite())
-    }
-}
 
 /// Steps tried (accepted or rejected) over which the touching phase's progress is watched.
 const STALL_WINDOW: usize = 200;
@@ -204,27 +146,10 @@ pub fn touching_steps(
         }
         // groups that cannot meet before the next sync time go on their own clocks to it (`clocks.rs`)
         if !until.one_clock && cx.settings.island_clocks && !system.model.has_joints() && sync_due(&mut phase, t) {
-            let meet = next_sync(t).min(until.end);
-            let span = (t, y.as_slice(), meet - t);
-            if meet > t + frames.slack() {
-                if let Some(groups) = clock_groups(cx, system, &statics, &phase.sleep, span)? {
-                    let inside = frames.rest().partition_point(|&s| s < meet - frames.slack());
-                    let times = &frames.rest()[..inside];
-                    let window = (t, y.as_slice(), meet);
-                    let grouped = advance_groups(cx, system, &mut phase, &groups, &statics, window, times, budget)?;
-                    // (groups that met after all: the span is taken on one clock)
-                    if let Some((next, states)) = grouped {
-                        for (s, state) in states {
-                            if let Some(run) = run.as_deref_mut() {
-                                let contacts = phase.last.iter().map(|c| (c.point, c.normal));
-                                run.record(&system.model, s, &state, cx.memory.penetration, contacts);
-                            }
-                            frames.advance();
-                        }
-                        (y, t) = (next, meet);
-                        continue;
-                    }
-                }
+            let at = (t, y.as_slice(), until.end);
+            if let Some(met) = own_clocks(cx, system, &statics, &mut phase, at, frames, run.as_deref_mut(), budget)? {
+                (t, y) = met;
+                continue;
             }
         }
         // frames do not steer the steps: only the end of the advance cuts one
