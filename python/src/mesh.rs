@@ -27,8 +27,9 @@ fn new_mesh(py: Python<'_>, mesh: tumble::Mesh) -> PyResult<Py<PyMesh>> {
     Py::new(py, PyClassInitializer::from(PyShape { shape: Shape::mesh(mesh) }).add_subclass(PyMesh))
 }
 
-fn up_axis(up: &str) -> PyResult<UpAxis> {
-    UpAxis::named(up).map_err(shape_err)
+/// `up` as given ("y" or "z"), or the format's own for None.
+fn up_axis(up: Option<&str>) -> PyResult<UpAxis> {
+    up.map_or(Ok(UpAxis::OfFormat), |u| UpAxis::named(u).map_err(shape_err))
 }
 
 #[pymethods]
@@ -58,10 +59,12 @@ impl PyMesh {
     }
 
     /// The meshes of an OBJ, STL, PLY, glTF or GLB file merged into one, each placed by the file's transforms,
-    /// scaled by `scale` (file units to metres) and turned so that the file's `up` axis ("y" or "z") is +z.
+    /// scaled by `scale` (file units to metres) and turned so that the file's `up` axis ("y" or "z") is +z; by
+    /// default the format's own: +y for glTF and GLB (their specification), the coordinates as given (+z) for OBJ,
+    /// STL and PLY.
     #[staticmethod]
-    #[pyo3(signature = (path, scale = 1.0, up = "z"))]
-    fn load(py: Python<'_>, path: std::path::PathBuf, scale: f64, up: &str) -> PyResult<Py<PyMesh>> {
+    #[pyo3(signature = (path, scale = 1.0, up = None))]
+    fn load(py: Python<'_>, path: std::path::PathBuf, scale: f64, up: Option<&str>) -> PyResult<Py<PyMesh>> {
         let up = up_axis(up)?;
         let mesh = py.detach(|| tumble::Mesh::load(&path, scale, up)).map_err(shape_err)?;
         new_mesh(py, mesh)
@@ -69,8 +72,8 @@ impl PyMesh {
 
     /// The meshes of a file one by one (as `load`, without merging them).
     #[staticmethod]
-    #[pyo3(signature = (path, scale = 1.0, up = "z"))]
-    fn load_all(py: Python<'_>, path: std::path::PathBuf, scale: f64, up: &str) -> PyResult<Vec<Py<PyMesh>>> {
+    #[pyo3(signature = (path, scale = 1.0, up = None))]
+    fn load_all(py: Python<'_>, path: std::path::PathBuf, scale: f64, up: Option<&str>) -> PyResult<Vec<Py<PyMesh>>> {
         let up = up_axis(up)?;
         let meshes = py.detach(|| tumble::Mesh::load_all(&path, scale, up)).map_err(shape_err)?;
         meshes.into_iter().map(|m| new_mesh(py, m)).collect()

@@ -148,9 +148,13 @@ def test_a_mesh_file_loads_scaled_and_turned(tmp_path: Path, suffix: str, writer
 def test_a_gltf_gives_each_mesh_at_its_node_and_load_merges_them(tmp_path: Path) -> None:
     path = tmp_path / "two.gltf"
     write_gltf(path, CUBE_V, CUBE_T, [[0, 0, 0], [3, 0, 0]])
-    each = tumble.Mesh.load_all(path)
+    each = tumble.Mesh.load_all(path, up="z")
     assert [m.name for m in each] == ["cube 0", "cube 1"]
     np.testing.assert_allclose(each[1].vertices.min(axis=0), [3, 0, 0])
+    # glTF is y up by its specification: by default the file's +y becomes +z and its +z becomes -y
+    default = tumble.Mesh.load_all(path)
+    np.testing.assert_allclose(default[1].vertices.min(axis=0), [3, -1, 0], atol=1e-15)
+    np.testing.assert_allclose(default[1].vertices.max(axis=0), [4, 0, 1], atol=1e-15)
     merged = tumble.Mesh.load(path)
     assert merged.volume == pytest.approx(2.0, rel=1e-12) and len(merged.triangles) == 24
     # the same as a binary GLB

@@ -131,14 +131,15 @@ class Mesh(Shape):
     solid's. Raises ValueError naming the mesh when it does not bound a solid."""
     def __init__(self, vertices: npt.ArrayLike | Any, triangles: npt.ArrayLike | None = None, name: str = "") -> None: ...
     @staticmethod
-    def load(path: str | os.PathLike[str], scale: float = 1.0, up: Literal["y", "z"] = "z") -> Mesh:
+    def load(path: str | os.PathLike[str], scale: float = 1.0, up: Literal["y", "z"] | None = None) -> Mesh:
         """An OBJ, STL, PLY, glTF or GLB file's meshes merged, placed by the file's transforms, scaled by ``scale``
-        (file units to metres), the file's ``up`` axis turned to +z."""
+        (file units to metres), the file's ``up`` axis turned to +z; by default the format's own (+y for glTF and GLB,
+        by their specification; the coordinates as given for OBJ, STL and PLY)."""
     @staticmethod
     def revolve(profile: npt.ArrayLike, segments: int = 48, name: str = "") -> Mesh:
         """The solid swept by turning (r, z) points about z: axis to axis bounds a solid, else the loop is closed."""
     @staticmethod
-    def load_all(path: str | os.PathLike[str], scale: float = 1.0, up: Literal["y", "z"] = "z") -> list[Mesh]:
+    def load_all(path: str | os.PathLike[str], scale: float = 1.0, up: Literal["y", "z"] | None = None) -> list[Mesh]:
         """A file's meshes one by one (as ``load``, not merged)."""
     @property
     def vertices(self) -> npt.NDArray[np.float64]: ...

@@ -14,6 +14,9 @@ pub enum UpAxis {
     Y,
     /// +z up (Blender's, and tumble's): kept.
     Z,
+    /// The format's own: +y for glTF and GLB (their specification says so), +z (the coordinates as given) for OBJ,
+    /// STL and PLY, which state none.
+    OfFormat,
 }
 
 impl UpAxis {
@@ -23,6 +26,15 @@ impl UpAxis {
             "y" | "Y" => Ok(UpAxis::Y),
             "z" | "Z" => Ok(UpAxis::Z),
             other => Err(ShapeError::new("up", format!("must be \"y\" or \"z\", got \"{other}\""))),
+        }
+    }
+
+    /// The axis itself for a file of extension `ext` (lower case): `OfFormat` made y or z.
+    fn for_format(self, ext: &str) -> UpAxis {
+        match (self, ext) {
+            (UpAxis::OfFormat, "gltf" | "glb") => UpAxis::Y,
+            (UpAxis::OfFormat, _) => UpAxis::Z,
+            (up, _) => up,
         }
     }
 }
@@ -60,6 +72,7 @@ impl Mesh {
         if raws.is_empty() {
             return Err(ShapeError::new("path", format!("{}: the file has no triangles", path.display())));
         }
+        let up = up.for_format(&ext);
         raws.into_iter()
             .map(|r| {
                 let v: Vec<Point3<f64>> = r.vertices.iter().map(|p| turned(p, up) * scale).collect();
@@ -86,10 +99,11 @@ impl Mesh {
     }
 }
 
+/// A file's point turned so that `up` (y or z, as `for_format` leaves it) is +z.
 fn turned(p: &Point3<f64>, up: UpAxis) -> Point3<f64> {
     match up {
-        UpAxis::Z => *p,
         UpAxis::Y => Point3::new(p.x, -p.z, p.y),
+        UpAxis::Z | UpAxis::OfFormat => *p,
     }
 }
 
@@ -233,4 +247,21 @@ fn gltf(path: &Path) -> Result<Vec<Raw>, ShapeError> {
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::UpAxis;
+
+    #[test]
+    fn by_default_the_format_decides_which_axis_is_up() {
+        for ext in ["gltf", "glb"] {
+            assert_eq!(UpAxis::OfFormat.for_format(ext), UpAxis::Y, "glTF is +y up by its specification");
+            assert_eq!(UpAxis::Z.for_format(ext), UpAxis::Z, "a stated axis wins");
+        }
+        for ext in ["obj", "stl", "ply"] {
+            assert_eq!(UpAxis::OfFormat.for_format(ext), UpAxis::Z, "as given");
+            assert_eq!(UpAxis::Y.for_format(ext), UpAxis::Y);
+        }
+    }
 }
