@@ -242,7 +242,7 @@ impl<'a> VelocityProblem<'a> {
 /// program per island.
 pub fn velocity_step(problem: &VelocityProblem<'_>, settings: &StepSettings) -> Result<VelocityStep, ContactError> {
     problem.check()?;
-    step(problem, settings, std::env::var("JOINED").is_err())
+    step(problem, settings, true)
 }
 
 /// One step; `apart_alone`: islands joined only by contacts apart and unbound are solved apart until an answer
@@ -360,12 +360,17 @@ fn nearing(c: &Contact, bodies: &[BodyState], h: f64) -> bool {
     c.distance <= 2.0 * h * (speed(c.a) + speed(c.b))
 }
 
-/// Whether velocities `v` close contact `c` past its constraint (its normal velocity below minus its bias, beyond
-/// the solver's own tolerance of the step's velocity scale, as `untouched` judges an island without a solve).
+/// Whether velocities `v` close contact `c` past its constraint (`closing`), beyond the solver's own tolerance of
+/// the step's velocity scale, as `untouched` judges an island without a solve.
 fn closes(c: &Contact, bodies: &[BodyState], v: &[BodyVelocity], s: &StepSettings) -> bool {
+    closing(c, bodies, v, s) > s.solver.complementarity_tolerance * s.velocity_scale
+}
+
+/// How fast velocities `v` would close contact `c` past its constraint: minus its normal velocity plus its bias
+/// (positive: the constraint is broken).
+pub(crate) fn closing(c: &Contact, bodies: &[BodyState], v: &[BodyVelocity], s: &StepSettings) -> f64 {
     let point = |k: usize| v[k].linear + v[k].angular.cross(&(c.point - bodies[k].position));
-    let closing = -(c.normal.dot(&(point(c.b) - point(c.a))) + bias(c, bodies, s));
-    closing > s.solver.complementarity_tolerance * s.velocity_scale
+    -(c.normal.dot(&(point(c.b) - point(c.a))) + bias(c, bodies, s))
 }
 
 /// The closed form for one particle touching something static, frictionless or with lagged friction: the normal

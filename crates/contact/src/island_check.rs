@@ -36,14 +36,8 @@ pub(crate) fn untouched(
     // A caller's own velocity scale also bounds how far the free velocities may close a contact: relative to a
     // fast island's speeds, a step's fall under gravity (g h) looks small, and a box sliding at 2 m/s sank 1e-9 m
     // a step at h = 1e-5 s when only the relative test was made.
-    let point = |k: usize, p: &nalgebra::Point3<f64>| free[k].linear + free[k].angular.cross(&(p - bodies[k].position));
-    let closing = island
-        .iter()
-        .map(|&i| {
-            let c = &contacts[i];
-            -(c.normal.dot(&(point(c.b, &c.point) - point(c.a, &c.point))) + bias(c, bodies, s))
-        })
-        .fold(0.0f64, f64::max);
+    let closing =
+        island.iter().map(|&i| crate::friction::closing(&contacts[i], bodies, free, s)).fold(0.0f64, f64::max);
     let held = s.velocity_scale == 0.0 || closing <= s.solver.complementarity_tolerance * s.velocity_scale;
     (r <= s.solver.complementarity_tolerance && held).then_some(out)
 }

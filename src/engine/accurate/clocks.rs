@@ -72,7 +72,7 @@ fn clock_groups(
     let (_, every) = every_contact_in_reach(cx, &system.model, &states, y, t, span)?;
     let pairs = every.iter().map(|f| (f.contact.a, f.contact.b)).chain(links(&system.model));
     let (island, count) = tumble_contact::body_islands(actors + statics.len(), |k| k < actors, pairs);
-    let awake = |k: usize| !sleep.asleep(k) && !sleep.is_held(k);
+    let awake = |k: usize| !sleep.resting_actor(k);
     // the pairless actors are islands of their own: the awake ones join the first group with awake actors
     let mut paired = vec![false; count];
     for f in &every {

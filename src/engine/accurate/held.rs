@@ -62,23 +62,24 @@ pub(super) fn set_moving(
     let sleep = &phase.sleep;
     let l = system.model.layout;
     let actors = l.particles + l.bodies;
-    let awake = |k: usize| k < actors && !sleep.asleep(k) && !sleep.is_held(k);
+    let awake = |k: usize| k < actors && !sleep.resting_actor(k);
+    let loaded = |a: usize, b: usize| a < actors && sleep.is_held(a) && awake(b);
+    if !found.iter().any(|f| loaded(f.contact.a, f.contact.b) || loaded(f.contact.b, f.contact.a)) {
+        return Ok(Vec::new());
+    }
     // the awake actors' loads on the held ones they touch: force and moment about the held one's centre
     let mut loads: BTreeMap<usize, (Vector3<f64>, Vector3<f64>)> = BTreeMap::new();
     let real = actors_with_forces(system, statics, t, y)?;
     for f in found {
         let (a, b) = (f.contact.a, f.contact.b);
         for (held, other, sign) in [(a, b, -1.0), (b, a, 1.0)] {
-            if held < actors && sleep.is_held(held) && awake(other) {
+            if loaded(held, other) {
                 let force = forces.get(&f.key).map_or(Vector3::zeros(), |w| w * sign);
                 let load = loads.entry(held).or_insert((Vector3::zeros(), Vector3::zeros()));
                 load.0 += force;
                 load.1 += (f.contact.point - real[held].position).cross(&force);
             }
         }
-    }
-    if loads.is_empty() {
-        return Ok(Vec::new());
     }
     // the loaded held actors freed, with those loads; every other actor fixed where it is
     let states: Vec<BodyState> = real

@@ -47,6 +47,11 @@ impl Sleep {
         self.islands.iter().flatten().copied().chain(self.held.iter().copied())
     }
 
+    /// Whether `actor` rests: asleep, or held inside a moving island.
+    pub fn resting_actor(&self, actor: usize) -> bool {
+        self.asleep(actor) || self.is_held(actor)
+    }
+
     /// Whether `actor` sleeps.
     pub fn asleep(&self, actor: usize) -> bool {
         self.islands.iter().any(|i| i.binary_search(&actor).is_ok())
@@ -81,7 +86,7 @@ impl Sleep {
         for f in found {
             let (a, b) = (f.contact.a, f.contact.b);
             for (sleeper, other) in [(a, b), (b, a)] {
-                if other < actors && !self.asleep(other) && !self.is_held(other) {
+                if other < actors && !self.resting_actor(other) {
                     if let Some(k) = self.islands.iter().position(|i| i.binary_search(&sleeper).is_ok()) {
                         for actor in self.islands.remove(k) {
                             self.calm_since.retain(|(x, _)| *x != actor);
@@ -94,8 +99,8 @@ impl Sleep {
         woke
     }
 
-    /// After a step accepted at time t with the contacts `found` and `links` (springs and joints between actors): brings each touching actor's calm time up to date from its speed in y,
-    /// puts to sleep, with their velocities zeroed in y, the islands whose actors have all been calm for
+    /// After a step accepted at time t with the contacts `found` and `links` (springs and joints between actors):
+    /// brings each touching actor's calm time up to date from its speed in y, puts to sleep, with their velocities zeroed in y, the islands whose actors have all been calm for
     /// `sleep_time`, and holds (`held.rs`) the actors calm that long in the islands that still move. Whether any
     /// fell asleep or was held.
     pub fn settle(
@@ -109,7 +114,7 @@ impl Sleep {
     ) -> bool {
         let l = model.layout;
         let actors = l.particles + l.bodies;
-        let touching = |a: usize| a < actors && !self.asleep(a) && !self.is_held(a);
+        let touching = |a: usize| a < actors && !self.resting_actor(a);
         // union-find over the awake touching actors
         let mut parent: Vec<usize> = (0..actors).collect();
         fn root(parent: &mut [usize], mut a: usize) -> usize {

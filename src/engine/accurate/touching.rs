@@ -253,12 +253,12 @@ pub fn touching_steps(
         t = if h == until.end - t { until.end } else { t + h };
         // frames inside the step from the step's own interpolation (`interpolate`); a frame at its end is its state
         while let Some(s) = frames.inside(t) {
+            let frame = || interpolate(&system.model, &y0, &y, (s - t0) / (t - t0));
             if until.one_clock {
-                kept_frames.push((s, interpolate(&system.model, &y0, &y, (s - t0) / (t - t0))));
+                kept_frames.push((s, frame()));
             } else if let Some(run) = run.as_deref_mut() {
-                let frame = interpolate(&system.model, &y0, &y, (s - t0) / (t - t0));
                 let contacts = phase.last.iter().map(|c| (c.point, c.normal));
-                run.record(&system.model, s, &frame, cx.memory.penetration, contacts);
+                run.record(&system.model, s, &frame(), cx.memory.penetration, contacts);
             }
             frames.advance();
         }
