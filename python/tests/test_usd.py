@@ -1,6 +1,7 @@
-"""USD export (issue 16): a run of bodies (shared shapes) and particles written as .usda and .usdc and read back with
+"""USD export: a run of bodies (shared shapes) and particles written as .usda and .usdc and read back with
 usd-core: metres and z up in the stage's metadata, one prim per body and particle, each distinct shape written once,
-and the poses at several frames equal to the run's (to float64 rounding: USD stores the doubles as given)."""
+and the poses at several frames equal to the run's (to float64 rounding: USD stores the doubles as given); whole
+frames at whole time codes, in a run of its own and in a layer over a stage."""
 
 import numpy as np
 import pytest
@@ -8,7 +9,7 @@ import pytest
 import tumble
 
 pxr = pytest.importorskip("pxr", reason="usd-core is the `usd` extra")
-from pxr import Usd, UsdGeom  # noqa: E402
+from pxr import Gf, Usd, UsdGeom, UsdPhysics  # noqa: E402
 
 from tumble._usd import time_codes  # noqa: E402
 
@@ -86,3 +87,41 @@ def test_a_60_fps_run_lasts_as_long_in_a_24_fps_blender_scene(tmp_path):
         k = int(round(f / 24 * 60))
         assert abs(run.times[k] - run.times[0] - f / 24) < 1e-12
         np.testing.assert_allclose(np.array(ball.matrix_world.translation), run.body_positions[k, 1], atol=1e-6)
+
+
+def a_later_run(world: tumble.World) -> tumble.Run:
+    """A second run of ``world``, 1 s at 24 frames a second from t = 0.3 s: its frames' times are float64 sums, so
+    (t - 0.3) * 24 comes out 6.999999999999999 or 13.999999999999998 codes for whole frames 7 and 14."""
+    world.run(duration=0.3, frame_interval=0.3)
+    return world.run(duration=1.0, frame_interval=1 / 24)
+
+
+def test_whole_frames_are_written_at_whole_time_codes(tmp_path):
+    w = tumble.World(mode="fast", dt=1 / 240)
+    w.add_ground()
+    w.add_body(tumble.Sphere(radius=0.1), density=500.0, position=(0.0, 0.0, 1.0), name="ball")
+    stage = Usd.Stage.Open(str(a_later_run(w).export_usd(tmp_path / "whole.usda")))
+    # exactly: a frame is keyed at the integer a tool looks it up by, not a few ulps beside it
+    for name in ("body_0", "ball"):
+        assert stage.GetPrimAtPath(f"/World/{name}").GetAttribute("xformOp:translate").GetTimeSamples() == \
+            [float(k) for k in range(25)], name
+    assert stage.GetEndTimeCode() == 24.0 and stage.GetFramesPerSecond() == 24.0
+    # a time between frames stays where it is
+    assert list(time_codes(np.array([0.0, 0.3 / 24, 1.0]))) == [0.0, 0.3 / 24 * 24, 24.0]
+
+
+def test_a_layer_over_a_stage_writes_whole_frames_at_whole_time_codes(tmp_path):
+    source = tmp_path / "ball.usda"
+    stage = Usd.Stage.CreateNew(str(source))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
+    UsdPhysics.Scene.Define(stage, "/physicsScene")
+    ball = UsdGeom.Sphere.Define(stage, "/World/ball")
+    ball.AddTranslateOp(UsdGeom.XformOp.PrecisionDouble).Set(Gf.Vec3d(0.0, 0.0, 1.0))
+    UsdPhysics.CollisionAPI.Apply(ball.GetPrim())
+    UsdPhysics.RigidBodyAPI.Apply(ball.GetPrim())
+    stage.GetRootLayer().Save()
+    world, _ = tumble.World.from_usd(source, mode="fast", dt=1 / 240)
+    layered = Usd.Stage.Open(str(a_later_run(world).export_usd(tmp_path / "over.usda", over=source)))
+    # exactly, as in a run of its own: the source starts at time code 0 and has 24 a second
+    samples = layered.GetPrimAtPath("/World/ball").GetAttribute("xformOp:translate:tumble").GetTimeSamples()
+    assert samples == [float(k) for k in range(25)] and layered.GetEndTimeCode() == 24.0

@@ -2,8 +2,10 @@
 ``World.from_usd``, into worlds that run as the same worlds built directly in Python (to 1e-12) (units, up
 axis, gravity, shapes, masses, materials, velocities, kinematic bodies, joints with limits and drives); a run writes
 back onto the stage's own prims as a layer over it (``Run.export_usd(path, over=source)``); each unsupported or bad
-attribute is refused naming its prim and attribute."""
+attribute is refused naming its prim and attribute, and each approximation made is a warning naming them; float32
+values come in as typed (0.7, not 0.699999988079071)."""
 
+import json
 import math
 
 import numpy as np
@@ -273,12 +275,6 @@ def _acceleration_drive(stage):
     UsdPhysics.DriveAPI.Apply(j.GetPrim(), "angular").CreateTypeAttr("acceleration")
 
 
-def _two_frictions(stage):
-    m = physics_material(stage, "/Materials/m", 0.5, 0.0)
-    UsdPhysics.MaterialAPI(m.GetPrim()).CreateStaticFrictionAttr(0.8)
-    bind(_body(stage), m)
-
-
 def _uneven_sphere(stage):
     s = _body(stage, "/World/ball", UsdGeom.Sphere)
     UsdGeom.Xformable(s).AddScaleOp(DOUBLE).Set(Gf.Vec3d(1.0, 2.0, 1.0))
@@ -310,7 +306,6 @@ def _no_collider(stage):
     (_cone_limit, "/World/ball", "physics:coneAngle0Limit"),
     (_frames_apart, "/World/weld", "physics:localPos1"),
     (_acceleration_drive, "/World/hinge", "physics:type"),
-    (_two_frictions, "/Materials/m", "physics:staticFriction"),
     (_uneven_sphere, "/World/ball", "xformOp:scale"),
     (_approximation("meshSimplification", True), "/World/mesh", "physics:approximation"),
     (_approximation("none", True), "/World/mesh", "physics:approximation"),
@@ -320,6 +315,61 @@ def _no_collider(stage):
 def test_each_unsupported_or_bad_attribute_is_refused_naming_prim_and_attribute(tmp_path, build, prim, attribute):
     problems = _refused(tmp_path, build)
     assert any(p.startswith(prim + ":") and attribute in p for p in problems), problems
+
+
+def _two_frictions(stage):
+    m = physics_material(stage, "/Materials/m", 0.5, 0.0)
+    UsdPhysics.MaterialAPI(m.GetPrim()).CreateStaticFrictionAttr(0.7)
+    bind(_body(stage), m)
+
+
+def _cone(stage):
+    _body(stage, "/World/cone", UsdGeom.Cone)
+
+
+@pytest.mark.parametrize("build, prim, attribute, said", [
+    (_two_frictions, "/Materials/m", "physics:staticFriction", ["0.7 differs from", "dynamicFriction 0.5"]),
+    (_cone, "/World/cone", "Cone", ["64-sided"]),
+])
+def test_each_approximation_is_a_warning_naming_prim_attribute_and_values(tmp_path, build, prim, attribute, said):
+    path = tmp_path / "approximated.usda"
+    stage = new_stage(path)
+    build(stage)
+    stage.GetRootLayer().Save()
+    with pytest.warns(UserWarning) as caught:
+        world, _ = tumble.World.from_usd(path)
+    notes = [str(w.message) for w in caught]
+    assert any(n.startswith(prim + ":") and attribute in n and all(s in n for s in said) for n in notes), notes
+    # the values as typed into the stage: float32's 0.699999988079071 is shown as the 0.7 it was written as
+    assert not any("0.6999" in n for n in notes), notes
+    # tumble's one friction coefficient is the dynamic one (the material's, else PhysX's default 0.5)
+    assert [b["friction"] for b in json.loads(world.to_json(memory=False))["bodies"]] == [0.5]
+
+
+def test_float32_values_come_in_as_typed(tmp_path):
+    """USD stores these attributes as float32: 0.7 is 0.699999988079071. Each is read as the shortest decimal that
+    is the same float32, which is what was typed (any decimal of up to 6 significant digits comes back
+    as itself), so the world's friction is 0.7 itself."""
+    path = tmp_path / "typed.usda"
+    stage = new_stage(path)
+    box = _body(stage)
+    UsdPhysics.MassAPI.Apply(box).CreateMassAttr(0.3)
+    UsdPhysics.RigidBodyAPI(box).CreateVelocityAttr(Gf.Vec3f(0.1, 0.0, 0.0))
+    bind(box, physics_material(stage, "/Materials/m", 0.7, 0.3))
+    stage.GetRootLayer().Save()
+    world, _ = tumble.World.from_usd(path)
+    body = json.loads(world.to_json(memory=False))["bodies"][0]
+    # exactly: the decimals as typed, not their float32 neighbours
+    assert (body["friction"], body["restitution"], body["mass"]) == (0.7, 0.3, 0.3)
+    assert world.bodies.velocities[0, 0] == 0.1
+    # and so in a refusal's message: a distance joint from 0.3 to 0.7 (a rod or a rope only)
+    rope = UsdPhysics.DistanceJoint.Define(stage, "/World/rope")
+    rope.CreateBody1Rel().SetTargets([box.GetPath()])
+    rope.CreateMinDistanceAttr(0.3)
+    rope.CreateMaxDistanceAttr(0.7)
+    stage.GetRootLayer().Save()
+    with pytest.raises(tumble.UsdSceneError, match=r"/World/rope: physics:minDistance: .*\(0\.3 to 0\.7 m given\)"):
+        tumble.World.from_usd(path)
 
 
 def test_a_static_exact_mesh_and_a_hull_are_taken(tmp_path):

@@ -2,10 +2,10 @@
 colliders as meshes (each identical shape written once, under the abstract class prim /Shapes, and referenced), one
 per particle carrying a small sphere, with translation and orientation time-sampled at every frame (at time codes
 of 24 a second, USD's default, so that a run plays at its own speed in Blender's default 24 fps scene and in tools
-that honour timeCodesPerSecond; framesPerSecond is the run's frame rate). A body's prim is named by its name (made a valid, unique identifier), else
-body_N, and a body given a colour has it as its meshes' display colour and opacity; collider meshes are not to be
-subdivided (``subdivisionScheme = "none"``). The stage states metres and z up, tumble's own units and axes, so no
-root transform is needed."""
+that honour timeCodesPerSecond; framesPerSecond is the run's frame rate; whole frames at whole time codes). A
+body's prim is named by its name (made a valid, unique identifier), else body_N, and a body given a colour has it
+as its meshes' display colour and opacity; collider meshes are not to be subdivided (``subdivisionScheme =
+"none"``). The stage states metres and z up, tumble's own units and axes, so no root transform is needed."""
 
 from __future__ import annotations
 
@@ -34,20 +34,36 @@ def _pxr() -> tuple[Any, Any, Any, Any]:
 # Time codes a second: USD's default, which tools that read time codes as frames (Blender's importer) play at their
 # default 24 frames a second; tools that honour timeCodesPerSecond play any rate. framesPerSecond is the run's.
 TIME_CODES_PER_SECOND = 24.0
+# A time code this close to a whole number, relative to it, is that whole number. A frame's time is a float64 sum of
+# steps, so a whole frame's code comes out a few ulps (1e-16 relative) beside it: (t - t0) * 24 is
+# 6.999999999999999 for frame 7. Tools look samples up by frame (Blender's importer reads code 7 at frame 7, usdview
+# and Houdini list the codes), so a whole frame is written at the integer itself; a time meant between frames is
+# further from one than this.
+WHOLE = 1e-9
 
 
-def time_codes(times: np.ndarray) -> np.ndarray:
-    """The time code of each frame: seconds since the run's first frame, times ``TIME_CODES_PER_SECOND``."""
+def whole(values: np.ndarray | float) -> np.ndarray:
+    """``values`` with each one within ``WHOLE`` (relative) of an integer set to that integer."""
+    values = np.asarray(values, dtype=float)
+    nearest = np.round(values)
+    out: np.ndarray = np.where(np.abs(values - nearest) <= WHOLE * np.abs(values), nearest, values)
+    return out
+
+
+def time_codes(times: np.ndarray, per_second: float = TIME_CODES_PER_SECOND) -> np.ndarray:
+    """The time code of each frame: seconds since the run's first frame, times ``per_second``, whole where the
+    frame is (``whole``)."""
     times = np.asarray(times, dtype=float)
-    return (times - times[0]) * TIME_CODES_PER_SECOND if len(times) else times
+    return whole((times - times[0]) * per_second) if len(times) else times
 
 
 def _frame_rate(times: np.ndarray) -> float:
-    """Frames a second: from the run's frame spacing (its median, so a shorter last frame does not count)."""
+    """Frames a second: from the run's frame spacing (its median, so a shorter last frame does not count), whole
+    where it is (24, not 24.000000000000007)."""
     if len(times) < 2:
         return 24.0
     step = float(np.median(np.diff(times)))
-    return 1.0 / step if step > 0 else 24.0
+    return float(whole(1.0 / step)) if step > 0 else 24.0
 
 
 def prim_names(names: list[str | None], valid: Any, reserved: set[str]) -> list[str]:

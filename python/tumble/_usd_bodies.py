@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from ._usd_shapes import DEFAULT_DENSITY, Frames, quaternion
+from ._usd_values import value
 
 Array = np.ndarray
 
@@ -29,14 +30,14 @@ def _mass_api(prim: Any) -> tuple[Any, Any, Any, Any, Array]:
     if not prim.HasAPI(UsdPhysics.MassAPI):
         return None, None, None, None, np.eye(3)
     api = UsdPhysics.MassAPI(prim)
-    axes = api.GetPrincipalAxesAttr().Get()
+    axes = value(api.GetPrincipalAxesAttr())
     turn = np.eye(3)
     if axes is not None:
         from ._geometry import rotation_matrix  # noqa: PLC0415
 
-        turn = rotation_matrix(np.array([axes.GetReal(), *axes.GetImaginary()], dtype=float))
-    return (_set(api.GetMassAttr().Get(), 0.0), _set(api.GetDensityAttr().Get(), 0.0),
-            _set(api.GetCenterOfMassAttr().Get(), -math.inf), _set(api.GetDiagonalInertiaAttr().Get(), 0.0), turn)
+        turn = rotation_matrix(axes)
+    return (_set(value(api.GetMassAttr()), 0.0), _set(value(api.GetDensityAttr()), 0.0),
+            _set(value(api.GetCenterOfMassAttr()), -math.inf), _set(value(api.GetDiagonalInertiaAttr()), 0.0), turn)
 
 
 def _velocities(prim: Any, frames: Frames) -> tuple[Array, Array]:
@@ -49,15 +50,15 @@ def _velocities(prim: Any, frames: Frames) -> tuple[Array, Array]:
     api = UsdPhysics.RigidBodyAPI(prim)
     parent = prim.GetParent()
     turn = frames.pose(_world_matrix(parent))[1] if parent and not parent.IsPseudoRoot() else frames.up
-    v = np.array(api.GetVelocityAttr().Get() or (0.0, 0.0, 0.0), dtype=float)
-    w = np.array(api.GetAngularVelocityAttr().Get() or (0.0, 0.0, 0.0), dtype=float)
+    v = np.asarray(value(api.GetVelocityAttr(), np.zeros(3)), dtype=float)
+    w = np.asarray(value(api.GetAngularVelocityAttr(), np.zeros(3)), dtype=float)
     return turn @ v * frames.metres, turn @ np.radians(w)
 
 
 def add_rigid_body(world: Any, stage: Any, prim: Any, collider_prims: list[Any], frames: Frames,
-                   problems: list[str]) -> Any | None:
+                   problems: list[str], notes: list[str]) -> Any | None:
     """Adds the body of rigid body prim ``prim`` with the colliders ``collider_prims``; its handle, or None where
-    it cannot be taken (said in ``problems``)."""
+    it cannot be taken (said in ``problems``); approximations made are said in ``notes``."""
     from pxr import UsdPhysics  # noqa: PLC0415
 
     from ._usd_physics import _animation, _collider, _one_material, _relative, _world_matrix  # noqa: PLC0415
@@ -70,7 +71,7 @@ def add_rigid_body(world: Any, stage: Any, prim: Any, collider_prims: list[Any],
         if c != prim and c.HasAPI(UsdPhysics.MassAPI):
             problems.append(f"{c.GetPath()}: MassAPI: on a collider (tumble takes a body's mass from the body's "
                             "MassAPI, its colliders' densities or materials)")
-    parts = [_collider(c, frames, static, problems) for c in collider_prims]
+    parts = [_collider(c, frames, static, problems, notes) for c in collider_prims]
     if any(p is None for p in parts):
         return None
     kept = [p for p in parts if p is not None]

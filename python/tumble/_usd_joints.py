@@ -13,6 +13,7 @@ import numpy as np
 
 from ._geometry import rotation_matrix
 from ._usd_shapes import Frames
+from ._usd_values import shown, value
 
 Array = np.ndarray
 _AXES = {"X": 0, "Y": 1, "Z": 2}
@@ -23,9 +24,9 @@ def _frame(stage: Any, rel: Any, pos: Any, rot: Any, frames: Frames) -> tuple[An
     from ._usd_physics import _world_matrix  # noqa: PLC0415
 
     targets = rel.GetTargets()
-    local = np.array(pos.Get() or (0.0, 0.0, 0.0), dtype=float)
-    q = rot.Get()
-    turn = rotation_matrix(np.array([q.GetReal(), *q.GetImaginary()], dtype=float)) if q is not None else np.eye(3)
+    local = np.asarray(value(pos, np.zeros(3)), dtype=float)
+    q = value(rot)
+    turn = rotation_matrix(q) if q is not None else np.eye(3)
     if not targets:
         return None, frames.up @ local * frames.metres, frames.up @ turn
     target = stage.GetPrimAtPath(targets[0])
@@ -49,11 +50,11 @@ def _drive(prim: Any, instance: str, angular: bool, frames: Frames, problems: li
     per_angle = 180.0 / math.pi if angular else 1.0
     force = frames.kilograms * frames.metres ** (2 if angular else 1)
     length = 1.0 / frames.metres if not angular else 1.0
-    stiffness = float(drive.GetStiffnessAttr().Get() or 0.0) * force * length * per_angle
-    damping = float(drive.GetDampingAttr().Get() or 0.0) * force * length * per_angle
-    target = float(drive.GetTargetPositionAttr().Get() or 0.0) / per_angle / length
-    speed = float(drive.GetTargetVelocityAttr().Get() or 0.0) / per_angle / length
-    limit = drive.GetMaxForceAttr().Get()
+    stiffness = value(drive.GetStiffnessAttr(), 0.0) * force * length * per_angle
+    damping = value(drive.GetDampingAttr(), 0.0) * force * length * per_angle
+    target = value(drive.GetTargetPositionAttr(), 0.0) / per_angle / length
+    speed = value(drive.GetTargetVelocityAttr(), 0.0) / per_angle / length
+    limit = value(drive.GetMaxForceAttr())
     if stiffness > 0.0 or (damping > 0.0 and speed == 0.0):
         if speed != 0.0:
             problems.append(f"{path}:physics:targetVelocity: a drive with stiffness and a target velocity is not "
@@ -93,9 +94,9 @@ def add_joints(world: Any, stage: Any, handles: dict[str, Any], frames: Frames, 
         # the force (mass distance / s^2) and torque (mass distance^2 / s^2) past which the joint breaks
         bounds = []
         for name, power in (("breakForce", 1), ("breakTorque", 2)):
-            value = prim.GetAttribute(f"physics:{name}").Get()
-            finite = value is not None and math.isfinite(value)
-            bounds.append(float(value) * frames.kilograms * frames.metres ** power if finite else math.inf)
+            bound = value(prim.GetAttribute(f"physics:{name}"))
+            finite = bound is not None and math.isfinite(bound)
+            bounds.append(bound * frames.kilograms * frames.metres ** power if finite else math.inf)
         (pa, xa, ra), (pb, xb, rb) = (_frame(stage, joint.GetBody0Rel(), joint.GetLocalPos0Attr(),
                                              joint.GetLocalRot0Attr(), frames),
                                       _frame(stage, joint.GetBody1Rel(), joint.GetLocalPos1Attr(),
@@ -130,8 +131,8 @@ def add_joints(world: Any, stage: Any, handles: dict[str, Any], frames: Frames, 
             if rows[0] is not None:
                 axis = rotation_matrix(np.asarray(world.bodies.orientations[rows[0]])).T @ axis
             fields["axis"] = tuple(axis)
-            lower = prim.GetAttribute("physics:lowerLimit").Get()
-            upper = prim.GetAttribute("physics:upperLimit").Get()
+            lower = value(prim.GetAttribute("physics:lowerLimit"))
+            upper = value(prim.GetAttribute("physics:upperLimit"))
             if lower is not None and upper is not None and math.isfinite(lower) and math.isfinite(upper):
                 scale = math.pi / 180.0 if kind == "revolute" else frames.metres
                 fields["limits"] = (float(lower) * scale, float(upper) * scale)
@@ -142,16 +143,17 @@ def add_joints(world: Any, stage: Any, handles: dict[str, Any], frames: Frames, 
             fields.update(_drive(prim, "angular" if kind == "revolute" else "linear", kind == "revolute", frames,
                                  problems))
         elif kind == "spherical":
-            cones = [prim.GetAttribute(f"physics:coneAngle{k}Limit").Get() for k in (0, 1)]
+            cones = [value(prim.GetAttribute(f"physics:coneAngle{k}Limit")) for k in (0, 1)]
             if any(c is not None and 0.0 <= c < 180.0 for c in cones):
                 problems.append(f"{path}: physics:coneAngle0Limit: a ball joint's cone limits are not taken yet")
                 continue
         elif kind == "distance":
-            low, high = (prim.GetAttribute(f"physics:{n}Distance").Get() for n in ("min", "max"))
-            low = None if low is None or low < 0 else float(low) * frames.metres
-            high = None if high is None or high < 0 else float(high) * frames.metres
+            low, high = (value(prim.GetAttribute(f"physics:{n}Distance")) for n in ("min", "max"))
+            low = None if low is None or low < 0 else low * frames.metres
+            high = None if high is None or high < 0 else high * frames.metres
             if high is None or (low is not None and abs(low - high) > 1e-12 * (1.0 + high) and low > 0.0):
-                problems.append(f"{path}: physics:minDistance: tumble holds a distance ({low} to {high} m given): "
+                given = " to ".join("none" if d is None else shown(d) for d in (low, high))
+                problems.append(f"{path}: physics:minDistance: tumble holds a distance ({given} m given): "
                                 "equal limits (a rod) or a maximum alone (a rope)")
                 continue
             fields.update(length=high, rope=low is None or low == 0.0 and high > 0.0)

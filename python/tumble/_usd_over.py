@@ -1,12 +1,13 @@
 """A run written back onto the stage it was read from (``Run.export_usd(path, over=source)``): a new layer that
 has the source as its sublayer and, on each rigid body prim a run's body is named by, an override of its transform
-(translate, orient and scale ops of its own) time-sampled at every frame, in the source's units, axes and time codes,
-local to the prim's parent; a kinematic prim keeps its own animation. Tools that open the layer (Houdini,
-Omniverse, usdview) play the run on the original scene."""
+(translate, orient and scale ops of its own) time-sampled at every frame, in the source's units, axes and time codes
+(whole frames at whole ones), local to the prim's parent; a kinematic prim keeps its own animation. Tools that open
+the layer (Houdini, Omniverse, usdview) play the run on the original scene."""
 
 from __future__ import annotations
 
 import os
+import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -23,14 +24,19 @@ def export_over(run: "Run", path: Path, source: Path) -> Path:
     _pxr()
     from pxr import Gf, Sdf, Usd, UsdGeom, UsdPhysics  # noqa: PLC0415
 
+    from ._usd import time_codes  # noqa: PLC0415
     from ._usd_physics import _world_matrix, frames_of, read_stage  # noqa: PLC0415
+    from ._usd_values import UsdImportWarning  # noqa: PLC0415
 
     src = Usd.Stage.Open(str(source))
     if src is None:
         raise ValueError(f"invalid argument `over`: {source} is not a USD stage usd-core can open")
     frames = frames_of(src)
-    # the bodies as the stage starts: where each body's frame sits on its prim's
-    start, handles = read_stage(source)
+    # the bodies as the stage starts: where each body's frame sits on its prim's (its approximations were said when
+    # the world was read)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UsdImportWarning)
+        start, handles = read_stage(source)
     if path.exists():
         path.unlink()
     layer = Sdf.Layer.CreateNew(str(path))
@@ -41,7 +47,7 @@ def export_over(run: "Run", path: Path, source: Path) -> Path:
     tcps = src.GetTimeCodesPerSecond() or 24.0
     stage.SetTimeCodesPerSecond(tcps)
     stage.SetFramesPerSecond(src.GetFramesPerSecond() or tcps)
-    codes = src.GetStartTimeCode() + (np.asarray(run.times) - run.times[0]) * tcps
+    codes = src.GetStartTimeCode() + time_codes(run.times, tcps)
     stage.SetStartTimeCode(float(codes[0]))
     stage.SetEndTimeCode(float(codes[-1]))
     written = 0

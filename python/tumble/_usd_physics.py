@@ -4,7 +4,8 @@ static) with MassAPI's mass, density, centre of mass and inertia; colliders (Col
 (static bodies); their physics materials; revolute, prismatic, spherical, fixed and distance joints with limits and
 drives; metersPerUnit, kilogramsPerUnit and upAxis. Every body is named by its prim path, which runs carry back to
 the stage (``Run.export_usd(path, over=source)``). What cannot be mapped raises ``UsdSceneError`` listing each prim
-and attribute."""
+and attribute; each approximation made is a ``UsdImportWarning`` naming them. float32 attributes are read as the
+decimals they were typed as (``_usd_values``)."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from ._usd_shapes import Frames, UsdSceneError, _pxr, material_of, quaternion, shape_of
+from ._usd_values import note, value
 
 Array = np.ndarray
 _Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])  # stage y up -> tumble z up
@@ -46,8 +48,8 @@ def _gravity(stage: Any, frames: Frames, problems: list[str]) -> Array:
         problems.append(f"{scenes[1].GetPath()}: PhysicsScene: tumble runs one scene a world (also "
                         f"{scenes[0].GetPath()})")
     scene = UsdPhysics.Scene(scenes[0])
-    direction = np.array(scene.GetGravityDirectionAttr().Get() or (0.0, 0.0, 0.0), dtype=float)
-    magnitude = scene.GetGravityMagnitudeAttr().Get()
+    direction = np.asarray(value(scene.GetGravityDirectionAttr(), np.zeros(3)), dtype=float)
+    magnitude = value(scene.GetGravityMagnitudeAttr())
     down = frames.up @ direction if np.linalg.norm(direction) > 0 else np.array([0.0, 0.0, -1.0])
     down = down / np.linalg.norm(down)
     g = 9.81 if magnitude is None or not math.isfinite(magnitude) else float(magnitude) * frames.metres
@@ -67,13 +69,15 @@ def _owner(prim: Any) -> Any | None:
     return None
 
 
-def _collider(prim: Any, frames: Frames, static: bool, problems: list[str]) -> tuple[Any, Array, Array, Any] | None:
-    """A collider prim as (shape, world position (m), world rotation, material), or None (said in problems)."""
+def _collider(prim: Any, frames: Frames, static: bool, problems: list[str],
+              notes: list[str]) -> tuple[Any, Array, Array, Any] | None:
+    """A collider prim as (shape, world position (m), world rotation, material), or None (said in problems); its
+    approximations said in notes."""
     x, r, scale = frames.pose(_world_matrix(prim))
-    shape, at, turn = shape_of(prim, scale, frames.metres, problems, static)
+    shape, at, turn = shape_of(prim, scale, frames.metres, problems, static, notes)
     if shape is None:
         return None
-    return shape, x + r @ at, r @ turn, material_of(prim, problems)
+    return shape, x + r @ at, r @ turn, material_of(prim, notes)
 
 
 def _relative(x0: Array, r0: Array, x: Array, r: Array) -> tuple[tuple[float, ...], tuple[float, ...]]:
@@ -111,7 +115,8 @@ def _animation(stage: Any, prim: Any, frames: Frames) -> tuple[Array, list[Any]]
 
 def read_stage(path: str | Path, make: Any = None, **world_options: Any) -> tuple[Any, dict[str, Any]]:
     """The world (made by ``make``, tumble.World by default) of the stage at ``path`` and its bodies' handles by
-    prim path (see the module's docstring)."""
+    prim path (see the module's docstring); each approximation made a ``UsdImportWarning`` once the world is
+    built."""
     _pxr()
     import tumble  # noqa: PLC0415
     from pxr import Usd, UsdPhysics  # noqa: PLC0415
@@ -121,6 +126,7 @@ def read_stage(path: str | Path, make: Any = None, **world_options: Any) -> tupl
         raise ValueError(f"invalid argument `path`: {path} is not a USD stage usd-core can open")
     frames = frames_of(stage)
     problems: list[str] = []
+    notes: list[str] = []
     world = (make or tumble.World)(gravity=tuple(_gravity(stage, frames, problems)), **world_options)
     handles: dict[str, Any] = {}
     owned: dict[str, list[Any]] = {}
@@ -135,7 +141,7 @@ def read_stage(path: str | Path, make: Any = None, **world_options: Any) -> tupl
         if prim.IsA(UsdPhysics.CollisionGroup):
             problems.append(f"{prim.GetPath()}: PhysicsCollisionGroup: collision groups are not taken yet")
     for prim in loose:  # colliders of no rigid body: static bodies
-        c = _collider(prim, frames, True, problems)
+        c = _collider(prim, frames, True, problems, notes)
         if c is not None:
             shape, x, r, (friction, restitution, _) = c
             try:
@@ -148,7 +154,7 @@ def read_stage(path: str | Path, make: Any = None, **world_options: Any) -> tupl
 
     for prim in stage.Traverse():
         if prim.HasAPI(UsdPhysics.RigidBodyAPI):
-            handle = add_rigid_body(world, stage, prim, owned.get(str(prim.GetPath()), []), frames, problems)
+            handle = add_rigid_body(world, stage, prim, owned.get(str(prim.GetPath()), []), frames, problems, notes)
             if handle is not None:
                 handles[str(prim.GetPath())] = handle
     from ._usd_joints import add_joints  # noqa: PLC0415
@@ -156,4 +162,5 @@ def read_stage(path: str | Path, make: Any = None, **world_options: Any) -> tupl
     add_joints(world, stage, handles, frames, problems)
     if problems:
         raise UsdSceneError(problems)
+    note(notes)
     return world, handles

@@ -1,6 +1,6 @@
 """USD Physics in, its parts: a stage's units and axes as tumble's, a collider prim's shape (UsdGeom Cube, Sphere,
 Capsule, Cylinder, Cone, Mesh with MeshCollisionAPI's approximation) and its physics material, and the error that
-lists what cannot be mapped (``_usd_physics.py`` reads the world)."""
+lists what cannot be mapped (``_usd_physics.py`` reads the world). Approximations made go to a list of notes."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from ._install import install_hint
+from ._usd_values import shown, value
 
 # The sides of the pyramid whose hull stands for a cone (tumble has no cone primitive).
 CONE_SIDES = 64
@@ -80,14 +81,14 @@ _AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
 
 
 def _get(prim: Any, name: str, default: Any = None) -> Any:
-    attr = prim.GetAttribute(name)
-    value = attr.Get() if attr and attr.IsValid() else None
-    return default if value is None else value
+    return value(prim.GetAttribute(name), default)
 
 
-def shape_of(prim: Any, scale: Array, metres: float, problems: list[str], static: bool) -> tuple[Any, Array, Array]:
+def shape_of(prim: Any, scale: Array, metres: float, problems: list[str], static: bool,
+             notes: list[str]) -> tuple[Any, Array, Array]:
     """The tumble shape of a collider prim at ``scale`` (its world scale along its own axes), with the shape's pose
-    in the prim's frame (position in metres, rotation); None where it cannot be taken (said in ``problems``)."""
+    in the prim's frame (position in metres, rotation); None where it cannot be taken (said in ``problems``); an
+    approximation made is said in ``notes``."""
     import tumble  # noqa: PLC0415
     from pxr import UsdGeom, UsdPhysics  # noqa: PLC0415
 
@@ -97,8 +98,11 @@ def shape_of(prim: Any, scale: Array, metres: float, problems: list[str], static
 
     def even(axes: list[int], what: str) -> float | None:
         if np.ptp(s[axes]) > 1e-9 * s[axes].max():
-            problems.append(f"{path}: xformOp:scale: a {what} scaled unevenly ({', '.join(f'{v:g}' for v in scale)}) is not "
-                            "one tumble takes")
+            texts = [shown(v) for v in scale]
+            if len({texts[i] for i in axes}) == 1:  # apart by less than float32 shows (double ops): in full
+                texts = [repr(float(v)) for v in scale]
+            problems.append(f"{path}: xformOp:scale: a {what} scaled unevenly ({', '.join(texts)}) is not one "
+                            "tumble takes")
             return None
         return float(s[axes].mean())
 
@@ -122,12 +126,13 @@ def shape_of(prim: Any, scale: Array, metres: float, problems: list[str], static
             return tumble.Capsule(half_height=0.5 * height, radius=radius), np.zeros(3), turn
         if kind == "Cylinder":
             return tumble.Cylinder(half_height=0.5 * height, radius=radius), np.zeros(3), turn
+        notes.append(f"{path}: Cone: taken as the hull of a {CONE_SIDES}-sided pyramid (tumble has no cone)")
         angles = np.linspace(0.0, 2 * np.pi, CONE_SIDES, endpoint=False)
         base = np.c_[radius * np.cos(angles), radius * np.sin(angles), np.full(CONE_SIDES, -0.5 * height)]
         return tumble.ConvexHull(np.vstack([base, [0.0, 0.0, 0.5 * height]])), np.zeros(3), turn
     if kind == "Mesh":
         mesh = UsdGeom.Mesh(prim)
-        points = np.array(mesh.GetPointsAttr().Get() or [], dtype=float) * s
+        points = np.reshape(value(mesh.GetPointsAttr(), np.zeros((0, 3))), (-1, 3)) * s
         counts = list(mesh.GetFaceVertexCountsAttr().Get() or [])
         indices = list(mesh.GetFaceVertexIndicesAttr().Get() or [])
         triangles, at = [], 0
@@ -170,10 +175,10 @@ def shape_of(prim: Any, scale: Array, metres: float, problems: list[str], static
     return none
 
 
-def material_of(prim: Any, problems: list[str]) -> tuple[float, float, float | None]:
+def material_of(prim: Any, notes: list[str]) -> tuple[float, float, float | None]:
     """The physics material bound to a collider prim (purpose "physics", else all purposes): (friction,
-    restitution, density in stage units or None); PhysX's defaults where none is bound. tumble has one friction
-    coefficient: a material whose static and dynamic frictions differ is refused."""
+    restitution, density in stage units or None); PhysX's defaults where none is bound. tumble's friction is one
+    Coulomb coefficient, for sliding and sticking: the dynamic one, said in ``notes`` where the static differs."""
     from pxr import UsdPhysics, UsdShade  # noqa: PLC0415
 
     binding = UsdShade.MaterialBindingAPI(prim)
@@ -186,13 +191,11 @@ def material_of(prim: Any, problems: list[str]) -> tuple[float, float, float | N
     if material is None:
         return DEFAULT_FRICTION, DEFAULT_RESTITUTION, None
     api = UsdPhysics.MaterialAPI(material)
-    static, dynamic = api.GetStaticFrictionAttr().Get(), api.GetDynamicFrictionAttr().Get()
-    static = DEFAULT_FRICTION if static is None else float(static)
-    dynamic = DEFAULT_FRICTION if dynamic is None else float(dynamic)
-    if abs(static - dynamic) > 1e-12:
-        problems.append(f"{material.GetPath()}: physics:staticFriction: {static} differs from "
-                        f"physics:dynamicFriction {dynamic} (tumble has one friction coefficient)")
-    restitution = api.GetRestitutionAttr().Get()
-    density = api.GetDensityAttr().Get()
-    return dynamic, DEFAULT_RESTITUTION if restitution is None else float(restitution), \
-        float(density) if density else None
+    static = value(api.GetStaticFrictionAttr(), DEFAULT_FRICTION)
+    dynamic = value(api.GetDynamicFrictionAttr(), DEFAULT_FRICTION)
+    if static != dynamic:
+        notes.append(f"{material.GetPath()}: physics:staticFriction: {shown(static)} differs from "
+                     f"physics:dynamicFriction {shown(dynamic)}: tumble takes the dynamic one (its friction is one "
+                     "Coulomb coefficient, for sliding and sticking)")
+    density = value(api.GetDensityAttr())
+    return dynamic, value(api.GetRestitutionAttr(), DEFAULT_RESTITUTION), density if density else None
