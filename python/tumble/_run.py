@@ -119,6 +119,52 @@ class Run:
         """Body ``body``'s linear RGBA colour, or None where it was given none."""
         return self.colors[body] if body < len(self.colors) else None
 
+    def _column(self, handle: BodyHandle | ParticleHandle, particles: bool, array: str) -> np.ndarray:
+        """A copy of the frames (F, n) of ``handle``'s column of the body (or particle) array ``array``."""
+        from ._tumble import BodyHandle, ParticleHandle  # noqa: PLC0415
+
+        if isinstance(handle, BodyHandle):
+            held: list[Any] = self.bodies
+            kind, name = "bodies", f"body_{array}"
+        elif particles and isinstance(handle, ParticleHandle):
+            held, kind, name = self.particles, "particles", f"particle_{array}"
+        else:
+            wanted = "a BodyHandle or a ParticleHandle" if particles else "a BodyHandle (only bodies have it)"
+            raise TypeError(f"invalid argument `handle`: expected {wanted}, got {handle!r}")
+        try:
+            column = held.index(handle)
+        except ValueError:
+            raise ValueError(f"invalid argument `handle`: {handle!r} is not one of the run's {len(held)} {kind} (a "
+                             f"handle of another world, or added after the run or removed before it)") from None
+        frames = getattr(self, name)
+        if frames.ndim != 3:  # a run saved before the array existed
+            raise ValueError(f"invalid argument `handle`: the run holds no {name}")
+        return np.array(frames[:, column])
+
+    def positions_of(self, handle: BodyHandle | ParticleHandle) -> np.ndarray:
+        """The positions (F, 3) of a body (its centre of mass, as ``body_positions``) or a particle, frame by
+        frame, by its handle: the column of ``body_positions`` or ``particle_positions`` the handle has in this run
+        (a static body, such as ``add_ground``'s, has one too). A copy. Raises ValueError for a handle the run does
+        not hold (another world's, or one added after the run or removed before it), TypeError for anything but a
+        handle. Works on a run read back by ``Run.load`` with the handles of the world that ran it."""
+        return self._column(handle, True, "positions")
+
+    def orientations_of(self, handle: BodyHandle) -> np.ndarray:
+        """The orientations (F, 4) of a body, frame by frame, by its handle: unit quaternions stored (w, x, y, z),
+        scalar first, as ``body_orientations`` (the order of Blender's ``mathutils.Quaternion``; glTF and SciPy
+        store (x, y, z, w)). A copy. Raises as ``positions_of`` does, and TypeError for a particle."""
+        return self._column(handle, False, "orientations")
+
+    def velocities_of(self, handle: BodyHandle | ParticleHandle) -> np.ndarray:
+        """The velocities (F, 3) of a body (its centre of mass, as ``body_velocities``) or a particle, frame by
+        frame, by its handle. A copy. Raises as ``positions_of`` does."""
+        return self._column(handle, True, "velocities")
+
+    def angular_velocities_of(self, handle: BodyHandle) -> np.ndarray:
+        """The angular velocities (F, 3) of a body in world axes (rad/s), frame by frame, by its handle, as
+        ``body_angular_velocities``. A copy. Raises as ``orientations_of`` does."""
+        return self._column(handle, False, "angular_velocities")
+
     def contacts(self, frame: int) -> np.ndarray:
         """The contacts at ``frame`` as a (C, 2, 3) array: each contact's point and unit normal."""
         if not -self.frames <= frame < self.frames:
