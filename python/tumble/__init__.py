@@ -40,6 +40,7 @@ from ._tumble import (
 )
 from ._report import Report
 from ._run import Run
+from ._geometry import EulerOrder, quaternion_to_euler, quaternion_to_matrix, up_axis
 from ._batch import Batch, rollout
 from ._sweep import sweep
 from ._kinematic import keyframes_from
@@ -90,5 +91,9 @@ __all__ = [
     "ModeName",
     "SolverName",
     "LinearSolverName",
+    "quaternion_to_matrix",
+    "quaternion_to_euler",
+    "up_axis",
+    "EulerOrder",
     "__version__",
 ]
