@@ -1,20 +1,78 @@
 """Baking: the scene's rigid body world run in tumble and its motion written back as keyframes, whole F-curves at
 once (``keyframe_points.add`` and ``foreach_set``), so that playback, render and the timeline work as after
-Blender's own bake; the rigid body world is then switched off, so that the keyframes play."""
+Blender's own bake; the rigid body world is then switched off, so that the keyframes play. The bake's progress shows
+in the terminal (tumble's bar, or lines in a log) and, given Blender's window manager, in its progress indicator."""
 
 from __future__ import annotations
 
+import sys
 import time
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 import numpy.typing as npt
 
 from tumble._geometry import rotation_matrices
+from tumble._progress import AUTO_DELAY, Progress, progress as _progress
 
 from ._read import world_from_scene
 
 Array = npt.NDArray[np.float64]
+
+# The simulation's share of the bake's progress; writing the keyframes, a body at a time (whole F-curves at once,
+# quick beside the simulation), the rest.
+SIMULATING = 0.95
+
+
+class BakeProgress(Progress):
+    """The bake's progress, shown by ``shown`` (tumble's display, the caller's callable, or None) and by Blender's
+    window manager (``progress_begin`` / ``progress_update`` / ``progress_end``, None for none): the run's fractions
+    scaled to ``SIMULATING``, then the keyframes written, to 1. A ``Progress`` so that ``World.run`` writes its hint
+    above the bar; ``World.run`` closes it after the run, which leaves it open: ``finish`` ends it."""
+
+    def __init__(self, shown: Progress | Callable[[float], None] | None, manager: Any = None) -> None:
+        # no display of its own (Progress.__init__ would open a bar): it forwards to ``shown``
+        self._shown = shown
+        self._manager = manager
+        if manager is not None:
+            manager.progress_begin(0.0, 1.0)
+
+    def __call__(self, fraction: float) -> None:
+        """The run's fraction done (0 to 1)."""
+        self.show(SIMULATING * fraction)
+
+    def show(self, fraction: float) -> None:
+        """The bake's fraction done (0 to 1)."""
+        if self._shown is not None:
+            self._shown(fraction)
+        if self._manager is not None:
+            self._manager.progress_update(fraction)
+
+    def write(self, line: str) -> None:
+        """A line above the bar, or in the log (standard error without a display of tumble's)."""
+        if isinstance(self._shown, Progress):
+            self._shown.write(line)
+        else:
+            sys.stderr.write(f"tumble: {line}\n")
+
+    def close(self) -> None:
+        """Left open when the run ends: the keyframes are still to write."""
+
+    def finish(self) -> None:
+        """Ends the display and Blender's progress indicator."""
+        if isinstance(self._shown, Progress):
+            self._shown.close()
+        if self._manager is not None:
+            self._manager.progress_end()
+
+
+def display(progress: bool | Callable[[float], None] | None) -> Progress | Callable[[float], None] | None:
+    """The terminal's display for the bake's ``progress``, as ``World.run`` takes it (a bar labelled "bake")."""
+    if progress is None:
+        return Progress(label="bake", quiet_log=True, delay=AUTO_DELAY)
+    if progress is True:
+        return Progress(label="bake")
+    return _progress(progress)
 
 
 def _curves(obj: Any) -> Any:
@@ -41,6 +99,7 @@ def _write(bag: Any, path: str, frames: Array, values: Array) -> None:
 
 
 def bake(scene: Any = None, frame_start: int | None = None, frame_end: int | None = None,
+         progress: bool | Callable[[float], None] | None = None, window_manager: Any = None,
          **world_options: Any) -> Any:
     """Bakes ``scene``'s rigid body world (the current scene by default) with tumble over its rigid body cache's
     frame range (or ``frame_start`` to ``frame_end``), writing each active body's location and rotation as
@@ -48,11 +107,29 @@ def bake(scene: Any = None, frame_start: int | None = None, frame_end: int | Non
     report of the run, with the bake's time split (``bake_reading_seconds``, ``bake_simulating_seconds``,
     ``bake_writing_seconds``), ``bake_notes`` (the approximations made) and ``bake_broken_at`` (the frames at which
     breakable constraints broke). Raises
-    ``BlenderSceneError`` naming every object and setting tumble cannot take."""
+    ``BlenderSceneError`` naming every object and setting tumble cannot take.
+
+    ``progress`` takes what ``World.run``'s does: None (the default) a bar on a terminal once the bake has taken two
+    seconds, with the time left, and nothing in a log; True a bar from the start (plain lines where standard error
+    is a log); False nothing; a callable is called with the fraction of the bake done, rising to 1 when the
+    keyframes are written (an exception from it stops the bake; raised during the run, as Ctrl-C there, before any
+    keyframe is written).
+    ``window_manager`` (Blender's ``context.window_manager``, as the add-on's operator passes it) shows the same
+    fractions in Blender's progress indicator (``progress_begin``, ``progress_update``, ``progress_end``)."""
     import bpy  # noqa: PLC0415
+
+    shown = BakeProgress(display(progress), window_manager)
+    try:
+        return _bake(scene or bpy.context.scene, frame_start, frame_end, shown, world_options)
+    finally:
+        shown.finish()
+
+
+def _bake(scene: Any, frame_start: int | None, frame_end: int | None, shown: BakeProgress,
+          world_options: dict[str, Any]) -> Any:
+    """``bake``'s work, its progress shown by ``shown``."""
     from mathutils import Quaternion  # noqa: PLC0415
 
-    scene = scene or bpy.context.scene
     clock = time.perf_counter()
     mapped = world_from_scene(scene, **world_options)
     start = mapped.frame_start if frame_start is None else int(frame_start)
@@ -61,12 +138,13 @@ def bake(scene: Any = None, frame_start: int | None = None, frame_end: int | Non
         raise ValueError(f"invalid argument `frame_end`: must be after frame_start ({start}), got {end}")
     read = time.perf_counter() - clock
     clock = time.perf_counter()
-    run = mapped.world.run((end - start) * mapped.frame_time, mapped.frame_time)
+    run = mapped.world.run((end - start) * mapped.frame_time, mapped.frame_time, progress=shown)
     simulated = time.perf_counter() - clock
     clock = time.perf_counter()
     frames = (start + np.arange(len(run.times))).astype(np.float64)
     unit = float(scene.unit_settings.scale_length) or 1.0
-    for name in mapped.moving:
+    for written_bodies, name in enumerate(mapped.moving):
+        shown.show(SIMULATING + (1.0 - SIMULATING) * written_bodies / len(mapped.moving))
         obj = scene.objects[name]
         column = run.bodies.index(mapped.handles[name])
         wxyz = run.body_orientations[:, column]
@@ -87,6 +165,7 @@ def bake(scene: Any = None, frame_start: int | None = None, frame_end: int | Non
                 last = e
             _write(bag, "rotation_euler", frames, np.array(angles))
     scene.rigidbody_world.enabled = False
+    shown.show(1.0)
     written = time.perf_counter() - clock
     from tumble._report import Report  # noqa: PLC0415
 

@@ -1,6 +1,7 @@
 """The add-on's panel and operator: "Bake with tumble" under the Scene properties' Rigid Body World, with the
 mode, the contact tolerance (accurate) or time step (fast, 0: Blender's own step) and the frame range; a bake that
-cannot map the scene reports each object and setting, and a bake that ran reports tumble's summary."""
+cannot map the scene reports each object and setting, and a bake that ran reports tumble's summary. The bake's
+progress shows in the terminal and in Blender's progress indicator."""
 
 
 from typing import Any
@@ -41,7 +42,9 @@ def _define() -> list[Any]:
             elif self.time_step > 0:
                 options["dt"] = self.time_step
             try:
-                report = bake(context.scene, self.frame_start, self.frame_end, **options)
+                # the progress on the terminal (a bar, or lines in a log) and in Blender's progress indicator
+                report = bake(context.scene, self.frame_start, self.frame_end, progress=True,
+                              window_manager=context.window_manager, **options)
             except BlenderSceneError as error:
                 for problem in error.problems:
                     self.report({"ERROR"}, problem)
