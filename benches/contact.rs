@@ -128,7 +128,7 @@ fn accurate_scene(pile: bool) -> World {
     use nalgebra::{UnitQuaternion, Vector3};
     use tumble::{Material, RigidBodyBuilder, Shape};
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: 0.2, friction: 0.6 }).unwrap();
+    w.add_ground(0.0, Material::new(0.2, 0.6)).unwrap();
     let cube = Shape::cuboid(Vector3::repeat(0.25)).unwrap();
     let count = if pile { 20 } else { 10 };
     for k in 0..count {

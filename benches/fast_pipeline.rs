@@ -26,7 +26,7 @@ fn solvers() -> [(&'static str, FastSolver); 2] {
 fn pile(n: usize, solver: FastSolver) -> World {
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings { sleep: false, solver, ..FastSettings::new(1.0 / 60.0) })).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     let cube = Shape::cuboid(Vector3::repeat(0.5)).unwrap();
     for k in 0..n {
         let (layer, i, j) = (k / 100, (k % 100) / 10, k % 10);

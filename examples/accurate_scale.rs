@@ -13,7 +13,7 @@ use tumble::{AccurateSettings, Material, Mode, RigidBodyBuilder, Shape, World};
 /// `n` boxes (half extent 0.1 m) 2 m apart on a square grid, dropped from 0.5 to 0.56 m with a spin.
 fn boxes(n: usize) -> World {
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: 0.3, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.3, 0.5)).unwrap();
     let side = (n as f64).sqrt().ceil() as usize;
     for k in 0..n {
         let at = Vector3::new(2.0 * (k % side) as f64, 2.0 * (k / side) as f64, 0.5 + 0.01 * (k % 7) as f64);
@@ -28,7 +28,7 @@ fn boxes(n: usize) -> World {
 /// `n` dominoes along an S-curve, the first tipped about its front bottom edge at 5 rad/s.
 fn dominoes(n: usize) -> World {
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     let half = Vector3::new(0.004, 0.012, 0.024);
     let (mut x, mut y, mut heading) = (0.0f64, 0.0f64, 0.0f64);
     for k in 0..n {

@@ -18,7 +18,7 @@ fn main() {
     w.set_mode(Mode::Fast(FastSettings { sleep: false, solver: FastSolver::Soft(soft), ..FastSettings::new(dt) }))
         .unwrap();
     w.set_threads(1).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     let cube = |w: &mut World, half: f64, at: Vector3<f64>| {
         let shape = Shape::cuboid(Vector3::repeat(half)).unwrap();
         w.add_body(RigidBodyBuilder::from_shape(shape, 1000.0).position(at).restitution(0.0).friction(0.5)).unwrap();

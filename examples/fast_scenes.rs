@@ -20,7 +20,7 @@ const G: f64 = 9.81;
 fn world(dt: f64, solver: FastSolver, sleep: bool, mu: f64) -> World {
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings { sleep, solver, ..FastSettings::new(dt) })).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: mu }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, mu)).unwrap();
     w
 }
 

@@ -25,7 +25,7 @@ fn cubes(fast: bool) -> World {
     if fast {
         w.set_mode(Mode::Fast(FastSettings { sleep: false, ..FastSettings::new(1.0 / 60.0) })).unwrap();
     }
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     for k in 0..1000 {
         let (layer, i, j) = (k / 100, (k % 100) / 10, k % 10);
         let at = Vector3::new(1.2 * i as f64, 1.2 * j as f64, 2.5 + 1.2 * layer as f64);

@@ -20,7 +20,7 @@ fn rain(n: usize, threads: usize) -> World {
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings { sleep: false, ..FastSettings::new(1.0 / 60.0) })).unwrap();
     w.set_threads(threads).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     let side = (n as f64).sqrt().ceil() as usize;
     let shape = Shape::cuboid(Vector3::repeat(0.5)).unwrap();
     for k in 0..n {

@@ -200,7 +200,7 @@ fn all_scenes() -> Vec<Scene> {
         let mut w = World::new();
         let mode = tumble::AccurateSettings { persistent: Persistent::RestingForces, ..Default::default() };
         w.set_mode(Mode::Accurate(mode)).unwrap();
-        w.add_ground(0.0, Material { restitution: 0.5, friction: 0.0 }).unwrap();
+        w.add_ground(0.0, Material::new(0.5, 0.0)).unwrap();
         let ball = RigidBodyBuilder::from_shape(Shape::sphere(0.1).unwrap(), 1000.0)
             .position(Vector3::new(0.0, 0.0, 0.5))
             .restitution(0.5)
@@ -284,7 +284,7 @@ fn all_scenes() -> Vec<Scene> {
     }));
     out.push(scene("springs-on-ground-rodas4", 1.0 / 60.0, 30, || {
         let mut w = springs_with(integrator("rodas4", None, Some(1e-7)));
-        w.add_ground(0.0, Material { restitution: 0.3, friction: 0.4 }).unwrap();
+        w.add_ground(0.0, Material::new(0.3, 0.4)).unwrap();
         w
     }));
     out

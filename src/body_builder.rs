@@ -27,8 +27,7 @@ pub struct RigidBodyBuilder {
     angular_velocity: Vector3<f64>,
     linear_damping: f64,
     angular_damping: f64,
-    restitution: f64,
-    friction: f64,
+    material: Material,
     mesh_shape: Option<MeshShape>,
     /// The modelled frame's origin in the body frame, as a saved world has it.
     origin: Option<Vector3<f64>>,
@@ -54,8 +53,7 @@ impl RigidBodyBuilder {
             angular_velocity: Vector3::zeros(),
             linear_damping: 0.0,
             angular_damping: 0.0,
-            restitution: Material::default().restitution,
-            friction: Material::default().friction,
+            material: Material::default(),
             mesh_shape: None,
             origin: None,
             look: Look::default(),
@@ -150,12 +148,27 @@ impl RigidBodyBuilder {
     }
     /// Coefficient of restitution in [0, 1] (used by contact).
     pub fn restitution(mut self, e: f64) -> Self {
-        self.restitution = e;
+        self.material.restitution = e;
         self
     }
     /// Coefficient of friction >= 0 (used by contact).
     pub fn friction(mut self, mu: f64) -> Self {
-        self.friction = mu;
+        self.material.friction = mu;
+        self
+    }
+    /// Coefficient of rolling resistance >= 0 (`Material::rolling_resistance`).
+    pub fn rolling_resistance(mut self, c: f64) -> Self {
+        self.material.rolling_resistance = c;
+        self
+    }
+    /// Coefficient of torsional resistance >= 0 (`Material::torsional_resistance`).
+    pub fn torsional_resistance(mut self, c: f64) -> Self {
+        self.material.torsional_resistance = c;
+        self
+    }
+    /// Its whole surface material (restitution, friction, resistance and its own combine rules).
+    pub fn material(mut self, m: Material) -> Self {
+        self.material = m;
         self
     }
 
@@ -197,7 +210,7 @@ impl RigidBodyBuilder {
         }
         limits::non_negative("linear_damping", self.linear_damping, limits::STIFFNESS, "N s/m")?;
         limits::non_negative("angular_damping", self.angular_damping, limits::STIFFNESS, "N m s")?;
-        let material = Material { restitution: self.restitution, friction: self.friction };
+        let material = self.material;
         material.check()?;
         self.look.check()?;
         for (_, pose) in &self.extra {

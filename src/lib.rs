@@ -44,7 +44,7 @@ mod spring;
 mod world;
 
 pub use body::{RigidBody, RigidBodyBuilder, ALL_GROUPS};
-pub use collider::{Collider, Material};
+pub use collider::{Collider, Combine, CombineRules, Material};
 pub use control::Control;
 pub use error::WorldError;
 pub use handle::Handle;
@@ -69,7 +69,7 @@ pub use report::{ReportValue, WorldReport};
 pub use rollout::{rollout, RolloutSettings};
 pub use run::{Run, RunArrays, DEFAULT_FRAME_INTERVAL};
 pub use spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
-pub use world::{ContactInfo, SpringJacobian, World, WorldState};
+pub use world::{ContactInfo, MaterialChange, SpringJacobian, World, WorldState};
 
 /// Shapes and mass properties (tumble-collide).
 pub use tumble_collide as collide;

@@ -254,6 +254,10 @@ pub struct WorldOptions {
     pub substeps: Option<usize>,
     /// The integrator (accurate mode); its `dt` is fast mode's step in fast mode.
     pub integrator: IntegratorOptions,
+    /// How two surfaces' frictions and restitutions combine where neither names its own rule ("average",
+    /// "geometric_mean", "min", "product", "max"); the geometric mean and the larger by default.
+    pub friction_combine: Option<String>,
+    pub restitution_combine: Option<String>,
 }
 
 impl WorldOptions {
@@ -277,6 +281,14 @@ impl WorldOptions {
         if let Some(n) = self.threads {
             world.set_threads(n)?;
         }
+        let mut rules = world.combine_rules();
+        if let Some(f) = &self.friction_combine {
+            rules.friction = crate::collider::Combine::parse("friction_combine", f)?;
+        }
+        if let Some(r) = &self.restitution_combine {
+            rules.restitution = crate::collider::Combine::parse("restitution_combine", r)?;
+        }
+        world.set_combine_rules(rules);
         if name == "fast" {
             // step_doubling in fast mode estimates each step's error (it does not control the step)
             if let Some(first) = self.integrator.given().into_iter().find(|n| *n != "step_doubling") {

@@ -103,7 +103,8 @@ impl ParticleBuilder {
         self.particle.radius = r;
         self
     }
-    /// Restitution and friction of its collisions.
+    /// The surface material of its collisions (restitution, friction and its own combine rules; a particle does
+    /// not turn, so resistance to turning does nothing for it).
     pub fn material(mut self, m: Material) -> Self {
         self.particle.material = m;
         self

@@ -14,7 +14,7 @@ fn tumbling_box(tolerance: Option<f64>) -> World {
     w.set_mode(Mode::Accurate(AccurateSettings { contact_tolerance: tolerance, ..AccurateSettings::default() }))
         .unwrap();
     w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-9, 1e-11)).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.5, friction: 0.0 }).unwrap();
+    w.add_ground(0.0, Material::new(0.5, 0.0)).unwrap();
     let q = UnitQuaternion::from_quaternion(Quaternion::new(0.9238795, 0.3826834, 0.0, 0.0));
     w.add_body(
         RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::new(0.3, 0.2, 0.1)).unwrap(), 800.0)
@@ -66,7 +66,7 @@ fn domino_tilts(tolerance: f64) -> Vec<f64> {
     let mut w = World::new();
     w.set_mode(Mode::Accurate(AccurateSettings { contact_tolerance: Some(tolerance), ..AccurateSettings::default() }))
         .unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     let shape = Shape::cuboid(Vector3::new(0.004, 0.012, 0.024)).unwrap();
     let dominoes: Vec<_> = (0..3)
         .map(|k| {

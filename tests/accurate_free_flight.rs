@@ -18,7 +18,7 @@ fn sliding_cube(tol: f64, mu: f64, v: f64) -> (World, tumble::BodyHandle) {
     let mut w = World::new();
     w.set_mode(Mode::Accurate(AccurateSettings { contact_tolerance: Some(tol), ..Default::default() })).unwrap();
     w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-10, 1e-12)).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: mu }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, mu)).unwrap();
     let cube = Shape::cuboid(Vector3::repeat(0.25)).unwrap();
     let b = w
         .add_body(

@@ -15,7 +15,7 @@ fn incline(theta: f64, mu: f64, tol: f64) -> World {
     let mut w = World::new();
     w.set_mode(Mode::Accurate(AccurateSettings { contact_tolerance: Some(tol), ..Default::default() })).unwrap();
     w.set_gravity(Vector3::new(G * theta.sin(), 0.0, -G * theta.cos())).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: mu }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, mu)).unwrap();
     w
 }
 
@@ -115,7 +115,7 @@ fn a_sphere_rolls_down_an_incline_at_five_sevenths_g_sin_theta_and_slides_past_i
 #[test]
 fn a_box_thrown_spinning_onto_a_floor_settles_flat_at_rest_and_never_gains_energy() {
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: 0.3, friction: 0.6 }).unwrap();
+    w.add_ground(0.0, Material::new(0.3, 0.6)).unwrap();
     let cube = w
         .add_body(
             RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::new(0.3, 0.2, 0.1)).unwrap(), 800.0)

@@ -12,7 +12,7 @@ const G: f64 = 9.81;
 fn ball_world(e: f64, r: f64, drop: f64) -> (World, tumble::BodyHandle) {
     let mut w = World::new();
     w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-10, 1e-12)).unwrap();
-    w.add_ground(0.0, Material { restitution: e, friction: 0.0 }).unwrap();
+    w.add_ground(0.0, Material::new(e, 0.0)).unwrap();
     let shape = Shape::sphere(r).unwrap();
     let b = w
         .add_body(
@@ -95,7 +95,7 @@ fn boxes_with_a_mass_ratio_of_1000_rest_on_each_other() {
     // a gap of +-1e-13 (rounding) that were not in the resting set raised an event at every step until the guard.
     for (below, above) in [(1.0, 1000.0), (1000.0, 1.0)] {
         let mut w = World::new();
-        w.add_ground(0.0, Material { restitution: 0.0, friction: 0.0 }).unwrap();
+        w.add_ground(0.0, Material::new(0.0, 0.0)).unwrap();
         let boxes: Vec<_> = [(below, 0.5), (above, 1.5)]
             .iter()
             .map(|&(density, z)| {
@@ -157,7 +157,7 @@ fn energy_never_grows_among_bouncing_and_resting_bodies() {
     // bodies by up to the 1e-7 m contact distance).
     let mut w = World::new();
     w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-10, 1e-12)).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.0 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.0)).unwrap();
     for (k, e) in [1.0, 0.5].iter().enumerate() {
         let s = Shape::sphere(0.2).unwrap();
         w.add_body(
@@ -211,7 +211,7 @@ fn a_box_thrown_spinning_onto_a_frictionless_floor_lands_and_settles() {
     // start between frames (the integrator's relative tolerance at the default settings).
     for e in [0.0, 0.3, 0.8] {
         let mut w = World::new();
-        w.add_ground(0.0, Material { restitution: e, friction: 0.0 }).unwrap();
+        w.add_ground(0.0, Material::new(e, 0.0)).unwrap();
         let shape = Shape::cuboid(Vector3::new(0.3, 0.2, 0.15)).unwrap();
         let b = w
             .add_body(
@@ -249,7 +249,7 @@ fn a_box_that_hops_off_another_is_caught_when_it_comes_back() {
     // (nothing passes through), and contacts that sink past the contact tolerance (1e-6 of the scene's size, a few
     // micrometres here) are lifted before the next step, so nothing sinks deeper than a few tolerances: 1e-5 m.
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: 0.2, friction: 0.0 }).unwrap();
+    w.add_ground(0.0, Material::new(0.2, 0.0)).unwrap();
     let big = Shape::cuboid(Vector3::repeat(0.5)).unwrap();
     w.add_body(RigidBodyBuilder::from_shape(big, 500.0).position(Vector3::new(0.0, 0.0, 0.5)).restitution(0.2))
         .unwrap();
@@ -291,7 +291,7 @@ fn the_chapters_resting_forces_stay_selectable_and_refuse_friction() {
     assert!(w.plan().has("resting-contact") && !w.plan().has("contact-cone-program") && r.contact_steps == 0);
     let mut w = World::new();
     w.set_mode(resting).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     w.add_body(RigidBodyBuilder::from_shape(Shape::sphere(0.1).unwrap(), 1000.0).position(Vector3::new(0.0, 0.0, 0.1)))
         .unwrap();
     let e = w.step(0.1).unwrap_err();

@@ -25,7 +25,7 @@ fn final_bits(mut w: World, span: f64, interval: Option<f64>) -> Vec<u64> {
 /// `n` spinning boxes dropped 2 m apart from slightly different heights (each a group on its own clock).
 fn boxes_apart(n: usize) -> World {
     let mut w = World::new();
-    w.add_ground(0.0, tumble::Material { restitution: 0.3, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, tumble::Material::new(0.3, 0.5)).unwrap();
     for k in 0..n {
         let at = Vector3::new(2.0 * (k % 4) as f64, 2.0 * (k / 4) as f64, 0.5 + 0.01 * (k % 7) as f64);
         w.add_body(

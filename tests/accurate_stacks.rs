@@ -18,7 +18,7 @@ fn settle(w: &mut World, bodies: &[BodyHandle], seconds: f64) -> (f64, f64) {
 #[test]
 fn a_column_of_ten_cubes_stands_at_rest() {
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: 0.1, friction: 0.6 }).unwrap();
+    w.add_ground(0.0, Material::new(0.1, 0.6)).unwrap();
     // 1 mm gaps: each cube lands on the one below
     let column: Vec<BodyHandle> = (0..10)
         .map(|k| {
@@ -41,7 +41,7 @@ fn a_column_of_ten_cubes_stands_at_rest() {
 #[test]
 fn twenty_cubes_dropped_in_a_pile_come_to_rest() {
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: 0.2, friction: 0.6 }).unwrap();
+    w.add_ground(0.0, Material::new(0.2, 0.6)).unwrap();
     let pile: Vec<BodyHandle> = (0..20)
         .map(|k: usize| {
             let (i, j, l) = (k % 3, (k / 3) % 3, k / 9);

@@ -101,7 +101,7 @@ fn a_pendulum_pivot_breaks_where_its_force_reaches_the_bound() {
     // times that) under Dopri5 at 1e-10: measured 3e-11 and 1.5e-10 relative, bound 1e-8; the same with a
     // ground far below (the contact engine's event detection carries the break then)
     let mut grounded = accurate();
-    grounded.add_ground(-5.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    grounded.add_ground(-5.0, Material::new(0.0, 0.5)).unwrap();
     for w in [accurate(), grounded] {
         let (e_omega, e_vx, breaks) = pendulum_breaks(w);
         assert!(e_omega < 1e-8 && e_vx < 1e-8, "accurate: {e_omega:e}, {e_vx:e}");
@@ -118,7 +118,7 @@ fn a_pendulum_pivot_breaks_where_its_force_reaches_the_bound() {
 /// weight, so it breaks at once and the box falls onto the slab (its pair no longer joined, so no longer left
 /// untested). Gives the box's height after 3 s and the weld.
 fn welded_box_falls_onto_its_slab(mut w: World) -> (f64, bool) {
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     let slab = Shape::cuboid(Vector3::new(0.5, 0.5, 0.1)).unwrap();
     let a = w.add_body(RigidBodyBuilder::from_shape(slab, 1000.0).position(Vector3::z() * 0.1)).unwrap();
     let cube = Shape::cuboid(Vector3::new(0.1, 0.1, 0.1)).unwrap();

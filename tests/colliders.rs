@@ -30,12 +30,12 @@ fn two_balls_make_a_dumbbell_with_the_parallel_axis_inertia() {
 
 #[test]
 fn materials_combine_to_the_larger_restitution_and_the_geometric_mean_friction() {
-    let a = Material { restitution: 0.8, friction: 0.9 };
-    let b = Material { restitution: 0.2, friction: 0.1 };
+    let a = Material::new(0.8, 0.9);
+    let b = Material::new(0.2, 0.1);
     let c = a.combine(&b);
     assert_eq!(c.restitution, 0.8);
     assert!((c.friction - 0.3).abs() < 1e-15);
-    assert_eq!(a.combine(&Material { restitution: 0.0, friction: 0.0 }).friction, 0.0);
+    assert_eq!(a.combine(&Material::new(0.0, 0.0)).friction, 0.0);
     assert_eq!(a.combine(&b), b.combine(&a));
 }
 
@@ -46,7 +46,7 @@ fn the_offset_collider_is_the_one_that_lands() {
     // lower ball lands and the body comes to rest on it.
     let mut w = World::new();
     w.set_mode(tumble::Mode::fast(1.0 / 240.0)).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.8 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.8)).unwrap();
     let ball = Shape::sphere(0.1).unwrap();
     let b = w
         .add_body(

@@ -12,7 +12,7 @@ fn stack(mode: Option<Mode>) -> (World, [tumble::BodyHandle; 3]) {
     if let Some(mode) = mode {
         w.set_mode(mode).unwrap();
     }
-    let ground = w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    let ground = w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     let cube = |half: f64, mass: f64, z: f64| {
         let density = mass / (8.0 * half * half * half);
         RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::repeat(half)).unwrap(), density)

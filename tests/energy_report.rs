@@ -31,7 +31,7 @@ fn a_damped_particle_loses_the_closed_form_energy_in_smooth_mode() {
 fn sliding_box(mode: Mode) -> (World, f64) {
     let mut w = World::new();
     w.set_mode(mode).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     let shape = Shape::cuboid(Vector3::repeat(0.25)).unwrap();
     let b = RigidBodyBuilder::from_shape(shape, 500.0)
         .position(Vector3::new(0.0, 0.0, 0.25))
@@ -67,7 +67,7 @@ fn the_fast_report_energy_change_is_the_change_between_the_first_and_last_frames
     // Boxes dropped onto each other (restitution 0.5 and 1): the per-step sum telescopes to the frames' difference.
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0))).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.5, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.5, 0.5)).unwrap();
     for k in 0..4 {
         let shape = Shape::cuboid(Vector3::new(0.3, 0.2, 0.25)).unwrap();
         let b = RigidBodyBuilder::from_shape(shape, 700.0)

@@ -16,7 +16,7 @@ fn random_drop(seed: u64) -> World {
     let mut rng = Lcg(seed);
     let mut w = World::new();
     w.set_mode(Mode::fast(1.0 / 240.0)).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.3, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.3, 0.5)).unwrap();
     for k in 0..5 {
         let shape = if rng.next() < 0.5 {
             Shape::cuboid(Vector3::new(rng.range(0.1, 0.4), rng.range(0.1, 0.4), rng.range(0.1, 0.4))).unwrap()
@@ -219,7 +219,7 @@ fn the_plan_names_exactly_the_stages_that_run() {
     plan_is_kept("top", top, 0.05);
     // A box dropped onto the floor in accurate mode: collision, bisection, impulse, then resting contact.
     let mut drop = World::new();
-    drop.add_ground(0.0, Material { restitution: 0.0, friction: 0.0 }).unwrap();
+    drop.add_ground(0.0, Material::new(0.0, 0.0)).unwrap();
     drop.add_body(
         RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::repeat(0.1)).unwrap(), 1000.0)
             .position(Vector3::new(0.0, 0.0, 0.3)),

@@ -75,7 +75,7 @@ fn mass_ratios_to_a_million_in_both_modes() {
                 if fast {
                     w.set_mode(Mode::fast(1.0 / 240.0)).unwrap();
                 }
-                w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+                w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
                 w.add_body(cube(0.5, below, Vector3::new(0.0, 0.0, 0.5))).unwrap();
                 w.add_body(cube(0.5, above, Vector3::new(0.0, 0.0, 1.5))).unwrap();
                 let name = format!("density {below:e} under {above:e}, {}", if fast { "fast" } else { "accurate" });
@@ -144,7 +144,7 @@ fn bodies_from_a_millimetre_to_a_kilometre_and_overlapping_starts() {
             if fast {
                 w.set_mode(Mode::fast(1.0 / 240.0)).unwrap();
             }
-            w.add_ground(0.0, Material { restitution: 0.5, friction: 0.5 }).unwrap();
+            w.add_ground(0.0, Material::new(0.5, 0.5)).unwrap();
             w.add_body(RigidBodyBuilder::from_shape(Shape::sphere(size).unwrap(), 1000.0).position(Vector3::new(
                 0.0,
                 0.0,

@@ -15,7 +15,7 @@ const DT: f64 = 1.0 / 240.0;
 fn fast_world(sleep: bool) -> World {
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings { sleep, ..FastSettings::new(DT) })).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     w
 }
 
@@ -74,7 +74,7 @@ fn twelve_substeps_hold_the_issues_stack_to_0_1_mm_and_its_slide_to_0_1_percent(
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings { sleep: false, solver: FastSolver::Soft(soft), ..FastSettings::new(DT) }))
             .unwrap();
-        w.add_ground(0.0, Material { restitution: 0.0, friction: mu }).unwrap();
+        w.add_ground(0.0, Material::new(0.0, mu)).unwrap();
         w
     };
     let body = |w: &mut World, half: f64, at: Vector3<f64>, v: Vector3<f64>, mu: f64| {
@@ -208,7 +208,7 @@ fn energy_never_grows_in_a_pile_without_driving_forces() {
     // than 1e-6 of its start between frames.
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings::new(DT))).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.5, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.5, 0.5)).unwrap();
     for k in 0..8 {
         let shape = Shape::cuboid(Vector3::new(0.3, 0.2, 0.25)).unwrap();
         let tilt = UnitQuaternion::from_euler_angles(0.3 * k as f64, 0.2, 0.1 * k as f64);
@@ -240,7 +240,7 @@ fn elastic_ball(solver: FastSolver, substeps: usize) -> (f64, f64, usize, f64) {
     let h = 1.0 / 240.0;
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings { sleep: false, solver, ..FastSettings::new(h) })).unwrap();
-    w.add_ground(0.0, Material { restitution: 1.0, friction: 0.0 }).unwrap();
+    w.add_ground(0.0, Material::new(1.0, 0.0)).unwrap();
     let ball = Shape::sphere(0.1).unwrap();
     w.add_body(RigidBodyBuilder::from_shape(ball, 1000.0).position(Vector3::new(0.0, 0.0, 1.1)).restitution(1.0))
         .unwrap();
@@ -284,7 +284,7 @@ fn two_boxes_falling_together_after_a_bounce_solve_cleanly() {
     for dt in [1.0 / 240.0, 0.01, 1.0 / 30.0] {
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings::new(dt))).unwrap();
-        w.add_ground(0.0, Material { restitution: 0.5, friction: 0.5 }).unwrap();
+        w.add_ground(0.0, Material::new(0.5, 0.5)).unwrap();
         let boxes: Vec<BodyHandle> =
             [1.0, 2.0].iter().map(|&z| cube(&mut w, 0.25, 500.0, Vector3::new(0.0, 0.0, z))).collect();
         let run = w.run(3.0, 0.05).unwrap();

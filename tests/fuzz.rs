@@ -198,7 +198,7 @@ fn apply(w: &mut World, made: &mut Made, op: &Op) -> Result<(), WorldError> {
             made.bodies.push(w.add_body(b)?);
         }
         Op::Ground { height, e, mu } => {
-            w.add_ground(height, Material { restitution: e, friction: mu })?;
+            w.add_ground(height, Material::new(e, mu))?;
         }
         Op::Spring { a, b, k, c } => {
             let end = |i: usize| match pick(&made.particles, i) {

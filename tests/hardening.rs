@@ -176,7 +176,7 @@ fn a_millimetre_pile_spends_its_budget_on_convex_solves_and_ends_clearly() {
     w.set_mode(Mode::Accurate(tight)).unwrap();
     w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-6, 1e-9).max_steps(20_000)).unwrap();
     w.set_gravity(Vector3::new(-18.47, 0.0, -18.23)).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.45, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.45, 0.5)).unwrap();
     w.add_ground(0.0, Material::default()).unwrap();
     let body = |shape, density, x: f64, y: f64| {
         RigidBodyBuilder::from_shape(shape, density).position(Vector3::new(x, y, 0.001))
@@ -205,7 +205,7 @@ fn a_convex_solve_counts_against_the_budget_by_the_size_of_its_island() {
     let mut w = World::new();
     w.set_mode(Mode::Accurate(AccurateSettings { sleep: false, ..AccurateSettings::default() })).unwrap();
     w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-6, 1e-9).max_steps(4_000)).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
     for k in 0..4 {
         let cube = Shape::cuboid(Vector3::repeat(0.1)).unwrap();
         w.add_body(RigidBodyBuilder::from_shape(cube, 1000.0).position(Vector3::new(0.0, 0.0, 0.1 + 0.2 * k as f64)))
@@ -365,7 +365,7 @@ fn a_failed_call_leaves_no_hidden_state_behind() {
         |fail| {
             let mut w = World::new();
             w.set_mode(Mode::Fast(FastSettings { sleep: false, ..FastSettings::new(1.0 / 60.0) })).unwrap();
-            w.add_ground(0.0, Material { restitution: 0.0, friction: 0.0 }).unwrap();
+            w.add_ground(0.0, Material::new(0.0, 0.0)).unwrap();
             let cube = |z: f64, turn: f64| {
                 RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::repeat(0.5)).unwrap(), 1000.0)
                     .position(Vector3::new(0.0, 0.0, z))

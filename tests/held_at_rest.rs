@@ -15,7 +15,7 @@ fn plank(sleep: bool) -> (World, tumble::BodyHandle, tumble::BodyHandle) {
     w.set_threads(1).unwrap();
     let settings = AccurateSettings { sleep, contact_tolerance: Some(1e-4), ..AccurateSettings::default() };
     w.set_mode(Mode::Accurate(settings)).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.6 }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, 0.6)).unwrap();
     let slab = Shape::cuboid(Vector3::new(1.0, 0.2, 0.01)).unwrap();
     w.add_body(RigidBodyBuilder::from_shape(slab, 500.0).position(Vector3::new(0.0, 0.0, 0.01))).unwrap();
     let cube = Shape::cuboid(Vector3::repeat(0.05)).unwrap();

@@ -20,7 +20,7 @@ fn prism(sides: usize, r: f64, h: f64) -> Vec<Point3<f64>> {
         .collect()
 }
 
-const MATERIAL: Material = Material { restitution: 0.0, friction: 0.5 };
+const MATERIAL: Material = Material::new(0.0, 0.5);
 
 /// What the body stands on.
 #[derive(Clone, Copy, Debug)]

@@ -62,7 +62,7 @@ fn sliding_boxes_on_their_own_clocks_stop_where_coulomb_says() {
         let settings =
             AccurateSettings { island_clocks: clocks, contact_tolerance: Some(1e-5), ..AccurateSettings::default() };
         w.set_mode(Mode::Accurate(settings)).unwrap();
-        w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+        w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
         let cube = tumble::Shape::cuboid(Vector3::new(0.1, 0.1, 0.05)).unwrap();
         let mut boxes = Vec::new();
         for k in 0..8 {

@@ -296,7 +296,7 @@ fn bad_joints_are_refused_by_name_and_change_nothing() {
 /// Two bars of wood hinged end to end, the second turned 0.5 rad about the hinge, dropped onto a ground (with
 /// friction) from `height`.
 fn hinged_pair(w: &mut World, height: f64, limits: bool) -> (BodyHandle, BodyHandle) {
-    w.add_ground(0.0, tumble::Material { restitution: 0.2, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, tumble::Material::new(0.2, 0.5)).unwrap();
     let bar = tumble::Shape::cuboid(Vector3::new(0.2, 0.05, 0.05)).unwrap();
     let a =
         w.add_body(RigidBodyBuilder::from_shape(bar.clone(), 700.0).position(Vector3::new(0.0, 0.0, height))).unwrap();
@@ -509,7 +509,7 @@ fn a_drive_spins_or_slides_its_body_up_to_its_speed_and_holds_nothing_else() {
 /// A cube 0.5 m above a slab resting on the ground, tied to it by a slack rope of 1 m that lets them collide (or
 /// not), saved and loaded: gives the cube's height after 1.5 s.
 fn tied_cube_lands(mut w: World, collide: bool) -> f64 {
-    w.add_ground(0.0, tumble::Material { restitution: 0.0, friction: 0.5 }).unwrap();
+    w.add_ground(0.0, tumble::Material::new(0.0, 0.5)).unwrap();
     let slab = tumble::Shape::cuboid(Vector3::new(0.5, 0.5, 0.1)).unwrap();
     let a = w.add_body(RigidBodyBuilder::from_shape(slab, 1000.0).position(Vector3::z() * 0.1)).unwrap();
     let cube = tumble::Shape::cuboid(Vector3::new(0.1, 0.1, 0.1)).unwrap();

@@ -127,7 +127,7 @@ fn hulls_come_back_with_their_features_numbered_alike() {
         let mut rng = common::Lcg(seed);
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0))).unwrap();
-        w.add_ground(0.0, tumble::Material { restitution: 0.3, friction: 0.7 }).unwrap();
+        w.add_ground(0.0, tumble::Material::new(0.3, 0.7)).unwrap();
         for k in 0..3 {
             let points: Vec<nalgebra::Point3<f64>> = (0..10)
                 .map(|_| nalgebra::Point3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), rng.range(-0.1, 0.1)))
@@ -276,7 +276,7 @@ fn worlds_with_joints_save_and_continue_as_the_original() {
         if fast {
             w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0))).unwrap();
         }
-        w.add_ground(0.0, tumble::Material { restitution: 0.2, friction: 0.5 }).unwrap();
+        w.add_ground(0.0, tumble::Material::new(0.2, 0.5)).unwrap();
         let bar = tumble::Shape::cuboid(Vector3::new(0.2, 0.05, 0.05)).unwrap();
         let a = w
             .add_body(tumble::RigidBodyBuilder::from_shape(bar.clone(), 700.0).position(Vector3::new(0.0, 0.0, 0.5)))

@@ -9,6 +9,7 @@ mod control;
 mod convert;
 mod files;
 mod handles;
+mod material;
 mod mesh;
 mod report;
 mod shapes;

@@ -13,7 +13,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::{Arc, Mutex};
-use tumble::{Material, ParticleBuilder, SpringBuilder, World, WorldError, WorldOptions, Wrench};
+use crate::material::MaterialArgs;
+use tumble::{ParticleBuilder, SpringBuilder, World, WorldError, WorldOptions, Wrench};
 
 /// A world of particles and rigid bodies (see the package documentation for the whole contract).
 #[pyclass(module = "tumble._tumble", name = "World", subclass)]
@@ -51,7 +52,8 @@ impl PyWorld {
     #[pyo3(signature = (gravity = None, integrator = None, rtol = None, atol = None, dt = None,
                         step_doubling = false, tolerance = None, mode = "accurate", linear_solver = None,
                         newton = false, max_steps = None, sleep = None, threads = None,
-                        contact_tolerance = None, solver = None, substeps = None))]
+                        contact_tolerance = None, solver = None, substeps = None, friction_combine = None,
+                        restitution_combine = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         gravity: Option<&Bound<'_, PyAny>>,
@@ -70,6 +72,8 @@ impl PyWorld {
         contact_tolerance: Option<f64>,
         solver: Option<String>,
         substeps: Option<usize>,
+        friction_combine: Option<String>,
+        restitution_combine: Option<String>,
     ) -> PyResult<Self> {
         let options = WorldOptions {
             gravity: opt_vec3("gravity", gravity)?,
@@ -79,6 +83,8 @@ impl PyWorld {
             contact_tolerance,
             solver,
             substeps,
+            friction_combine,
+            restitution_combine,
             integrator: integrator_options(
                 integrator,
                 rtol,
@@ -117,19 +123,37 @@ impl PyWorld {
     }
 
     /// Adds a ground: a static half-space below the plane z = height (normal +z). Returns its body handle.
-    /// Restitution and friction default to `tumble::Material::default()`.
-    #[pyo3(signature = (height = 0.0, restitution = None, friction = None))]
-    fn add_ground(&mut self, height: f64, restitution: Option<f64>, friction: Option<f64>) -> PyResult<PyBodyHandle> {
-        let d = Material::default();
-        let material =
-            Material { restitution: restitution.unwrap_or(d.restitution), friction: friction.unwrap_or(d.friction) };
+    /// Its surface as a body's (`add_body`): defaults from `tumble::Material::default()`.
+    #[pyo3(signature = (height = 0.0, restitution = None, friction = None, rolling_resistance = None,
+                        torsional_resistance = None, friction_combine = None, restitution_combine = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_ground(
+        &mut self,
+        height: f64,
+        restitution: Option<f64>,
+        friction: Option<f64>,
+        rolling_resistance: Option<f64>,
+        torsional_resistance: Option<f64>,
+        friction_combine: Option<String>,
+        restitution_combine: Option<String>,
+    ) -> PyResult<PyBodyHandle> {
+        let material = MaterialArgs {
+            friction,
+            restitution,
+            rolling_resistance,
+            torsional_resistance,
+            friction_combine,
+            restitution_combine,
+        }
+        .material()?;
         self.w().add_ground(height, material).map(Into::into).map_err(world_error)
     }
 
     /// Adds a particle obeying m x'' + d x' + h (x - anchor) = sum F.
     /// With `radius` > 0 it collides with bodies as a small sphere (particles do not collide with each other).
     #[pyo3(signature = (mass = None, position = None, velocity = None, damping = 0.0, stiffness = 0.0, anchor = None,
-                        radius = 0.0, restitution = None, friction = None))]
+                        radius = 0.0, restitution = None, friction = None, friction_combine = None,
+                        restitution_combine = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_particle(
         &mut self,
@@ -142,16 +166,14 @@ impl PyWorld {
         radius: f64,
         restitution: Option<f64>,
         friction: Option<f64>,
+        friction_combine: Option<String>,
+        restitution_combine: Option<String>,
     ) -> PyResult<PyParticleHandle> {
-        let mut b = ParticleBuilder::default().damping(damping).stiffness(stiffness).radius(radius);
+        let surface = MaterialArgs { friction, restitution, friction_combine, restitution_combine, ..Default::default() };
+        let mut b =
+            ParticleBuilder::default().damping(damping).stiffness(stiffness).radius(radius).material(surface.material()?);
         if let Some(m) = mass {
             b = b.mass(m);
-        }
-        if let Some(e) = restitution {
-            b = b.restitution(e);
-        }
-        if let Some(mu) = friction {
-            b = b.friction(mu);
         }
         if let Some(p) = opt_vec3("position", position)? {
             b = b.position(p);
@@ -311,26 +333,65 @@ impl PyWorld {
         self.w().set_body_state(body.into(), x, q, v, w).map_err(world_error)
     }
 
-    /// Sets a particle's or body's friction and/or restitution (static bodies included; either left as it is when
-    /// None), between steps, in either mode: the contacts found from the next step on use it, and the engine keeps
-    /// its memory. Copies and saved files keep the new material. Raises ValueError naming a bad value.
-    #[pyo3(signature = (handle, friction = None, restitution = None))]
+    /// Sets a particle's or body's surface (static bodies included; what is None is left as it is), between steps,
+    /// in either mode: the contacts found from the next step on use it, and the engine keeps its memory. A combine
+    /// rule "world" gives the surface the world's rule again. Copies and saved files keep the new material.
+    /// Raises ValueError naming a bad value.
+    #[pyo3(signature = (handle, friction = None, restitution = None, rolling_resistance = None,
+                        torsional_resistance = None, friction_combine = None, restitution_combine = None))]
+    #[allow(clippy::too_many_arguments)]
     fn set_material(
         &mut self,
         handle: &Bound<'_, PyAny>,
         friction: Option<&Bound<'_, PyAny>>,
         restitution: Option<&Bound<'_, PyAny>>,
+        rolling_resistance: Option<&Bound<'_, PyAny>>,
+        torsional_resistance: Option<&Bound<'_, PyAny>>,
+        friction_combine: Option<String>,
+        restitution_combine: Option<String>,
     ) -> PyResult<()> {
         let target = to_target(handle, "handle")?;
-        let friction = friction.filter(|f| !f.is_none()).map(|f| number("friction", f)).transpose()?;
-        let restitution = restitution.filter(|r| !r.is_none()).map(|r| number("restitution", r)).transpose()?;
+        let given = |name: &'static str, v: Option<&Bound<'_, PyAny>>| {
+            v.filter(|f| !f.is_none()).map(|f| number(name, f)).transpose()
+        };
+        let change = MaterialArgs {
+            friction: given("friction", friction)?,
+            restitution: given("restitution", restitution)?,
+            rolling_resistance: given("rolling_resistance", rolling_resistance)?,
+            torsional_resistance: given("torsional_resistance", torsional_resistance)?,
+            friction_combine,
+            restitution_combine,
+        }
+        .change()?;
         self.w()
-            .set_material(target, friction, restitution)
+            .set_material(target, change)
             .map_err(|e| match e {
                 WorldError::UnknownHandle { handle, .. } => WorldError::UnknownHandle { name: "handle", handle },
                 other => other,
             })
             .map_err(world_error)
+    }
+
+    /// Sets how two surfaces' frictions and restitutions combine where neither names its own rule ("average",
+    /// "geometric_mean", "min", "product", "max"; each left as it is when None). The engine is built anew.
+    #[pyo3(signature = (friction = None, restitution = None))]
+    fn set_combine_rules(&mut self, friction: Option<&str>, restitution: Option<&str>) -> PyResult<()> {
+        let mut rules = self.r().combine_rules();
+        if let Some(f) = friction {
+            rules.friction = tumble::Combine::parse("friction", f).map_err(world_error)?;
+        }
+        if let Some(r) = restitution {
+            rules.restitution = tumble::Combine::parse("restitution", r).map_err(world_error)?;
+        }
+        self.w().set_combine_rules(rules);
+        Ok(())
+    }
+
+    /// The world's combine rules: {"friction": name, "restitution": name}.
+    #[getter]
+    fn combine_rules(&self) -> std::collections::BTreeMap<&'static str, &'static str> {
+        let rules = self.r().combine_rules();
+        [("friction", rules.friction.name()), ("restitution", rules.restitution.name())].into_iter().collect()
     }
 
     /// Advances by exactly `dt` (several internal steps if the integrator is adaptive). Raises SimulationError,

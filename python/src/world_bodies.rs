@@ -25,7 +25,8 @@ impl PyWorld {
                         orientation = None, velocity = None, angular_velocity = None, restitution = None,
                         friction = None, r#static = false, linear_damping = 0.0, angular_damping = 0.0,
                         colliders = None, shape = None, decomposition = None, name = None, color = None,
-                        collision_groups = None, keyframes = None))]
+                        collision_groups = None, keyframes = None, rolling_resistance = None,
+                        torsional_resistance = None, friction_combine = None, restitution_combine = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -50,7 +51,20 @@ impl PyWorld {
         color: Option<&Bound<'_, PyAny>>,
         collision_groups: Option<u32>,
         keyframes: Option<&Bound<'_, PyAny>>,
+        rolling_resistance: Option<f64>,
+        torsional_resistance: Option<f64>,
+        friction_combine: Option<String>,
+        restitution_combine: Option<String>,
     ) -> PyResult<PyBodyHandle> {
+        let surface = crate::material::MaterialArgs {
+            friction,
+            restitution,
+            rolling_resistance,
+            torsional_resistance,
+            friction_combine,
+            restitution_combine,
+        }
+        .material()?;
         let (geometry, mesh_shape) = crate::mesh::shape_args(geometry, shape, decomposition)?;
         let shape = geometry;
         let mut extra = Vec::new();
@@ -101,12 +115,7 @@ impl PyWorld {
         for (s, pose) in extra {
             b = b.collider(s, pose);
         }
-        if let Some(e) = restitution {
-            b = b.restitution(e);
-        }
-        if let Some(mu) = friction {
-            b = b.friction(mu);
-        }
+        b = b.material(surface);
         if let Some(choice) = mesh_shape {
             b = b.mesh_shape(choice);
         }

@@ -48,13 +48,15 @@ def ground(restitution=0.0, friction=0.5):
 
 
 def python_world():
-    return tumble.World(mode="fast", dt=DT, gravity=(0.0, 0.0, f32(-9.81)))  # Blender's gravity, in float32
+    # Blender's gravity, in float32, and Bullet's products of a pair's frictions and restitutions
+    return tumble.World(mode="fast", dt=DT, gravity=(0.0, 0.0, f32(-9.81)), friction_combine="product",
+                        restitution_combine="product")
 
 
 def python_ground(w, restitution=0.0, friction=0.5):
     # Blender's 20 m plane as a box collider: a 1 m slab under the face
     return w.add_body(tumble.Box(half_extents=(10.0, 10.0, 0.5)), static=True, position=(0.0, 0.0, -0.5),
-                      restitution=restitution, friction=friction**2)
+                      restitution=restitution, friction=friction)
 
 
 def damping(mass, inertia_moment, linear=0.04, angular=0.1):

@@ -37,8 +37,8 @@ def test_a_hinged_door_bakes_as_the_same_world_built_in_python():
     # the same door in Python: the hinge's anchors in each body's frame, its axis in the frame's (the empty's z as
     # Blender's matrix holds it: float32, so a few 1e-8 off the world's -y)
     w = python_world()
-    f = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
-    d = w.add_body(tumble.Box(half_extents=(0.5, 0.5, 0.5)), mass=5.0, position=(f32(0.8), 0.0, 2.0), friction=0.25,
+    f = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.5)
+    d = w.add_body(tumble.Box(half_extents=(0.5, 0.5, 0.5)), mass=5.0, position=(f32(0.8), 0.0, 2.0), friction=0.5,
                    **damping(5.0, 5.0 / 6.0, f32(0.04), f32(0.1)))
     axis = tuple(float(v) for v in hinge.matrix_world.decompose()[1].to_matrix().col[2])
     w.add_joint(tumble.Hinge(f, d, anchor_a=(0.25, 0.0, 0.0), anchor_b=(0.25 - f32(0.8), 0.0, 0.0), axis=axis))
@@ -99,8 +99,8 @@ def test_a_breakable_constraint_breaks_as_the_same_joint_does_in_tumble():
     run = world.run(1.0, 1 / FPS)
     assert len(run.joint_breaks) == 1
     w = python_world()
-    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
-    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.25,
+    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.5)
+    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.5,
                    **damping(1.0, 1.0 * (2 * f32(0.2)**2) / 12, f32(0.04), f32(0.1)))
     bound = f32(threshold) / DT
     w.add_joint(tumble.Ball(a, b, anchor_a=(0.25, 0.0, 0.0), anchor_b=(0.25 - f32(0.5), 0.0, 0.0),
@@ -136,8 +136,8 @@ def test_each_constraint_type_and_limit_maps_to_the_same_joint_in_tumble(kind, l
     world, box = mapped.world, mapped.handles["box"]
     run = world.run(1.0, 1 / FPS)
     w = python_world()
-    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
-    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.25,
+    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.5)
+    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.5,
                    **damping(1.0, 1.0 * (2 * f32(0.2)**2) / 12, f32(0.04), f32(0.1)))
     turn = np.array(pin.matrix_world.decompose()[1].to_matrix(), dtype=float)
     at = dict(anchor_a=(0.25, 0.0, 0.0), anchor_b=(0.25 - f32(0.5), 0.0, 0.0))
@@ -264,8 +264,8 @@ def test_a_generic_spring_on_its_hinge_axis_is_the_hinges_spring():
     world, box = mapped.world, mapped.handles["box"]
     run = world.run(1.0, 1 / FPS)
     w = python_world()
-    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
-    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.25,
+    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.5)
+    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.5,
                    **damping(1.0, 1.0 * (2 * f32(0.2)**2) / 12, f32(0.04), f32(0.1)))
     turn = np.array(pin.matrix_world.decompose()[1].to_matrix(), dtype=float)
     w.add_joint(tumble.Hinge(a, b, anchor_a=(0.25, 0.0, 0.0), anchor_b=(0.25 - f32(0.5), 0.0, 0.0),
@@ -320,8 +320,8 @@ def test_disable_collisions_off_lets_the_joined_bodies_collide():
     w = python_world()
     python_ground(w)
     a = w.add_body(tumble.Box(half_extents=(0.5, 0.5, f32(0.1))), mass=10.0, position=(0.0, 0.0, f32(0.1)),
-                   friction=0.25, **damping(10.0, 10.0 * (2 * (1.0 + f32(0.2) ** 2) + 2.0) / 36, f32(0.04), f32(0.1)))
-    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(0.0, 0.0, f32(0.8)), friction=0.25,
+                   friction=0.5, **damping(10.0, 10.0 * (2 * (1.0 + f32(0.2) ** 2) + 2.0) / 36, f32(0.04), f32(0.1)))
+    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(0.0, 0.0, f32(0.8)), friction=0.5,
                    **damping(1.0, 1.0 * (2 * f32(0.2) ** 2) / 12, f32(0.04), f32(0.1)))
     w.add_joint(tumble.Slider(a, b, anchor_a=(0.0, 0.0, f32(0.8) - f32(0.1)), anchor_b=(0.0, 0.0, 0.0),
                               axis=(0.0, 0.0, 1.0), collide=True))
@@ -344,8 +344,8 @@ def test_a_pistons_turn_limits_stop_its_swing_as_tumbles_do():
     world, box = mapped.world, mapped.handles["box"]
     run = world.run(1.0, 1 / FPS)
     w = python_world()
-    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.25)
-    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.25,
+    a = w.add_body(tumble.Box(half_extents=(f32(0.025),) * 3), static=True, position=(0.0, 0.0, 2.0), friction=0.5)
+    b = w.add_body(tumble.Box(half_extents=(f32(0.1),) * 3), mass=1.0, position=(f32(0.5), 0.0, 2.0), friction=0.5,
                    **damping(1.0, 1.0 * (2 * f32(0.2)**2) / 12, f32(0.04), f32(0.1)))
     turn = np.array(pin.matrix_world.decompose()[1].to_matrix(), dtype=float)
     w.add_joint(tumble.Piston(a, b, anchor_a=(0.25, 0.0, 0.0), anchor_b=(0.25 - f32(0.5), 0.0, 0.0),

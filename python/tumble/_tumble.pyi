@@ -156,6 +156,7 @@ class Mesh(Shape):
         """The convex pieces a moving body of this mesh collides with (defaults: 64, 32, 0.01)."""
 
 MeshShapeName = Literal["decomposed", "hull", "exact"]
+CombineName = Literal["average", "geometric_mean", "min", "product", "max"]
 
 class Decomposition(TypedDict, total=False):
     resolution: int
@@ -181,6 +182,8 @@ class World:
         contact_tolerance: float | None = None,
         solver: SolverName | None = None,
         substeps: int | None = None,
+        friction_combine: CombineName | None = None,
+        restitution_combine: CombineName | None = None,
     ) -> None: ...
     def set_integrator(
         self,
@@ -210,7 +213,14 @@ class World:
     @property
     def mode(self) -> ModeName: ...
     def add_ground(
-        self, height: float = 0.0, restitution: float | None = None, friction: float | None = None
+        self,
+        height: float = 0.0,
+        restitution: float | None = None,
+        friction: float | None = None,
+        rolling_resistance: float | None = None,
+        torsional_resistance: float | None = None,
+        friction_combine: CombineName | None = None,
+        restitution_combine: CombineName | None = None,
     ) -> BodyHandle: ...
     def add_particle(
         self,
@@ -223,6 +233,8 @@ class World:
         radius: float = 0.0,
         restitution: float | None = None,
         friction: float | None = None,
+        friction_combine: CombineName | None = None,
+        restitution_combine: CombineName | None = None,
     ) -> ParticleHandle: ...
     def add_body(
         self,
@@ -247,6 +259,10 @@ class World:
         color: tuple[float, float, float] | tuple[float, float, float, float] | npt.ArrayLike | None = None,
         collision_groups: int | None = None,
         keyframes: tuple[npt.ArrayLike, npt.ArrayLike] | tuple[npt.ArrayLike, npt.ArrayLike, npt.ArrayLike] | None = None,
+        rolling_resistance: float | None = None,
+        torsional_resistance: float | None = None,
+        friction_combine: CombineName | None = None,
+        restitution_combine: CombineName | None = None,
     ) -> BodyHandle: ...
     def add_spring(
         self,
@@ -306,7 +322,14 @@ class World:
         handle: ParticleHandle | BodyHandle,
         friction: float | None = None,
         restitution: float | None = None,
+        rolling_resistance: float | None = None,
+        torsional_resistance: float | None = None,
+        friction_combine: CombineName | Literal["world"] | None = None,
+        restitution_combine: CombineName | Literal["world"] | None = None,
     ) -> None: ...
+    def set_combine_rules(self, friction: CombineName | None = None, restitution: CombineName | None = None) -> None: ...
+    @property
+    def combine_rules(self) -> dict[str, CombineName]: ...
     def step(self, dt: float) -> None: ...
     @property
     def time(self) -> float: ...

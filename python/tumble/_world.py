@@ -166,7 +166,13 @@ class World(_World):
     ``threads`` sets how many threads the contact solves use (0, the default: one per core); results do not depend
     on it. Bodies collide through their shapes (``add_body(shape, ...)``, ``colliders=[(shape, position,
     orientation), ...]`` for more), particles through ``add_particle(radius=...)``; ``add_ground()`` adds a
-    static floor. Two surfaces combine to the larger restitution and the geometric mean of the frictions.
+    static floor. Two surfaces combine to the larger restitution and the geometric mean of the frictions, unless
+    ``friction_combine=`` / ``restitution_combine=`` name another rule ("average", "geometric_mean", "min",
+    "product" as Blender and Bullet, "max"), for the world here or for one surface in ``add_body``, ``add_particle``,
+    ``add_ground`` and ``set_material`` (a surface's own rule comes first; of two own rules, the later in that list).
+    ``rolling_resistance=`` and ``torsional_resistance=`` (dimensionless, default 0) resist a body's turn across and
+    about a contact's normal with a torque of at most the coefficient times the normal force times the rolling
+    radius (a ball's radius): a solid ball rolling on a floor slows at 5/7 of it times g; a pair takes the larger.
     """
 
     if not TYPE_CHECKING:  # type checkers check calls against the compiled World's signature (in its stub)

@@ -162,7 +162,7 @@ impl ColliderSet {
             if entry.contacts(a, b, prediction(ia, ib), compute, &mut contacts_now).is_err() {
                 contacts_now.clear();
             }
-            let material = ca.material.combine(&cb.material);
+            let material = ca.material.combine(&cb.material, &self.rules);
             let as_found = |c: &tumble_collide::Contact| self.found_contact((i, j), (ia, ib), material, *c);
             gaps.clear();
             gaps.extend(contacts_now.iter().map(|c| c.distance));

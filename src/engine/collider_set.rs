@@ -5,7 +5,7 @@
 //! mode's pairs that can close within a step, and their kept contacts, are `closing_pairs.rs`; reach `reach.rs`.
 
 use crate::body::RigidBody;
-use crate::collider::{Collider, Material};
+use crate::collider::{Collider, CombineRules, Material};
 use crate::engine::found_contact::{contact_point, feature_code, ContactKey, FoundContact};
 use crate::handle::Arena;
 use crate::model::layout::Layout;
@@ -59,6 +59,8 @@ pub(crate) struct ColliderSet {
     joined: Vec<(usize, usize)>,
     /// Fast mode's fat boxes and the pairs whose fat boxes overlap (`broad_pairs_where`).
     fat: FatBoxes,
+    /// The world's rules for combining two materials.
+    pub rules: CombineRules,
 }
 
 /// Fat boxes kept from step to step, and the pairs of colliders whose fat boxes overlap (unsorted; empty before the
@@ -87,6 +89,7 @@ impl ColliderSet {
         particles: &Arena<Particle>,
         bodies: &Arena<RigidBody>,
         dynamic: &[BodyHandle],
+        rules: CombineRules,
     ) -> Option<ColliderSet> {
         let mut colliders = Vec::new();
         for (i, (_, p)) in particles.iter().enumerate() {
@@ -135,6 +138,7 @@ impl ColliderSet {
             inert,
             immovable,
             found_last: 0,
+            rules,
             joined: Vec::new(),
             fat: FatBoxes::default(),
         })
@@ -320,7 +324,7 @@ impl ColliderSet {
             let (pa, pb) = (poses[ia] * ca.offset, poses[ib] * cb.offset);
             self.checks += 1;
             let Ok(found) = contacts(&ca.shape, &pa, &cb.shape, &pb, prediction(ia, ib)) else { continue };
-            let material = ca.material.combine(&cb.material);
+            let material = ca.material.combine(&cb.material, &self.rules);
             out.extend(found.into_iter().map(|c| self.found_contact((i, j), (ia, ib), material, c)));
         }
         self.found_last = out.len();
@@ -359,6 +363,8 @@ impl ColliderSet {
             restitution: material.restitution,
             friction: material.friction,
             normal_motion: motion,
+            rolling_resistance: material.rolling_resistance,
+            torsional_resistance: material.torsional_resistance,
         };
         let key = ContactKey {
             colliders: (pair.0 as u32, pair.1 as u32),

@@ -287,6 +287,7 @@ impl Pair {
         }
         for (m, chunk) in self.contacts.iter_mut().zip(kept.chunks(MANIFOLD_POINTS)) {
             (m.friction, m.restitution) = (material.friction, material.restitution);
+            (m.rolling_resistance, m.torsional_resistance) = (material.rolling_resistance, material.torsional_resistance);
             for (point, &k) in m.points.iter_mut().zip(chunk) {
                 let c = &contacts[k];
                 (point.point, point.normal, point.gap) = (contact_point(c), c.normal.into_inner(), c.distance);
@@ -308,7 +309,10 @@ impl Pair {
         if let Some(f) = found.first() {
             let c = &f.contact;
             while self.contacts.len() < manifolds {
-                self.contacts.push(SoftManifold::new(c.a, c.b, c.friction, c.restitution));
+                self.contacts.push(
+                    SoftManifold::new(c.a, c.b, c.friction, c.restitution)
+                        .with_resistance(c.rolling_resistance, c.torsional_resistance),
+                );
             }
         }
         let mut features = SmallVec::with_capacity(kept.len());

@@ -39,6 +39,10 @@ pub struct SceneFile {
     pub time: f64,
     #[serde(default = "default_gravity")]
     pub gravity: [f64; 3],
+    /// How two materials combine where neither names its own rule (the geometric mean of the frictions and the
+    /// larger restitution if absent).
+    #[serde(default)]
+    pub combine: crate::collider::CombineRules,
     /// Accurate (the default) or fast mode with its settings.
     #[serde(default)]
     pub mode: Mode,
@@ -90,6 +94,15 @@ pub struct ParticleFile {
     pub restitution: f64,
     #[serde(default = "half")]
     pub friction: f64,
+    /// Rolling and torsional resistance, and the surface's own combine rules (absent: none, the world's).
+    #[serde(default)]
+    pub rolling_resistance: f64,
+    #[serde(default)]
+    pub torsional_resistance: f64,
+    #[serde(default)]
+    pub friction_combine: Option<crate::collider::Combine>,
+    #[serde(default)]
+    pub restitution_combine: Option<crate::collider::Combine>,
     /// The state `reset` returns to (position, velocity); the loaded state if absent.
     #[serde(default)]
     pub start: Option<[[f64; 3]; 2]>,
@@ -198,6 +211,15 @@ pub struct BodyFile {
     pub restitution: f64,
     #[serde(default = "half")]
     pub friction: f64,
+    /// Rolling and torsional resistance, and the surface's own combine rules (absent: none, the world's).
+    #[serde(default)]
+    pub rolling_resistance: f64,
+    #[serde(default)]
+    pub torsional_resistance: f64,
+    #[serde(default)]
+    pub friction_combine: Option<crate::collider::Combine>,
+    #[serde(default)]
+    pub restitution_combine: Option<crate::collider::Combine>,
     /// The state `reset` returns to: position, orientation (w, x, y, z), momentum, angular momentum.
     #[serde(default)]
     pub start: Option<BodyStartFile>,
@@ -320,8 +342,22 @@ pub struct JointFile {
     pub collide: bool,
 }
 
-impl ParticleFile {
-    pub fn material(&self) -> Material {
-        Material { restitution: self.restitution, friction: self.friction }
-    }
+/// A file's material fields as a material.
+macro_rules! material_fields {
+    ($t:ty) => {
+        impl $t {
+            pub fn material(&self) -> Material {
+                Material {
+                    restitution: self.restitution,
+                    friction: self.friction,
+                    rolling_resistance: self.rolling_resistance,
+                    torsional_resistance: self.torsional_resistance,
+                    friction_combine: self.friction_combine,
+                    restitution_combine: self.restitution_combine,
+                }
+            }
+        }
+    };
 }
+material_fields!(ParticleFile);
+material_fields!(BodyFile);

@@ -146,7 +146,7 @@ fn surface(mut builder: RigidBodyBuilder, b: &BodyFile) -> RigidBodyBuilder {
     if let Some(rgba) = b.color {
         builder = builder.color(rgba);
     }
-    builder.restitution(b.restitution).friction(b.friction)
+    builder.material(b.material())
 }
 
 /// A kinematic body from its file: its path, colliders, look and material (its pose follows from the path).
@@ -185,6 +185,7 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
     }
     let mut w = World::new();
     w.set_gravity(v3(f.gravity))?;
+    w.set_combine_rules(f.combine);
     w.set_threads(f.threads)?;
     if let Some(factor) = f.divergence_factor {
         w.set_divergence_factor(factor)?;

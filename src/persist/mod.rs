@@ -179,7 +179,7 @@ mod tests {
         if fast {
             w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0))).unwrap();
         }
-        w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 }).unwrap();
+        w.add_ground(0.0, Material::new(0.0, 0.5)).unwrap();
         for k in 0..count {
             let shape = Shape::cuboid(Vector3::repeat(0.1)).unwrap();
             w.add_body(RigidBodyBuilder::from_shape(shape, 500.0).position(Vector3::new(

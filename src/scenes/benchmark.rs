@@ -41,7 +41,7 @@ impl Benchmark {
         };
         // tilted gravity: downhill is +x
         w.set_gravity(Vector3::new(G * tilt.sin(), 0.0, -G * tilt.cos()))?;
-        let floor = Material { restitution: 0.0, friction: mu };
+        let floor = Material::new(0.0, mu);
         w.add_ground(0.0, floor)?;
         let body = |shape: Shape, density: f64, at: Vector3<f64>| {
             RigidBodyBuilder::from_shape(shape, density).position(at).restitution(0.0).friction(mu)

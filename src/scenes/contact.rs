@@ -45,7 +45,7 @@ impl BouncingBall {
         self.check()?;
         let mut w = World::new();
         w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-10, 1e-12))?;
-        w.add_ground(0.0, Material { restitution: self.restitution, friction: 0.0 })?;
+        w.add_ground(0.0, Material::new(self.restitution, 0.0))?;
         let ball = w.add_body(
             RigidBodyBuilder::from_shape(Shape::sphere(self.radius)?, 1000.0)
                 .position(Vector3::new(0.0, 0.0, self.height + self.radius))
@@ -62,7 +62,7 @@ impl BouncingBall {
 pub fn tumbling_box() -> Result<(World, BodyHandle), WorldError> {
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0)))?;
-    w.add_ground(0.0, Material { restitution: 0.3, friction: 0.6 })?;
+    w.add_ground(0.0, Material::new(0.3, 0.6))?;
     let b = w.add_body(
         RigidBodyBuilder::from_shape(Shape::cuboid(Vector3::new(0.3, 0.2, 0.15))?, 600.0)
             .position(Vector3::new(-1.5, 0.0, 1.5))
@@ -107,7 +107,7 @@ impl Dominoes {
         self.check()?;
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0)))?;
-        w.add_ground(0.0, Material { restitution: 0.1, friction: 0.6 })?;
+        w.add_ground(0.0, Material::new(0.1, 0.6))?;
         let half = Vector3::new(0.04, 0.2, 0.4);
         let mut row = Vec::with_capacity(self.count);
         for k in 0..self.count {
@@ -153,7 +153,7 @@ impl Pyramid {
         self.check()?;
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0)))?;
-        w.add_ground(0.0, Material { restitution: 0.0, friction: 0.6 })?;
+        w.add_ground(0.0, Material::new(0.0, 0.6))?;
         let mut cubes = Vec::new();
         for layer in 0..self.layers {
             for k in 0..self.layers - layer {
@@ -213,7 +213,7 @@ impl Pile {
         self.check()?;
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings::new(1.0 / 240.0)))?;
-        w.add_ground(0.0, Material { restitution: 0.2, friction: 0.6 })?;
+        w.add_ground(0.0, Material::new(0.2, 0.6))?;
         let cube = Shape::cuboid(Vector3::repeat(0.25))?;
         let mut cubes = Vec::new();
         let mut n = 0u32;
@@ -270,7 +270,7 @@ impl ClothDrape {
         let n = self.n;
         let mut w = World::new();
         w.set_mode(Mode::Fast(FastSettings { sleep: false, ..FastSettings::new(1.0 / 480.0) }))?;
-        w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 })?;
+        w.add_ground(0.0, Material::new(0.0, 0.5))?;
         w.add_body(
             RigidBodyBuilder::fixed(Some(Shape::sphere(0.3)?))
                 .position(Vector3::new(0.0, 0.0, 0.3))
@@ -288,7 +288,7 @@ impl ClothDrape {
                 let p = ParticleBuilder::new(m)
                     .position(x)
                     .radius(0.01)
-                    .material(Material { restitution: 0.0, friction: 0.5 });
+                    .material(Material::new(0.0, 0.5));
                 ps.push(w.add_particle(p)?);
             }
         }

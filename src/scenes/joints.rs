@@ -102,7 +102,7 @@ pub fn newtons_cradle(balls: usize, angle: f64) -> Result<(World, Vec<BodyHandle
 pub fn door() -> Result<(World, BodyHandle), WorldError> {
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings::new(1.0 / 60.0)))?;
-    w.add_ground(0.0, Material { restitution: 0.0, friction: 0.5 })?;
+    w.add_ground(0.0, Material::new(0.0, 0.5))?;
     let panel = Shape::cuboid(Vector3::new(0.5, 0.02, 1.0))?;
     let d = RigidBodyBuilder::from_shape_with_mass(panel, 20.0).position(Vector3::new(0.5, 0.0, 1.01));
     let d = w.add_body(d.name("door").color(super::hue(2)))?;
@@ -120,7 +120,7 @@ pub fn door() -> Result<(World, BodyHandle), WorldError> {
 pub fn ragdoll() -> Result<(World, Vec<BodyHandle>), WorldError> {
     let mut w = World::new();
     w.set_mode(Mode::Fast(FastSettings::new(1.0 / 60.0)))?;
-    let stone = Material { restitution: 0.0, friction: 0.5 };
+    let stone = Material::new(0.0, 0.5);
     w.add_ground(0.0, stone)?;
     // stairs going down along +x: steps 0.3 m deep and 0.2 m high
     for k in 0..6 {

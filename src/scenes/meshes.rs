@@ -12,7 +12,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use tumble_collide::{Mesh, Shape};
 
 /// Floor and surfaces: no bounce, friction 0.5.
-const MATERIAL: Material = Material { restitution: 0.0, friction: 0.5 };
+const MATERIAL: Material = Material::new(0.0, 0.5);
 
 /// The cup of `ball_in_cup`: 5 cm outer radius, 8 cm tall, 5 mm walls, 48 segments around.
 pub fn cup() -> Result<Mesh, WorldError> {

@@ -14,6 +14,7 @@ impl World {
     /// Adds a particle.
     pub fn add_particle(&mut self, particle: ParticleBuilder) -> Result<ParticleHandle, WorldError> {
         let p = particle.build()?;
+        p.material.fits_mode(&self.mode).map_err(|why| WorldError::invalid("rolling_resistance", why))?;
         self.retire_engine();
         let h = self.particles.insert(p);
         self.record_particle_start(h);
@@ -23,6 +24,7 @@ impl World {
     /// Adds a rigid body.
     pub fn add_body(&mut self, body: RigidBodyBuilder) -> Result<BodyHandle, WorldError> {
         let mut b = body.build()?;
+        b.material.fits_mode(&self.mode).map_err(|why| WorldError::invalid("rolling_resistance", why))?;
         b.follow(self.time);
         self.retire_engine();
         let h = self.bodies.insert(b);

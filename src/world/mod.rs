@@ -17,10 +17,12 @@ mod stepping;
 mod whole_state;
 
 pub use contacts::ContactInfo;
+pub use materials::MaterialChange;
 pub(crate) use pace::Pace;
 pub use whole_state::WorldState;
 
 use crate::body::{RigidBody, RigidBodyBuilder};
+use crate::collider::CombineRules;
 use crate::engine::Engine;
 use crate::error::WorldError;
 use crate::handle::{Arena, Handle};
@@ -76,6 +78,8 @@ pub struct World {
     pub(crate) structure: u64,
     /// Whether a slow call has said so (`pace.rs`: once a world).
     pub(crate) hinted: bool,
+    /// How two materials combine where neither names its own rule.
+    pub(crate) combine: crate::collider::CombineRules,
 }
 
 impl Default for World {
@@ -114,6 +118,7 @@ impl World {
             stepped: false,
             structure: 0,
             hinted: false,
+            combine: Default::default(),
         }
     }
 
@@ -131,6 +136,10 @@ impl World {
         // the joints already in the world must fit the new mode (the error names the mode, this call's argument)
         for (_, j) in self.joints.iter() {
             joints::joint_fits_mode(&mode, &j.spec).map_err(|(_, why)| WorldError::invalid("mode", why))?;
+        }
+        let materials = self.particles.iter().map(|(_, p)| p.material).chain(self.bodies.iter().map(|(_, b)| b.material));
+        for m in materials {
+            m.fits_mode(&mode).map_err(|why| WorldError::invalid("mode", why))?;
         }
         self.mode = mode;
         self.retire_engine();
@@ -160,6 +169,19 @@ impl World {
         self.gravity = g;
         self.retire_engine();
         Ok(())
+    }
+
+    /// How two materials combine at a contact where neither names its own rule (by default the geometric mean of
+    /// the frictions and the larger restitution).
+    pub fn combine_rules(&self) -> CombineRules {
+        self.combine
+    }
+
+    /// Sets how two materials combine where neither names its own rule (from the next step on; the engine is
+    /// built anew).
+    pub fn set_combine_rules(&mut self, rules: CombineRules) {
+        self.combine = rules;
+        self.retire_engine();
     }
 
     /// The integrator settings.

@@ -50,6 +50,7 @@ impl World {
             &self.particles,
             &self.bodies,
             &compiled.rows.bodies,
+            self.combine,
         )?;
         // bodies a joint joins directly do not collide with each other
         scene.set_joined(compiled.model.joined_pairs());

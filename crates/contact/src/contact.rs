@@ -37,6 +37,14 @@ pub struct Contact {
     pub friction: f64,
     /// How the normal turns.
     pub normal_motion: NormalMotion,
+    /// Coefficients of rolling and torsional resistance (>= 0, dimensionless): the contact resists the bodies'
+    /// relative turn across its normal (rolling) and about it (torsion) with a torque of at most the coefficient
+    /// times the normal force times the rolling radius, the distance along the normal from the contact point to the
+    /// centre of mass of the turning body (the farther one's where both turn; a ball's radius). Zero: none.
+    #[serde(default)]
+    pub rolling_resistance: f64,
+    #[serde(default)]
+    pub torsional_resistance: f64,
 }
 
 impl Contact {
@@ -51,7 +59,26 @@ impl Contact {
             restitution: 0.0,
             friction: 0.0,
             normal_motion: NormalMotion::WithB,
+            rolling_resistance: 0.0,
+            torsional_resistance: 0.0,
         }
+    }
+
+    /// With these coefficients of rolling and torsional resistance.
+    pub fn with_resistance(mut self, rolling: f64, torsional: f64) -> Contact {
+        self.rolling_resistance = rolling;
+        self.torsional_resistance = torsional;
+        self
+    }
+
+    /// The rolling radius (m): the distance along the normal from the point to the centre of mass of the farther of
+    /// the two bodies that turn (zero if neither turns).
+    pub fn rolling_radius(&self, bodies: &[BodyState]) -> f64 {
+        [self.a, self.b]
+            .into_iter()
+            .filter(|&k| bodies[k].is_dynamic() && bodies[k].rotates())
+            .map(|k| self.normal.dot(&(self.point - bodies[k].position)).abs())
+            .fold(0.0, f64::max)
     }
 
     /// With this coefficient of restitution.
@@ -131,6 +158,11 @@ impl Contact {
         }
         if !(self.friction.is_finite() && self.friction >= 0.0) {
             return bad(format!("friction must be finite and >= 0, got {}", self.friction));
+        }
+        for (name, v) in [("rolling_resistance", self.rolling_resistance), ("torsional_resistance", self.torsional_resistance)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return bad(format!("{name} must be finite and >= 0, got {v}"));
+            }
         }
         if let NormalMotion::EdgeEdge { edge_a, edge_b } = self.normal_motion {
             if edge_a.cross(&edge_b).norm() < 1e-9 {

@@ -255,6 +255,20 @@ fn step(
     let VelocityProblem { bodies, contacts, lagged: bounds, bilateral, warm } = *problem;
     check_all(bodies, contacts)?;
     settings.check()?;
+    // rolling and torsional resistance: bounded rows after the joints' (their impulses are not reported)
+    let joint_rows = bilateral.len();
+    let with_resistance: Vec<BilateralRow>;
+    let bilateral = match bounds {
+        Some(b) if contacts.iter().any(|c| c.rolling_resistance > 0.0 || c.torsional_resistance > 0.0) => {
+            let mut rows = bilateral.to_vec();
+            for (c, &bound) in contacts.iter().zip(b) {
+                crate::resistance::resistance_rows(c, bodies, bound, &mut rows);
+            }
+            with_resistance = rows;
+            &with_resistance[..]
+        }
+        _ => bilateral,
+    };
     let mut velocities: Vec<BodyVelocity> = bodies.iter().map(|b| free_velocity(b, settings.dt)).collect();
     let mut normal_impulses = vec![0.0; contacts.len()];
     let mut friction_impulses = vec![Vector3::zeros(); contacts.len()];
@@ -332,6 +346,7 @@ fn step(
         }
     }
     let islands = groups.len();
+    joint_impulses.truncate(joint_rows);
     Ok(VelocityStep {
         velocities,
         normal_impulses,

@@ -58,6 +58,8 @@ mod polish;
 #[cfg(feature = "clarabel")]
 mod projection;
 #[cfg(feature = "clarabel")]
+mod resistance;
+#[cfg(feature = "clarabel")]
 mod resting;
 #[cfg(feature = "clarabel")]
 mod simultaneous;

@@ -4,11 +4,9 @@ unit scale, frame rate and frame range. What tumble cannot take as Blender defin
 naming the object and the setting, and raised together (``BlenderSceneError``): never a silent guess.
 
 How Blender's settings map (Blender's rigid bodies are Bullet's):
-- Friction: Bullet combines a pair's frictions as their product, tumble as the geometric mean, so a body's friction f
-  is given to tumble as f^2 (exact for every pair).
-- Bounciness: Bullet combines restitutions as their product, tumble takes the larger. Each body is given its own
-  restitution times the smallest of the bodies it can touch, and every pair that can touch is checked to get
-  Bullet's product; a scene where no such choice exists is refused, naming the pair.
+- Friction and bounciness: Bullet combines a pair's as their product; the world is made with tumble's product rule
+  for both (``friction_combine="product"``, ``restitution_combine="product"``), so each body keeps Blender's numbers
+  and every pair gets Bullet's coefficients. Blender has no rolling resistance: none is given.
 - Damping: Bullet scales velocities by (1 - d) each second, an exponential decay at -ln(1 - d) per second; tumble's
   damping forces give exactly that decay with c = -m ln(1 - d) (linear) and, for a body whose principal moments are
   equal, c = -I ln(1 - d) (angular). A body of unequal moments with angular damping gets the mean moment: said in
@@ -117,24 +115,6 @@ def _shape(obj: Any, depsgraph: Any, problems: list[str], notes: list[str]) -> A
     return None
 
 
-def _restitutions(bodies: list[tuple[str, float, bool, tuple[bool, ...]]], problems: list[str]) -> dict[str, float]:
-    """Each body's tumble restitution so that the larger of a pair's is Bullet's product for every pair that can
-    touch (at least one moving, a collision collection in common); a pair left unmatched is a problem."""
-    def touch(a: Any, b: Any) -> bool:
-        return (not a[2] or not b[2]) and any(x and y for x, y in zip(a[3], b[3]))
-
-    out = {}
-    for a in bodies:
-        partners = [b[1] for b in bodies if b is not a and touch(a, b)]
-        out[a[0]] = a[1] * min(partners, default=1.0)
-    for i, a in enumerate(bodies):
-        for b in bodies[i + 1:]:
-            if touch(a, b) and abs(max(out[a[0]], out[b[0]]) - a[1] * b[1]) > 1e-12:
-                problems.append(f"{a[0]} and {b[0]}: bounciness: Blender's product {a[1] * b[1]:g} of {a[1]:g} and "
-                                f"{b[1]:g} cannot be had with the other pairs' (tumble takes a pair's larger)")
-    return out
-
-
 def _damping(obj: Any, shape: Any, mass: float, notes: list[str]) -> dict[str, float]:
     """tumble's damping coefficients for Bullet's linear and angular damping of ``obj`` (module docstring)."""
     rb = obj.rigid_body
@@ -202,7 +182,8 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
     weights = rbw.effector_weights
     gravity = np.array(scene.gravity, dtype=float) * unit * weights.gravity * weights.all if scene.use_gravity \
         else np.zeros(3)
-    options = {"mode": "fast", "dt": frame_time / rbw.substeps_per_frame, **world_options}
+    options = {"mode": "fast", "dt": frame_time / rbw.substeps_per_frame, "friction_combine": "product",
+               "restitution_combine": "product", **world_options}
     objects = sorted((o for o in rbw.collection.objects if o.rigid_body is not None), key=lambda o: o.name)
     sleeping = {o.rigid_body.use_deactivation for o in objects if o.rigid_body.type == "ACTIVE"}
     if len(sleeping) > 1:
@@ -212,9 +193,6 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
         options["sleep"] = True
     world = tumble.World(gravity=tuple(gravity), **options)
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    entries = [(o.name, float(o.rigid_body.restitution), o.rigid_body.type == "PASSIVE",
-                tuple(o.rigid_body.collision_collections)) for o in objects]
-    restitution = _restitutions(entries, problems)
     handles, moving, origins = {}, [], {}
     paths = _paths(scene, rbw, objects, unit, frame_time)
     for obj in objects:
@@ -238,8 +216,8 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
         position = tuple(float(x) * unit for x in location)
         orientation = tuple(float(x) for x in rotation)  # (w, x, y, z)
         groups = sum(1 << k for k, on in enumerate(rb.collision_collections) if on)
-        material: dict[str, Any] = {"friction": float(rb.friction) ** 2, "restitution": restitution[obj.name],
-                    "collision_groups": groups}
+        material: dict[str, Any] = {"friction": float(rb.friction), "restitution": float(rb.restitution),
+                                    "collision_groups": groups}
         if not static and not animated:
             material.update(_damping(obj, shape, float(rb.mass), notes))
         try:

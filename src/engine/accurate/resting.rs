@@ -87,6 +87,9 @@ impl RestingContact {
             restitution: self.restitution,
             friction: self.friction,
             normal_motion: self.motion,
+            // the chapter's resting forces take no resistance to turning (a world that asks for it is refused)
+            rolling_resistance: 0.0,
+            torsional_resistance: 0.0,
         };
         (contact, gap)
     }

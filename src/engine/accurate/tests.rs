@@ -123,7 +123,7 @@ fn resting_cube(material: Material, accurate: AccurateSettings) -> World {
 #[test]
 fn resting_forces_carry_a_resting_cubes_weight_inside_the_equations_of_motion() {
     // the chapter's resting contact: at the impact stage the four corners rest; the QP's forces cancel gravity
-    let frictionless = Material { restitution: 0.0, friction: 0.0 };
+    let frictionless = Material::new(0.0, 0.0);
     let accurate = AccurateSettings { persistent: Persistent::RestingForces, ..Default::default() };
     let mut e = engine(&resting_cube(frictionless, accurate));
     let (mut stages, system, integrator) = parts(&mut e);
@@ -141,7 +141,7 @@ fn resting_forces_carry_a_resting_cubes_weight_inside_the_equations_of_motion() 
 #[test]
 fn the_impact_stage_bounces_a_frictionless_ball_at_its_restitution_and_starts_touching_with_friction() {
     for (friction, touching) in [(0.0, false), (0.5, true)] {
-        let material = Material { restitution: 0.5, friction };
+        let material = Material::new(0.5, friction);
         let mut w = World::new();
         w.add_ground(0.0, material).unwrap();
         let ball = RigidBodyBuilder::from_shape(Shape::sphere(0.1).unwrap(), 1000.0)
@@ -170,7 +170,7 @@ fn a_collision_is_located_by_bisection_to_the_time_tolerance() {
     // a frictionless ball of radius 0.1 m dropped from rest at 1 m: it reaches the ground at sqrt(2 (0.9) / g)
     let mut w = World::new();
     w.set_integrator(Settings::tolerances(tumble_integrate::Method::Dopri5, 1e-12, 1e-12)).unwrap();
-    w.add_ground(0.0, Material { restitution: 0.5, friction: 0.0 }).unwrap();
+    w.add_ground(0.0, Material::new(0.5, 0.0)).unwrap();
     let ball = RigidBodyBuilder::from_shape(Shape::sphere(0.1).unwrap(), 1000.0).position(Vector3::new(0.0, 0.0, 1.0));
     w.add_body(ball.friction(0.0)).unwrap();
     let mut e = engine(&w);
@@ -210,7 +210,7 @@ fn a_fast_ball_through_a_thin_wall_within_one_step_is_caught() {
 
 #[test]
 fn drift_correction_lifts_a_sunk_cube_to_zero_gap() {
-    let frictionless = Material { restitution: 0.0, friction: 0.0 };
+    let frictionless = Material::new(0.0, 0.0);
     let accurate = AccurateSettings { persistent: Persistent::RestingForces, ..Default::default() };
     let mut w = resting_cube(frictionless, accurate);
     let (h, b) = w.bodies().nth(1).map(|(h, b)| (h, b.clone())).unwrap();
@@ -228,7 +228,7 @@ fn drift_correction_lifts_a_sunk_cube_to_zero_gap() {
 fn a_convex_step_carries_a_resting_cubes_weight_and_slows_a_sliding_one_at_mu_g() {
     let h = 1e-3;
     for (v0, what) in [(0.0, "resting"), (2.0, "sliding")] {
-        let mut w = resting_cube(Material { restitution: 0.0, friction: 0.5 }, AccurateSettings::default());
+        let mut w = resting_cube(Material::new(0.0, 0.5), AccurateSettings::default());
         let (b, body) = w.bodies().nth(1).map(|(h, b)| (h, b.clone())).unwrap();
         w.set_body_state(b, body.position(), body.orientation(), Vector3::new(v0, 0.0, 0.0), Vector3::zeros()).unwrap();
         let mut e = engine(&w);

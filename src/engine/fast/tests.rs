@@ -31,7 +31,7 @@ fn engine(w: &World, settings: FastSettings) -> FastEngine {
 /// A 0.2 m cube of 500 kg/m^3 (4 kg) resting on a ground at z = 0, its faces on the axes, and its handle.
 fn resting_cube(friction: f64) -> World {
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: 0.0, friction }).unwrap();
+    w.add_ground(0.0, Material::new(0.0, friction)).unwrap();
     let cube = Shape::cuboid(Vector3::repeat(0.1)).unwrap();
     w.add_body(RigidBodyBuilder::from_shape(cube, 500.0).position(Vector3::new(0.0, 0.0, 0.1)).friction(friction))
         .unwrap();
@@ -161,12 +161,12 @@ fn the_soft_step_carries_a_resting_cubes_weight_over_the_step() {
 /// A 1 kg particle of radius 5 cm touching the ground at 3 m/s down, with restitution `e` (the ground's too).
 fn landing(e: f64) -> World {
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: e, friction: 0.0 }).unwrap();
+    w.add_ground(0.0, Material::new(e, 0.0)).unwrap();
     let ball = ParticleBuilder::new(1.0)
         .radius(0.05)
         .position(Vector3::new(0.0, 0.0, 0.05))
         .velocity(Vector3::new(0.0, 0.0, -3.0))
-        .material(Material { restitution: e, friction: 0.0 });
+        .material(Material::new(e, 0.0));
     w.add_particle(ball).unwrap();
     w
 }

@@ -142,12 +142,29 @@ pub(crate) struct FrictionBundle {
     pub friction: Lanes,
     /// Each point's distance from the friction centre.
     pub lever: [Lanes; P],
+    /// Whether a lane resists rolling or torsion (`resistance`); the rest of the fields are then used.
+    pub resists: bool,
+    /// Rolling and torsional resistance: each coefficient times the lane's rolling radius (m), bounding the
+    /// angular impulses by it times the manifold's normal impulse; torsion widens the twist's bound.
+    pub rolling: Lanes,
+    pub torsion: Lanes,
+    /// The rolling rows: angular alone, about the two tangents (`ca` = `cb`), solved as one block (`roll_block`,
+    /// as `block`) within the disc of `rolling` times the normal impulse.
+    pub roll_axes: [AxisLanes; 2],
+    pub roll_block: [Lanes; 3],
+    pub roll: [Lanes; 2],
 }
 
 impl FrictionBundle {
     /// Lane `l`'s friction impulse as a world vector.
     pub fn vector(&self, l: usize) -> nalgebra::Vector3<f64> {
         self.axes[0].dir_of(l) * self.tangent[0][l] + self.axes[1].dir_of(l) * self.tangent[1][l]
+    }
+
+    /// Lane `l`'s rolling impulse as a world vector (an angular impulse on B).
+    pub fn roll_vector(&self, l: usize) -> nalgebra::Vector3<f64> {
+        let axis = |a: &AxisLanes| nalgebra::Vector3::new(a.ca[0][l], a.ca[1][l], a.ca[2][l]);
+        axis(&self.roll_axes[0]) * self.roll[0][l] + axis(&self.roll_axes[1]) * self.roll[1][l]
     }
 }
 
@@ -338,10 +355,25 @@ unsafe fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], 
             // the twist about the normal, then the two tangents through the centre
             let tw = &fr.twist_axis;
             let old = Wide(fr.twist);
-            let limit = friction * twist_limit;
+            let limit = if fr.resists { friction * twist_limit + Wide(fr.torsion) * total } else { friction * twist_limit };
             let new = (old - Wide(tw.mass) * tw.speed(&v)).max(limit.neg()).min(limit);
             fr.twist = new.0;
             tw.apply(new - old, &mut v);
+            if fr.resists {
+                // rolling resistance: the relative turn across the normal, within its disc
+                let [r0, r1] = &fr.roll_axes;
+                let (s0, s1) = (r0.speed(&v), r1.speed(&v));
+                let old = [Wide(fr.roll[0]), Wide(fr.roll[1])];
+                let [m00, m01, m11] = fr.roll_block.map(Wide);
+                let new = [old[0] - (m00 * s0 + m01 * s1), old[1] - (m01 * s0 + m11 * s1)];
+                let limit = Wide(fr.rolling) * total;
+                let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
+                let scale = Wide::select(size.gt(limit), Wide::select(size.gt(zero), limit / size, zero), one);
+                let new = [new[0] * scale, new[1] * scale];
+                fr.roll = [new[0].0, new[1].0];
+                r0.apply(new[0] - old[0], &mut v);
+                r1.apply(new[1] - old[1], &mut v);
+            }
             let [t0, t1] = &fr.axes;
             let (s0, s1) = (t0.speed(&v), t1.speed(&v));
             let old = [Wide(fr.tangent[0]), Wide(fr.tangent[1])];
@@ -417,6 +449,10 @@ unsafe fn warm_start_lanes(bundles: &[Bundle], frictions: &[FrictionBundle], mov
             row.normal_axis.apply(Wide(row.normal), &mut v);
         }
         fr.twist_axis.apply(Wide(fr.twist), &mut v);
+        if fr.resists {
+            fr.roll_axes[0].apply(Wide(fr.roll[0]), &mut v);
+            fr.roll_axes[1].apply(Wide(fr.roll[1]), &mut v);
+        }
         fr.axes[0].apply(Wide(fr.tangent[0]), &mut v);
         fr.axes[1].apply(Wide(fr.tangent[1]), &mut v);
         v.scatter(bu, movers);

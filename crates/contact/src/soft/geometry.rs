@@ -171,5 +171,21 @@ fn build_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], arms: &
         // the twist: angular alone, about the normal (its direction in `ca`, `cb` as set; no linear part)
         let n = wide3(&fr.twist_axis.ca);
         angular(&mut fr.twist_axis, (n, n), (&ia, &ib), masses, used);
+        if fr.resists {
+            // the rolling rows: angular alone about the tangents, their 2 x 2 K (no linear part) and its inverse
+            for axis in &mut fr.roll_axes {
+                let t = wide3(&axis.ca);
+                angular(axis, (t, t), (&ia, &ib), masses, used);
+            }
+            let [r0, r1] = &fr.roll_axes;
+            let k = |a: &super::bundle::AxisLanes, b: &super::bundle::AxisLanes| {
+                dot(&wide3(&a.ca), &wide3(&b.ia)) + dot(&wide3(&a.cb), &wide3(&b.ib))
+            };
+            let (k00, k01, k11) = (k(r0, r0), k(r0, r1), k(r1, r1));
+            let det = k00 * k11 - k01 * k01;
+            let inverse = Wide::select(det.gt(zero), Wide::splat(1.0) / det, zero);
+            let inverse = Wide::select(used, inverse, zero);
+            fr.roll_block = [(k11 * inverse).0, (k01.neg() * inverse).0, (k00 * inverse).0];
+        }
     }
 }

@@ -164,6 +164,24 @@ impl Group {
             fr.tangent[1][l] = t1.dot(&tangent);
             fr.twist[l] = mf.twist_impulse;
             fr.friction[l] = mf.friction;
+            if mf.rolling_resistance > 0.0 || mf.torsional_resistance > 0.0 {
+                // the rolling radius: along the normal from the friction centre to the farther turning centre
+                let turns = |m: &Mover| m.moves() && m.inv_inertia != nalgebra::Matrix3::zeros();
+                let radius = [(ma, centre_a), (mb, centre_b)]
+                    .iter()
+                    .filter(|(m, _)| turns(m))
+                    .map(|(_, arm)| n.dot(arm).abs())
+                    .fold(0.0, f64::max);
+                fr.resists = true;
+                fr.rolling[l] = mf.rolling_resistance * radius;
+                fr.torsion[l] = mf.torsional_resistance * radius;
+                for i in 0..3 {
+                    fr.roll_axes[0].ca[i][l] = t0[i];
+                    fr.roll_axes[1].ca[i][l] = t1[i];
+                }
+                fr.roll[0][l] = t0.dot(&mf.rolling_impulse);
+                fr.roll[1][l] = t1.dot(&mf.rolling_impulse);
+            }
         }
         geometry::build(&mut bundles, &mut frictions, &arms, &movers);
         // each bundle's colour is its first manifold's

@@ -43,6 +43,14 @@ pub struct SoftManifold {
     /// twist impulse about the normal: in and out as the points' normal impulses.
     pub tangent_impulse: Vector3<f64>,
     pub twist_impulse: f64,
+    /// Coefficients of rolling and torsional resistance (as `Contact`'s), and its rolling impulse over a substep
+    /// (an angular impulse on B, a world vector; in and out as the friction impulse).
+    #[serde(default)]
+    pub rolling_resistance: f64,
+    #[serde(default)]
+    pub torsional_resistance: f64,
+    #[serde(default)]
+    pub rolling_impulse: Vector3<f64>,
 }
 
 impl SoftManifold {
@@ -58,7 +66,17 @@ impl SoftManifold {
             count: 0,
             tangent_impulse: Vector3::zeros(),
             twist_impulse: 0.0,
+            rolling_resistance: 0.0,
+            torsional_resistance: 0.0,
+            rolling_impulse: Vector3::zeros(),
         }
+    }
+
+    /// With these coefficients of rolling and torsional resistance.
+    pub fn with_resistance(mut self, rolling: f64, torsional: f64) -> SoftManifold {
+        self.rolling_resistance = rolling;
+        self.torsional_resistance = torsional;
+        self
     }
 
     /// Its points.
@@ -82,12 +100,20 @@ impl SoftManifold {
         if self.colour > super::graph::OVERFLOW && self.count > 0 {
             return bad("has points and no colour".into());
         }
+        if !(self.rolling_resistance >= 0.0 && self.torsional_resistance >= 0.0) {
+            return bad(format!(
+                "rolling resistance {} and torsional resistance {}",
+                self.rolling_resistance, self.torsional_resistance
+            ));
+        }
         if !(self.friction >= 0.0 && self.friction.is_finite() && self.restitution >= 0.0 && self.restitution <= 1.0) {
             return bad(format!("friction {} and restitution {}", self.friction, self.restitution));
         }
         // one sum of every number: finite only if each is (a sum of finite numbers can overflow, and is refused too)
         let t = &self.tangent_impulse;
-        let mut sum = t.x + t.y + t.z + self.twist_impulse;
+        let r = &self.rolling_impulse;
+        let mut sum = t.x + t.y + t.z + self.twist_impulse + r.x + r.y + r.z;
+        sum += self.rolling_resistance + self.torsional_resistance;
         let mut unit = true;
         for p in self.points() {
             let n = &p.normal;

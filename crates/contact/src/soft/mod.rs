@@ -322,7 +322,8 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
         .iter()
         .map(|g| {
             let first = &contacts[g[0].2];
-            let mut m = SoftManifold::new(first.a, first.b, first.friction, first.restitution);
+            let mut m = SoftManifold::new(first.a, first.b, first.friction, first.restitution)
+                .with_resistance(first.rolling_resistance, first.torsional_resistance);
             m.colour = graph.add((m.a, moves(m.a)), (m.b, moves(m.b)));
             for (p, &(_, _, k)) in g.iter().enumerate() {
                 let c = &contacts[k];
@@ -346,13 +347,15 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
     for (m, g) in manifolds.drain(..).zip(&groups) {
         let runs = g.chunk_by(|x, y| {
             let (cx, cy) = (&contacts[x.2], &contacts[y.2]);
-            cx.friction == cy.friction && cx.restitution == cy.restitution
+            (cx.friction, cx.restitution, cx.rolling_resistance, cx.torsional_resistance)
+                == (cy.friction, cy.restitution, cy.rolling_resistance, cy.torsional_resistance)
         });
         let mut first = true;
         let mut at = 0;
         for run in runs {
             let c = &contacts[run[0].2];
-            let mut part = SoftManifold::new(m.a, m.b, c.friction, c.restitution);
+            let mut part = SoftManifold::new(m.a, m.b, c.friction, c.restitution)
+                .with_resistance(c.rolling_resistance, c.torsional_resistance);
             part.colour = if first { m.colour } else { graph.add((m.a, moves(m.a)), (m.b, moves(m.b))) };
             first = false;
             part.count = run.len();
@@ -591,6 +594,7 @@ impl SoftStep {
                 let m = manifolds[bu.manifold[l]].borrow_mut();
                 m.tangent_impulse = fr.vector(l);
                 m.twist_impulse = fr.twist[l];
+                m.rolling_impulse = if fr.resists { fr.roll_vector(l) } else { nalgebra::Vector3::zeros() };
                 for p in 0..bu.count[l] {
                     let row = &bu.rows[p];
                     let point = &mut m.points[p];
