@@ -1,94 +1,68 @@
-"""The animated preview of a run (GIF, or MP4 through ffmpeg): a small renderer of our own with Pillow, so that a
-preview costs a few milliseconds a frame. Bodies are shaded by face with their edges drawn, the floor is a gridded
-square under the scene, springs and joints are lines, particles dots and contacts red points. The camera looks
-down at the scene from the side, framed on the bounds of everything that moves (and the floor under it), with the
-floor at the bottom; each frame carries the scene's name and its time. Frames where nothing moved are merged into
-one frame held as long as the stillness lasts, and each frame is held for its own time, to the GIF's 10 ms."""
+"""The animated preview of a run (GIF, or MP4 through ffmpeg): a small renderer of our own with numpy and Pillow, so
+that a preview costs a few milliseconds a frame. Bodies are drawn in their own colours (the palette's where they have
+none), shaded by face with their edges, through a depth buffer, so that what is nearer the camera hides what is
+behind it; the floor is a gridded square under the scene, springs and joints are lines, particles dots and contacts
+red points (springs, particles and contacts hidden where a face is in front of them; ``contacts=False`` leaves the
+contacts out). The camera (``_preview_camera``) looks down at the scene from the side, framed on the bounds of
+everything that moves (and the floor under it), with the floor at the bottom, or from where ``camera`` says; each
+frame carries the scene's name and its time. Frames where nothing moved are merged into one frame held as long as
+the stillness lasts, and each frame is held for its own time, to the GIF's 10 ms."""
 
 from __future__ import annotations
 
 import shutil
 import subprocess
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from ._geometry import link_segments, rotation_matrices
+from ._preview_camera import TITLE_BAND, Camera, camera_view, check_zoom, frame_camera
 from ._preview_mesh import Meshes, floor_quad, gather_meshes, scene_points
+from ._preview_raster import DepthBuffer, depth_buffer, in_front, line_pixels, outlines
 
 if TYPE_CHECKING:
     from ._run import Run
 
-# The palette: fixed entries, then SHADES shades of each body colour (frames are drawn palettised, so no
-# quantisation is needed and colours stay exact).
+__all__ = ["TITLE_BAND", "Camera", "Renderer", "durations_ms", "frame_camera", "preview_frames", "write_preview"]
+
+# The palette: fixed entries, then shades of each body colour (frames are drawn palettised, so no quantisation is
+# needed and colours stay exact).
 BACKGROUND, TEXT, FLOOR, GRID, EDGE, SPRING, JOINT, PARTICLE, CONTACT, AXIS_X, AXIS_Y, AXIS_Z = range(12)
 FIXED = [(246, 247, 249), (20, 20, 20), (222, 224, 228), (190, 193, 200), (40, 44, 52), (200, 120, 40),
          (40, 90, 200), (30, 110, 190), (220, 30, 30), (220, 50, 50), (40, 160, 60), (50, 80, 220)]
-BODY_COLOURS = [(140, 140, 145), (66, 133, 244), (234, 140, 50), (52, 168, 83), (171, 71, 188), (0, 172, 193),
-                (219, 68, 55), (158, 157, 36), (121, 85, 72), (236, 64, 122)]
-SHADES = 24
 FIRST_SHADE = 16
-TITLE_BAND = 26  # px at the top for the scene's name and time
+# Shades of each body colour: 24 while the palette's 240 places allow, and never fewer than 6 (more than 40 distinct
+# colours are merged into 40 first).
+SHADES, FEWEST_SHADES = 24, 6
 LIGHT = np.array([0.35, -0.45, 0.82]) / np.linalg.norm([0.35, -0.45, 0.82])
+# How far behind the face at its pixel a point or line may lie and still be drawn, in pixels: a contact or a spring
+# lies on a surface, which the depth buffer holds at the pixel's centre.
+DEPTH_SLACK = 2.0
 
 
-def _palette() -> list[int]:
-    colours = list(FIXED) + [(0, 0, 0)] * (FIRST_SHADE - len(FIXED))
-    for r, g, b in BODY_COLOURS:
-        for s in range(SHADES):
-            k = 0.45 + 0.55 * s / (SHADES - 1)
-            colours.append((round(r * k), round(g * k), round(b * k)))
-    colours += [(0, 0, 0)] * (256 - len(colours))
-    return [c for rgb in colours for c in rgb]
-
-
-@dataclass
-class Camera:
-    """An orthographic camera: ``view`` turns world vectors into (right, up, towards the viewer); a world point p
-    lands at pixel (cx + scale * right, cy - scale * up)."""
-
-    view: np.ndarray
-    centre: np.ndarray
-    scale: float
-    width: int
-    height: int
-
-    def project(self, points: np.ndarray) -> np.ndarray:
-        """Pixel coordinates and depth (N, 3) of world points (N, 3); larger depth is nearer the viewer."""
-        c = (np.asarray(points, dtype=float) - self.centre) @ self.view.T
-        out: np.ndarray = np.empty_like(c)
-        out[:, 0] = self.width / 2 + self.scale * c[:, 0]
-        out[:, 1] = TITLE_BAND + (self.height - TITLE_BAND) / 2 - self.scale * c[:, 1]
-        out[:, 2] = c[:, 2]
-        return out
-
-
-def frame_camera(points: np.ndarray, size: int, azimuth: float = -55.0, elevation: float = 22.0) -> Camera:
-    """A camera looking at ``points`` (the scene's extent) from ``azimuth`` and ``elevation`` (degrees), z up,
-    scaled so that they fill the picture. The picture's longer side is ``size`` pixels and its shape follows the
-    scene's (the shorter side between half and all of the longer), so that a long row of bodies or a hanging chain
-    is not a thin strip in a square."""
-    a, e = np.radians(azimuth), np.radians(elevation)
-    towards = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])  # from the scene to the camera
-    right = np.cross([0.0, 0.0, 1.0], towards)
-    right /= np.linalg.norm(right)
-    up = np.cross(towards, right)
-    view = np.array([right, up, towards])
-    c = np.asarray(points, dtype=float) @ view.T
-    span_x = max(float(np.ptp(c[:, 0])), 1e-3)
-    span_y = max(float(np.ptp(c[:, 1])), 1e-3)
-    if span_x >= span_y:
-        width, height = size, int(np.clip(size * span_y / span_x, 0.5 * size, size))
-    else:
-        width, height = int(np.clip(size * span_x / span_y, 0.5 * size, size)), size
-    width += width % 2
-    height += TITLE_BAND + height % 2
-    scale = 0.92 * min(width / span_x, (height - TITLE_BAND) / span_y)
-    middle = np.array([(c[:, 0].min() + c[:, 0].max()) / 2, (c[:, 1].min() + c[:, 1].max()) / 2, 0.0])
-    return Camera(view, middle @ view, scale, width, height)
+def colour_palette(colours: np.ndarray) -> tuple[list[int], np.ndarray, int]:
+    """The frames' palette for bodies of ``colours`` (B, 3, sRGB): the fixed entries, then the shades of each
+    distinct colour, darkest first (a face turned from the light keeps 45% of its colour). Returns the palette (768
+    numbers), each body's first shade's index and the number of shades."""
+    distinct, which = np.unique(np.asarray(colours, dtype=np.uint8).reshape(-1, 3), axis=0, return_inverse=True)
+    room = 256 - FIRST_SHADE
+    if len(distinct) > room // FEWEST_SHADES:
+        merged = Image.fromarray(distinct[None, :, :]).quantize(colors=room // FEWEST_SHADES,
+                                                                 method=Image.Quantize.MEDIANCUT)
+        table = np.asarray(merged.getpalette() or [], dtype=np.uint8)[: 3 * (room // FEWEST_SHADES)].reshape(-1, 3)
+        distinct, again = np.unique(table[np.asarray(merged)[0]], axis=0, return_inverse=True)
+        which = again.ravel()[which.ravel()]
+    shades = max(2, min(SHADES, room // max(1, len(distinct))))
+    entries = list(FIXED) + [(0, 0, 0)] * (FIRST_SHADE - len(FIXED))
+    for r, g, b in distinct.tolist():
+        for s in range(shades):
+            k = 0.45 + 0.55 * s / (shades - 1)
+            entries.append((round(r * k), round(g * k), round(b * k)))
+    entries += [(0, 0, 0)] * (256 - len(entries))
+    return [c for rgb in entries for c in rgb], FIRST_SHADE + shades * which.ravel(), shades
 
 
 def _font(size: int) -> ImageFont.FreeTypeFont | ImageFont.ImageFont:
@@ -99,10 +73,13 @@ def _font(size: int) -> ImageFont.FreeTypeFont | ImageFont.ImageFont:
 
 
 class Renderer:
-    """Draws a run's frames with one camera."""
+    """Draws a run's frames with one camera: the default view, or from ``position`` towards ``target`` (see
+    ``frame_camera``), enlarged ``zoom`` times; with the contacts as red dots or without them."""
 
-    def __init__(self, run: "Run", width: int) -> None:
+    def __init__(self, run: "Run", width: int, position: np.ndarray | None = None,
+                 target: np.ndarray | None = None, zoom: float = 1.0, contacts: bool = True) -> None:
         self.run = run
+        self.contacts = contacts
         self.meshes: Meshes = gather_meshes(run)
         points = scene_points(run, self.meshes)
         # A body without shapes is drawn as its axes, a quarter of the scene's size long, and framed with them.
@@ -115,13 +92,21 @@ class Renderer:
         self.floor = floor_quad(self.meshes, points)
         if self.floor is not None:
             points = np.vstack([points, self.floor[0]])
-        self.camera = frame_camera(points, width)
+        self.camera = frame_camera(points, width, position, target, zoom)
+        if self.floor is not None:  # seen from below, the floor is left out (it would hide everything on it)
+            quad = self.floor[0]
+            if np.cross(quad[1] - quad[0], quad[3] - quad[0]) @ self.camera.view[2] <= 0:
+                self.floor = None
         self.points = points
         self.size = float(np.ptp(points, axis=0).max())  # the scene's largest extent (m)
         self.font_size = 15
         self.font = _font(self.font_size)
         self._glyphs: dict[str, tuple[Image.Image, tuple[int, int], float]] = {}
-        self.palette = _palette()
+        drawn = np.unique(self.meshes.face_body)  # the bodies with faces: only their colours take palette places
+        self.palette, first_shade, self.shades = colour_palette(self.meshes.colours[drawn])
+        body_shade = np.zeros(len(self.meshes.colours), dtype=np.int64)
+        body_shade[drawn] = first_shade
+        self.first_shade = body_shade[self.meshes.face_body]  # each face's first shade
 
     def background(self) -> Image.Image:
         """The picture every frame starts from: the background and the floor with its grid."""
@@ -148,53 +133,58 @@ class Renderer:
         return np.round(8.0 * np.concatenate([p.ravel() for p in parts])).astype(np.int64).tobytes()
 
     def scene(self, f: int, base: Image.Image) -> Image.Image:
-        """Frame ``f`` without its caption, drawn over a copy of ``base`` (``background()``). Faces, springs and
-        particles are drawn far to near (a painter's order by their middles' depth), so a cloth behind a ball is
-        hidden by it; joints, bodies without shapes and contacts are drawn last, over everything."""
-        cam, m, run = self.camera, self.meshes, self.run
-        image = base.copy()
+        """Frame ``f`` without its caption, drawn over a copy of ``base`` (``background()``). Faces go through a
+        depth buffer, each pixel showing the nearest; springs, particles and contacts are drawn where no face is in
+        front of them, so a cloth behind a ball is hidden by it and a contact behind a wall is not seen; joints and
+        bodies without shapes are drawn last, over everything."""
+        cam, run = self.camera, self.run
+        pixels = np.array(base)
+        buffer = self._faces(f, pixels)
+        slack = DEPTH_SLACK / cam.scale
+        ends = cam.project(link_segments(run, f).reshape(-1, 3)).reshape(-1, 2, 3) if run.links else None
+        if ends is not None:
+            springs = [i for i, (kind, _, _) in enumerate(run.links) if kind == "spring"]
+            rows, columns = line_pixels(buffer, ends[springs], slack)
+            pixels[rows, columns] = SPRING
+        image = Image.fromarray(pixels)
+        image.putpalette(self.palette)
         draw = ImageDraw.Draw(image)
-        depth: list[np.ndarray] = []
-        items: list[tuple[int, int]] = []  # (what, which): 0 a face, 1 a spring, 2 a particle
-        if m.faces:
-            rotations = rotation_matrices(run.body_orientations[f])
-            world = (np.einsum("nij,nj->ni", rotations[m.vertex_body], m.vertices)
-                     + run.body_positions[f][m.vertex_body])
-            normals = np.einsum("nij,nj->ni", rotations[m.face_body], m.normals)
-            screen = cam.project(world)
-            light = np.clip(normals @ LIGHT, 0.0, 1.0)
-            shade = FIRST_SHADE + m.colour * SHADES + np.round((0.35 + 0.65 * light) * (SHADES - 1)).astype(int)
-            faces = np.flatnonzero(normals @ cam.view[2] > 1e-9)
-            depth.append(screen[m.centre[faces], 2])
-            items.extend((0, int(k)) for k in faces)
-            xy = screen[:, :2].tolist()
-        springs = [i for i, (kind, _, _) in enumerate(run.links) if kind == "spring"]
-        joints = [i for i, (kind, _, _) in enumerate(run.links) if kind != "spring"]
-        if run.links:
-            ends = cam.project(link_segments(run, f).reshape(-1, 3)).reshape(-1, 2, 3)
-            depth.append(ends[springs, :, 2].mean(axis=1))
-            items.extend((1, i) for i in springs)
         particles = cam.project(run.particle_positions[f])
-        depth.append(particles[:, 2])
-        items.extend((2, i) for i in range(len(particles)))
         radius = 2 if len(particles) > 100 else 3
-        for n in np.argsort(np.concatenate(depth), kind="stable").tolist():
-            what, k = items[n]
-            if what == 0:
-                draw.polygon([tuple(xy[i]) for i in m.faces[k]], fill=int(shade[k]), outline=EDGE)
-            elif what == 1:
-                draw.line([tuple(ends[k, 0, :2]), tuple(ends[k, 1, :2])], fill=SPRING, width=1)
-            else:
-                x, y = particles[k, :2]
-                draw.ellipse([x - radius, y - radius, x + radius, y + radius], fill=PARTICLE)
-        for k in joints:
-            (ax, ay), (bx, by) = ends[k, 0, :2], ends[k, 1, :2]
-            draw.line([(ax, ay), (bx, by)], fill=JOINT, width=2)
-            draw.ellipse([ax - 2, ay - 2, ax + 2, ay + 2], fill=JOINT)
+        for x, y, _ in particles[in_front(buffer, particles, slack + radius / cam.scale)]:
+            draw.ellipse([x - radius, y - radius, x + radius, y + radius], fill=PARTICLE)
+        for k, (kind, _, _) in enumerate(run.links):
+            if kind != "spring" and ends is not None:
+                (ax, ay), (bx, by) = ends[k, 0, :2], ends[k, 1, :2]
+                draw.line([(ax, ay), (bx, by)], fill=JOINT, width=2)
+                draw.ellipse([ax - 2, ay - 2, ax + 2, ay + 2], fill=JOINT)
         self._bare(draw, f)
-        for x, y, _ in cam.project(run.contacts(f)[:, 0]) if run.contact_counts[f] else []:
-            draw.ellipse([x - 2, y - 2, x + 2, y + 2], fill=CONTACT)
+        if self.contacts and run.contact_counts[f]:
+            points = cam.project(run.contacts(f)[:, 0])
+            for x, y, _ in points[in_front(buffer, points, slack)]:
+                draw.ellipse([x - 2, y - 2, x + 2, y + 2], fill=CONTACT)
         return image
+
+    def _faces(self, f: int, pixels: np.ndarray) -> DepthBuffer:
+        """Draws the bodies' faces at frame ``f`` into ``pixels`` (palette indices, height x width): each face
+        turned to the camera shaded by the light, each pixel the nearest face's, with the faces' outlines. Returns
+        the depth buffer."""
+        cam, m, run = self.camera, self.meshes, self.run
+        if not m.faces:
+            return DepthBuffer.empty(cam.height, cam.width)
+        rotations = rotation_matrices(run.body_orientations[f])
+        world = np.einsum("nij,nj->ni", rotations[m.vertex_body], m.vertices) + run.body_positions[f][m.vertex_body]
+        normals = np.einsum("nij,nj->ni", rotations[m.face_body], m.normals)
+        screen = cam.project(world)
+        light = np.clip(normals @ LIGHT, 0.0, 1.0)
+        shade = self.first_shade + np.round((0.35 + 0.65 * light) * (self.shades - 1)).astype(np.int64)
+        facing = np.flatnonzero((normals @ cam.view[2] > 1e-9)[m.triangle_face])
+        buffer = depth_buffer(screen[m.triangles[facing]], m.triangle_face[facing], cam.width, cam.height)
+        window = pixels[buffer.window()]
+        shown = buffer.face >= 0
+        window[shown] = shade[buffer.face[shown]]
+        window[outlines(buffer)] = EDGE
+        return buffer
 
     def _bare(self, draw: ImageDraw.ImageDraw, f: int) -> None:
         """Bodies without shapes: a dot at the centre of mass and the body's axes (red x, green y, blue z)."""
@@ -261,18 +251,25 @@ def durations_ms(times: np.ndarray, last: float) -> list[int]:
     return [int(10 * max(1, d)) for d in np.diff(ticks)]
 
 
-def write_preview(run: "Run", path: Path, fps: float | None, size: float, title: str | None = None) -> Path:
+def write_preview(run: "Run", path: Path, fps: float | None, size: float, title: str | None = None,
+                  camera: Any = None, zoom: float = 1.0, contacts: bool = True) -> Path:
     """Writes the preview (see the module's docstring); ``size`` is the picture's longer side in inches at 128
-    pixels an inch (the default 5 gives 640 pixels); its shape follows the scene's."""
+    pixels an inch (the default 5 gives 640 pixels); its shape follows the scene's. ``camera`` is None (the default
+    view) or says where the camera looks from and at (``camera_view``); ``zoom`` enlarges the picture about its
+    middle; ``contacts`` whether the contacts are drawn."""
     suffix = path.suffix.lower()
     if suffix not in (".gif", ".mp4"):
         raise ValueError(f"invalid argument `path`: write a .gif or .mp4, got {path.name!r}")
     if not (np.isfinite(size) and 1.0 <= size <= 40.0):
         raise ValueError(f"invalid argument `size`: the longer side in inches, from 1 to 40, got {size}")
+    position, target = camera_view(camera)
+    zoom = check_zoom(zoom)
+    if not isinstance(contacts, (bool, np.bool_)):
+        raise ValueError(f"invalid argument `contacts`: True (draw them) or False, got {contacts!r}")
     if suffix == ".mp4" and shutil.which("ffmpeg") is None:
         raise RuntimeError("an .mp4 preview needs ffmpeg on the PATH; write a .gif instead")
     frames = preview_frames(run, fps)
-    renderer = Renderer(run, int(round(size * 128)))
+    renderer = Renderer(run, int(round(size * 128)), position, target, zoom, bool(contacts))
     title = title if title is not None else (run.name or "tumble")
     times = run.times[frames]
     # Runs of frames where the picture does not change become one frame, held until the picture changes.

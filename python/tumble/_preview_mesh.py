@@ -1,5 +1,5 @@
 """The geometry a preview draws, gathered once per run: every collider's faces in its body's frame (polygons with
-normals and colours), the floor, and the points that frame the camera."""
+their triangles and normals), each body's colour, the floor, and the points that frame the camera."""
 
 from __future__ import annotations
 
@@ -14,15 +14,19 @@ from ._mesh import PREVIEW, collider_mesh, half_space_plane
 if TYPE_CHECKING:
     from ._run import Run
 
-COLOURS = 10  # body colours in the preview's palette: 0 is the grey of bodies that do not move
+# The colours of bodies given none (sRGB): the first, grey, for bodies that do not move, the others in turn for
+# those that do.
+BODY_COLOURS = [(140, 140, 145), (66, 133, 244), (234, 140, 50), (52, 168, 83), (171, 71, 188), (0, 172, 193),
+                (219, 68, 55), (158, 157, 36), (121, 85, 72), (236, 64, 122)]
 
 
 @dataclass
 class Meshes:
-    """All bodies' faces in one set of arrays: vertices in their body's frame (each face's centre among them), the
-    body of each vertex; per face its corners (a loop of vertex indices), body, normal (body frame), colour index
-    and centre vertex. A face is a set of coplanar triangles joined along their shared edges (a box has six), so
-    that it is drawn as one polygon with its outline. ``planes`` holds each half-space as (body, point, normal) in
+    """All bodies' faces in one set of arrays: vertices in their body's frame and the body of each; per face its
+    corners (a loop of vertex indices), body and normal (body frame); the triangles (vertex indices) that fill the
+    faces and the face of each. A face is a set of coplanar
+    triangles joined along their shared edges (a box has six), so that it is shaded as one with its outline.
+    ``colours`` holds each body's colour (sRGB, (B, 3)); ``planes`` each half-space as (body, point, normal) in
     the world at the first frame; ``bare`` the bodies without shapes; ``moving`` whether each body moves."""
 
     vertices: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
@@ -30,8 +34,9 @@ class Meshes:
     faces: list[list[int]] = field(default_factory=list)
     face_body: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     normals: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    colour: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
-    centre: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    triangles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.int64))
+    triangle_face: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    colours: np.ndarray = field(default_factory=lambda: np.zeros((0, 3), dtype=np.uint8))
     planes: list[tuple[int, np.ndarray, np.ndarray]] = field(default_factory=list)
     moving: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     bare: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
@@ -49,9 +54,10 @@ def feature_edges(v: np.ndarray, triangles: np.ndarray) -> set[tuple[int, int]]:
     return {e for e, ns in normals.items() if len(ns) == 1 or any(np.dot(ns[0], m) < 1 - 1e-6 for m in ns[1:])}
 
 
-def polygon_faces(v: np.ndarray, triangles: np.ndarray) -> list[list[int]]:
-    """The mesh's faces as loops of vertex indices: triangles joined across edges that bound no face (coplanar
-    neighbours), each group's outline followed around; a group whose outline is not one loop stays triangles."""
+def polygon_faces(v: np.ndarray, triangles: np.ndarray) -> tuple[list[list[int]], list[list[int]]]:
+    """The mesh's faces as loops of vertex indices, and the triangles of each: triangles joined across edges that
+    bound no face (coplanar neighbours), each group's outline followed around; a group whose outline is not one loop
+    stays triangles."""
     bounding = feature_edges(v, triangles)
     parent = list(range(len(triangles)))
 
@@ -74,7 +80,7 @@ def polygon_faces(v: np.ndarray, triangles: np.ndarray) -> list[list[int]]:
     groups: dict[int, list[int]] = {}
     for t in range(len(triangles)):
         groups.setdefault(root(t), []).append(t)
-    faces = []
+    faces, filled = [], []
     for members in groups.values():
         directed = [(a, b) for t in members for a, b in zip(triangles[t], np.roll(triangles[t], -1))]
         inner = {(a, b) for a, b in directed if (b, a) in set(directed)}
@@ -84,9 +90,29 @@ def polygon_faces(v: np.ndarray, triangles: np.ndarray) -> list[list[int]]:
             loop.append(outline[loop[-1]])
         if len(loop) == len(outline) and len(outline) == len([e for e in directed if e not in inner]):
             faces.append(loop)
+            filled.append(members)
         else:
             faces.extend([int(x) for x in triangles[t]] for t in members)
-    return faces
+            filled.extend([t] for t in members)
+    return faces, filled
+
+
+def srgb(linear: tuple[float, ...]) -> tuple[int, int, int]:
+    """A linear RGB(A) colour (as bodies are given one) in 8-bit sRGB, as a picture shows it; alpha is left out."""
+    c = np.clip(np.asarray(linear[:3], dtype=float), 0.0, 1.0)
+    s = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1 / 2.4) - 0.055)
+    r, g, b = (int(v) for v in np.round(255 * s))
+    return (r, g, b)
+
+
+def body_colours(run: "Run", moving: np.ndarray) -> np.ndarray:
+    """Each body's colour (B, 3), sRGB: its own where it was given one, else grey for a body that does not move and
+    the palette's colours in turn for those that do."""
+    out = np.zeros((len(moving), 3), dtype=np.uint8)
+    for b in range(len(moving)):
+        given = run.color(b)
+        out[b] = srgb(given) if given is not None else BODY_COLOURS[1 + b % (len(BODY_COLOURS) - 1) if moving[b] else 0]
+    return out
 
 
 def gather_meshes(run: "Run") -> Meshes:
@@ -98,10 +124,9 @@ def gather_meshes(run: "Run") -> Meshes:
     out.moving = moving
     vertices: list[np.ndarray] = []
     vertex_body: list[int] = []
-    normals, face_body, colours, centres = [], [], [], []
+    normals, face_body, triangles, triangle_face = [], [], [], []
     base = 0
     for b in range(bodies):
-        colour = 1 + b % (COLOURS - 1) if moving[b] else 0
         for shape, offset, orientation in run.shapes[b] if b < len(run.shapes) else []:
             if shape.kind == "half-space":
                 middle, normal = half_space_plane(shape)
@@ -111,24 +136,26 @@ def gather_meshes(run: "Run") -> Meshes:
                 out.planes.append((b, point, rb @ r @ normal))
                 continue
             v, t = collider_mesh(shape, offset, orientation, PREVIEW)
-            faces = polygon_faces(v, np.asarray(t, dtype=np.int64))
-            middle = np.array([v[f].mean(axis=0) for f in faces])
-            for k, f in enumerate(faces):
-                n = np.cross(v[f[1]] - v[f[0]], v[f[2]] - v[f[0]])
+            t = np.asarray(t, dtype=np.int64)
+            faces, filled = polygon_faces(v, t)
+            for f, members in zip(faces, filled):
+                corners = v[t[members]]  # the face's normal from its triangles: a corner of its outline may be reflex
+                n = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]).sum(axis=0)
                 normals.append(n / (np.linalg.norm(n) or 1.0))
+                triangle_face.extend([len(out.faces)] * len(members))
+                triangles.append(t[members] + base)
                 out.faces.append([base + i for i in f])
-                centres.append(base + len(v) + k)
-            vertices.extend([v, middle])
-            vertex_body.extend([b] * (len(v) + len(faces)))
+            vertices.append(v)
+            vertex_body.extend([b] * len(v))
             face_body.extend([b] * len(faces))
-            colours.extend([colour] * len(faces))
-            base += len(v) + len(faces)
+            base += len(v)
     out.bare = np.array([b for b in range(bodies) if not (run.shapes[b] if b < len(run.shapes) else [])],
                         dtype=np.int64)
     if out.faces:
         out.vertices, out.vertex_body = np.concatenate(vertices), np.asarray(vertex_body, dtype=np.int64)
         out.normals, out.face_body = np.asarray(normals), np.asarray(face_body, dtype=np.int64)
-        out.colour, out.centre = np.asarray(colours, dtype=np.int64), np.asarray(centres, dtype=np.int64)
+        out.triangles, out.triangle_face = np.concatenate(triangles), np.asarray(triangle_face, dtype=np.int64)
+    out.colours = body_colours(run, moving)
     return out
 
 

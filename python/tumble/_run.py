@@ -258,17 +258,22 @@ class Run:
 
         return plot_run(self, path)
 
-    def animate(self, path: str | Path, fps: float | None = None, size: float = 5.0,
-                title: str | None = None) -> Path:
+    def animate(self, path: str | Path, fps: float | None = None, size: float = 5.0, title: str | None = None,
+                camera: dict[str, Any] | None = None, zoom: float = 1.0, contacts: bool = True) -> Path:
         """Writes a preview of the run as an animated GIF (``.gif``) or, when ffmpeg is installed, an MP4
-        (``.mp4``): the bodies shaded with their edges, the floor, springs and joints as lines, particles as dots
-        and contacts as red points, seen from the side and framed on the scene, with ``title`` (default: the
-        scene's ``name``) and the time on every frame. ``fps`` frames a second (default: the run's frame rate, at
-        most 30); a frame is held until the next one's time, and frames where nothing moves are merged into one.
-        ``size`` is the longer side in inches at 128 pixels an inch. Returns the path."""
+        (``.mp4``): the bodies in their colours (a palette's for bodies given none) shaded by face with their edges,
+        nearer faces hiding those behind, the floor, springs and joints as lines, particles as dots and contacts as
+        red points (those behind a face hidden; ``contacts=False`` leaves them out), framed on the scene, with
+        ``title`` (default: the scene's ``name``) and the time on every frame. The camera is orthographic with z
+        up: by default it looks down from the side (the floor at the bottom); ``camera={"position": (x, y, z),
+        "target": (x, y, z)}`` looks from ``position`` towards ``target`` (default: the middle of the scene; only
+        the direction counts), the picture centred on the target; ``zoom`` enlarges the picture about its middle (2:
+        twice as large). ``fps`` frames a second (default: the run's frame rate, at most 30); a frame is held until
+        the next one's time, and frames where nothing moves are merged into one. ``size`` is the longer side in
+        inches at 128 pixels an inch. Returns the path."""
         from ._preview import write_preview  # noqa: PLC0415
 
-        return write_preview(self, as_path(path), fps, size, title)
+        return write_preview(self, as_path(path), fps, size, title, camera, zoom, contacts)
 
     def export_usd(self, path: str | Path, over: str | Path | None = None) -> Path:
         """Writes the run as USD (``.usda`` text, ``.usdc`` binary) through usd-core (``pip install
