@@ -100,7 +100,7 @@ fn random_drop(seed: u64, mode: Mode) -> World {
         .radius(0.05)
         .position(Vector3::new(0.8, 0.0, 0.5))
         .velocity(Vector3::new(-1.0, 0.0, 0.0))
-        .material(Material { restitution: rng.range(0.0, 0.6), friction: rng.range(0.0, 1.0) });
+        .material(Material::new(rng.range(0.0, 0.6), rng.range(0.0, 1.0)));
     w.add_particle(particle).unwrap();
     w
 }

@@ -231,61 +231,88 @@ impl WorldReport {
     }
 }
 
-impl fmt::Display for WorldReport {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "{}", self.integrator)?;
-        let c = &self.forces;
-        writeln!(
-            f,
-            "force loops      {} evaluations: {} spring, {} load, {} callback; {} quaternion projections",
-            c.evaluations, c.spring_evaluations, c.load_evaluations, c.callback_calls, c.projections
-        )?;
-        writeln!(
-            f,
-            "wall time        {:.6} s in all: {:.6} s integrating, {:.6} s finding contacts, {:.6} s solving them ({:.6} s \
-             building their programs)",
-            self.wall_seconds,
-            self.integrator.wall_seconds,
-            self.collision_seconds,
-            self.contact_seconds,
-            self.program_seconds
-        )?;
-        writeln!(
-            f,
-            "contact          {} narrow-phase pair tests, {} collisions met by impulses, {} contacts given an impulse, \
-             {} bisection steps, {} contact programs solved over {} islands",
-            self.collision_checks, self.collisions, self.impulses, self.bisection_steps, self.qp_solves, self.islands
-        )?;
-        write!(
-            f,
-            "                 deepest penetration {:.3e} m, {} bodies asleep",
-            self.max_penetration, self.sleepers
-        )?;
-        if self.contact_residual > 0.0 {
-            write!(
+impl WorldReport {
+    /// Whether fast mode made it.
+    fn fast(&self) -> bool {
+        self.integrator.method.starts_with("fast")
+    }
+
+    /// The line that says which mode ran and when to pick the other.
+    fn mode_line(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.fast() {
+            writeln!(
                 f,
-                "; soft-step residual {:.1e} m/s (the largest speed a contact was left off its exact condition: \
-                 approach at a touching contact, slip at a sticking one)",
-                self.contact_residual
-            )?;
+                "mode             fast: fixed steps, Catto's soft step, an error estimated only with step_doubling \
+                 (mode=\"accurate\", the default, holds every step to a tolerance and puts impacts where they happen)"
+            )
+        } else {
+            writeln!(
+                f,
+                "mode             accurate ({}): every step held to a tolerance, impacts where they happen \
+                 (mode=\"fast\" takes fixed steps: for piles of hundreds of bodies, many times faster)",
+                self.integrator.method
+            )
         }
-        write!(f, "\nenergy           changed by {:.3e} J", self.energy_change)?;
-        if let Some(g) = self.energy_gain {
-            write!(f, ", the largest rise over one step {g:.3e} J")?;
+    }
+
+    /// The one error line: in metres where the mode can say, against what was asked.
+    fn error_line(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "error            ")?;
+        if self.fast() {
+            return match self.step_error {
+                Some(e) => writeln!(f, "a step differs from its two halves by at most {e:.3e} m (step doubling)"),
+                None => writeln!(f, "not estimated (fixed steps; step_doubling=True measures each against two halves)"),
+            };
         }
-        if let Some(e) = self.step_error {
-            write!(f, "\nstep doubling    largest difference of a step from its two halves {e:.3e} m")?;
+        let mut said = false;
+        if self.contact_steps > 0 {
+            write!(f, "contact steps at most {:.3e} m each", self.contact_error)?;
+            if let Some(t) = self.contact_tolerance {
+                write!(f, " (asked: {t:.3e} m, contact_tolerance)")?;
+            }
+            said = true;
+        }
+        match self.integrator.error_estimate {
+            Some(e) if self.integrator.steps > 0 => {
+                let sep = if said { "; " } else { "" };
+                write!(f, "{sep}free flight {e:.3e} (its steps' local error estimates summed, metres for positions)")?;
+            }
+            _ if !said => write!(f, "none estimated (the method has no estimate)")?,
+            _ => {}
+        }
+        writeln!(f)
+    }
+}
+
+impl fmt::Display for WorldReport {
+    /// The report a person reads: which mode ran (and when to pick the other), one error line in metres, the steps,
+    /// contact, energy and wall time. The alternate form (`{:#}`) adds what a maintainer reads: the integrator's
+    /// counters, the force loops, the time's split, the soft step's residual and the stages that ran.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let i = &self.integrator;
+        self.mode_line(f)?;
+        self.error_line(f)?;
+        write!(f, "steps            {} accepted, {} rejected", i.steps, i.rejected)?;
+        if i.steps > 0 {
+            write!(f, ", {:.3e} .. {:.3e} s", i.min_step, i.max_step)?;
         }
         if self.contact_steps > 0 {
             write!(
                 f,
-                "\ncontact steps    {} accepted, {} rejected, smallest {:.3e} s; largest estimated error of a step \
-                 {:.3e} m",
-                self.contact_steps, self.contact_rejected, self.contact_min_step, self.contact_error
+                "; contact steps {} accepted, {} rejected, smallest {:.3e} s",
+                self.contact_steps, self.contact_rejected, self.contact_min_step
             )?;
         }
-        if let Some(t) = self.contact_tolerance {
-            write!(f, "\nsettings         contact tolerance {t:.3e} m (the error a contact step may keep)")?;
+        writeln!(f)?;
+        writeln!(
+            f,
+            "contact          {} collisions met by impulses, deepest penetration {:.3e} m, {} bodies asleep, {} contact \
+             programs solved over {} islands, {} narrow-phase pair tests",
+            self.collisions, self.max_penetration, self.sleepers, self.qp_solves, self.islands, self.collision_checks
+        )?;
+        write!(f, "energy           changed by {:.3e} J", self.energy_change)?;
+        if let Some(g) = self.energy_gain {
+            write!(f, ", the largest rise over one step {g:.3e} J")?;
         }
         if self.joint_rows > 0 {
             write!(
@@ -299,6 +326,37 @@ impl fmt::Display for WorldReport {
                 f,
                 "\nmeshes           {} convex pieces, decomposed in {:.3} s",
                 self.mesh_pieces, self.decomposition_seconds
+            )?;
+        }
+        write!(f, "\nwall time        {:.6} s", self.wall_seconds)?;
+        if !f.alternate() {
+            return Ok(());
+        }
+        write!(
+            f,
+            " in all: {:.6} s integrating, {:.6} s finding contacts, {:.6} s solving them ({:.6} s building their \
+             programs)",
+            i.wall_seconds, self.collision_seconds, self.contact_seconds, self.program_seconds
+        )?;
+        write!(f, "\n{i}")?;
+        let c = &self.forces;
+        write!(
+            f,
+            "\nforce loops      {} evaluations: {} spring, {} load, {} callback; {} quaternion projections",
+            c.evaluations, c.spring_evaluations, c.load_evaluations, c.callback_calls, c.projections
+        )?;
+        write!(
+            f,
+            "\ncontact work     {} contacts given an impulse, {} bisection steps",
+            self.impulses, self.bisection_steps
+        )?;
+        if self.contact_residual > 0.0 {
+            write!(
+                f,
+                "\nsoft step        residual {:.1e} m/s: the largest speed a contact was left off its exact condition \
+                 after the step's iterations (approach at a touching contact, slip at a sticking one), which the soft \
+                 contacts then take up over the next steps; not an error of the motion",
+                self.contact_residual
             )?;
         }
         write!(f, "\nstages ran       {}", self.stages.ran().join(" -> "))

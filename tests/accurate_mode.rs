@@ -314,5 +314,5 @@ fn the_report_splits_the_contact_time_into_building_and_solving_the_programs() {
         r.program_seconds,
         r.contact_seconds
     );
-    assert!(r.to_string().contains("building their programs"), "{r}");
+    assert!(format!("{r:#}").contains("building their programs"), "{r:#}");
 }

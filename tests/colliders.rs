@@ -32,11 +32,11 @@ fn two_balls_make_a_dumbbell_with_the_parallel_axis_inertia() {
 fn materials_combine_to_the_larger_restitution_and_the_geometric_mean_friction() {
     let a = Material::new(0.8, 0.9);
     let b = Material::new(0.2, 0.1);
-    let c = a.combine(&b);
+    let c = a.combine(&b, &Default::default());
     assert_eq!(c.restitution, 0.8);
     assert!((c.friction - 0.3).abs() < 1e-15);
-    assert_eq!(a.combine(&Material::new(0.0, 0.0)).friction, 0.0);
-    assert_eq!(a.combine(&b), b.combine(&a));
+    assert_eq!(a.combine(&Material::new(0.0, 0.0), &Default::default()).friction, 0.0);
+    assert_eq!(a.combine(&b, &Default::default()), b.combine(&a, &Default::default()));
 }
 
 #[cfg(feature = "contact")]

@@ -28,7 +28,7 @@ fn random_scene(seed: u64, mode: Mode) -> World {
     let mut rng = Lcg(seed.wrapping_mul(104729).wrapping_add(7));
     let mut w = World::new();
     w.set_mode(mode).unwrap();
-    w.add_ground(0.0, Material { restitution: rng.range(0.0, 1.0), friction: rng.range(0.0, 1.5) }).unwrap();
+    w.add_ground(0.0, Material::new(rng.range(0.0, 1.0), rng.range(0.0, 1.5))).unwrap();
     let count = 1 + (rng.next() * 5.0) as usize;
     for k in 0..count {
         let mesh = rng.next() < 1.0 / 6.0;

@@ -22,7 +22,7 @@ fn scatter_at(seed: u64, count: usize, clocks: bool, tol: f64) -> World {
     let settings =
         AccurateSettings { island_clocks: clocks, contact_tolerance: Some(tol), ..AccurateSettings::default() };
     w.set_mode(Mode::Accurate(settings)).unwrap();
-    w.add_ground(0.0, Material { restitution: rng.range(0.0, 0.5), friction: rng.range(0.2, 1.0) }).unwrap();
+    w.add_ground(0.0, Material::new(rng.range(0.0, 0.5), rng.range(0.2, 1.0))).unwrap();
     let side = (count as f64).sqrt().ceil() as usize;
     let mut k = 0;
     while k < count {

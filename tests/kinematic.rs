@@ -210,7 +210,7 @@ fn a_ball_sliding_off_a_table_edge_falls_from_the_edge() {
 fn random_push(seed: u64) -> (World, tumble::BodyHandle, Keyframes, f64) {
     let mut rng = Lcg(seed.wrapping_mul(104_729).wrapping_add(3));
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: rng.range(0.0, 0.6), friction: rng.range(0.0, 1.0) }).unwrap();
+    w.add_ground(0.0, Material::new(rng.range(0.0, 0.6), rng.range(0.0, 1.0))).unwrap();
     let count = 1 + (rng.next() * 3.0) as usize;
     for k in 0..count {
         let shape = random_shape(&mut rng);

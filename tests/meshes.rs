@@ -92,7 +92,7 @@ fn blob_drop(seed: u64, mode: Mode) -> World {
     let mut rng = Lcg(seed * 7 + 3);
     let mut w = World::new();
     w.set_mode(mode).unwrap();
-    w.add_ground(0.0, Material { restitution: rng.range(0.0, 0.5), friction: rng.range(0.2, 1.0) }).unwrap();
+    w.add_ground(0.0, Material::new(rng.range(0.0, 0.5), rng.range(0.2, 1.0))).unwrap();
     for k in 0..3 {
         let q = UnitQuaternion::from_euler_angles(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
         w.add_body(

@@ -79,7 +79,7 @@ fn world(p: &Problem, mode: Mode) -> Result<World, WorldError> {
     let mut w = World::new();
     w.set_mode(mode)?;
     w.set_gravity(Vector3::new(G * p.theta.sin(), 0.0, -G * p.theta.cos()))?;
-    w.add_ground(0.0, Material { restitution: 0.0, friction: p.mu })?;
+    w.add_ground(0.0, Material::new(0.0, p.mu))?;
     w.add_body((p.body)(p.mu))?;
     Ok(w)
 }

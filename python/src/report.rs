@@ -8,7 +8,7 @@ use pyo3::types::{PyDict, PyList};
 use tumble::{Plan, ReportValue, Run, WorldReport};
 
 /// The report as a plain dict of its fields (the package wraps it in `tumble.Report`), with the stages that ran
-/// under "stages_ran" and the report's text under "_text".
+/// under "stages_ran", the report's text under "_text" and its long form under "_details".
 pub fn report_dict<'py>(py: Python<'py>, r: &WorldReport) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     for (name, value) in r.fields() {
@@ -21,6 +21,7 @@ pub fn report_dict<'py>(py: Python<'py>, r: &WorldReport) -> PyResult<Bound<'py,
     }
     d.set_item("stages_ran", r.stages.ran())?;
     d.set_item("_text", r.to_string())?;
+    d.set_item("_details", format!("{r:#}"))?;
     Ok(d)
 }
 

@@ -217,6 +217,9 @@ def operation(draw, made: frozenset, mode: str, shapes_only: bool = False):
     ]
     name = pick(draw, *[(wt, st.just(n)) for wt, n in table if wt])
     material = {"restitution": scalar(0.0, 1.0, h), "friction": scalar(0.0, 1.5, h)}
+    if LONG:  # resistance to turning and combine rules in long runs only, so that the CI search draws as before
+        material["rolling_resistance"] = weighted((2, st.just(0.0)), (1, scalar(0.0, 0.5, h)))
+        material["friction_combine"] = st.sampled_from([None, "average", "geometric_mean", "min", "product", "max"])
 
     if name == "shape":
         method = draw(st.sampled_from(["mass_properties", "triangle_mesh", "kind", "halfspace"]))

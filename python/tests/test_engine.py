@@ -95,4 +95,4 @@ def test_the_report_shows_the_planned_stages_running():
     w = tumble.scenes.dominoes(count=3)
     w.run(1.0)
     assert w.report.stages_ran == w.plan()["stages"]
-    assert "stages ran" in str(w.report)
+    assert "stages ran" in w.report.details()

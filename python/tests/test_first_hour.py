@@ -107,3 +107,31 @@ def test_a_bad_material_is_refused_by_name_and_changes_nothing():
     with pytest.raises(ValueError, match="handle"):
         w.set_material(object(), friction=0.1)
     assert w.to_json(memory=False) == before
+
+
+def _report(**world) -> tumble.Report:
+    w = tumble.World(**world)
+    w.add_ground()
+    w.add_body(tumble.Box((0.1, 0.1, 0.1)), position=(0, 0, 0.3))
+    return w.run(0.5).report
+
+
+@pytest.mark.parametrize("world, mode, error", [
+    ({}, "accurate", "contact steps at most"),
+    ({"mode": "fast"}, "fast", "not estimated"),
+    ({"mode": "fast", "step_doubling": True}, "fast", "its two halves by at most"),
+])
+def test_a_report_says_which_mode_ran_and_gives_one_error_line_in_metres(world, mode, error):
+    """The report opens with the mode (and when to pick the other), then one error line a user can compare with
+    what they asked for; the integrator's internals and the soft step's residual are in ``details()``."""
+    report = _report(**world)
+    lines = str(report).splitlines()
+    assert lines[0].startswith(f"mode             {mode}")
+    other = "fast" if mode == "accurate" else "accurate"
+    assert f'mode="{other}"' in lines[0], "says how to pick the other mode"
+    errors = [line for line in lines if line.startswith("error")]
+    assert len(errors) == 1 and error in errors[0], errors
+    assert "residual" not in str(report) and "error estimate   " not in str(report)
+    assert "stages ran" in report.details() and "force loops" in report.details()
+    if mode == "fast":
+        assert "soft step        residual" in report.details()

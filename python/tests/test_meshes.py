@@ -145,6 +145,41 @@ def test_a_mesh_file_loads_scaled_and_turned(tmp_path: Path, suffix: str, writer
     assert up.volume == pytest.approx(m.volume, rel=1e-12)
 
 
+def test_meshes_are_named_after_the_file_where_it_names_them_not(tmp_path: Path) -> None:
+    """An OBJ without object names (tobj calls it "unnamed_object") and a GLB written by trimesh (its meshes
+    "geometry_0", ...) give meshes named after the file, numbered as Blender numbers copies."""
+    path = tmp_path / "die.obj"
+    write_obj(path, CUBE_V, CUBE_T)
+    path.write_text(path.read_text().replace("o cube\n", ""))  # no object name
+    assert tumble.Mesh.load(path).name == "die" and [m.name for m in tumble.Mesh.load_all(path)] == ["die"]
+    trimesh = pytest.importorskip("trimesh")
+    scene = trimesh.Scene()
+    for k in range(2):
+        move = trimesh.transformations.translation_matrix((3 * k, 0, 0))
+        scene.add_geometry(trimesh.creation.box(extents=(1, 1, 1)), transform=move)
+    scene.export(tmp_path / "dice.glb")
+    names = [m.name for m in tumble.Mesh.load_all(tmp_path / "dice.glb")]
+    assert names == ["dice", "dice.001"], names
+    assert tumble.Mesh.load(tmp_path / "dice.glb").name == "dice"
+
+
+def test_load_refuses_to_merge_meshes_whose_solids_overlap_and_points_to_load_all(tmp_path: Path) -> None:
+    """Two cubes sharing half their volume, merged, would count it twice; cubes apart merge into one mesh."""
+    overlapping = tmp_path / "overlapping.gltf"
+    write_gltf(overlapping, CUBE_V, CUBE_T, [[0, 0, 0], [0.5, 0, 0]])
+    with pytest.raises(ValueError, match="overlap.*load_all"):
+        tumble.Mesh.load(overlapping)
+    assert len(tumble.Mesh.load_all(overlapping)) == 2
+    # two cubes sharing a face merge into no solid (the face twice): said so, pointing to load_all as well
+    touching = tmp_path / "touching.gltf"
+    write_gltf(touching, CUBE_V, CUBE_T, [[0, 0, 0], [1, 0, 0]])
+    with pytest.raises(ValueError, match="do not bound one solid.*load_all"):
+        tumble.Mesh.load(touching)
+    apart = tmp_path / "apart.gltf"
+    write_gltf(apart, CUBE_V, CUBE_T, [[0, 0, 0], [1.5, 0, 0]])
+    assert tumble.Mesh.load(apart).volume == pytest.approx(2.0, rel=1e-12)
+
+
 def test_a_gltf_gives_each_mesh_at_its_node_and_load_merges_them(tmp_path: Path) -> None:
     path = tmp_path / "two.gltf"
     write_gltf(path, CUBE_V, CUBE_T, [[0, 0, 0], [3, 0, 0]])

@@ -94,7 +94,7 @@ def test_the_stub_takes_its_names_from_the_one_list() -> None:
     stub = Path(tumble.__file__).parent / "_tumble.pyi"
     imported = {alias.name for node in ast.parse(stub.read_text()).body
                 if isinstance(node, ast.ImportFrom) and node.module == "tumble._names" for alias in node.names}
-    assert imported == {"IntegratorName", "ModeName", "SolverName", "LinearSolverName"}
+    assert imported == {"IntegratorName", "ModeName", "SolverName", "LinearSolverName", "CombineName"}
     assert all(typing.get_args(getattr(tumble, n)) for n in imported)
 
 
@@ -127,3 +127,9 @@ def test_literal_names_are_the_accepted_names() -> None:
         tumble.World(integrator="implicit-euler", linear_solver=linear)
     with pytest.raises(ValueError, match='expected "direct" or "iterative"'):
         tumble.World(integrator="implicit-euler", linear_solver="bicgstab")
+
+    combines = typing.get_args(tumble.CombineName)
+    for rule in combines:
+        assert tumble.World(friction_combine=rule).combine_rules["friction"] == rule
+    with pytest.raises(ValueError, match="must be one of " + re.escape(", ".join(combines)) + ", got"):
+        tumble.World(friction_combine="mean")

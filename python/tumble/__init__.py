@@ -45,8 +45,9 @@ from ._batch import Batch, rollout
 from ._sweep import sweep
 from ._kinematic import keyframes_from
 from ._usd_shapes import UsdSceneError
+from ._usd_values import UsdImportWarning
 from ._joints import Ball, Breaking, Distance, Drive, Hinge, JointSpring, Motor, Piston, Slider, Weld
-from ._names import IntegratorName, LinearSolverName, ModeName, SolverName
+from ._names import CombineName, IntegratorName, LinearSolverName, ModeName, SolverName
 from ._world import BodiesView, ParticlesView, World
 from . import scenes
 
@@ -58,6 +59,7 @@ __all__ = [
     "sweep",
     "keyframes_from",
     "UsdSceneError",
+    "UsdImportWarning",
     "Report",
     "ParticlesView",
     "BodiesView",
@@ -91,6 +93,7 @@ __all__ = [
     "ModeName",
     "SolverName",
     "LinearSolverName",
+    "CombineName",
     "quaternion_to_matrix",
     "quaternion_to_euler",
     "up_axis",

@@ -2,7 +2,8 @@
 misspelt name is an error there, not only a ValueError at run time). One list for the package and the compiled
 module's stub (_tumble.pyi), taken from the Rust library: the integrators from ``Method::name``
 (crates/integrate/src/method.rs), the modes, fast mode's contact solvers and implicit Euler's linear solvers from
-``mode_from`` and ``IntegratorOptions::settings`` (src/options.rs)."""
+``mode_from`` and ``IntegratorOptions::settings`` (src/options.rs), the combine rules from ``Combine::ALL``
+(src/collider.rs)."""
 
 from typing import Literal
 
@@ -24,3 +25,5 @@ IntegratorName = Literal[
 ModeName = Literal["accurate", "fast"]
 SolverName = Literal["soft", "exact", "newton", "clarabel"]
 LinearSolverName = Literal["direct", "iterative"]
+# how two surfaces' frictions and restitutions combine (`Combine::ALL`, src/collider.rs)
+CombineName = Literal["average", "geometric_mean", "min", "product", "max"]

@@ -30,16 +30,20 @@ class Report:
     metres, the settings' or the default from the scene's size); how often each
     force loop ran (``evaluations``, ``spring_evaluations``, ``load_evaluations``, ``callback_calls``,
     ``projections``); and ``stages_ran``, the stages that ran, in pipeline order (compare with ``World.plan()``).
-    ``str(report)`` is the library's table of it.
+    ``str(report)`` is the library's table for a person: which mode ran (and when to pick the other), one error
+    line in metres, steps, contact, energy and wall time; ``report.details()`` adds the integrator's counters, the
+    force loops, the time's split, fast mode's soft-step residual and the stages that ran.
     """
 
-    __slots__ = ("_fields", "_text")
+    __slots__ = ("_fields", "_text", "_details")
     _fields: dict[str, Any]
     _text: str
+    _details: str
 
     def __init__(self, fields: dict[str, Any]) -> None:
         fields = dict(fields)
         object.__setattr__(self, "_text", fields.pop("_text", ""))
+        object.__setattr__(self, "_details", fields.pop("_details", ""))
         object.__setattr__(self, "_fields", fields)
 
     def __getattr__(self, name: str) -> Any:
@@ -61,7 +65,7 @@ class Report:
         return hash(tuple(sorted((k, str(v)) for k, v in self._fields.items())))
 
     def __reduce__(self) -> tuple[type[Report], tuple[dict[str, Any]]]:
-        return (Report, ({**self._fields, "_text": self._text},))
+        return (Report, ({**self._fields, "_text": self._text, "_details": self._details},))
 
     def fields(self) -> list[str]:
         """The field names, in the library's order."""
@@ -76,3 +80,7 @@ class Report:
 
     def __str__(self) -> str:
         return self._text
+
+    def details(self) -> str:
+        """The long form of ``str(report)``: every counter, the time's split and the stages that ran."""
+        return self._details

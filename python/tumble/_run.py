@@ -199,7 +199,7 @@ class Run:
 
         shapes = [[(s.__reduce__()[1][0], list(map(float, p)), list(map(float, q))) for s, p, q in body]
                   for body in self.shapes]
-        report = {**self.report._fields, "_text": self.report._text}
+        report = {**self.report._fields, "_text": self.report._text, "_details": self.report._details}
         np.savez_compressed(path, **{name: getattr(self, name) for name in ARRAYS},
                             particles=handles(self.particles), bodies=handles(self.bodies),
                             joint_breaks=handles(self.joint_breaks),

@@ -6,7 +6,7 @@ from typing import Any, Callable, Literal, Self, Sequence, TypedDict
 import numpy as np
 import numpy.typing as npt
 
-from tumble._names import IntegratorName, LinearSolverName, ModeName, SolverName
+from tumble._names import CombineName, IntegratorName, LinearSolverName, ModeName, SolverName
 from tumble._run import Run
 
 __version__: str
@@ -156,7 +156,6 @@ class Mesh(Shape):
         """The convex pieces a moving body of this mesh collides with (defaults: 64, 32, 0.01)."""
 
 MeshShapeName = Literal["decomposed", "hull", "exact"]
-CombineName = Literal["average", "geometric_mean", "min", "product", "max"]
 
 class Decomposition(TypedDict, total=False):
     resolution: int

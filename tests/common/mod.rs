@@ -62,7 +62,7 @@ pub fn random_shape(rng: &mut Lcg) -> Shape {
 pub fn random_drop(seed: u64) -> World {
     let mut rng = Lcg(seed.wrapping_mul(7919).wrapping_add(17));
     let mut w = World::new();
-    w.add_ground(0.0, Material { restitution: rng.range(0.0, 0.6), friction: rng.range(0.0, 1.0) }).unwrap();
+    w.add_ground(0.0, Material::new(rng.range(0.0, 0.6), rng.range(0.0, 1.0))).unwrap();
     let count = 1 + (rng.next() * 5.0) as usize;
     for k in 0..count {
         let shape = random_shape(&mut rng);

@@ -34,6 +34,7 @@ mod mass;
 mod mesh;
 mod mesh_builders;
 mod mesh_file;
+mod mesh_overlap;
 mod motion;
 mod pair_map;
 mod polyhedron;

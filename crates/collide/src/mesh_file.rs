@@ -73,20 +73,45 @@ impl Mesh {
             return Err(ShapeError::new("path", format!("{}: the file has no triangles", path.display())));
         }
         let up = up.for_format(&ext);
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+        let mut unnamed = 0;
         raws.into_iter()
             .map(|r| {
                 let v: Vec<Point3<f64>> = r.vertices.iter().map(|p| turned(p, up) * scale).collect();
-                Mesh::new(&v, &r.triangles, &r.name)
+                let name = if placeholder(&r.name) {
+                    unnamed += 1;
+                    if unnamed == 1 { stem.to_string() } else { format!("{stem}.{:03}", unnamed - 1) }
+                } else {
+                    r.name
+                };
+                Mesh::new(&v, &r.triangles, &name)
             })
             .collect()
     }
 
-    /// A file's meshes merged into one (each placed as the file places it), scaled and turned as `load_all`.
+    /// A file's meshes merged into one (each placed as the file places it), scaled and turned as `load_all`, named
+    /// after the file. Meshes whose solids overlap are refused (merged, the volume they share would count twice in
+    /// the mass): `load_all` gives them one by one.
     pub fn load(path: impl AsRef<Path>, scale: f64, up: UpAxis) -> Result<Mesh, ShapeError> {
         let path = path.as_ref();
         let mut all = Self::load_all(path, scale, up)?;
         if all.len() == 1 {
             return Ok(all.remove(0));
+        }
+        for (i, a) in all.iter().enumerate() {
+            if let Some(b) = all[i + 1..].iter().find(|b| crate::mesh_overlap::solids_overlap(a, b)) {
+                return Err(ShapeError::new(
+                    "path",
+                    format!(
+                        "{}: its meshes \"{}\" and \"{}\" overlap: merged into one, the volume they share would count \
+                         twice in the mass; load them one by one with Mesh.load_all (as one body's colliders, or \
+                         bodies of their own), or join them into one solid first",
+                        path.display(),
+                        a.name(),
+                        b.name()
+                    ),
+                ));
+            }
         }
         let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
         for m in &all {
@@ -95,8 +120,26 @@ impl Mesh {
             triangles.extend(m.triangles().iter().map(|t| t.map(|k| k + base)));
         }
         let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
-        Mesh::new(&vertices, &triangles, name)
+        Mesh::new(&vertices, &triangles, name).map_err(|e| {
+            ShapeError::new(
+                "path",
+                format!(
+                    "{}: its {} meshes merged do not bound one solid ({}): load them one by one with \
+                     Mesh.load_all, or join them into one solid first",
+                    path.display(),
+                    all.len(),
+                    e.reason
+                ),
+            )
+        })
     }
+}
+
+/// Whether a file's name for a mesh is one its writer made up rather than the user's (tobj's for an OBJ without
+/// object names, trimesh's for the meshes of a glTF it writes, or none): the mesh is then named after the file.
+fn placeholder(name: &str) -> bool {
+    let numbered = |prefix: &str| name.strip_prefix(prefix).is_some_and(|n| n.chars().all(|c| c.is_ascii_digit()));
+    name.is_empty() || name == "unnamed_object" || numbered("geometry_")
 }
 
 /// A file's point turned so that `up` (y or z, as `for_format` leaves it) is +z.
