@@ -4,7 +4,10 @@
 //! nothing.
 
 use nalgebra::Vector3;
-use tumble::{Combine, CombineRules, FastSettings, Material, MaterialChange, Mode, RigidBodyBuilder, Shape, Target, World, WorldError};
+use tumble::{
+    Combine, CombineRules, FastSettings, Material, MaterialChange, Mode, RigidBodyBuilder, Shape, Target, World,
+    WorldError,
+};
 
 /// A change of friction and restitution.
 fn change(friction: Option<f64>, restitution: Option<f64>) -> MaterialChange {
@@ -162,9 +165,21 @@ fn combine_rules_per_world_and_per_body_set_a_pairs_coefficients() {
         ("the default, the larger", default, own(0.5, None), 0.8, 0.8),
         ("the world's product", product, own(0.5, None), 0.8, 0.4),
         ("the body's product over the world's max", default, own(0.5, Some(Combine::Product)), 0.8, 0.4),
-        ("min over the world's average", CombineRules { restitution: Combine::Average, ..default }, own(0.5, Some(Combine::Min)), 0.8, 0.5),
+        (
+            "min over the world's average",
+            CombineRules { restitution: Combine::Average, ..default },
+            own(0.5, Some(Combine::Min)),
+            0.8,
+            0.5,
+        ),
         ("the body's average over the world's max", default, own(0.5, Some(Combine::Average)), 0.8, 0.65),
-        ("geometric mean", CombineRules { restitution: Combine::GeometricMean, ..default }, own(0.5, None), 0.8, 0.4f64.sqrt()),
+        (
+            "geometric mean",
+            CombineRules { restitution: Combine::GeometricMean, ..default },
+            own(0.5, None),
+            0.8,
+            0.4f64.sqrt(),
+        ),
     ];
     for (name, rules, ball, ground, want) in cases {
         let e = bounce(rules, ball, ground);

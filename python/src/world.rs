@@ -6,6 +6,7 @@ use crate::args::{attachment, integrator_options, to_target};
 use crate::control::Control;
 use crate::convert::{array, invalid, number, opt_vec3, quat, vec3, world_error};
 use crate::handles::{PyBodyHandle, PyLoadHandle, PyParticleHandle, PySpringHandle};
+use crate::material::MaterialArgs;
 use crate::report::run_arrays;
 use crate::SimulationError;
 use nalgebra::Vector3;
@@ -13,7 +14,6 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::{Arc, Mutex};
-use crate::material::MaterialArgs;
 use tumble::{ParticleBuilder, SpringBuilder, World, WorldError, WorldOptions, Wrench};
 
 /// A world of particles and rigid bodies (see the package documentation for the whole contract).
@@ -169,9 +169,13 @@ impl PyWorld {
         friction_combine: Option<String>,
         restitution_combine: Option<String>,
     ) -> PyResult<PyParticleHandle> {
-        let surface = MaterialArgs { friction, restitution, friction_combine, restitution_combine, ..Default::default() };
-        let mut b =
-            ParticleBuilder::default().damping(damping).stiffness(stiffness).radius(radius).material(surface.material()?);
+        let surface =
+            MaterialArgs { friction, restitution, friction_combine, restitution_combine, ..Default::default() };
+        let mut b = ParticleBuilder::default()
+            .damping(damping)
+            .stiffness(stiffness)
+            .radius(radius)
+            .material(surface.material()?);
         if let Some(m) = mass {
             b = b.mass(m);
         }

@@ -287,7 +287,8 @@ impl Pair {
         }
         for (m, chunk) in self.contacts.iter_mut().zip(kept.chunks(MANIFOLD_POINTS)) {
             (m.friction, m.restitution) = (material.friction, material.restitution);
-            (m.rolling_resistance, m.torsional_resistance) = (material.rolling_resistance, material.torsional_resistance);
+            (m.rolling_resistance, m.torsional_resistance) =
+                (material.rolling_resistance, material.torsional_resistance);
             for (point, &k) in m.points.iter_mut().zip(chunk) {
                 let c = &contacts[k];
                 (point.point, point.normal, point.gap) = (contact_point(c), c.normal.into_inner(), c.distance);

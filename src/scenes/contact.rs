@@ -285,10 +285,7 @@ impl ClothDrape {
         for j in 0..n {
             for i in 0..n {
                 let x = Vector3::new(i as f64 * spacing - 0.5 * self.size, j as f64 * spacing - 0.5 * self.size, 0.9);
-                let p = ParticleBuilder::new(m)
-                    .position(x)
-                    .radius(0.01)
-                    .material(Material::new(0.0, 0.5));
+                let p = ParticleBuilder::new(m).position(x).radius(0.01).material(Material::new(0.0, 0.5));
                 ps.push(w.add_particle(p)?);
             }
         }

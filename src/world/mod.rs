@@ -137,7 +137,8 @@ impl World {
         for (_, j) in self.joints.iter() {
             joints::joint_fits_mode(&mode, &j.spec).map_err(|(_, why)| WorldError::invalid("mode", why))?;
         }
-        let materials = self.particles.iter().map(|(_, p)| p.material).chain(self.bodies.iter().map(|(_, b)| b.material));
+        let materials =
+            self.particles.iter().map(|(_, p)| p.material).chain(self.bodies.iter().map(|(_, b)| b.material));
         for m in materials {
             m.fits_mode(&mode).map_err(|why| WorldError::invalid("mode", why))?;
         }

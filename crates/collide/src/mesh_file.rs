@@ -80,7 +80,11 @@ impl Mesh {
                 let v: Vec<Point3<f64>> = r.vertices.iter().map(|p| turned(p, up) * scale).collect();
                 let name = if placeholder(&r.name) {
                     unnamed += 1;
-                    if unnamed == 1 { stem.to_string() } else { format!("{stem}.{:03}", unnamed - 1) }
+                    if unnamed == 1 {
+                        stem.to_string()
+                    } else {
+                        format!("{stem}.{:03}", unnamed - 1)
+                    }
                 } else {
                     r.name
                 };

@@ -159,7 +159,9 @@ impl Contact {
         if !(self.friction.is_finite() && self.friction >= 0.0) {
             return bad(format!("friction must be finite and >= 0, got {}", self.friction));
         }
-        for (name, v) in [("rolling_resistance", self.rolling_resistance), ("torsional_resistance", self.torsional_resistance)] {
+        for (name, v) in
+            [("rolling_resistance", self.rolling_resistance), ("torsional_resistance", self.torsional_resistance)]
+        {
             if !(v.is_finite() && v >= 0.0) {
                 return bad(format!("{name} must be finite and >= 0, got {v}"));
             }

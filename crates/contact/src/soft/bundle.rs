@@ -355,7 +355,8 @@ unsafe fn sweep_lanes(bundles: &mut [Bundle], frictions: &mut [FrictionBundle], 
             // the twist about the normal, then the two tangents through the centre
             let tw = &fr.twist_axis;
             let old = Wide(fr.twist);
-            let limit = if fr.resists { friction * twist_limit + Wide(fr.torsion) * total } else { friction * twist_limit };
+            let limit =
+                if fr.resists { friction * twist_limit + Wide(fr.torsion) * total } else { friction * twist_limit };
             let new = (old - Wide(tw.mass) * tw.speed(&v)).max(limit.neg()).min(limit);
             fr.twist = new.0;
             tw.apply(new - old, &mut v);
