@@ -11,6 +11,13 @@ pub trait Control {
     fn hint(&mut self, line: &str) {
         eprintln!("tumble: {line}");
     }
+
+    /// Whether the call it stopped keeps its work (an interrupt: a run's frames kept and the world at the last of
+    /// them; the default) rather than failing (the world back as the call found it, the frames kept on the error
+    /// only): asked once `go_on` has said false.
+    fn keeps_work(&self) -> bool {
+        true
+    }
 }
 
 impl<F: FnMut(f64) -> bool> Control for F {

@@ -54,6 +54,32 @@ fn an_interrupted_run_keeps_its_frames_and_the_next_run_carries_on() {
     assert!((end - closed).norm() < 1e-5, "{end} against {closed}");
 }
 
+/// A control that stops the call after `after` of it and says the stop keeps no work (a failure).
+struct Failing {
+    after: f64,
+}
+
+impl Control for Failing {
+    fn go_on(&mut self, done: f64) -> bool {
+        done < self.after
+    }
+
+    fn keeps_work(&self) -> bool {
+        false
+    }
+}
+
+#[test]
+fn a_stop_that_keeps_no_work_leaves_the_world_as_it_was_with_the_frames_on_the_error() {
+    let (mut w, b) = thrown();
+    let before = (w.time(), w.body(b).unwrap().position());
+    let e = w.run_with(1.0, 0.01, Failing { after: 0.4 });
+    assert!(matches!(e, Err(WorldError::Interrupted)), "{e:?}");
+    assert_eq!((w.time(), w.body(b).unwrap().position()), before, "the world as the call found it");
+    let run = w.take_failed_run().expect("the frames done ride on the error");
+    assert!(!run.interrupted && run.frames() > 40);
+}
+
 #[test]
 fn interrupted_contact_runs_leave_the_world_at_the_last_frame_in_both_modes() {
     // random drops of boxes, balls, capsules and hulls (seeded), in both modes, interrupted half way

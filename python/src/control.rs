@@ -1,6 +1,7 @@
 //! A long call's control from Python: told how far the world's work has come, it checks for Ctrl-C (and other
 //! signals) and calls the run's progress callable; an exception from either stops the call, and is raised once the
-//! world has kept what it did (a run's frames) or gone back as it was (a step). The one line a slow accurate call
+//! world has kept what it did (a run stopped by Ctrl-C: its frames, the world at the last) or gone back as it was
+//! (a step, or any other exception). The one line a slow accurate call
 //! says goes to the run's `hint` callable, or to Python's standard error.
 
 use crate::convert::world_error;
@@ -41,6 +42,14 @@ impl tumble::Control for &mut Control {
                     false
                 }
             }
+        })
+    }
+
+    /// A stop keeps the run's work only when it is the user's Ctrl-C (a KeyboardInterrupt); any other exception
+    /// (from the progress callable or a signal handler) fails the call, the world left as it was.
+    fn keeps_work(&self) -> bool {
+        Python::attach(|py| {
+            self.error.as_ref().is_none_or(|e| e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py))
         })
     }
 

@@ -414,7 +414,8 @@ impl PyWorld {
     /// Runs for `duration`, recording a frame every `frame_interval`; returns a dict of arrays (the package
     /// wraps it in `tumble.Run`). `progress(fraction)` is called between chunks, `hint(line)` with the one line a
     /// slow accurate run says; Ctrl-C stops the run at its last whole frame, the world left there and the frames
-    /// done riding on the exception (a failure restores the world, its frames riding on the error too).
+    /// done riding on the exception (a failure, or an exception from `progress`, restores the world, its frames
+    /// riding on the error too).
     #[pyo3(signature = (duration, frame_interval = None, progress = None, hint = None))]
     fn _run<'py>(
         &mut self,

@@ -242,7 +242,9 @@ def operation(draw, made: frozenset, mode: str, shapes_only: bool = False):
             "mass": scalar(0.05, 10.0, h, (1e-4, 1e4)), "position": vector(-2.0, 2.0, h),
             "velocity": vector(-5.0, 5.0, h, wide=(-1e4, 1e4)), "damping": scalar(0.0, 2.0, h),
             "stiffness": scalar(0.0, 100.0, h, (100.0, 1e8)), "anchor": vector(-2.0, 2.0, h),
-            "radius": weighted((1, st.just(0.0)), (1, scalar(0.0, 0.3, h))), **material})
+            "radius": weighted((1, st.just(0.0)), (1, scalar(0.0, 0.3, h))),
+            # a particle does not turn: it takes no resistance to turning
+            **{k: v for k, v in material.items() if k != "rolling_resistance"}})
     if name == "add_body":
         kind = pick(draw, (7, st.just("dynamic")), (2, st.just("static")), (2, st.just("inertia")))
         shape = None if kind == "inertia" else draw(shapes(h, static=kind == "static"))

@@ -80,6 +80,17 @@ def test_progress_and_interruption():
     rest = w.run(t + 1.0 - w.time, 1 / 60)
     assert rest.times[0] == kept.times[-1] and rest.times[-1] == pytest.approx(t + 1.0, abs=1e-12)
 
+    # any other exception from the progress callable fails the call: the world as it was, the frames on the error
+    def broken(fraction):
+        if fraction > 0.3:
+            raise ValueError("a broken progress callable")
+
+    t, before = w.time, w.particles.positions.copy()
+    with pytest.raises(ValueError, match="broken") as caught:
+        w.run(1.0, 1 / 60, progress=broken)
+    assert w.time == t and not caught.value.run.interrupted and caught.value.run.frames > 1
+    np.testing.assert_array_equal(w.particles.positions, before)
+
 
 def test_ctrl_c_during_run_keeps_the_frames_done_and_the_next_run_carries_on():
     # A real SIGINT, sent from a timer thread 0.5 s into a run of accurate mode that takes several seconds (60 boxes

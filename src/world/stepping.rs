@@ -140,8 +140,9 @@ impl World {
     /// and as the work goes within them (the fraction never goes back), and giving it the one line a slow accurate
     /// run says about fast mode ([`Control::hint`]). When it answers false the run stops with
     /// [`WorldError::Interrupted`]: the frames done are kept ([`take_failed_run`](World::take_failed_run) gives
-    /// them, marked `interrupted`) and the world is at the last of them, so the next call carries on from there. On
-    /// any other error the world is as it was before the call. In fast mode `duration` must be a whole number of
+    /// them, marked `interrupted`) and the world is at the last of them, so the next call carries on from there,
+    /// unless the control says the stop keeps no work ([`Control::keeps_work`]). On any other error the world is as
+    /// it was before the call. In fast mode `duration` must be a whole number of
     /// steps, and each frame is the state of the first step that reaches its time (frames closer than a step apart
     /// share it, and are recorded once).
     pub fn run_with(&mut self, duration: f64, frame_interval: f64, control: impl Control) -> Result<Run, WorldError> {
@@ -194,7 +195,7 @@ impl World {
             }
             self.failed_run = run.map(|mut run| {
                 run.report = report;
-                if matches!(err, WorldError::Interrupted) {
+                if matches!(err, WorldError::Interrupted) && control.keeps_work() {
                     self.keep_to_last_frame(&mut run);
                 }
                 run
