@@ -174,6 +174,9 @@ impl World {
     ) -> Result<Option<Run>, WorldError> {
         self.failed_run = None;
         let mut run = frame_interval.map(|_| self.new_run());
+        // what a failed call puts back: no engine if it built one, the state set since the last call if it gave one
+        // (an engine's state is its own form of the world's, equal to it only to rounding)
+        let (fresh, state_changed) = (self.engine.is_none(), self.state_changed);
         self.engine()?;
         // the engine is held apart for the call, so that the pace's fast-mode estimate can copy the world as the
         // call found it
@@ -189,13 +192,17 @@ impl World {
         };
         let report = self.book_report();
         if let Err(err) = outcome {
-            if let Some(e) = &mut self.engine {
+            let kept = matches!(err, WorldError::Interrupted) && control.keeps_work();
+            if fresh && !kept {
+                self.engine = None;
+            } else if let Some(e) = &mut self.engine {
                 let t0 = e.time();
                 e.rollback().map_err(|why| engine_fault(t0, why))?;
+                self.state_changed = state_changed && !kept;
             }
             self.failed_run = run.map(|mut run| {
                 run.report = report;
-                if matches!(err, WorldError::Interrupted) && control.keeps_work() {
+                if kept {
                     self.keep_to_last_frame(&mut run);
                 }
                 run
