@@ -133,14 +133,17 @@ FOREIGN_COUNT = {"p": 4, "b": 4, "s": 2, "l": 2, "j": 1}
 # Parameter names of every callable, for "the error names an argument".
 SIGNATURES = {
     "World": "gravity integrator rtol atol dt step_doubling tolerance mode linear_solver newton max_steps sleep threads "
-    "contact_tolerance solver substeps",
+    "contact_tolerance solver substeps friction_combine restitution_combine",
     "set_integrator": "integrator rtol atol dt step_doubling tolerance linear_solver newton max_steps",
     "set_mode": "mode dt sleep contact_tolerance solver substeps",
     "threads": "threads",
-    "add_ground": "height restitution friction",
-    "add_particle": "mass position velocity damping stiffness anchor radius restitution friction",
+    "add_ground": "height restitution friction rolling_resistance torsional_resistance friction_combine "
+    "restitution_combine",
+    "add_particle": "mass position velocity damping stiffness anchor radius restitution friction friction_combine "
+    "restitution_combine",
     "add_body": "shape density mass inertia position orientation velocity angular_velocity restitution friction "
-    "static linear_damping angular_damping colliders",
+    "static linear_damping angular_damping colliders rolling_resistance torsional_resistance friction_combine "
+    "restitution_combine",
     "add_spring": "a b stiffness damping rest_length anchor_a anchor_b world_point",
     "add_force": "target force at",
     "add_torque": "body torque",
