@@ -96,6 +96,27 @@ impl PyShape {
         Ok((verts, tris))
     }
 
+    /// The distance (m) from this shape, posed at `position` and `orientation` (w, x, y, z), to `other` posed at
+    /// `other_position` and `other_orientation`: zero where they overlap.
+    fn distance(
+        &self,
+        position: &Bound<'_, PyAny>,
+        orientation: &Bound<'_, PyAny>,
+        other: &PyShape,
+        other_position: &Bound<'_, PyAny>,
+        other_orientation: &Bound<'_, PyAny>,
+    ) -> PyResult<f64> {
+        let pose = |name: &str, x: &Bound<'_, PyAny>, q_name: &str, q: &Bound<'_, PyAny>| {
+            Ok::<_, PyErr>(nalgebra::Isometry3::from_parts(
+                vec3(name, x)?.into(),
+                crate::convert::quat(q_name, q)?,
+            ))
+        };
+        let a = pose("position", position, "orientation", orientation)?;
+        let b = pose("other_position", other_position, "other_orientation", other_orientation)?;
+        tumble::collide::distance(&self.shape, &a, &other.shape, &b).map_err(shape_err)
+    }
+
     /// The shape's kind: "sphere", "box", "capsule", "cylinder", "convex hull", "mesh", "decomposed mesh",
     /// "triangle mesh", "half-space".
     #[getter]

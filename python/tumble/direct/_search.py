@@ -1,0 +1,165 @@
+"""The search: the user's start and a space-filling first batch (scrambled Sobol points, scipy's), then the
+cross-entropy method around the best (a normal law fitted to the best tries so far, sampled in batches), each
+batch run as copies of the world on this machine's threads, Ray or Dask; it stops at the end of the batch where a
+try met the goal, or when the tries or the seconds run out. Among the tries that met it, the smallest change from
+the user's start wins; else the lowest cost."""
+
+from __future__ import annotations
+
+import copy
+import importlib
+import math
+import os
+import pickle
+import time
+from concurrent.futures import ThreadPoolExecutor
+from functools import partial
+from typing import Any, Callable
+
+import numpy as np
+
+from .._install import install_hint
+from .._progress import Progress
+from .._progress import progress as _progress
+from ._found import Found, Try
+from ._goals import Goal, as_goal
+from ._vary import Space, Vary
+
+BACKENDS = ("threads", "ray", "dask")
+# A try's outcome: its cost and its run.
+Outcome = tuple[float, Any]
+
+
+def _tried(world_bytes: bytes, space: Space, goal: Goal, rows: dict[Any, int], duration: float,
+           frame_interval: float | None, u: np.ndarray) -> tuple[float, Any]:
+    """One try where the backend put it: the world rebuilt from its bytes, changed to ``u``, run and judged."""
+    world = pickle.loads(world_bytes)
+    return _judge(world, space, goal, rows, duration, frame_interval, u)
+
+
+def _judge(world: Any, space: Space, goal: Goal, rows: dict[Any, int], duration: float, frame_interval: float | None,
+           u: np.ndarray) -> tuple[float, Any]:
+    space.apply(u, world)
+    run = world.run(duration, frame_interval, progress=False)
+    return goal.cost(run, rows), run
+
+
+def _extra(name: str) -> Any:
+    """The optional extra's module (``ray``, or Dask's ``distributed``), or an ImportError saying how to install it."""
+    try:
+        return importlib.import_module("ray" if name == "ray" else "distributed")
+    except ImportError as error:
+        raise ImportError(f"backend={name!r} needs {name.capitalize()}: {install_hint(name)}") from error
+
+
+def _evaluator(world: Any, space: Space, goal: Goal, rows: dict[Any, int], duration: float,
+               frame_interval: float | None, backend: str,
+               threads: int | None) -> Callable[[list[np.ndarray]], list[Outcome]]:
+    """A function from a batch of points to their (cost, run), in order, on ``backend``."""
+    if backend == "threads":
+        count = threads or os.cpu_count() or 1
+
+        def local(points: list[np.ndarray]) -> list[Outcome]:
+            with ThreadPoolExecutor(max_workers=count) as pool:
+                return list(pool.map(lambda u: _judge(copy.copy(world), space, goal, rows, duration,
+                                                      frame_interval, u), points))
+        return local
+    task = partial(_tried, pickle.dumps(world), space, goal, rows, duration, frame_interval)
+    if backend == "ray":
+        ray: Any = _extra("ray")
+
+        if not ray.is_initialized():
+            ray.init()
+        remote: Any = ray.remote(_tried)
+        shared = [ray.put(x) for x in task.args]  # the world's bytes, the space and the goal go to the store once
+        return lambda points: list(ray.get([remote.remote(*shared, u) for u in points]))
+    distributed: Any = _extra("dask")
+
+    from .._sweep import _current_dask_client  # noqa: PLC0415
+
+    client = _current_dask_client(distributed)
+
+    def dask(points: list[np.ndarray]) -> list[Outcome]:
+        if client is not None:
+            return list(client.gather(client.map(task, points, pure=False)))
+        with distributed.LocalCluster(n_workers=1, threads_per_worker=os.cpu_count() or 1, processes=False,
+                                      dashboard_address=None) as cluster, distributed.Client(cluster) as c:
+            return list(c.gather(c.map(task, points, pure=False)))
+    return dask
+
+
+def search(world: Any, vary: dict[Any, Vary], goal: Any, duration: float, tries: int = 256,
+           seconds: float | None = None, backend: str = "threads", seed: int = 0, frame_interval: float | None = None,
+           keep: int = 8, batch: int | None = None, threads: int | None = None,
+           progress: bool | Callable[[float], None] | None = None) -> Found:
+    """Searches the starts of ``world`` within ``vary`` (each body's :class:`Vary`) for a run of ``duration``
+    seconds that meets ``goal`` (a goal of this module, ``a & b``, or a function ``cost(run) -> float``, zero when
+    met), trying at most ``tries`` starts (and for at most ``seconds``), on ``backend`` ("threads": this machine's
+    cores, ``threads`` of them; "ray"; "dask"). ``world`` is not changed. The same ``seed`` gives the same answer
+    on any backend and thread count. Returns a :class:`Found`: ``met``, the best ``world`` (built, ready to run or
+    bake), its ``run`` and ``cost``, the ``keep`` best ``alternatives``, ``tries`` and ``seconds``."""
+    from .._world import World  # noqa: PLC0415
+
+    if not isinstance(world, World):
+        raise ValueError(f"invalid argument `world`: expected a tumble.World, got {type(world).__name__}")
+    if not isinstance(vary, dict) or not vary:
+        raise ValueError(f"invalid argument `vary`: expected a dict of body handle -> tumble.direct.Vary, got {vary!r}")
+    for body, v in vary.items():
+        if not isinstance(v, Vary):
+            raise ValueError(f"invalid argument `vary`: {body!r} maps to {v!r}, not a tumble.direct.Vary")
+    goal = as_goal(goal)
+    if backend not in BACKENDS:
+        raise ValueError(f"invalid argument `backend`: expected one of {BACKENDS}, got {backend!r}")
+    for name, value, low in (("tries", tries, 1), ("keep", keep, 1), ("batch", batch, 1), ("seed", seed, 0)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < low):
+            raise ValueError(f"invalid argument `{name}`: expected a whole number >= {low}, got {value!r}")
+    if seconds is not None and not (isinstance(seconds, (int, float)) and math.isfinite(seconds) and seconds > 0):
+        raise ValueError(f"invalid argument `seconds`: expected a finite number > 0, got {seconds!r}")
+    if isinstance(duration, bool) or not isinstance(duration, (int, float)) or not duration > 0:
+        raise ValueError(f"invalid argument `duration`: expected a number > 0, got {duration!r}")
+    handles = list(world.bodies.handles)
+    rows = {}
+    for body in [*vary, *goal.bodies()]:
+        if body not in handles:
+            raise ValueError(f"invalid argument `vary` or `goal`: {body!r} is not a body of the world")
+        rows[body] = world.bodies.row(body)
+    space = Space([(rows[body], v) for body, v in vary.items()])
+    probe = copy.copy(world)
+    space.apply(np.ones(space.dims), probe)  # a bound the world cannot take (a static body's velocity) fails here
+    evaluate = _evaluator(world, space, goal, rows, float(duration), frame_interval, backend, threads)
+    return _loop(world, space, evaluate, tries, seconds, seed, keep, batch, progress)
+
+
+def _loop(world: Any, space: Space, evaluate: Callable[[list[np.ndarray]], list[Outcome]], tries: int,
+          seconds: float | None, seed: int, keep: int, batch: int | None, progress: Any) -> Found:
+    qmc: Any = importlib.import_module("scipy.stats.qmc")
+
+    clock = time.perf_counter()
+    d = space.dims
+    size = batch or max(8, min(32, tries // 8))
+    first = min(tries, max(size, 2 ** math.ceil(math.log2(max(2, tries // 4)))))
+    sobol = qmc.Sobol(d, scramble=True, seed=seed).random(2 ** math.ceil(math.log2(max(2, first - 1))))
+    points = [np.zeros(d)] + [2.0 * p - 1.0 for p in sobol[:first - 1]]
+    rng = np.random.default_rng(seed)
+    done: list[Try] = []
+    shown = _progress(progress)
+    try:
+        while points:
+            for u, (cost, run) in zip(points, evaluate(points)):
+                done.append(Try(u, cost, run, space.size(u)))
+            if shown is not None:
+                shown(min(1.0, len(done) / tries))
+            left = tries - len(done)
+            out_of_time = seconds is not None and time.perf_counter() - clock > seconds
+            if any(t.cost == 0.0 for t in done) or left <= 0 or out_of_time:
+                break
+            # the cross-entropy method: a normal law fitted to the best tries so far (a quarter of a batch, at
+            # least four), sampled; a thousandth of the bounds keeps it from collapsing onto one point
+            elite = sorted(done, key=lambda t: (t.cost, t.change))[:max(4, size // 4)]
+            centre = np.mean([t.u for t in elite], axis=0)
+            spread = np.std([t.u for t in elite], axis=0) + 1e-3
+            points = [np.clip(rng.normal(centre, spread), -1.0, 1.0) for _ in range(min(size, left))]
+    finally:
+        if isinstance(shown, Progress):
+            shown.close()
+    return Found.of(world, space, done, keep, time.perf_counter() - clock)
