@@ -26,6 +26,9 @@ from ._goals import Goal, as_goal
 from ._vary import Space, Vary
 
 BACKENDS = ("threads", "ray", "dask")
+METHODS = ("cross-entropy", "random")
+# Batches without a better try after which the cross-entropy method starts again elsewhere.
+STALL = 3
 # A try's outcome: its cost and its run.
 Outcome = tuple[float, Any]
 
@@ -91,11 +94,12 @@ def _evaluator(world: Any, space: Space, goal: Goal, rows: dict[Any, int], durat
 def search(world: Any, vary: dict[Any, Vary], goal: Any, duration: float, tries: int = 256,
            seconds: float | None = None, backend: str = "threads", seed: int = 0, frame_interval: float | None = None,
            keep: int = 8, batch: int | None = None, threads: int | None = None,
-           progress: bool | Callable[[float], None] | None = None) -> Found:
+           progress: bool | Callable[[float], None] | None = None, method: str = "cross-entropy") -> Found:
     """Searches the starts of ``world`` within ``vary`` (each body's :class:`Vary`) for a run of ``duration``
     seconds that meets ``goal`` (a goal of this module, ``a & b``, or a function ``cost(run) -> float``, zero when
     met), trying at most ``tries`` starts (and for at most ``seconds``), on ``backend`` ("threads": this machine's
-    cores, ``threads`` of them; "ray"; "dask"). ``world`` is not changed. The same ``seed`` gives the same answer
+    cores, ``threads`` of them; "ray"; "dask"). ``method="random"`` tries uniform random starts within the bounds
+    instead, batch after batch (the animator's re-throws, to compare with). ``world`` is not changed. The same ``seed`` gives the same answer
     on any backend and thread count. Returns a :class:`Found`: ``met``, the best ``world`` (built, ready to run or
     bake), its ``run`` and ``cost``, the ``keep`` best ``alternatives``, ``tries`` and ``seconds``."""
     from .._world import World  # noqa: PLC0415
@@ -108,6 +112,8 @@ def search(world: Any, vary: dict[Any, Vary], goal: Any, duration: float, tries:
         if not isinstance(v, Vary):
             raise ValueError(f"invalid argument `vary`: {body!r} maps to {v!r}, not a tumble.direct.Vary")
     goal = as_goal(goal)
+    if method not in METHODS:
+        raise ValueError(f"invalid argument `method`: expected one of {METHODS}, got {method!r}")
     if backend not in BACKENDS:
         raise ValueError(f"invalid argument `backend`: expected one of {BACKENDS}, got {backend!r}")
     for name, value, low in (("tries", tries, 1), ("keep", keep, 1), ("batch", batch, 1), ("seed", seed, 0)):
@@ -127,11 +133,11 @@ def search(world: Any, vary: dict[Any, Vary], goal: Any, duration: float, tries:
     probe = copy.copy(world)
     space.apply(np.ones(space.dims), probe)  # a bound the world cannot take (a static body's velocity) fails here
     evaluate = _evaluator(world, space, goal, rows, float(duration), frame_interval, backend, threads)
-    return _loop(world, space, evaluate, tries, seconds, seed, keep, batch, progress)
+    return _loop(world, space, evaluate, tries, seconds, seed, keep, batch, progress, method == "random")
 
 
 def _loop(world: Any, space: Space, evaluate: Callable[[list[np.ndarray]], list[Outcome]], tries: int,
-          seconds: float | None, seed: int, keep: int, batch: int | None, progress: Any) -> Found:
+          seconds: float | None, seed: int, keep: int, batch: int | None, progress: Any, random: bool) -> Found:
     qmc: Any = importlib.import_module("scipy.stats.qmc")
 
     clock = time.perf_counter()
@@ -139,9 +145,13 @@ def _loop(world: Any, space: Space, evaluate: Callable[[list[np.ndarray]], list[
     size = batch or max(8, min(32, tries // 8))
     first = min(tries, max(size, 2 ** math.ceil(math.log2(max(2, tries // 4)))))
     sobol = qmc.Sobol(d, scramble=True, seed=seed).random(2 ** math.ceil(math.log2(max(2, first - 1))))
-    points = [np.zeros(d)] + [2.0 * p - 1.0 for p in sobol[:first - 1]]
     rng = np.random.default_rng(seed)
+    if random:
+        points = [rng.uniform(-1.0, 1.0, d) for _ in range(min(size, tries))]
+    else:
+        points = [np.zeros(d)] + [2.0 * p - 1.0 for p in sobol[:first - 1]]
     done: list[Try] = []
+    stalled, last_best = 0, math.inf
     shown = _progress(progress)
     try:
         while points:
@@ -155,9 +165,19 @@ def _loop(world: Any, space: Space, evaluate: Callable[[list[np.ndarray]], list[
                 break
             # the cross-entropy method: a normal law fitted to the best tries so far (a quarter of a batch, at
             # least four), sampled; a thousandth of the bounds keeps it from collapsing onto one point
-            elite = sorted(done, key=lambda t: (t.cost, t.change))[:max(4, size // 4)]
+            if random:
+                points = [rng.uniform(-1.0, 1.0, d) for _ in range(min(size, left))]
+                continue
+            ranked = sorted(done, key=lambda t: (t.cost, t.change))
+            elite = ranked[:max(4, size // 8)]
             centre = np.mean([t.u for t in elite], axis=0)
             spread = np.std([t.u for t in elite], axis=0) + 1e-3
+            best = ranked[0].cost
+            stalled = stalled + 1 if best >= last_best else 0
+            last_best = min(best, last_best)
+            if stalled >= STALL:
+                # no better try in a while: start again around another of the good ones, as wide as the first batch
+                stalled, centre, spread = 0, ranked[int(rng.integers(1, max(2, len(ranked) // 8)))].u, np.full(d, 0.5)
             points = [np.clip(rng.normal(centre, spread), -1.0, 1.0) for _ in range(min(size, left))]
     finally:
         if isinstance(shown, Progress):
