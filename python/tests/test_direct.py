@@ -152,3 +152,27 @@ def test_ray_and_dask_give_the_threads_answer():
     for other in (on_dask, on_ray):
         assert [a.cost for a in other.alternatives] == [a.cost for a in local.alternatives]
         np.testing.assert_array_equal(other.run.body_positions, local.run.body_positions)
+
+
+def test_sensitivity_tells_a_held_outcome_from_a_chaotic_one():
+    """A ball in free flight ends exactly as far from its twin as it started (ratio 1, to rounding); a box tumbling
+    onto a pile of dice amplifies a micrometre into far more."""
+    w, _ = thrown()
+    free = td.sensitivity(w, 1.0, twins=4, size=1e-6)
+    assert free["ratio"] == pytest.approx(1.0, abs=1e-6)  # a shift of the start carries unchanged, to rounding
+    w = tumble.World(mode="fast")
+    w.add_ground(friction=0.5, restitution=0.3)
+    for k in range(6):
+        w.add_body(tumble.Box((0.05, 0.05, 0.05)), position=(0.02 * k, 0.0, 0.06 + 0.11 * k),
+                   angular_velocity=(2.0 * k, 1.0, 0.5))
+    chaotic = td.sensitivity(w, 2.0, twins=4, size=1e-6)
+    assert chaotic["ratio"] > 100.0, chaotic
+
+
+def test_robust_answers_come_first_when_asked():
+    w, b = thrown()
+    found = td.search(w, vary={b: td.Vary(velocity=1.0)}, goal=td.pose_at(b, 0.8, (2.0, 0.0, 0.7), within=0.05),
+                      duration=1.0, tries=128, robust=3)
+    met = [a for a in found.alternatives if a.met]
+    assert met and all(a.robustness is not None and 0.0 <= a.robustness <= 1.0 for a in met)
+    assert [a.robustness for a in met] == sorted((a.robustness for a in met), reverse=True)
