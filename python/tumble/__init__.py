@@ -49,7 +49,7 @@ from ._usd_values import UsdImportWarning
 from ._joints import Ball, Breaking, Distance, Drive, Hinge, JointSpring, Motor, Piston, Slider, Weld
 from ._names import CombineName, IntegratorName, LinearSolverName, ModeName, SolverName
 from ._world import BodiesView, ParticlesView, World
-from . import scenes
+from . import direct, scenes
 
 __all__ = [
     "World",
@@ -89,6 +89,7 @@ __all__ = [
     "State",
     "SimulationError",
     "scenes",
+    "direct",
     "IntegratorName",
     "ModeName",
     "SolverName",

@@ -128,8 +128,6 @@ def bake(scene: Any = None, frame_start: int | None = None, frame_end: int | Non
 def _bake(scene: Any, frame_start: int | None, frame_end: int | None, shown: BakeProgress,
           world_options: dict[str, Any]) -> Any:
     """``bake``'s work, its progress shown by ``shown``."""
-    from mathutils import Quaternion  # noqa: PLC0415
-
     clock = time.perf_counter()
     mapped = world_from_scene(scene, **world_options)
     start = mapped.frame_start if frame_start is None else int(frame_start)
@@ -141,12 +139,37 @@ def _bake(scene: Any, frame_start: int | None, frame_end: int | None, shown: Bak
     run = mapped.world.run((end - start) * mapped.frame_time, mapped.frame_time, progress=shown)
     simulated = time.perf_counter() - clock
     clock = time.perf_counter()
+    write_keyframes(scene, mapped, run, start, shown)
+    scene.rigidbody_world.enabled = False
+    shown.show(1.0)
+    written = time.perf_counter() - clock
+    frames = start + np.arange(len(run.times))
+    from tumble._report import Report  # noqa: PLC0415
+
+    split = {"bake_reading_seconds": read, "bake_simulating_seconds": simulated, "bake_writing_seconds": written}
+    # the frames (from the start, fractional) at which breakable constraints broke
+    broke = [start + float(t - run.times[0]) / mapped.frame_time for t in run.joint_break_times]
+    lines = [f"bake: reading {read:.3f} s, simulating {simulated:.3f} s, writing {written:.3f} s "
+             f"({len(frames)} frames of {len(mapped.moving)} bodies)"]
+    if broke:
+        lines.append(f"bake: {len(broke)} constraints broke, the first at frame {broke[0]:.2f}")
+    text = run.report._text + "\n" + "\n".join(lines + [f"note: {n}" for n in mapped.notes])
+    return Report({**run.report.as_dict(), **split, "bake_notes": list(mapped.notes), "bake_broken_at": broke,
+                   "_text": text})
+
+
+def write_keyframes(scene: Any, mapped: Any, run: Any, start: int, shown: Any = None) -> None:
+    """Writes ``run`` (of ``mapped.world`` or a copy of it) as keyframes of each moving object of ``scene`` from
+    frame ``start``: its origin's location and its rotation in the object's rotation mode."""
+    from mathutils import Quaternion  # noqa: PLC0415
+
     frames = (start + np.arange(len(run.times))).astype(np.float64)
     unit = float(scene.unit_settings.scale_length) or 1.0
     for written_bodies, name in enumerate(mapped.moving):
-        shown.show(SIMULATING + (1.0 - SIMULATING) * written_bodies / len(mapped.moving))
+        if shown is not None:
+            shown.show(SIMULATING + (1.0 - SIMULATING) * written_bodies / len(mapped.moving))
         obj = scene.objects[name]
-        column = run.bodies.index(mapped.handles[name])
+        column = mapped.world.bodies.row(mapped.handles[name])
         wxyz = run.body_orientations[:, column]
         origin = run.body_positions[:, column] + rotation_matrices(wxyz) @ mapped.origins[name]
         bag = _curves(obj)
@@ -164,18 +187,3 @@ def _bake(scene: Any, frame_start: int | None, frame_end: int | None, shown: Bak
                 angles.append(tuple(e))
                 last = e
             _write(bag, "rotation_euler", frames, np.array(angles))
-    scene.rigidbody_world.enabled = False
-    shown.show(1.0)
-    written = time.perf_counter() - clock
-    from tumble._report import Report  # noqa: PLC0415
-
-    split = {"bake_reading_seconds": read, "bake_simulating_seconds": simulated, "bake_writing_seconds": written}
-    # the frames (from the start, fractional) at which breakable constraints broke
-    broke = [start + float(t - run.times[0]) / mapped.frame_time for t in run.joint_break_times]
-    lines = [f"bake: reading {read:.3f} s, simulating {simulated:.3f} s, writing {written:.3f} s "
-             f"({len(frames)} frames of {len(mapped.moving)} bodies)"]
-    if broke:
-        lines.append(f"bake: {len(broke)} constraints broke, the first at frame {broke[0]:.2f}")
-    text = run.report._text + "\n" + "\n".join(lines + [f"note: {n}" for n in mapped.notes])
-    return Report({**run.report.as_dict(), **split, "bake_notes": list(mapped.notes), "bake_broken_at": broke,
-                   "_text": text})

@@ -1,7 +1,9 @@
-"""The add-on's panel and operator: "Bake with tumble" under the Scene properties' Rigid Body World, with the
+"""The add-on's panel and operators: "Bake with tumble" under the Scene properties' Rigid Body World, with the
 mode, the contact tolerance (accurate) or time step (fast, 0: Blender's own step) and the frame range; a bake that
 cannot map the scene reports each object and setting, and a bake that ran reports tumble's summary. The bake's
-progress shows in the terminal and in Blender's progress indicator."""
+progress shows in the terminal and in Blender's progress indicator. "Direct with tumble" searches the active
+object's start for a face up and/or a target's place, bakes the best answer and lists the others, each a button
+that bakes it instead."""
 
 
 from typing import Any
@@ -53,6 +55,66 @@ def _define() -> list[Any]:
                 self.report({"INFO"}, line)
             return {"FINISHED"}
 
+    class TUMBLE_OT_direct(bpy.types.Operator):
+        """Search the active object's start (within the bounds) for the outcome asked for, then bake the best"""
+
+        bl_idname = "tumble.direct"
+        bl_label = "Direct with tumble"
+        bl_options = {"REGISTER", "UNDO"}
+
+        face: bpy.props.EnumProperty(name="Face up", items=[("NONE", "Any", "no face asked for")] + [
+            (f, f, f"the object's local {f} axis ends pointing up") for f in ("+X", "-X", "+Y", "-Y", "+Z", "-Z")])
+        target: bpy.props.StringProperty(name="Target", description="An object (an empty) whose place it ends at")
+        within: bpy.props.FloatProperty(name="Within", default=0.01, min=1e-6, description="metres of the target")
+        orientation: bpy.props.FloatProperty(name="Turn", default=15.0, min=0.0, max=180.0, description="degrees")
+        velocity: bpy.props.FloatProperty(name="Velocity", default=0.5, min=0.0, description="m/s")
+        spin: bpy.props.FloatProperty(name="Spin", default=2.0, min=0.0, description="rad/s")
+        position: bpy.props.FloatProperty(name="Position", default=0.0, min=0.0, description="m")
+        tries: bpy.props.IntProperty(name="Tries", default=256, min=1)
+
+        def execute(self, context: Any) -> Any:
+            import tumble.direct as td  # noqa: PLC0415
+
+            from ._direct import direct  # noqa: PLC0415
+            from ._read import BlenderSceneError  # noqa: PLC0415
+
+            target = context.scene.objects.get(self.target) if self.target else None
+            try:
+                vary = td.Vary(position=self.position, orientation=self.orientation, velocity=self.velocity,
+                               spin=self.spin)
+                directed = direct(context.active_object, None if self.face == "NONE" else self.face, target,
+                                  self.within, vary, self.tries, scene=context.scene, progress=True)
+            except BlenderSceneError as error:
+                for problem in error.problems:
+                    self.report({"ERROR"}, problem)
+                return {"CANCELLED"}
+            except ValueError as error:
+                self.report({"ERROR"}, str(error))
+                return {"CANCELLED"}
+            directed.bake(0)
+            for line in directed.found.report.splitlines():
+                self.report({"INFO"}, line)
+            return {"FINISHED"}
+
+    class TUMBLE_OT_direct_bake(bpy.types.Operator):
+        """Bake another of the last search's answers (0: the best)"""
+
+        bl_idname = "tumble.direct_bake"
+        bl_label = "Bake answer"
+        bl_options = {"REGISTER", "UNDO"}
+
+        choice: bpy.props.IntProperty(name="Answer", default=0, min=0)
+
+        def execute(self, context: Any) -> Any:
+            from ._direct import last  # noqa: PLC0415
+
+            directed = last.get(context.scene.name)
+            if directed is None or self.choice >= len(directed.found.alternatives):
+                self.report({"ERROR"}, "no such answer: search first (Direct with tumble)")
+                return {"CANCELLED"}
+            directed.bake(self.choice)
+            return {"FINISHED"}
+
     class TUMBLE_PT_bake(bpy.types.Panel):
         bl_label = "tumble"
         bl_space_type = "PROPERTIES"
@@ -61,9 +123,16 @@ def _define() -> list[Any]:
         bl_parent_id = "SCENE_PT_rigid_body_world"
 
         def draw(self, context: Any) -> None:
-            self.layout.operator(TUMBLE_OT_bake.bl_idname)
+            from ._direct import last  # noqa: PLC0415
 
-    return [TUMBLE_OT_bake, TUMBLE_PT_bake]
+            self.layout.operator(TUMBLE_OT_bake.bl_idname)
+            self.layout.operator(TUMBLE_OT_direct.bl_idname)
+            directed = last.get(context.scene.name)
+            for k, a in enumerate(directed.found.alternatives if directed else []):
+                label = f"{k}: {'met' if a.met else f'{a.cost:.3g} m off'}, change {a.change:.2f}"
+                self.layout.operator(TUMBLE_OT_direct_bake.bl_idname, text=label).choice = k
+
+    return [TUMBLE_OT_bake, TUMBLE_OT_direct, TUMBLE_OT_direct_bake, TUMBLE_PT_bake]
 
 
 def register() -> None:

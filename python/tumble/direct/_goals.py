@@ -116,7 +116,7 @@ class _RestAt(Goal):
         return [self.body]
 
 
-def rest_at(body: Any, position: Sequence[float], within: float = 0.01, angle: float | None = None,
+def rest_at(body: Any, position: Sequence[float] | np.ndarray, within: float = 0.01, angle: float | None = None,
             orientation: Sequence[float] | None = None) -> Goal:
     """``body`` at rest at the run's end (its speed below 1 cm/s) within ``within`` metres of ``position``, and,
     given an ``orientation`` (w, x, y, z), turned within ``angle`` degrees of it (5 by default)."""

@@ -1,0 +1,73 @@
+"""Directing a Blender scene's outcome: a die dropped spinning onto the ground made to end with a face up, by
+``tumble.blender.direct`` and by the add-on's operator, the answer baked as keyframes; a target's place; bad
+arguments refused by name. Skipped where Blender as a module (the ``blender`` extra) is absent."""
+
+import numpy as np
+import pytest
+
+import tumble
+
+bpy = pytest.importorskip("bpy", reason="Blender as a module is the `blender` extra")
+import tumble.blender as tb  # noqa: E402
+from blender_scenes import blender_body, empty_scene, ground  # noqa: E402
+
+
+def die_scene():
+    scene = empty_scene(90)
+    ground()
+    die = blender_body("cube", "die", (0, 0, 0.6), "BOX", size=0.2, mass=0.1)
+    die.rotation_euler = (0.3, 0.5, 0.1)
+    bpy.context.view_layer.update()
+    return scene, die
+
+
+def up_at_end(obj, frame):
+    bpy.context.scene.frame_set(frame)
+    return tumble.up_axis(np.array(tuple(obj.matrix_world.to_quaternion())))
+
+
+def test_a_die_is_directed_to_each_face_asked_and_the_answer_baked():
+    for face in ("+X", "-Z"):
+        scene, die = die_scene()
+        directed = tb.direct(die, face=face, vary=tumble.direct.Vary(orientation=180.0, spin=10.0), tries=64,
+                             scene=scene)
+        assert directed.found.met, directed.found.report
+        directed.bake(0)
+        assert not scene.rigidbody_world.enabled and die.animation_data.action is not None
+        assert up_at_end(die, 90) == face.lower()
+
+
+def test_the_operator_searches_bakes_the_best_and_bakes_another_on_request():
+    scene, die = die_scene()
+    bpy.context.view_layer.objects.active = die
+    tb.register()
+    try:
+        assert bpy.ops.tumble.direct("EXEC_DEFAULT", face="+Y", orientation=180.0, spin=10.0, tries=64) == {"FINISHED"}
+        assert up_at_end(die, 90) == "+y"
+        assert bpy.ops.tumble.direct_bake("EXEC_DEFAULT", choice=0) == {"FINISHED"}
+    finally:
+        tb.unregister()
+
+
+def test_a_target_place_is_reached():
+    scene, die = die_scene()
+    bpy.ops.object.empty_add(location=(0.3, 0.0, 0.1))
+    target = bpy.context.active_object
+    directed = tb.direct(die, target=target, within=0.05, vary=tumble.direct.Vary(velocity=1.0, spin=2.0),
+                         tries=128, scene=scene)
+    assert directed.found.met, directed.found.report
+    directed.bake()
+    bpy.context.scene.frame_set(90)
+    assert np.linalg.norm(np.array(tuple(die.matrix_world.translation)) - (0.3, 0.0, 0.1)) <= 0.05 + 1e-6
+
+
+def test_bad_arguments_are_refused_by_name():
+    scene, die = die_scene()
+    for kwargs, name in [(dict(), "face"), (dict(face="up"), "face")]:
+        with pytest.raises(ValueError, match=f"`{name}`"):
+            tb.direct(die, scene=scene, **kwargs)
+    with pytest.raises(ValueError, match="`obj`"):
+        tb.direct(None, face="+Z", scene=scene)
+    directed = tb.direct(die, face="+Z", tries=8, scene=scene)
+    with pytest.raises(ValueError, match="`k`"):
+        directed.bake(99)
