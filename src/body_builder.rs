@@ -353,7 +353,7 @@ impl RigidBodyBuilder {
 }
 
 /// The inverse of an inertia tensor that is finite, symmetric and positive definite.
-fn check_inertia(i: &Matrix3<f64>) -> Result<Matrix3<f64>, WorldError> {
+pub(crate) fn check_inertia(i: &Matrix3<f64>) -> Result<Matrix3<f64>, WorldError> {
     check_finite("inertia", i.iter())?;
     let scale = i.amax();
     if (i - i.transpose()).amax() > 1e-12 * scale {

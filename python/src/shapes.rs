@@ -107,10 +107,7 @@ impl PyShape {
         other_orientation: &Bound<'_, PyAny>,
     ) -> PyResult<f64> {
         let pose = |name: &str, x: &Bound<'_, PyAny>, q_name: &str, q: &Bound<'_, PyAny>| {
-            Ok::<_, PyErr>(nalgebra::Isometry3::from_parts(
-                vec3(name, x)?.into(),
-                crate::convert::quat(q_name, q)?,
-            ))
+            Ok::<_, PyErr>(nalgebra::Isometry3::from_parts(vec3(name, x)?.into(), crate::convert::quat(q_name, q)?))
         };
         let a = pose("position", position, "orientation", orientation)?;
         let b = pose("other_position", other_position, "other_orientation", other_orientation)?;

@@ -134,4 +134,22 @@ impl PyWorld {
         // a mesh's decomposition can take seconds: other Python threads run meanwhile
         py.detach(|| world.add_body(b)).map(Into::into).map_err(world_error)
     }
+
+    /// Lets kinematic body `body` go: from now on a dynamic body of its shapes at `density` (kg/m^3; 1000 if None),
+    /// where its keyframes have it, moving and turning as they do there (Blender's "Animated" switched off). Its
+    /// handle and row are kept, so the runs before and after join (`Run.join`). ValueError naming the argument for a
+    /// body that is not kinematic or has no shape, or a bad density.
+    #[pyo3(signature = (body, density = None))]
+    fn release(&mut self, body: PyBodyHandle, density: Option<f64>) -> PyResult<()> {
+        self.w().release(body.into(), density).map_err(world_error)
+    }
+
+    /// Takes dynamic body `body` over: from now on it follows `keyframes=(times, positions[, orientations])` (poses
+    /// of its body frame, its origin the centre of mass), or stays where it is (None), pushing what it touches and
+    /// never pushed back. ValueError naming the argument for a static or kinematic body.
+    #[pyo3(signature = (body, keyframes = None))]
+    fn hold(&mut self, body: PyBodyHandle, keyframes: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let keyframes = keyframes.filter(|k| !k.is_none()).map(crate::convert::keyframes).transpose()?;
+        self.w().hold(body.into(), keyframes).map_err(world_error)
+    }
 }

@@ -214,3 +214,29 @@ def test_spinning_top_from_python_equals_rust():
     np.testing.assert_array_equal(from_python.body_orientations, from_rust.body_orientations)
     np.testing.assert_array_equal(from_python.energy, from_rust.energy)
     assert from_python.report.steps == from_rust.report.steps
+
+
+def test_a_keyframed_body_released_flies_on_and_the_runs_join_into_one(tmp_path):
+    """A box carried on keyframes at 1 m/s for half a second, then let go (Blender's "Animated" switched off): it
+    flies on from where it was at the speed it had, the two runs join into one whose positions run on without a
+    jump (the centre of mass throughout), and it exports as one."""
+    w = tumble.World()
+    box = w.add_body(tumble.Box((0.1, 0.2, 0.3)), keyframes=([0.0, 1.0], [(0, 0, 1), (1, 0, 1)]))
+    first = w.run(0.5)
+    w.release(box, density=500.0)
+    second = w.run(0.5)
+    run = tumble.Run.join([first, second])
+    assert run.frames == first.frames + second.frames - 1 and run.times[-1] == pytest.approx(1.0)
+    x = run.positions_of(box)
+    # 1 m/s along x throughout; z held at 1 m, then falling as g t^2 / 2 (to the integrator's 1e-6)
+    np.testing.assert_allclose(x[:, 0], run.times, atol=1e-6)
+    np.testing.assert_allclose(x[:, 2], 1.0 - 0.5 * 9.81 * np.maximum(run.times - 0.5, 0.0) ** 2, atol=1e-6)
+    assert run.export_gltf(tmp_path / "released.glb").stat().st_size > 0
+    # and held again: it stays where it is
+    w.hold(box)
+    still = w.run(0.25).positions_of(box)
+    np.testing.assert_array_equal(still, np.repeat(still[:1], len(still), axis=0))
+    with pytest.raises(ValueError, match="`body`"):
+        w.hold(box)
+    with pytest.raises(ValueError, match="`runs`"):
+        tumble.Run.join([first, first])

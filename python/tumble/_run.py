@@ -7,11 +7,12 @@ import csv
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
 from ._errors import as_path
+from ._geometry import rotation_matrices
 from ._report import Report
 
 if TYPE_CHECKING:
@@ -109,6 +110,47 @@ class Run:
         names, colors = looks or ([], [])
         return cls(**data, shapes=shapes or [], links=normal_links(links or []), name=name, names=list(names),
                    colors=[None if c is None else rgba(c) for c in colors], link_ends=ends)
+
+    @classmethod
+    def join(cls, runs: Sequence["Run"]) -> "Run":
+        """One run of ``runs`` made one after another by the same world (each starting where the last ended, the
+        same particles and bodies): their frames in order, the frame where one ends and the next begins once. A body
+        released from keyframes in between (``World.release``) is drawn by its shapes as they are at the end, its
+        earlier positions moved to its centre of mass. The steps, events and breaks in order; the report, links
+        and looks are the last run's. ValueError naming ``runs`` where they do not follow on."""
+        runs = list(runs)
+        if not runs or not all(isinstance(r, Run) for r in runs):
+            raise ValueError(f"invalid argument `runs`: expected one or more tumble.Run, got {runs!r}")
+        last = runs[-1]
+        for a, b in zip(runs, runs[1:]):
+            if a.particles != b.particles or a.bodies != b.bodies:
+                raise ValueError("invalid argument `runs`: they do not hold the same particles and bodies")
+            if a.times[-1] != b.times[0]:
+                raise ValueError(f"invalid argument `runs`: one ends at {a.times[-1]} s and the next begins at "
+                                 f"{b.times[0]} s")
+        frames: dict[str, list[np.ndarray]] = {name: [] for name in ARRAYS}
+        for k, r in enumerate(runs):
+            skip = 0 if k == 0 else 1  # the frame the last one ended with
+            positions = r.body_positions.copy()
+            for j, (mine, final) in enumerate(zip(r.shapes, last.shapes)):
+                if mine and final and not np.allclose(mine[0][1], final[0][1]):
+                    # the body frame moved in the body (to the centre of mass): where the last run's frame was
+                    shift = np.asarray(mine[0][1], dtype=float) - np.asarray(final[0][1], dtype=float)
+                    positions[:, j] += np.einsum("fij,j->fi", rotation_matrices(r.body_orientations[:, j]), shift)
+            for name in ARRAYS:
+                value = positions if name == "body_positions" else getattr(r, name)
+                if name == "contact_points":
+                    value = value[int(r.contact_counts[:skip].sum()):]
+                elif name in ("step_times", "step_sizes", "contact_events", "joint_break_times"):
+                    pass
+                else:
+                    value = value[skip:]
+                frames[name].append(value)
+        arrays = {name: np.concatenate(parts) for name, parts in frames.items()}
+        return cls(**arrays, report=last.report, particles=list(last.particles), bodies=list(last.bodies),
+                   joint_breaks=[h for r in runs for h in r.joint_breaks], shapes=last.shapes, links=last.links,
+                   name=last.name, names=last.names, colors=last.colors, link_ends=last.link_ends,
+                   interrupted=any(r.interrupted for r in runs))
 
     def label(self, body: int) -> str:
         """Body ``body``'s name (its column in the arrays), or ``"body N"`` where it was given none."""

@@ -7,6 +7,7 @@
 mod build;
 mod contacts;
 mod files;
+mod handover;
 mod interrupt;
 mod joints;
 mod materials;
