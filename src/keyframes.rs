@@ -116,6 +116,16 @@ impl Keyframes {
         self.segment(t).map_or((Vector3::zeros(), Vector3::zeros()), |k| self.segment_velocity(k))
     }
 
+    /// Velocity and angular velocity (world axes) just before time t: the motion the body has coming to t (zero
+    /// before the first keyframe and after the last).
+    pub fn velocity_before(&self, t: f64) -> (Vector3<f64>, Vector3<f64>) {
+        let last = self.times.len() - 1;
+        if t <= self.times[0] || t > self.times[last] {
+            return (Vector3::zeros(), Vector3::zeros());
+        }
+        self.segment_velocity(self.times.partition_point(|&tk| tk < t) - 1)
+    }
+
     /// The velocities that take the body from its pose at t to its pose at t + h in a step of h (fast mode's: the
     /// step lands on the path whatever keyframes it crosses).
     pub fn step_velocity(&self, t: f64, h: f64) -> (Vector3<f64>, Vector3<f64>) {

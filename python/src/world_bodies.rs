@@ -136,7 +136,7 @@ impl PyWorld {
     }
 
     /// Lets kinematic body `body` go: from now on a dynamic body of its shapes at `density` (kg/m^3; 1000 if None),
-    /// where its keyframes have it, moving and turning as they do there (Blender's "Animated" switched off). Its
+    /// where its keyframes have it, moving and turning as they had it coming there (Blender's "Animated" switched off). Its
     /// handle and row are kept, so the runs before and after join (`Run.join`). ValueError naming the argument for a
     /// body that is not kinematic or has no shape, or a bad density.
     #[pyo3(signature = (body, density = None))]

@@ -273,3 +273,29 @@ def test_a_ball_in_a_cup_mesh_bakes_as_the_same_world_built_in_python():
     assert_keyed_like(ball, run, w.bodies.row(b), range(1, 61))
     x, y, z = keyed(ball, [60])[0]
     assert 0.005 < z < 0.08 and math.hypot(x, y) < 0.045, "the ball stays in the cup"
+
+
+def test_an_animated_box_switched_to_dynamic_mid_shot_flies_on_as_it_moved():
+    """A box keyed to slide along x at 1 m per 30 frames (2 m/s at 60 fps), 1 m up, its "Animated" switched off at
+    frame 32: the bake lets it go there (World.release) with the speed it had coming there, and it flies on from
+    where it was: x = 1 + 1/30 + 2 t, z = 1 - g t^2 / 2 (fast mode's semi-implicit Euler within g h t / 2 of the
+    parabola at Blender's 1/600 s step; 2 cm is ample)."""
+    scene = empty_scene(61)
+    box = blender_body("cube", "box", (0, 0, 1), "BOX", size=0.2, mass=1.0)
+    box.rigid_body.kinematic = True
+    for frame, x, animated in ((1, 0.0, True), (31, 1.0, True), (32, 1.0 + 1 / 30, False)):
+        box.location = (x, 0.0, 1.0)
+        box.keyframe_insert("location", frame=frame)
+        box.rigid_body.kinematic = animated
+        box.keyframe_insert("rigid_body.kinematic", frame=frame)
+    for curve in box.animation_data.action.layers[0].strips[0].channelbag(box.animation_data.action_slot).fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR" if curve.data_path == "location" else "CONSTANT"
+    mapped = tb.world_from_scene(scene)
+    assert mapped.releases == {"box": (32, pytest.approx(1.0 / 0.008))}
+    tb.bake(scene)
+    x, _, z = keyed(box, [61])[0]
+    t = (61 - 32) / FPS
+    assert x == pytest.approx(1.0 + 1 / 30 + 2.0 * t, abs=1e-4)  # float32 keyframes
+    assert z == pytest.approx(1.0 - 0.5 * 9.81 * t * t, abs=0.02)
+    assert keyed(box, [16])[0][0] == pytest.approx(0.5, abs=1e-5)  # on its keys before

@@ -1,5 +1,5 @@
 //! Hand-over between keyframes and physics, between calls: a keyframed body let go (`release`) goes on as a
-//! dynamic body from where its path has it now, with the velocity and spin its path has there and the mass of its
+//! dynamic body from where its path has it now, with the velocity and spin its path had coming there and the mass of its
 //! shapes at a density; a dynamic body taken over (`hold`) follows keyframes from now on (by default it stays where
 //! it is). The body keeps its handle and row, so the runs before and after join into one (`Run::join`).
 
@@ -15,7 +15,8 @@ use std::sync::Arc;
 
 impl World {
     /// Lets kinematic body `body` go: from the world's time it is a dynamic body of its shapes at `density` (kg/m^3;
-    /// `DEFAULT_DENSITY` if `None`), where its keyframes have it, moving and turning as they do there. Its handle,
+    /// `DEFAULT_DENSITY` if `None`), where its keyframes have it, moving and turning as they had it coming there
+    /// (the segment that ends there, at a keyframe). Its handle,
     /// row, shapes, look and material are kept. A body that is not kinematic, has no shape or a bad density is an
     /// error naming the argument, and the world is left as it was.
     pub fn release(&mut self, body: BodyHandle, density: Option<f64>) -> Result<(), WorldError> {
@@ -34,7 +35,7 @@ impl World {
         limits::inertia("density", &props.inertia)?;
         let inv_inertia = crate::body_builder::check_inertia(&props.inertia)?;
         // the frame the keyframes pose (the shapes' frame) where its path has it now, and its motion there
-        let (frame, (v, w)) = (k.path.pose_at(t), k.path.velocity_at(t));
+        let (frame, (v, w)) = (k.path.pose_at(t), k.path.velocity_before(t));
         let com = props.local_com;
         let position = frame * nalgebra::Point3::from(com);
         let r = frame.rotation.to_rotation_matrix();

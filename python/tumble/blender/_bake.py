@@ -136,7 +136,7 @@ def _bake(scene: Any, frame_start: int | None, frame_end: int | None, shown: Bak
         raise ValueError(f"invalid argument `frame_end`: must be after frame_start ({start}), got {end}")
     read = time.perf_counter() - clock
     clock = time.perf_counter()
-    run = mapped.world.run((end - start) * mapped.frame_time, mapped.frame_time, progress=shown)
+    run = run_with_releases(mapped, start, end, shown)
     simulated = time.perf_counter() - clock
     clock = time.perf_counter()
     write_keyframes(scene, mapped, run, start, shown)
@@ -187,3 +187,31 @@ def write_keyframes(scene: Any, mapped: Any, run: Any, start: int, shown: Any = 
                 angles.append(tuple(e))
                 last = e
             _write(bag, "rotation_euler", frames, np.array(angles))
+
+
+def run_with_releases(mapped: Any, start: int, end: int, shown: Any) -> Any:
+    """The mapped world's run from frame ``start`` to ``end``: in one call, or, where animated objects are let go
+    during it (``mapped.releases``), a call up to each such frame, the objects released there (their origins in
+    their new body frames recorded for the keyframes), and the runs joined."""
+    from tumble._geometry import rotation_matrix  # noqa: PLC0415
+    from tumble._run import Run  # noqa: PLC0415
+
+    world, frame_time = mapped.world, mapped.frame_time
+    stops = sorted({f for f, _ in mapped.releases.values() if start < f < end})
+    bounds = [start, *stops, end]
+    runs = []
+    for k, (a, b) in enumerate(zip(bounds, bounds[1:])):
+        if k > 0:
+            for name, (frame, density) in mapped.releases.items():
+                if frame == a:
+                    handle = mapped.handles[name]
+                    row = world.bodies.row(handle)
+                    # the object's origin now, from the frame its keyframes pose; then from its centre of mass
+                    turn = rotation_matrix(runs[-1].body_orientations[-1, row])
+                    origin = runs[-1].body_positions[-1, row] + turn @ mapped.origins[name]
+                    world.release(handle, density=density)
+                    mapped.origins[name] = turn.T @ (origin - world.bodies.positions[row])
+        share = (a - start) / (end - start), (b - a) / (end - start)
+        runs.append(world.run((b - a) * frame_time, frame_time,
+                              progress=lambda f, s=share: shown(s[0] + s[1] * f)))
+    return runs[0] if len(runs) == 1 else Run.join(runs)

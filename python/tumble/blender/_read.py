@@ -58,6 +58,9 @@ class Mapped:
     frame_end: int
     frame_time: float
     notes: list[str] = field(default_factory=list)
+    #: animated objects whose "Animated" is switched off during the range: the frame it is off from, and the
+    #: density that gives the object's mass (the bake lets them go there: ``World.release``)
+    releases: dict[str, tuple[int, float]] = field(default_factory=dict)
 
 
 def _decay(d: float) -> float:
@@ -129,7 +132,8 @@ def _damping(obj: Any, shape: Any, mass: float, notes: list[str]) -> dict[str, f
 
 def _paths(scene: Any, rbw: Any, objects: list[Any], unit: float, frame_time: float) -> dict[str, Any]:
     """Each animated object's pose at every frame of the cache's range, as (times, locations, orientations (w, x,
-    y, z)); read with the rigid body world off, so Bullet does not step while the frames are set."""
+    y, z), the first frame its "Animated" is off or None); read with the rigid body world off, so Bullet does not
+    step while the frames are set."""
     import bpy  # noqa: PLC0415
 
     animated = [o for o in objects if o.rigid_body.kinematic]
@@ -139,6 +143,7 @@ def _paths(scene: Any, rbw: Any, objects: list[Any], unit: float, frame_time: fl
     frames = range(cache.frame_start, cache.frame_end + 1)
     layer = bpy.context.view_layer if scene == bpy.context.scene else scene.view_layers[0]
     poses: dict[str, tuple[list[Any], list[Any]]] = {o.name: ([], []) for o in animated}
+    off: dict[str, int] = {}
     enabled = rbw.enabled
     rbw.enabled = False
     try:
@@ -146,6 +151,8 @@ def _paths(scene: Any, rbw: Any, objects: list[Any], unit: float, frame_time: fl
             scene.frame_set(f)
             layer.update()
             for o in animated:
+                if not o.rigid_body.kinematic and o.name not in off:
+                    off[o.name] = f
                 location, rotation, _ = o.matrix_world.decompose()
                 poses[o.name][0].append([float(x) * unit for x in location])
                 poses[o.name][1].append([float(x) for x in rotation])
@@ -154,7 +161,7 @@ def _paths(scene: Any, rbw: Any, objects: list[Any], unit: float, frame_time: fl
         scene.frame_set(cache.frame_start)
         layer.update()
     times = np.array([(f - cache.frame_start) * frame_time for f in frames])
-    return {name: (times, np.array(x), np.array(q)) for name, (x, q) in poses.items()}
+    return {name: (times, np.array(x), np.array(q), off.get(name)) for name, (x, q) in poses.items()}
 
 
 def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
@@ -194,6 +201,7 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
     world = tumble.World(gravity=tuple(gravity), **options)
     depsgraph = bpy.context.evaluated_depsgraph_get()
     handles, moving, origins = {}, [], {}
+    releases: dict[str, tuple[int, float]] = {}
     paths = _paths(scene, rbw, objects, unit, frame_time)
     for obj in objects:
         rb = obj.rigid_body
@@ -232,11 +240,17 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
             if animated:
                 # an animated object follows its own animation, sampled at every frame; its shapes' frame is where
                 # the origin places them
-                times, locations, rotations = paths[obj.name]
+                times, locations, rotations, released = paths[obj.name]
                 shapes_at = locations + np.einsum("kij,j->ki", np.array([rotation_matrix(q) for q in rotations]),
                                                   centre)
                 handle = world.add_body(shape, keyframes=(times, shapes_at, rotations), **material)
                 handles[obj.name] = handle
+                if released is not None:
+                    # let go where "Animated" is switched off, at the density that gives the object's mass
+                    volume = float(shape.mass_properties(1.0)["mass"])
+                    releases[obj.name] = (released, float(rb.mass) / volume)
+                    moving.append(obj.name)
+                    origins[obj.name] = -np.asarray(centre, dtype=float)  # in the frame the keyframes pose
                 continue
             if static:
                 handle = world.add_body(shape, static=True, **kwargs)
@@ -259,4 +273,4 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
     if problems:
         raise BlenderSceneError(problems)
     cache = rbw.point_cache
-    return Mapped(world, handles, moving, origins, cache.frame_start, cache.frame_end, frame_time, notes)
+    return Mapped(world, handles, moving, origins, cache.frame_start, cache.frame_end, frame_time, notes, releases)
