@@ -199,7 +199,7 @@ def run_with_releases(mapped: Any, start: int, end: int, shown: Any) -> Any:
     world, frame_time = mapped.world, mapped.frame_time
     stops = sorted({f for f, _ in mapped.releases.values() if start < f < end})
     bounds = [start, *stops, end]
-    runs = []
+    runs: list[Any] = []
     for k, (a, b) in enumerate(zip(bounds, bounds[1:])):
         if k > 0:
             for name, (frame, density) in mapped.releases.items():
