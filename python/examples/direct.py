@@ -4,7 +4,7 @@ to tumble and rest within 1 cm of a place 2 m away, the search against the anima
 the same bounds, the same seed, until one meets the goal). Prints each search's tries, wall time and whether it met
 the goal; and the ball-in-cup scene's ball thrown from 1.5 m into the cup.
 
-    python python/examples/direct.py [--faces 6] [--modes fast,accurate] [--tries 256] [--seeds 6] [--budget 2048]
+    python python/examples/direct.py [--faces 6] [--modes fast,accurate] [--tries 256] [--seeds 6] [--budget 2048] [--pose-seeds 3]
 """
 
 from __future__ import annotations
@@ -63,6 +63,7 @@ def main() -> None:
     p.add_argument("--tries", type=int, default=256)
     p.add_argument("--seeds", type=int, default=6)
     p.add_argument("--budget", type=int, default=2048)
+    p.add_argument("--pose-seeds", type=int, default=3)
     args = p.parse_args()
     for mode in args.modes.split(","):
         for face, axis in list(FACES.items())[:args.faces]:
@@ -80,6 +81,13 @@ def main() -> None:
         print(f"{mode:>8} ball into the cup from 1.5 m: {'met' if found.met else 'NOT met'} in {found.tries} tries, "
               f"{time.perf_counter() - clock:.2f} s")
     w, box = thrown_box()
+    # to a pose: within 1 cm and 5 degrees of upright 2 m away (its start's orientation may change too)
+    pose = td.rest_at(box, (2.0, 0.0, 0.05), within=0.01, angle=5.0, orientation=(1, 0, 0, 0))
+    for seed in range(args.pose_seeds):
+        found = td.search(w, {box: td.Vary(velocity=3.0, spin=6.0, orientation=30.0)}, pose, duration=3.0,
+                          tries=args.budget, seed=seed)
+        print(f"box to a pose 2 m away, seed {seed}: {'met' if found.met else 'NOT met'} in {found.tries} tries, "
+              f"{found.seconds:.2f} s, best cost {found.cost:.3g} m")
     vary = {box: td.Vary(velocity=3.0, spin=6.0)}
     target = td.rest_at(box, (2.0, 0.0, 0.05), within=0.01)
     # the search against the animator's way on the same target: random re-throws within the same bounds
