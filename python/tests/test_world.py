@@ -240,3 +240,16 @@ def test_a_keyframed_body_released_flies_on_and_the_runs_join_into_one(tmp_path)
         w.hold(box)
     with pytest.raises(ValueError, match="`runs`"):
         tumble.Run.join([first, first])
+
+
+def test_a_run_can_say_how_sensitive_its_outcome_is():
+    """A ball in free flight: twins a contact tolerance apart end as far apart (ratio 1); a report without the
+    option has no such field."""
+    w = tumble.World()
+    w.add_body(tumble.Sphere(0.1), position=(0, 0, 1), velocity=(1, 0, 2))
+    run = w.run(0.5, sensitivity=3)
+    assert run.report.outcome_sensitivity == pytest.approx(1.0, abs=1e-6)  # a shift carries unchanged, to rounding
+    assert "outcome          twins started" in str(run.report)
+    assert not hasattr(w.run(0.1).report, "outcome_sensitivity")
+    with pytest.raises(ValueError, match="`sensitivity`"):
+        w.run(0.1, sensitivity=-1)

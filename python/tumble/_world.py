@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
@@ -286,6 +287,7 @@ class World(_World):
         duration: float,
         frame_interval: float | None = None,
         progress: bool | Callable[[float], None] | None = None,
+        sensitivity: int = 0,
     ) -> Run:
         """Runs for ``duration`` seconds, recording a frame every ``frame_interval`` (default 1/60 s) and at the end.
 
@@ -296,12 +298,21 @@ class World(_World):
         accurate mode projects more than ten times the simulated time, one line (once a world) says so and names
         fast mode with its time measured on a copy; the run goes on as asked.
 
-        Ctrl-C (or an exception from the callable) stops the run within 50 ms of work at its last whole frame: the
-        world is left at that frame, so the next ``run`` carries on from it, and the frames done come with the
-        exception as ``error.run`` (a ``Run`` with ``interrupted`` True). ``step`` answers Ctrl-C too, leaving the
-        world as it was. Raises SimulationError, leaving the world unchanged, if a step cannot be completed; the
-        frames recorded up to the failure come with it as ``error.run`` (its report covering the steps taken).
+        Ctrl-C stops the run within 50 ms of work at its last whole frame: the world is left at that frame, so the
+        next ``run`` carries on from it, and the frames done come with the KeyboardInterrupt as ``error.run`` (a
+        ``Run`` with ``interrupted`` True). Any other exception from the callable fails the run: the world is left as
+        it was, the frames done on ``error.run``. ``step`` answers Ctrl-C too, leaving the world as it was. Raises
+        SimulationError, leaving the world unchanged, if a step cannot be completed; the frames recorded up to the
+        failure come with it as ``error.run`` (its report covering the steps taken).
+
+        ``sensitivity=N`` (0: none) also runs ``N`` twins, every moving body started a contact tolerance away (1e-6 m
+        in fast mode) in a random direction, and gives the report ``outcome_sensitivity``: how many times farther
+        apart than that they end (``tumble.direct.sensitivity``): near 1 the outcome holds, thousands and more it is
+        chaotic, whatever the local error says.
         """
+        if isinstance(sensitivity, bool) or not isinstance(sensitivity, int) or sensitivity < 0:
+            raise ValueError(f"invalid argument `sensitivity`: expected a whole number >= 0, got {sensitivity!r}")
+        start = copy.copy(self) if sensitivity else None
         shown = _progress(progress)
         hint = shown.write if isinstance(shown, Progress) else None
         try:
@@ -315,8 +326,11 @@ class World(_World):
         finally:
             if isinstance(shown, Progress):
                 shown.close()
-        return Run.from_dict(data, self._body_shapes(), self._links(), looks=looks_of(self),
-                             link_joints=self._link_joints())
+        run = Run.from_dict(data, self._body_shapes(), self._links(), looks=looks_of(self),
+                            link_joints=self._link_joints())
+        if start is not None:
+            run.report = _with_sensitivity(run.report, start, duration, sensitivity)
+        return run
 
     def show(
         self,
@@ -337,6 +351,18 @@ class World(_World):
         else:
             run = self.run(duration, frame_interval)
         return run.show(port, block, host)
+
+
+def _with_sensitivity(report: Report, start: World, duration: float, twins: int) -> Report:
+    """``report`` with the outcome sensitivity of ``twins`` twins of ``start`` (``World.run``'s ``sensitivity``)."""
+    from .direct import sensitivity  # noqa: PLC0415
+
+    size = report.contact_tolerance or 1e-6
+    figure = sensitivity(start, duration, twins=twins, size=size)
+    line = (f"outcome          twins started {size:.1e} m apart end up to {figure['spread']:.3e} m apart "
+            f"({figure['ratio']:.3g} times: near 1 the outcome holds, thousands and more it is chaotic)")
+    return Report({**report.as_dict(), "outcome_sensitivity": figure["ratio"], "_text": str(report) + "\n" + line,
+                   "_details": report.details() + "\n" + line})
 
 
 def _from_bytes(cls: type[World], data: bytes) -> World:
