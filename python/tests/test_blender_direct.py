@@ -71,3 +71,20 @@ def test_bad_arguments_are_refused_by_name():
     directed = tb.direct(die, face="+Z", tries=8, scene=scene)
     with pytest.raises(ValueError, match="`k`"):
         directed.bake(99)
+
+
+def test_a_target_turn_is_reached_when_asked():
+    """A box slid along the ground to an empty 0.3 m on, turned 90 degrees about z: varying its start's turn, the
+    search ends it on the place and turned as the empty within 5 degrees."""
+    scene = empty_scene(90)
+    ground()
+    box = blender_body("cube", "box", (0, 0, 0.1), "BOX", size=0.2, mass=0.1)
+    bpy.ops.object.empty_add(location=(0.3, 0.0, 0.1), rotation=(0.0, 0.0, np.pi / 2))
+    target = bpy.context.active_object
+    directed = tb.direct(box, target=target, within=0.05, angle=5.0, scene=scene,
+                         vary=tumble.direct.Vary(velocity=1.0, orientation=180.0), tries=256)
+    assert directed.found.met, directed.found.report
+    directed.bake()
+    bpy.context.scene.frame_set(90)
+    turn = box.matrix_world.to_quaternion().rotation_difference(target.matrix_world.to_quaternion()).angle
+    assert min(turn, 2 * np.pi - turn) <= np.radians(5.0) + 1e-6

@@ -43,12 +43,13 @@ class Directed:
 
 
 def direct(obj: Any, face: str | None = None, target: Any = None, within: float = 0.01, vary: Any = None,
-           tries: int = 256, seed: int = 0, keep: int = 8, scene: Any = None,
+           tries: int = 256, seed: int = 0, keep: int = 8, scene: Any = None, angle: float | None = None,
            progress: bool | Callable[[float], None] | None = None, **world_options: Any) -> Directed:
     """Searches the start of ``obj`` (a rigid body object of ``scene``, the current one by default) within ``vary``
     (a ``tumble.direct.Vary``; by default 15 degrees, 0.5 m/s and 2 rad/s) for a run over the rigid body cache's
     frame range that ends with ``face`` ("+X", "-X", "+Y", "-Y", "+Z", "-Z": the object's local axis pointing up)
-    and/or at rest at ``target``'s location (an object, an empty say; within ``within`` metres). Nothing is written
+    and/or at rest at ``target``'s location (an object, an empty say; within ``within`` metres), and, given an
+    ``angle`` (degrees), turned as the target is, within that angle. Nothing is written
     until ``Directed.bake``. Raises ``BlenderSceneError`` as ``bake`` does, and ValueError naming a bad argument."""
     import bpy  # noqa: PLC0415
 
@@ -73,7 +74,9 @@ def direct(obj: Any, face: str | None = None, target: Any = None, within: float 
         location, rotation, _ = target.matrix_world.decompose()
         # the body's centre of mass where the object's origin would be at the target's location
         turn = rotation_matrix(np.array(tuple(rotation), dtype=float))
-        goals.append(td.rest_at(body, np.array(tuple(location)) * unit - turn @ mapped.origins[obj.name], within))
+        place = np.array(tuple(location)) * unit - turn @ mapped.origins[obj.name]
+        pose = None if angle is None else tuple(float(x) for x in rotation)  # (w, x, y, z), the object's own turn
+        goals.append(td.rest_at(body, place, within, angle=angle, orientation=pose))
     goal = goals[0] if len(goals) == 1 else goals[0] & goals[1]
     vary = vary or td.Vary(orientation=15.0, velocity=0.5, spin=2.0)
     duration = (mapped.frame_end - mapped.frame_start) * mapped.frame_time

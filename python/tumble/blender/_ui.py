@@ -66,6 +66,8 @@ def _define() -> list[Any]:
             (f, f, f"the object's local {f} axis ends pointing up") for f in ("+X", "-X", "+Y", "-Y", "+Z", "-Z")])
         target: bpy.props.StringProperty(name="Target", description="An object (an empty) whose place it ends at")
         within: bpy.props.FloatProperty(name="Within", default=0.01, min=1e-6, description="metres of the target")
+        angle: bpy.props.FloatProperty(name="Turned within", default=0.0, min=0.0, max=180.0,
+                                       description="degrees of the target's turn (0: its place only)")
         orientation: bpy.props.FloatProperty(name="Turn", default=15.0, min=0.0, max=180.0, description="degrees")
         velocity: bpy.props.FloatProperty(name="Velocity", default=0.5, min=0.0, description="m/s")
         spin: bpy.props.FloatProperty(name="Spin", default=2.0, min=0.0, description="rad/s")
@@ -83,7 +85,8 @@ def _define() -> list[Any]:
                 vary = td.Vary(position=self.position, orientation=self.orientation, velocity=self.velocity,
                                spin=self.spin)
                 directed = direct(context.active_object, None if self.face == "NONE" else self.face, target,
-                                  self.within, vary, self.tries, scene=context.scene, progress=True)
+                                  self.within, vary, self.tries, scene=context.scene, progress=True,
+                                  angle=self.angle or None)
             except BlenderSceneError as error:
                 for problem in error.problems:
                     self.report({"ERROR"}, problem)
