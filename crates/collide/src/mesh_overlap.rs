@@ -59,37 +59,15 @@ fn winding(m: &Mesh, p: &Point3<f64>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::solids_overlap;
+    use crate::shape::Shape;
     use crate::surface_mesh::Mesh;
     use nalgebra::{Point3, Vector3};
 
-    /// A box of half extents `h` centred at `c`, as a closed mesh.
+    /// A box of half extents `h` centred at `c`, as a closed mesh (the box shape's own triangles, moved).
     fn cuboid(c: [f64; 3], h: [f64; 3]) -> Mesh {
-        let (c, h) = (Vector3::from(c), Vector3::from(h));
-        let v: Vec<Point3<f64>> = (0..8)
-            .map(|k| {
-                let s = Vector3::new(
-                    if k & 1 == 0 { -1.0 } else { 1.0 },
-                    if k & 2 == 0 { -1.0 } else { 1.0 },
-                    if k & 4 == 0 { -1.0 } else { 1.0 },
-                );
-                Point3::from(c + s.component_mul(&h))
-            })
-            .collect();
-        let t = [
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ];
-        Mesh::new(&v, &t, "box").unwrap()
+        let (v, t) = Shape::cuboid(Vector3::from(h)).unwrap().triangle_mesh(3, 1.0);
+        let moved: Vec<Point3<f64>> = v.iter().map(|p| p + Vector3::from(c)).collect();
+        Mesh::new(&moved, &t, "box").unwrap()
     }
 
     #[test]

@@ -5,6 +5,7 @@ goals of different kinds add up. Goals name bodies by handle; a search reads the
 from __future__ import annotations
 
 import math
+from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
@@ -43,11 +44,12 @@ def _angle(q: np.ndarray, target: np.ndarray) -> float:
     return 2.0 * math.acos(min(1.0, abs(float(np.dot(q / np.linalg.norm(q), target)))))
 
 
-class Goal:
+class Goal(ABC):
     """A goal: ``cost(run, rows)`` (rows: each body handle's row in the run) is 0 when met. ``a & b`` is both."""
 
+    @abstractmethod
     def cost(self, run: Any, rows: dict[Any, int]) -> float:
-        raise NotImplementedError
+        """How far ``run`` missed the goal (m; 0: met)."""
 
     def bodies(self) -> list[Any]:
         """The body handles the goal names."""
