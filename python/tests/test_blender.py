@@ -292,10 +292,39 @@ def test_an_animated_box_switched_to_dynamic_mid_shot_flies_on_as_it_moved():
         for point in curve.keyframe_points:
             point.interpolation = "LINEAR" if curve.data_path == "location" else "CONSTANT"
     mapped = tb.world_from_scene(scene)
-    assert mapped.releases == {"box": (32, pytest.approx(1.0 / 0.008))}
+    assert mapped.switches == {"box": [(32, False)]} and mapped.densities == {"box": pytest.approx(1.0 / 0.008)}
     tb.bake(scene)
     x, _, z = keyed(box, [61])[0]
     t = (61 - 32) / FPS
     assert x == pytest.approx(1.0 + 1 / 30 + 2.0 * t, abs=1e-4)  # float32 keyframes
     assert z == pytest.approx(1.0 - 0.5 * 9.81 * t * t, abs=0.02)
     assert keyed(box, [16])[0][0] == pytest.approx(0.5, abs=1e-5)  # on its keys before
+
+
+def test_a_falling_box_keyed_animated_mid_shot_follows_its_animation_from_there():
+    """A box falling freely from 1 m up, its "Animated" keyed on at frame 40 where its keys carry it from (0.5, 0, 2)
+    to (1.5, 0, 2) by frame 60, and off again at frame 60: before frame 40 it falls (z = 1 - g t^2 / 2, within 2 cm
+    as above), from 40 to 60 it is on its keys (float32 keyframes: 1e-4), and after 60 it is let go moving as its
+    keys had it, 3 m/s along x, damped as the body was (Blender's "Animated" both ways: World.hold, then World.release)."""
+    scene = empty_scene(70)
+    box = blender_body("cube", "box", (0, 0, 1), "BOX", size=0.2, mass=1.0)
+    for frame, x, z, animated in ((1, 0.0, 1.0, False), (40, 0.5, 2.0, True), (60, 1.5, 2.0, False)):
+        box.location = (x, 0.0, z)
+        box.keyframe_insert("location", frame=frame)
+        box.rigid_body.kinematic = animated
+        box.keyframe_insert("rigid_body.kinematic", frame=frame)
+    for curve in box.animation_data.action.layers[0].strips[0].channelbag(box.animation_data.action_slot).fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR" if curve.data_path == "location" else "CONSTANT"
+    mapped = tb.world_from_scene(scene)
+    assert mapped.switches == {"box": [(40, True), (60, False)]}
+    tb.bake(scene)
+    t = (39 - 1) / FPS
+    x, _, z = keyed(box, [39])[0]
+    assert x == pytest.approx(0.0, abs=1e-6) and z == pytest.approx(1.0 - 0.5 * 9.81 * t * t, abs=0.02)
+    for frame in (40, 50, 60):
+        assert keyed(box, [frame])[0] == pytest.approx((0.5 + (frame - 40) / 20, 0.0, 2.0), abs=1e-4)
+    # let go at 3 m/s, slowed by Blender's linear damping (kept from its start as a dynamic body): a decay rate c
+    c, t = -math.log(1.0 - box.rigid_body.linear_damping), 10 / FPS
+    x, _, _ = keyed(box, [70])[0]
+    assert x == pytest.approx(1.5 + 3.0 * (1.0 - math.exp(-c * t)) / c, abs=1e-4)

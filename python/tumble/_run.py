@@ -114,7 +114,8 @@ class Run:
     @classmethod
     def join(cls, runs: Sequence["Run"]) -> "Run":
         """One run of ``runs`` made one after another by the same world (each starting where the last ended, the
-        same particles and bodies): their frames in order, the frame where one ends and the next begins once. A body
+        same particles and bodies): their frames in order, the frame where one ends and the next begins once (the
+        next's: a body taken over there by ``World.hold`` is on its keyframes from that frame). A body
         released from keyframes in between (``World.release``) is drawn by its shapes as they are at the end, its
         earlier positions moved to its centre of mass. The steps, events and breaks in order; the report, links
         and looks are the last run's. ValueError naming ``runs`` where they do not follow on."""
@@ -130,7 +131,8 @@ class Run:
                                  f"{b.times[0]} s")
         frames: dict[str, list[np.ndarray]] = {name: [] for name in ARRAYS}
         for k, r in enumerate(runs):
-            skip = 0 if k == 0 else 1  # the frame the last one ended with
+            # the frame where one run ends and the next begins: the next's (a body taken over there is on its keys)
+            cut = 0 if k == len(runs) - 1 else 1
             positions = r.body_positions.copy()
             for j, (mine, final) in enumerate(zip(r.shapes, last.shapes)):
                 if mine and final and not np.allclose(mine[0][1], final[0][1]):
@@ -140,11 +142,11 @@ class Run:
             for name in ARRAYS:
                 value = positions if name == "body_positions" else getattr(r, name)
                 if name == "contact_points":
-                    value = value[int(r.contact_counts[:skip].sum()):]
+                    value = value[:int(r.contact_counts[:len(r.contact_counts) - cut].sum())]
                 elif name in ("step_times", "step_sizes", "contact_events", "joint_break_times"):
                     pass
                 else:
-                    value = value[skip:]
+                    value = value[:len(value) - cut]
                 frames[name].append(value)
         arrays = {name: np.concatenate(parts) for name, parts in frames.items()}
         return cls(**arrays, report=last.report, particles=list(last.particles), bodies=list(last.bodies),

@@ -136,7 +136,7 @@ def _bake(scene: Any, frame_start: int | None, frame_end: int | None, shown: Bak
         raise ValueError(f"invalid argument `frame_end`: must be after frame_start ({start}), got {end}")
     read = time.perf_counter() - clock
     clock = time.perf_counter()
-    run = run_with_releases(mapped, start, end, shown)
+    run = run_with_switches(mapped, start, end, shown)
     simulated = time.perf_counter() - clock
     clock = time.perf_counter()
     write_keyframes(scene, mapped, run, start, shown)
@@ -164,16 +164,13 @@ def write_keyframes(scene: Any, mapped: Any, run: Any, start: int, shown: Any = 
     from mathutils import Quaternion  # noqa: PLC0415
 
     frames = (start + np.arange(len(run.times))).astype(np.float64)
-    unit = float(scene.unit_settings.scale_length) or 1.0
     for written_bodies, name in enumerate(mapped.moving):
         if shown is not None:
             shown.show(SIMULATING + (1.0 - SIMULATING) * written_bodies / len(mapped.moving))
         obj = scene.objects[name]
-        column = mapped.world.bodies.row(mapped.handles[name])
-        wxyz = run.body_orientations[:, column]
-        origin = run.body_positions[:, column] + rotation_matrices(wxyz) @ mapped.origins[name]
+        location, wxyz = object_poses(scene, mapped, run, name)
         bag = _curves(obj)
-        _write(bag, "location", frames, origin / unit)
+        _write(bag, "location", frames, location)
         if obj.rotation_mode == "QUATERNION":
             _write(bag, "rotation_quaternion", frames, wxyz)
         elif obj.rotation_mode == "AXIS_ANGLE":
@@ -189,29 +186,53 @@ def write_keyframes(scene: Any, mapped: Any, run: Any, start: int, shown: Any = 
             _write(bag, "rotation_euler", frames, np.array(angles))
 
 
-def run_with_releases(mapped: Any, start: int, end: int, shown: Any) -> Any:
-    """The mapped world's run from frame ``start`` to ``end``: in one call, or, where animated objects are let go
-    during it (``mapped.releases``), a call up to each such frame, the objects released there (their origins in
-    their new body frames recorded for the keyframes), and the runs joined."""
+def object_poses(scene: Any, mapped: Any, run: Any, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Object ``name``'s location (in the scene's units) and turn (w, x, y, z) at each frame of ``run``: its origin
+    where its body's pose puts it."""
+    unit = float(scene.unit_settings.scale_length) or 1.0
+    column = mapped.world.bodies.row(mapped.handles[name])
+    wxyz = run.body_orientations[:, column]
+    origin = run.body_positions[:, column] + rotation_matrices(wxyz) @ mapped.origins[name]
+    return origin / unit, wxyz
+
+
+def run_with_switches(mapped: Any, start: int, end: int, shown: Any) -> Any:
+    """The mapped world's run from frame ``start`` to ``end``: in one call, or, where objects' "Animated" is switched
+    during it (``mapped.switches``), a call up to each such frame, the objects let go there (``World.release``) or
+    taken over to follow their animation from there (``World.hold``), and the runs joined."""
     from tumble._geometry import rotation_matrix  # noqa: PLC0415
     from tumble._run import Run  # noqa: PLC0415
 
     world, frame_time = mapped.world, mapped.frame_time
-    stops = sorted({f for f, _ in mapped.releases.values() if start < f < end})
+    stops = sorted({f for changes in mapped.switches.values() for f, _ in changes if start < f < end})
     bounds = [start, *stops, end]
     runs: list[Any] = []
     for k, (a, b) in enumerate(zip(bounds, bounds[1:])):
         if k > 0:
-            for name, (frame, density) in mapped.releases.items():
-                if frame == a:
-                    handle = mapped.handles[name]
-                    row = world.bodies.row(handle)
-                    # the object's origin now, from the frame its keyframes pose; then from its centre of mass
-                    turn = rotation_matrix(runs[-1].body_orientations[-1, row])
-                    origin = runs[-1].body_positions[-1, row] + turn @ mapped.origins[name]
-                    world.release(handle, density=density)
-                    mapped.origins[name] = turn.T @ (origin - world.bodies.positions[row])
+            for name, changes in mapped.switches.items():
+                for frame, animated in changes:
+                    if frame == a:
+                        _switch(mapped, name, animated, runs[-1], rotation_matrix)
         share = (a - start) / (end - start), (b - a) / (end - start)
         runs.append(world.run((b - a) * frame_time, frame_time,
                               progress=lambda f, s=share: shown(s[0] + s[1] * f)))
     return runs[0] if len(runs) == 1 else Run.join(runs)
+
+
+def _switch(mapped: Any, name: str, animated: bool, run: Any, rotation_matrix: Any) -> None:
+    """Object ``name``'s "Animated" switched at the end of ``run``: on, its body follows the object's animation (its
+    centre of mass where the animation puts its origin); off, it is let go as it moved, its origin in its new body
+    frame kept for the keyframes."""
+    world = mapped.world
+    handle = mapped.handles[name]
+    row = world.bodies.row(handle)
+    if animated:
+        times, locations, rotations = mapped.paths[name]
+        centres = locations - np.einsum("kij,j->ki", rotation_matrices(rotations), mapped.origins[name])
+        world.hold(handle, (times, centres, rotations))
+        return
+    # the object's origin now, from the frame its keyframes pose; then from its centre of mass
+    turn = rotation_matrix(run.body_orientations[-1, row])
+    origin = run.body_positions[-1, row] + turn @ mapped.origins[name]
+    world.release(handle, density=mapped.densities[name])
+    mapped.origins[name] = turn.T @ (origin - world.bodies.positions[row])

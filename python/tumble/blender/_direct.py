@@ -1,6 +1,7 @@
 """Directing a Blender scene's outcome: the scene's rigid body world read as ``bake`` reads it, the search of
-``tumble.direct`` over one object's start (a face up, or the pose of a target object at the end), and any of the
-answers baked as keyframes, as ``bake`` writes them."""
+``tumble.direct`` over one object's start (a face up, or the pose of a target object at the end), any of the
+answers previewed in the viewport (the objects posed at each frame shown, nothing written) and any baked as
+keyframes, as ``bake`` writes them."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ import numpy as np
 
 from tumble._geometry import rotation_matrix
 
-from ._bake import write_keyframes
+from ._bake import object_poses, write_keyframes
+from ._preview import Preview, previews, stop_preview
 from ._read import Mapped, world_from_scene
 
 # Faces by name: the object's local axis that ends pointing up.
@@ -21,10 +23,13 @@ FACES = {"+X": (1, 0, 0), "-X": (-1, 0, 0), "+Y": (0, 1, 0), "-Y": (0, -1, 0), "
 last: dict[str, Directed] = {}
 
 
+
+
 @dataclass
 class Directed:
     """A search's answer on a scene: ``found`` (``tumble.direct.Found``: ``met``, ``alternatives`` and their costs,
-    ``report``), the world it searched (``mapped``) and the frame range; ``bake(k)`` writes answer ``k``."""
+    ``report``), the world it searched (``mapped``) and the frame range; ``preview(k)`` shows answer ``k`` in the
+    viewport, ``bake(k)`` writes it."""
 
     found: Any
     mapped: Mapped
@@ -34,12 +39,52 @@ class Directed:
     def bake(self, k: int = 0) -> Any:
         """Writes the ``k``-th answer's run (0: the best) as keyframes on every moving object and switches the rigid
         body world off, as ``bake`` does; returns the answer."""
-        if isinstance(k, bool) or not isinstance(k, int) or not 0 <= k < len(self.found.alternatives):
-            raise ValueError(f"invalid argument `k`: expected 0 to {len(self.found.alternatives) - 1}, got {k!r}")
+        self._check(k)
+        self.stop_preview()
         answer = self.found.alternatives[k]
         write_keyframes(self.scene, self.mapped, answer.run, self.frame_start)
         self.scene.rigidbody_world.enabled = False
         return answer
+
+    def preview(self, k: int = 0) -> Any:
+        """Shows the ``k``-th answer (0: the best) in the viewport: at every frame the timeline shows, each moving
+        object is posed as that answer's run has it (before the range as at its start, after as at its end), with
+        the rigid body world off; nothing is keyed or saved. ``stop_preview`` (or a bake) puts every object back as
+        it was. Returns the answer."""
+        import bpy  # noqa: PLC0415
+        from mathutils import Matrix, Quaternion, Vector  # noqa: PLC0415
+
+        self._check(k)
+        self.stop_preview()
+        answer = self.found.alternatives[k]
+        poses = {name: object_poses(self.scene, self.mapped, answer.run, name) for name in self.mapped.moving}
+        objects = {name: self.scene.objects[name] for name in poses}
+        scene_name = self.scene.name
+
+        def pose(scene: Any, *_: Any) -> None:
+            if scene.name != scene_name:
+                return
+            i = min(max(scene.frame_current - self.frame_start, 0), len(answer.run.times) - 1)
+            for name, (location, wxyz) in poses.items():
+                obj = objects[name]
+                obj.matrix_world = Matrix.LocRotScale(Vector(tuple(location[i])), Quaternion(tuple(wxyz[i])),
+                                                      obj.matrix_world.to_scale())
+
+        rbw = self.scene.rigidbody_world
+        previews[scene_name] = Preview(k, pose, {name: o.matrix_basis.copy() for name, o in objects.items()},
+                                        bool(rbw.enabled))
+        rbw.enabled = False
+        bpy.app.handlers.frame_change_post.append(pose)
+        pose(self.scene)
+        return answer
+
+    def stop_preview(self) -> None:
+        """Ends this scene's preview, if one is shown: every object and the rigid body world's switch as they were."""
+        stop_preview(self.scene)
+
+    def _check(self, k: Any) -> None:
+        if isinstance(k, bool) or not isinstance(k, int) or not 0 <= k < len(self.found.alternatives):
+            raise ValueError(f"invalid argument `k`: expected 0 to {len(self.found.alternatives) - 1}, got {k!r}")
 
 
 def direct(obj: Any, face: str | None = None, target: Any = None, within: float = 0.01, vary: Any = None,
@@ -65,6 +110,9 @@ def direct(obj: Any, face: str | None = None, target: Any = None, within: float 
     mapped = world_from_scene(scene, **world_options)
     if obj.name not in mapped.moving:
         raise ValueError(f"invalid argument `obj`: {obj.name} is not a moving body of the scene's rigid body world")
+    if mapped.switches:
+        raise ValueError(f"invalid argument `scene`: {', '.join(sorted(mapped.switches))} switch \"Animated\" during "
+                         "the range; the search runs the scene in one piece (bake it, or key the switch off)")
     body = mapped.handles[obj.name]
     goals = []
     if face is not None:

@@ -29,6 +29,7 @@ import numpy.typing as npt
 from tumble._geometry import rotation_matrix
 
 from ._constraints import _to_body, constraints
+from ._preview import stop_preview
 
 Array = npt.NDArray[np.float64]
 
@@ -58,9 +59,14 @@ class Mapped:
     frame_end: int
     frame_time: float
     notes: list[str] = field(default_factory=list)
-    #: animated objects whose "Animated" is switched off during the range: the frame it is off from, and the
-    #: density that gives the object's mass (the bake lets them go there: ``World.release``)
-    releases: dict[str, tuple[int, float]] = field(default_factory=dict)
+    #: objects whose "Animated" is switched during the range: each frame it changes at, with whether it is on from
+    #: there (the bake lets a body go where it goes off, ``World.release``, and takes it over where it goes on,
+    #: ``World.hold``, to follow its animation)
+    switches: dict[str, list[tuple[int, bool]]] = field(default_factory=dict)
+    #: for those objects: the density that gives the object's mass, and its animation's poses (times from the
+    #: range's start, its origin's places, turns (w, x, y, z)) at every frame
+    densities: dict[str, float] = field(default_factory=dict)
+    paths: dict[str, tuple[Array, Array, Array]] = field(default_factory=dict)
 
 
 def _decay(d: float) -> float:
@@ -131,19 +137,28 @@ def _damping(obj: Any, shape: Any, mass: float, notes: list[str]) -> dict[str, f
 
 
 def _paths(scene: Any, rbw: Any, objects: list[Any], unit: float, frame_time: float) -> dict[str, Any]:
-    """Each animated object's pose at every frame of the cache's range, as (times, locations, orientations (w, x,
-    y, z), the first frame its "Animated" is off or None); read with the rigid body world off, so Bullet does not
-    step while the frames are set."""
+    """The pose at every frame of the cache's range of each object that is animated at some frame of it ("Animated"
+    on at the start, or keyed on later), as (times, locations, orientations (w, x, y, z), switches: each frame
+    where "Animated" changes, with whether it is on from there); read with the rigid body world off, so Bullet does
+    not step while the frames are set."""
     import bpy  # noqa: PLC0415
 
-    animated = [o for o in objects if o.rigid_body.kinematic]
+    def keyed(o: Any) -> bool:
+        action = o.animation_data.action if o.animation_data else None
+        if action is None:
+            return False
+        return any(c.data_path == "rigid_body.kinematic" for layer in action.layers for strip in layer.strips
+                   for bag in strip.channelbags for c in bag.fcurves)
+
+    animated = [o for o in objects if o.rigid_body.kinematic or keyed(o)]
     if not animated:
         return {}
     cache = rbw.point_cache
     frames = range(cache.frame_start, cache.frame_end + 1)
     layer = bpy.context.view_layer if scene == bpy.context.scene else scene.view_layers[0]
     poses: dict[str, tuple[list[Any], list[Any]]] = {o.name: ([], []) for o in animated}
-    off: dict[str, int] = {}
+    switches: dict[str, list[tuple[int, bool]]] = {o.name: [] for o in animated}
+    was = {o.name: bool(o.rigid_body.kinematic) for o in animated}
     enabled = rbw.enabled
     rbw.enabled = False
     try:
@@ -151,8 +166,9 @@ def _paths(scene: Any, rbw: Any, objects: list[Any], unit: float, frame_time: fl
             scene.frame_set(f)
             layer.update()
             for o in animated:
-                if not o.rigid_body.kinematic and o.name not in off:
-                    off[o.name] = f
+                if bool(o.rigid_body.kinematic) != was[o.name]:
+                    was[o.name] = bool(o.rigid_body.kinematic)
+                    switches[o.name].append((f, was[o.name]))
                 location, rotation, _ = o.matrix_world.decompose()
                 poses[o.name][0].append([float(x) * unit for x in location])
                 poses[o.name][1].append([float(x) for x in rotation])
@@ -161,7 +177,7 @@ def _paths(scene: Any, rbw: Any, objects: list[Any], unit: float, frame_time: fl
         scene.frame_set(cache.frame_start)
         layer.update()
     times = np.array([(f - cache.frame_start) * frame_time for f in frames])
-    return {name: (times, np.array(x), np.array(q), off.get(name)) for name, (x, q) in poses.items()}
+    return {name: (times, np.array(x), np.array(q), switches[name]) for name, (x, q) in poses.items()}
 
 
 def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
@@ -173,6 +189,7 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
     import tumble  # noqa: PLC0415
 
     scene = scene or bpy.context.scene
+    stop_preview(scene)  # the scene as the user set it up, not as a search's answer poses it
     rbw = scene.rigidbody_world
     if rbw is None or rbw.collection is None:
         raise BlenderSceneError([f"{scene.name}: rigid body world: the scene has none (or no collection in it)"])
@@ -201,7 +218,9 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
     world = tumble.World(gravity=tuple(gravity), **options)
     depsgraph = bpy.context.evaluated_depsgraph_get()
     handles, moving, origins = {}, [], {}
-    releases: dict[str, tuple[int, float]] = {}
+    switches: dict[str, list[tuple[int, bool]]] = {}
+    densities: dict[str, float] = {}
+    held: dict[str, tuple[Array, Array, Array]] = {}
     paths = _paths(scene, rbw, objects, unit, frame_time)
     for obj in objects:
         rb = obj.rigid_body
@@ -237,18 +256,22 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
                 centre = np.asarray(shape.mass_properties(1.0)["center_of_mass"], dtype=float) + np.array(offset)
             at = np.array(position) + rotation_matrix(np.array(orientation)) @ centre
             kwargs: dict[str, Any] = dict(position=tuple(at), orientation=orientation, **material)
-            if animated:
-                # an animated object follows its own animation, sampled at every frame; its shapes' frame is where
-                # the origin places them
-                times, locations, rotations, released = paths[obj.name]
+            if obj.name in paths:
+                # its animation sampled at every frame; its shapes' frame is where the origin places them
+                times, locations, rotations, changes = paths[obj.name]
                 shapes_at = locations + np.einsum("kij,j->ki", np.array([rotation_matrix(q) for q in rotations]),
                                                   centre)
+                if changes:
+                    # let go where "Animated" goes off (at the density that gives the object's mass), taken over
+                    # where it goes on again
+                    switches[obj.name] = changes
+                    densities[obj.name] = float(rb.mass) / float(shape.mass_properties(1.0)["mass"])
+                    held[obj.name] = (times, locations, rotations)
+            if animated:
+                # an animated object follows its own animation
                 handle = world.add_body(shape, keyframes=(times, shapes_at, rotations), **material)
                 handles[obj.name] = handle
-                if released is not None:
-                    # let go where "Animated" is switched off, at the density that gives the object's mass
-                    volume = float(shape.mass_properties(1.0)["mass"])
-                    releases[obj.name] = (released, float(rb.mass) / volume)
+                if obj.name in switches:
                     moving.append(obj.name)
                     origins[obj.name] = -np.asarray(centre, dtype=float)  # in the frame the keyframes pose
                 continue
@@ -273,4 +296,5 @@ def world_from_scene(scene: Any = None, **world_options: Any) -> Mapped:
     if problems:
         raise BlenderSceneError(problems)
     cache = rbw.point_cache
-    return Mapped(world, handles, moving, origins, cache.frame_start, cache.frame_end, frame_time, notes, releases)
+    return Mapped(world, handles, moving, origins, cache.frame_start, cache.frame_end, frame_time, notes, switches,
+                  densities, held)

@@ -2,11 +2,11 @@
 mode, the contact tolerance (accurate) or time step (fast, 0: Blender's own step) and the frame range; a bake that
 cannot map the scene reports each object and setting, and a bake that ran reports tumble's summary. The bake's
 progress shows in the terminal and in Blender's progress indicator. "Direct with tumble" searches the active
-object's start for a face up and/or a target's place, bakes the best answer and lists the others, each a button
-that bakes it instead."""
+object's start for a face up and/or a target's place, shows the best answer in the viewport and lists them all,
+each with a button that previews it and one that bakes it as keyframes."""
 
 
-from typing import Any
+from typing import Any, Callable
 
 _classes: list[Any] = []
 
@@ -56,7 +56,7 @@ def _define() -> list[Any]:
             return {"FINISHED"}
 
     class TUMBLE_OT_direct(bpy.types.Operator):
-        """Search the active object's start (within the bounds) for the outcome asked for, then bake the best"""
+        """Search the active object's start (within the bounds) for the outcome asked for, and preview the best"""
 
         bl_idname = "tumble.direct"
         bl_label = "Direct with tumble"
@@ -94,13 +94,13 @@ def _define() -> list[Any]:
             except ValueError as error:
                 self.report({"ERROR"}, str(error))
                 return {"CANCELLED"}
-            directed.bake(0)
+            directed.preview(0)
             for line in directed.found.report.splitlines():
                 self.report({"INFO"}, line)
             return {"FINISHED"}
 
     class TUMBLE_OT_direct_bake(bpy.types.Operator):
-        """Bake another of the last search's answers (0: the best)"""
+        """Bake one of the last search's answers as keyframes (0: the best)"""
 
         bl_idname = "tumble.direct_bake"
         bl_label = "Bake answer"
@@ -109,13 +109,29 @@ def _define() -> list[Any]:
         choice: bpy.props.IntProperty(name="Answer", default=0, min=0)
 
         def execute(self, context: Any) -> Any:
-            from ._direct import last  # noqa: PLC0415
+            return _with_answer(self, context, lambda directed: directed.bake(self.choice))
 
-            directed = last.get(context.scene.name)
-            if directed is None or self.choice >= len(directed.found.alternatives):
-                self.report({"ERROR"}, "no such answer: search first (Direct with tumble)")
-                return {"CANCELLED"}
-            directed.bake(self.choice)
+    class TUMBLE_OT_direct_preview(bpy.types.Operator):
+        """Show one of the last search's answers in the viewport (nothing is keyed); scrub the timeline to see it"""
+
+        bl_idname = "tumble.direct_preview"
+        bl_label = "Preview answer"
+
+        choice: bpy.props.IntProperty(name="Answer", default=0, min=0)
+
+        def execute(self, context: Any) -> Any:
+            return _with_answer(self, context, lambda directed: directed.preview(self.choice))
+
+    class TUMBLE_OT_direct_stop_preview(bpy.types.Operator):
+        """Put every object back as it was before the preview"""
+
+        bl_idname = "tumble.direct_stop_preview"
+        bl_label = "Stop preview"
+
+        def execute(self, context: Any) -> Any:
+            from ._preview import stop_preview  # noqa: PLC0415
+
+            stop_preview(context.scene)
             return {"FINISHED"}
 
     class TUMBLE_PT_bake(bpy.types.Panel):
@@ -130,12 +146,33 @@ def _define() -> list[Any]:
 
             self.layout.operator(TUMBLE_OT_bake.bl_idname)
             self.layout.operator(TUMBLE_OT_direct.bl_idname)
-            directed = last.get(context.scene.name)
-            for k, a in enumerate(directed.found.alternatives if directed else []):
-                label = f"{k}: {'met' if a.met else f'{a.cost:.3g} m off'}, change {a.change:.2f}"
-                self.layout.operator(TUMBLE_OT_direct_bake.bl_idname, text=label).choice = k
+            from ._preview import previews  # noqa: PLC0415
 
-    return [TUMBLE_OT_bake, TUMBLE_OT_direct, TUMBLE_OT_direct_bake, TUMBLE_PT_bake]
+            directed = last.get(context.scene.name)
+            shown = previews.get(context.scene.name)
+            for k, a in enumerate(directed.found.alternatives if directed else []):
+                row = self.layout.row()
+                label = f"{k}: {'met' if a.met else f'{a.cost:.3g} m off'}, change {a.change:.2f}"
+                row.label(text=label + ("  (shown)" if shown is not None and shown.answer == k else ""))
+                row.operator(TUMBLE_OT_direct_preview.bl_idname, text="Preview").choice = k
+                row.operator(TUMBLE_OT_direct_bake.bl_idname, text="Bake").choice = k
+            if shown is not None:
+                self.layout.operator(TUMBLE_OT_direct_stop_preview.bl_idname)
+
+    return [TUMBLE_OT_bake, TUMBLE_OT_direct, TUMBLE_OT_direct_bake, TUMBLE_OT_direct_preview,
+            TUMBLE_OT_direct_stop_preview, TUMBLE_PT_bake]
+
+
+def _with_answer(operator: Any, context: Any, act: Callable[[Any], Any]) -> Any:
+    """Runs ``act`` on the last search's answers on the operator's scene, or reports that there is no such answer."""
+    from ._direct import last  # noqa: PLC0415
+
+    directed = last.get(context.scene.name)
+    if directed is None or operator.choice >= len(directed.found.alternatives):
+        operator.report({"ERROR"}, "no such answer: search first (Direct with tumble)")
+        return {"CANCELLED"}
+    act(directed)
+    return {"FINISHED"}
 
 
 def register() -> None:
