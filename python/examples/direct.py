@@ -4,7 +4,8 @@ to tumble and rest within 1 cm of a place 2 m away, the search against the anima
 the same bounds, the same seed, until one meets the goal). Prints each search's tries, wall time and whether it met
 the goal; and the ball-in-cup scene's ball thrown from 1.5 m into the cup.
 
-    python python/examples/direct.py [--faces 6] [--modes fast,accurate] [--tries 256] [--seeds 6] [--budget 2048] [--pose-seeds 3]
+    python python/examples/direct.py [--faces 6] [--modes fast,accurate] [--tries 256] [--seeds 6] [--budget 2048] [--random-budget 8192] [--pose-seeds 3]
+        [--cup-seeds 3]
 """
 
 from __future__ import annotations
@@ -63,7 +64,9 @@ def main() -> None:
     p.add_argument("--tries", type=int, default=256)
     p.add_argument("--seeds", type=int, default=6)
     p.add_argument("--budget", type=int, default=2048)
+    p.add_argument("--random-budget", type=int, default=8192)
     p.add_argument("--pose-seeds", type=int, default=3)
+    p.add_argument("--cup-seeds", type=int, default=3)
     args = p.parse_args()
     for mode in args.modes.split(","):
         for face, axis in list(FACES.items())[:args.faces]:
@@ -75,11 +78,12 @@ def main() -> None:
                   f"{time.perf_counter() - clock:.2f} s")
     for mode in args.modes.split(","):
         w, ball = cup_and_ball(mode)
-        clock = time.perf_counter()
-        found = td.search(w, {ball: td.Vary(velocity=1.5)}, td.rest_at(ball, (0.0, 0.0, 0.02), within=0.03),
-                          duration=2.0, tries=args.tries, seed=0)
-        print(f"{mode:>8} ball into the cup from 1.5 m: {'met' if found.met else 'NOT met'} in {found.tries} tries, "
-              f"{time.perf_counter() - clock:.2f} s")
+        for seed in range(args.cup_seeds):
+            clock = time.perf_counter()
+            found = td.search(w, {ball: td.Vary(velocity=1.5)}, td.rest_at(ball, (0.0, 0.0, 0.02), within=0.03),
+                              duration=2.0, tries=2 * args.tries, seed=seed)
+            print(f"{mode:>8} ball into the cup from 1.5 m, seed {seed}: {'met' if found.met else 'NOT met'} in "
+                  f"{found.tries} tries, {time.perf_counter() - clock:.2f} s, best cost {found.cost:.3g} m")
     w, box = thrown_box()
     # to a pose: within 1 cm and 5 degrees of upright 2 m away (its start's orientation may change too)
     pose = td.rest_at(box, (2.0, 0.0, 0.05), within=0.01, angle=5.0, orientation=(1, 0, 0, 0))
@@ -91,15 +95,31 @@ def main() -> None:
     vary = {box: td.Vary(velocity=3.0, spin=6.0)}
     target = td.rest_at(box, (2.0, 0.0, 0.05), within=0.01)
     # the search against the animator's way on the same target: random re-throws within the same bounds
+    totals = {"search": [0, 0], "random": [0, 0]}  # tries, goals met
     for seed in range(args.seeds):
         clock = time.perf_counter()
         searched = td.search(w, vary, target, duration=3.0, tries=args.budget, seed=seed)
         took = time.perf_counter() - clock
-        rethrown = td.search(w, vary, target, duration=3.0, tries=args.budget, seed=seed, method="random")
+        rethrown = td.search(w, vary, target, duration=3.0, tries=args.random_budget, seed=seed, method="random")
+        for name, found in (("search", searched), ("random", rethrown)):
+            totals[name][0] += found.tries
+            totals[name][1] += found.met
         print(f"box to rest 2 m away within 1 cm, seed {seed}: the search "
               f"{'met' if searched.met else 'NOT met'} in {searched.tries} tries ({took:.2f} s), random re-throws "
               f"{'met' if rethrown.met else 'NOT met'} in {rethrown.tries}")
+    if args.seeds:
+        (tries, met), (random_tries, random_met) = totals["search"], totals["random"]
+        print(f"the search: {met} of {args.seeds} met, {tries} tries; random re-throws: {random_met} met, "
+              f"{random_tries} tries")
+        if met and random_met:
+            from scipy.stats import chi2
 
+            # random's successes a Poisson count: its rate's 95% interval, and the ratio of tries an answer with it
+            low, high = chi2.ppf(0.025, 2 * random_met) / 2, chi2.ppf(0.975, 2 * random_met + 2) / 2
+            each = tries / met
+            print(f"tries an answer: the search {each:.0f}, random {random_tries / random_met:.0f}: "
+                  f"{random_tries / random_met / each:.1f} times fewer (95%: "
+                  f"{random_tries / high / each:.1f} to {random_tries / low / each:.1f})")
 
 if __name__ == "__main__":
     main()

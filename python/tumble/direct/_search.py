@@ -34,6 +34,10 @@ METHODS = ("cma-es", "random")
 FIRST_STEP = 0.1
 # The step below which CMA-ES has closed in on a start that does not meet the goal, and starts again elsewhere.
 SMALLEST_STEP = 1e-4
+# Batches of CMA-ES without a better try after which it starts again from another good try: measured on the ball
+# thrown into the cup (six seeds, 512 tries; python/examples/direct.py's scene), 5 met the goal on one seed, 10 on
+# three, never on two; on the 1 cm target 10 still met it on all eight seeds.
+STALL = 10
 # A try's outcome: its cost and its run.
 Outcome = tuple[float, Any]
 
@@ -169,6 +173,7 @@ def _loop(world: Any, space: Space, evaluate: Callable[[list[np.ndarray]], list[
         points = [np.zeros(d)] + [2.0 * p - 1.0 for p in sobol[:first - 1]]
     done: list[Try] = []
     strategy: Any = None
+    stalled, run_best = 0, math.inf
     shown = _progress(progress)
     try:
         while points:
@@ -186,7 +191,11 @@ def _loop(world: Any, space: Space, evaluate: Callable[[list[np.ndarray]], list[
                 continue
             if strategy is not None:
                 strategy.tell(points, [cost for cost, _ in outcomes])
-            if strategy is None or strategy.stop() or strategy.sigma < SMALLEST_STEP:
+                gained = min(cost for cost, _ in outcomes) < run_best
+                run_best = min([run_best] + [cost for cost, _ in outcomes])
+                stalled = 0 if gained else stalled + 1
+            if strategy is None or strategy.stop() or strategy.sigma < SMALLEST_STEP or stalled >= STALL:
+                stalled, run_best = 0, math.inf
                 # CMA-ES from the best try (the first time) or, once it has closed in, from another good one
                 ranked = sorted(done, key=lambda t: (t.cost, t.change))
                 pick = 0 if strategy is None else int(rng.integers(0, max(1, len(ranked) // 16)))
