@@ -69,11 +69,14 @@ pub use report::{ReportValue, WorldReport};
 pub use rollout::{rollout, RolloutSettings};
 pub use run::{Run, RunArrays, DEFAULT_FRAME_INTERVAL};
 pub use spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
-pub use world::{ContactInfo, MaterialChange, SpringJacobian, World, WorldState};
+pub use world::{
+    bond_bounds, ContactInfo, Fractured, Glue, MaterialChange, SpringJacobian, World, WorldState, GLUE_WINDOW,
+    MAX_STRENGTH, MIN_STRENGTH,
+};
 
 /// Shapes and mass properties (tumble-collide).
 pub use tumble_collide as collide;
-pub use tumble_collide::{Decomposition, Mesh, Shape};
+pub use tumble_collide::{Cells, Decomposition, Mesh, Shape, SharedFace};
 /// Contact response (tumble-contact).
 #[cfg(feature = "contact")]
 pub use tumble_contact as contact;

@@ -8,6 +8,7 @@ mod batch;
 mod control;
 mod convert;
 mod files;
+mod fracture;
 mod handles;
 mod material;
 mod mesh;

@@ -15,7 +15,7 @@ use tumble::{Decomposition, Shape};
 #[pyclass(module = "tumble._tumble", name = "Mesh", extends = PyShape, frozen)]
 pub struct PyMesh;
 
-fn mesh_of(shape: &Shape) -> &tumble::Mesh {
+pub(crate) fn mesh_of(shape: &Shape) -> &tumble::Mesh {
     match shape {
         Shape::Mesh(m) => m,
         Shape::Decomposed(d) => d.mesh(),
@@ -23,7 +23,7 @@ fn mesh_of(shape: &Shape) -> &tumble::Mesh {
     }
 }
 
-fn new_mesh(py: Python<'_>, mesh: tumble::Mesh) -> PyResult<Py<PyMesh>> {
+pub(crate) fn new_mesh(py: Python<'_>, mesh: tumble::Mesh) -> PyResult<Py<PyMesh>> {
     Py::new(py, PyClassInitializer::from(PyShape { shape: Shape::mesh(mesh) }).add_subclass(PyMesh))
 }
 

@@ -11,8 +11,9 @@ use nalgebra::Vector3;
 #[cfg(feature = "contact")]
 use tumble_contact::JointRow;
 
-/// What one joint carries: the force on B (N) and the torque on B about B's anchor (N m); A takes the opposite.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// What one joint carries: the force on B (N) and the torque on B about B's anchor (N m); A takes the opposite. (Or
+/// what it carried over a step, in N s and N m s; or its load averaged over its window.)
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct JointLoad {
     pub force: Vector3<f64>,
     pub torque: Vector3<f64>,
@@ -51,6 +52,35 @@ impl Model {
             out[*k].add(&r.lin, &r.ang_b, &self.anchor_b(*k, &ends[*k]), lambda(i, r));
         }
         out
+    }
+
+    /// The loads to judge each joint by after a step of `h`: a joint with a window its load averaged over it,
+    /// `averages` (one a joint, kept from step to step) brought on by the step's `carried` impulses (each counted
+    /// in full at the step's end: average = e^(-h / window) average + carried / window); any other its `instant`
+    /// load.
+    pub(crate) fn judged_loads(
+        &self,
+        averages: &mut Vec<JointLoad>,
+        instant: &[JointLoad],
+        carried: &[JointLoad],
+        h: f64,
+    ) -> Vec<JointLoad> {
+        averages.resize(self.joints.len(), JointLoad::default());
+        let mut judged = instant.to_vec();
+        for (k, j) in self.holding_joints() {
+            let Some(b) = j.breaking.filter(|b| b.window > 0.0) else { continue };
+            let keep = (-h / b.window).exp();
+            let a = &mut averages[k];
+            a.force = a.force * keep + carried[k].force / b.window;
+            a.torque = a.torque * keep + carried[k].torque / b.window;
+            judged[k] = *a;
+        }
+        judged
+    }
+
+    /// Whether any holding joint that can break has a window.
+    pub(crate) fn has_break_windows(&self) -> bool {
+        self.holding_joints().any(|(_, j)| j.breaking.is_some_and(|b| b.window > 0.0))
     }
 
     /// The holding joints that `loads` (one per joint) take past their bounds, in order.

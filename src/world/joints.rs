@@ -122,6 +122,7 @@ impl World {
             if b.force.is_infinite() && b.torque.is_infinite() {
                 return Err(WorldError::invalid("breaking", "a joint that breaks needs a finite force or torque"));
             }
+            limits::non_negative("window", b.window, limits::TIME, "s")?;
         }
         // the anchors in the world, for a distance joint's length
         let world_a = if spec.a.is_some() { xa + qa * spec.anchor_a } else { spec.anchor_a };

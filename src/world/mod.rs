@@ -7,6 +7,7 @@
 mod build;
 mod contacts;
 mod files;
+mod fractured;
 mod handover;
 mod interrupt;
 mod joints;
@@ -18,6 +19,7 @@ mod stepping;
 mod whole_state;
 
 pub use contacts::ContactInfo;
+pub use fractured::{bond_bounds, Fractured, Glue, GLUE_WINDOW, MAX_STRENGTH, MIN_STRENGTH};
 pub use materials::MaterialChange;
 pub(crate) use pace::Pace;
 pub use whole_state::WorldState;

@@ -32,7 +32,7 @@ pub(crate) fn solids_overlap(a: &Mesh, b: &Mesh) -> bool {
     centres.chain(vertices).any(|p| inside_both(&p))
 }
 
-fn bounds(m: &Mesh) -> (Vector3<f64>, Vector3<f64>) {
+pub(crate) fn bounds(m: &Mesh) -> (Vector3<f64>, Vector3<f64>) {
     m.vertices().iter().fold((Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY)), |(lo, hi), p| {
         (lo.inf(&p.coords), hi.sup(&p.coords))
     })
@@ -40,7 +40,7 @@ fn bounds(m: &Mesh) -> (Vector3<f64>, Vector3<f64>) {
 
 /// The generalized winding number of closed mesh `m` about `p` (Van Oosterom and Strackee's solid angle of each
 /// triangle, summed, over 4 pi).
-fn winding(m: &Mesh, p: &Point3<f64>) -> f64 {
+pub(crate) fn winding(m: &Mesh, p: &Point3<f64>) -> f64 {
     let v = m.vertices();
     let total: f64 = m
         .triangles()

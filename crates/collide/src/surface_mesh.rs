@@ -105,6 +105,23 @@ impl Mesh {
         &self.name
     }
 
+    /// Whether the solid is convex: every vertex on or below every triangle's plane (to 1e-9 of its size). A mesh
+    /// too large to check cheaply (more than 1e8 vertex-triangle pairs) counts as not convex.
+    pub fn is_convex(&self) -> bool {
+        let (v, t) = (self.vertices(), self.triangles());
+        if v.len().saturating_mul(t.len()) > 100_000_000 {
+            return false;
+        }
+        let slack = 1e-9 * extent(v);
+        t.iter().all(|tri| {
+            let [a, b, c] = tri.map(|k| v[k as usize]);
+            match (b - a).cross(&(c - a)).try_normalize(0.0) {
+                Some(n) => v.iter().all(|p| n.dot(&(p - a)) <= slack),
+                None => true,
+            }
+        })
+    }
+
     /// The enclosed volume (m^3).
     pub fn volume(&self) -> f64 {
         self.unit.mass
@@ -150,7 +167,7 @@ impl Fnv {
 }
 
 /// The largest coordinate extent of the points (1 for none).
-fn extent(points: &[Point3<f64>]) -> f64 {
+pub(crate) fn extent(points: &[Point3<f64>]) -> f64 {
     let (mut lo, mut hi) = (Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY));
     for p in points {
         lo = lo.inf(&p.coords);

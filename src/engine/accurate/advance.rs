@@ -22,14 +22,14 @@ impl AccurateEngine {
     ) -> Result<usize, WorldError> {
         let AccurateEngine { core, system, contacts, memory, .. } = self;
         let rules = contacts.as_mut().expect("the engine has contact stages");
-        let AccurateMemory { integration, contact, broken, .. } = memory;
+        let AccurateMemory { integration, contact, broken, load_averages, .. } = memory;
         let (Some(integration), Some(contact)) = (integration.as_mut(), contact.as_mut()) else {
             return Err(failure(0.0, "contact stages without an integration".into()).into());
         };
         let energy = mechanical_energy(&system.model, contact.state_or(integration.live().state()));
         let integrator = integration.live_mut();
         let (threads, limit) = (core.threads, core.divergence_limit);
-        let mut stages = rules.stages(contact, broken, &mut core.report, threads, limit);
+        let mut stages = rules.stages(contact, broken, load_averages, &mut core.report, threads, limit);
         integrator.log_steps(run.is_some());
         let result = (|| {
             // a touching phase carries on from the last call (so pausing, for frames or progress, changes nothing);
@@ -98,7 +98,7 @@ impl AccurateEngine {
                 }
                 // a joint that broke is let go of, and the integration restarts on the new equations
                 let y = integrator.state().to_vec();
-                let broke = breaking::break_overloaded(system, stages.broken, Some(&mut *stages.scene), t, &y)?;
+                let broke = breaking::break_overloaded(system, stages.broken, stages.averages, Some(&mut *stages.scene), t, &y)?;
                 if !broke.is_empty() {
                     integrator.set_state(t, &y)?;
                 }

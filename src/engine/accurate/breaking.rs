@@ -4,7 +4,9 @@
 //! bisection on the step's dense output to the time tolerance (as a collision's time is), where the step is cut:
 //! the joint is let go there and the integration restarts without it. In the touching phase the loads are the
 //! convex program's joint impulses over each accepted step (`ConvexStep::joint_loads`), and a joint past its
-//! bounds breaks at that step's end.
+//! bounds breaks at that step's end. A joint with a break window is judged by its load averaged over the window
+//! (`Model::judged_loads`): between events the average is brought on through each accepted step by quadrature on
+//! its dense output (and a break located on it as above); in the touching phase by each step's impulses.
 
 use super::joint_forces::joint_forces;
 use super::system::AccurateSystem;
@@ -36,31 +38,98 @@ pub(super) fn loads_at(system: &mut AccurateSystem, t: f64, y: &[f64]) -> Result
     Ok(loads)
 }
 
-/// The joints past their bounds at (t, y), in order.
-pub(super) fn overloaded_at(system: &mut AccurateSystem, t: f64, y: &[f64]) -> Result<Vec<usize>, OdeError> {
+/// The joints past their bounds at (t, y), in order: each judged by its load there, or, with a window, by
+/// `averages` (brought to t already).
+pub(super) fn overloaded_at(
+    system: &mut AccurateSystem,
+    averages: &[JointLoad],
+    t: f64,
+    y: &[f64],
+) -> Result<Vec<usize>, OdeError> {
     if !system.model.can_break() {
         return Ok(Vec::new());
     }
-    let loads = loads_at(system, t, y)?;
+    let mut loads = loads_at(system, t, y)?;
+    for (k, j) in system.model.holding_joints() {
+        if j.breaking.is_some_and(|b| b.window > 0.0) {
+            loads[k] = averages.get(k).copied().unwrap_or_default();
+        }
+    }
     Ok(system.model.overloaded(&loads))
 }
 
-/// The first time in an accepted step at which a joint is past its bounds (to `tolerance`, the overloaded side),
-/// or None when none is at the step's end.
+/// Gauss-Legendre's three points on [0, 1] and their weights.
+const GAUSS: [(f64, f64); 3] = [
+    (0.5 - 0.387_298_334_620_741_7, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.5 + 0.387_298_334_620_741_7, 5.0 / 18.0),
+];
+
+/// The averaged loads at t within an accepted step, from `start` (theirs at the step's start t0): each windowed
+/// joint's e^(-(t - t0) / window) start + the integral over (t0, t) of e^(-(t - s) / window) F(s) ds / window, by
+/// Gauss-Legendre's three points on the step's dense output; the others' entries as they are.
+fn averages_at(
+    step: &mut StepView<'_, AccurateSystem>,
+    start: &[JointLoad],
+    t: f64,
+) -> Result<Vec<JointLoad>, OdeError> {
+    let t0 = step.t0();
+    let mut out = start.to_vec();
+    out.resize(step.system().model.joints.len(), JointLoad::default());
+    let windows: Vec<(usize, f64)> = step
+        .system()
+        .model
+        .holding_joints()
+        .filter_map(|(k, j)| j.breaking.filter(|b| b.window > 0.0).map(|b| (k, b.window)))
+        .collect();
+    for &(k, window) in &windows {
+        let keep = (-(t - t0) / window).exp();
+        out[k].force *= keep;
+        out[k].torque *= keep;
+    }
+    if t > t0 {
+        for (x, w) in GAUSS {
+            let s = t0 + x * (t - t0);
+            let y = step.state_at(s)?;
+            let loads = loads_at(step.system_mut(), s, &y)?;
+            for &(k, window) in &windows {
+                let weight = w * (t - t0) * (-(t - s) / window).exp() / window;
+                out[k].force += loads[k].force * weight;
+                out[k].torque += loads[k].torque * weight;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The first time in an accepted step (up to `until`, where the step is cut for another reason, if earlier) at
+/// which a joint is past its bounds (to `tolerance`, the overloaded side), or None when none is at the end. The
+/// averaged loads are brought on to that time (`averages`).
 pub(super) fn break_time(
     step: &mut StepView<'_, AccurateSystem>,
+    until: Option<f64>,
+    averages: &mut Vec<JointLoad>,
     tolerance: f64,
     report: &mut WorldReport,
 ) -> Result<Option<f64>, OdeError> {
     if !step.system().model.can_break() {
         return Ok(None);
     }
-    let (t0, t1) = (step.t0(), step.t1());
-    let y1 = step.y1().to_vec();
-    if overloaded_at(step.system_mut(), t1, &y1)?.is_empty() {
+    let windows = step.system().model.has_break_windows();
+    let (t0, t1) = (step.t0(), until.map_or(step.t1(), |u| u.min(step.t1())));
+    let start = averages.clone();
+    // whether a joint is past its bounds at t, and the averaged loads there
+    let over = |step: &mut StepView<'_, AccurateSystem>, t: f64| -> Result<(bool, Vec<JointLoad>), OdeError> {
+        let at = if windows { averages_at(step, &start, t)? } else { start.clone() };
+        let y = if t == step.t1() { step.y1().to_vec() } else { step.state_at(t)? };
+        Ok((!overloaded_at(step.system_mut(), &at, t, &y)?.is_empty(), at))
+    };
+    let (past, at_end) = over(step, t1)?;
+    if !past {
+        *averages = at_end;
         return Ok(None);
     }
-    let (mut lo, mut hi) = (t0, t1);
+    let (mut lo, mut hi, mut at_hi) = (t0, t1, at_end);
     for _ in 0..HALVINGS {
         let mid = 0.5 * (lo + hi);
         if hi - lo <= tolerance || mid <= lo || mid >= hi {
@@ -68,26 +137,28 @@ pub(super) fn break_time(
         }
         report.bisection_steps += 1;
         report.stages.mark(Stage::Bisection);
-        let y = step.state_at(mid)?;
-        if overloaded_at(step.system_mut(), mid, &y)?.is_empty() {
-            lo = mid;
+        let (past, at) = over(step, mid)?;
+        if past {
+            (hi, at_hi) = (mid, at);
         } else {
-            hi = mid;
+            lo = mid;
         }
     }
+    *averages = at_hi;
     Ok(Some(hi))
 }
 
-/// Breaks the joints past their bounds at (t, y): their flags set in `broken` and given to the model and the
-/// collider set; gives them, in order.
+/// Breaks the joints past their bounds at (t, y) (those with a window judged by `averages`): their flags set in
+/// `broken` and given to the model and the collider set; gives them, in order.
 pub(super) fn break_overloaded(
     system: &mut AccurateSystem,
     broken: &mut [bool],
+    averages: &[JointLoad],
     scene: Scene<'_>,
     t: f64,
     y: &[f64],
 ) -> Result<Vec<usize>, OdeError> {
-    let which = overloaded_at(system, t, y)?;
+    let which = overloaded_at(system, averages, t, y)?;
     give_broken(system, broken, scene, &which);
     Ok(which)
 }
@@ -109,20 +180,25 @@ pub(super) fn give_broken(system: &mut AccurateSystem, broken: &mut [bool], scen
     }
 }
 
-/// Breaks the joints a contact step's `loads` take past their bounds, at the step's end t (booked in `run`);
+/// Breaks the joints a contact step of `h` takes past their bounds (`loads`: the forces its impulses make over
+/// it; a joint with a window judged by its average, brought on by them), at the step's end t (booked in `run`);
 /// gives whether any broke.
 #[cfg(feature = "contact")]
 pub(super) fn break_after_step(
     cx: &mut super::contact_stages::ContactStages<'_>,
     system: &mut AccurateSystem,
     loads: &[JointLoad],
+    h: f64,
     t: f64,
     run: Option<&mut crate::run::Run>,
 ) -> bool {
     if !system.model.can_break() || loads.is_empty() {
         return false;
     }
-    let which = system.model.overloaded(loads);
+    let carried: Vec<JointLoad> =
+        loads.iter().map(|l| JointLoad { force: l.force * h, torque: l.torque * h }).collect();
+    let judged = system.model.judged_loads(cx.averages, loads, &carried, h);
+    let which = system.model.overloaded(&judged);
     give_broken(system, cx.broken, Some(&mut *cx.scene), &which);
     if let Some(run) = run {
         which.iter().for_each(|&k| run.break_joint(t, k));

@@ -3,6 +3,7 @@
 //! (`ContactStages`: the rules, the contact memory, the broken joints, the engine's report, the thread count and the divergence
 //! limit, borrowed together for one advance).
 
+use crate::model::breaking::JointLoad;
 use super::contact_memory::{ContactMemory, ContactScales};
 use crate::engine::collider_set::ColliderSet;
 use crate::mode::AccurateSettings;
@@ -67,6 +68,7 @@ impl ContactRules {
         &'a mut self,
         memory: &'a mut ContactMemory,
         broken: &'a mut [bool],
+        averages: &'a mut Vec<JointLoad>,
         report: &'a mut WorldReport,
         threads: usize,
         divergence_limit: f64,
@@ -82,6 +84,7 @@ impl ContactRules {
             free_report: &mut self.free_report,
             memory,
             broken,
+            averages,
             report,
             threads,
             divergence_limit,
@@ -103,6 +106,8 @@ pub(crate) struct ContactStages<'a> {
     pub memory: &'a mut ContactMemory,
     /// The engine memory's broken joints (`breaking.rs`).
     pub broken: &'a mut [bool],
+    /// The engine memory's averaged joint loads (`breaking.rs`).
+    pub averages: &'a mut Vec<JointLoad>,
     pub report: &'a mut WorldReport,
     pub threads: usize,
     pub divergence_limit: f64,

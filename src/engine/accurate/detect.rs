@@ -35,7 +35,9 @@ pub fn detect(cx: &mut ContactStages<'_>, step: &mut StepView<'_, AccurateSystem
     let clock = Instant::now();
     let result = detect_stages(cx, step);
     cx.report.collision_seconds += clock.elapsed().as_secs_f64();
-    Ok(earliest(result?, super::breaking::break_time(step, cx.settings.time_tolerance, cx.report)?))
+    let until = result?;
+    let broke = super::breaking::break_time(step, until, cx.averages, cx.settings.time_tolerance, cx.report)?;
+    Ok(earliest(until, broke))
 }
 
 /// Fails when `STALL` accepted steps have taken less than `STALL` stall steps of time: the forces (with

@@ -27,6 +27,10 @@ pub(crate) struct AccurateMemory {
     /// (Absent from files written before joints could break: none broken.)
     #[serde(default)]
     pub broken: Vec<bool>,
+    /// Each joint's load averaged over its break window (`Model::judged_loads`; empty until a joint with a window
+    /// has carried a step, and absent from files written before windows).
+    #[serde(default)]
+    pub load_averages: Vec<crate::model::breaking::JointLoad>,
 }
 
 impl AccurateMemory {
@@ -67,9 +71,15 @@ impl super::AccurateEngine {
     /// Puts `memory` in place after checking it against the engine: every integration made live (one read from a
     /// file given to an integrator of this system and checked by it), the contact memory checked against the scene.
     pub(super) fn give_memory(&mut self, memory: AccurateMemory) -> Result<(), String> {
-        let AccurateMemory { clock, integration, contact, mut broken } = memory;
+        let AccurateMemory { clock, integration, contact, mut broken, load_averages } = memory;
         if broken.is_empty() {
             broken = vec![false; self.system.model.joints.len()];
+        }
+        if !(load_averages.is_empty() || load_averages.len() == self.system.model.joints.len()) {
+            return Err("its joints' averaged loads are not the scene's".into());
+        }
+        if !load_averages.iter().all(|l| l.force.iter().chain(&l.torque).all(|v| v.is_finite())) {
+            return Err("a joint's averaged load is not finite".into());
         }
         let dim = self.system.model.layout.dim();
         #[cfg(feature = "contact")]
@@ -113,7 +123,7 @@ impl super::AccurateEngine {
         )?;
         #[cfg(not(feature = "contact"))]
         self.system.model.set_broken_joints(&broken)?;
-        self.memory = AccurateMemory { clock, integration, contact, broken };
+        self.memory = AccurateMemory { clock, integration, contact, broken, load_averages };
         Ok(())
     }
 }

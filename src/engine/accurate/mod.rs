@@ -145,7 +145,7 @@ impl AccurateEngine {
             settings,
             #[cfg(feature = "contact")]
             contacts: None,
-            memory: AccurateMemory { clock: t, integration, contact: None, broken },
+            memory: AccurateMemory { clock: t, integration, contact: None, broken, load_averages: Vec::new() },
             time_tolerance: accurate.time_tolerance,
             checkpoint: None,
         };
@@ -224,6 +224,7 @@ impl AccurateEngine {
         integrator.log_steps(run.is_some());
         let report = &mut self.core.report;
         let (broken, tolerance) = (&mut self.memory.broken, self.time_tolerance);
+        let averages = &mut self.memory.load_averages;
         Ok(within_budget(integrator, budget, None, |integrator| {
             let energy = mechanical_energy(&model.model, integrator.state());
             let mut delivered = 0;
@@ -238,13 +239,13 @@ impl AccurateEngine {
                             run.record(&m.model, t, y, 0.0, []);
                         }
                     },
-                    |step| breaking::break_time(step, tolerance, report),
+                    |step| breaking::break_time(step, None, averages, tolerance, report),
                 )?;
                 delivered += adv.delivered;
                 let Some(t) = adv.event else { break };
                 // a joint breaks: let go of it, and integrate the new equations afresh from here
                 let y = integrator.state().to_vec();
-                for k in breaking::break_overloaded(model, broken, None, t, &y)? {
+                for k in breaking::break_overloaded(model, broken, averages, None, t, &y)? {
                     if let Some(run) = run.as_deref_mut() {
                         run.break_joint(t, k);
                     }

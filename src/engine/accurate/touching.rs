@@ -271,7 +271,7 @@ pub fn touching_steps(
         phase.difference = Some((h, kept.difference));
         // joints the step took past their bounds break at its end (the next step's estimate is then its halves':
         // the equations changed)
-        if super::breaking::break_after_step(cx, system, &kept.second.joint_loads, t, run.as_deref_mut()) {
+        if super::breaking::break_after_step(cx, system, &kept.second.joint_loads, h, t, run.as_deref_mut()) {
             phase.difference = None;
         }
         let impulses = found.iter().map(|f| kept.whole.forces.get(&f.key).map_or(0.0, |force| force * h));

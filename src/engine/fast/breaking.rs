@@ -1,18 +1,30 @@
 //! Fast mode's joint-breaking stage, after the soft step: each breakable joint's load from its rows' impulses of
-//! the last substep over the substep (Box2D's joint force: what the joint carried at the step's end); a joint past
-//! its bounds breaks, holding nothing from the next step on, and its bodies collide again.
+//! the last substep over the substep (Box2D's joint force: what the joint carried at the step's end), or, for a
+//! joint with a window, its load averaged over the window, brought on by the impulses it carried over the whole
+//! step (`Model::judged_loads`); a joint past its bounds breaks, holding nothing from the next step on, and its
+//! bodies collide again.
 
 use super::step::StepContext;
 use crate::engine::breaking::set_broken;
+use tumble_contact::JointImpulse;
 
-/// Breaks the joints the step took past their bounds (substeps of `substep` s); gives them, in order.
-pub(super) fn break_joints(cx: &mut StepContext<'_>, substep: f64) -> Vec<usize> {
+/// Breaks the joints the step of `h` took past their bounds (substeps of `substep` s; `carried`: each holding
+/// joint's impulses over the step, in the order of the holding joints); gives them, in order.
+pub(super) fn break_joints(cx: &mut StepContext<'_>, carried: &[JointImpulse], substep: f64, h: f64) -> Vec<usize> {
     if !cx.model.can_break() {
         return Vec::new();
     }
     let (rows, ends) = cx.model.all_rows(&cx.memory.y, false);
     let warm = &cx.memory.joint_warm;
-    let loads = cx.model.joint_loads(&rows, &ends, |i, r| warm[rows[i].0].0[r.slot] / substep);
+    let mut loads = cx.model.joint_loads(&rows, &ends, |i, r| warm[rows[i].0].0[r.slot] / substep);
+    if cx.model.has_break_windows() {
+        let mut by_joint = vec![JointImpulse::default(); cx.model.joints.len()];
+        for ((k, _), p) in cx.model.holding_joints().zip(carried) {
+            by_joint[k] = *p;
+        }
+        let over_step = cx.model.joint_loads(&rows, &ends, |i, r| by_joint[rows[i].0].0[r.slot]);
+        loads = cx.model.judged_loads(&mut cx.memory.load_averages, &loads, &over_step, h);
+    }
     let broken = cx.model.overloaded(&loads);
     if broken.is_empty() {
         return broken;

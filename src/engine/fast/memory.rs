@@ -7,6 +7,7 @@ use super::sleep::Sleep;
 use crate::engine::contact_pairs::ContactPairs;
 use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;
+use crate::model::breaking::JointLoad;
 use std::collections::BTreeMap;
 
 /// What fast mode carries from step to step. (Copied into the room of an older copy, `clone_from`, by the run
@@ -27,6 +28,10 @@ pub(crate) struct FastMemory {
     /// (Absent from files written before joints could break: none broken.)
     #[serde(default)]
     pub broken: Vec<bool>,
+    /// Each joint's load averaged over its break window (`Model::judged_loads`; empty until a joint with a window
+    /// has carried a step, and absent from files written before windows).
+    #[serde(default)]
+    pub load_averages: Vec<JointLoad>,
     pub sleep: Sleep,
     /// Largest penetration among the contacts of the last step.
     pub penetration: f64,
@@ -45,6 +50,7 @@ impl Clone for FastMemory {
             previous: self.previous.clone(),
             joint_warm: self.joint_warm.clone(),
             broken: self.broken.clone(),
+            load_averages: self.load_averages.clone(),
             sleep: self.sleep.clone(),
             penetration: self.penetration,
             pairs: self.pairs.clone(),
@@ -58,6 +64,7 @@ impl Clone for FastMemory {
         self.previous.clone_from(&o.previous);
         self.joint_warm.clone_from(&o.joint_warm);
         self.broken.clone_from(&o.broken);
+        self.load_averages.clone_from(&o.load_averages);
         self.sleep.clone_from(&o.sleep);
         self.pairs.clone_from(&o.pairs);
         self.last_contacts.clone_from(&o.last_contacts);
@@ -89,6 +96,14 @@ impl FastMemory {
             (self.joint_warm.len() == fit.joints, "its joints are not the scene's"),
             (self.broken.len() == fit.joints, "its broken joints are not the scene's"),
             (self.joint_warm.iter().all(|j| j.0.iter().all(|p| p.is_finite())), "a joint's impulse is not finite"),
+            (
+                self.load_averages.is_empty() || self.load_averages.len() == fit.joints,
+                "its joints' averaged loads are not the scene's",
+            ),
+            (
+                self.load_averages.iter().all(|l| l.force.iter().chain(&l.torque).all(|v| v.is_finite())),
+                "a joint's averaged load is not finite",
+            ),
             (
                 self.pairs.is_some() == fit.keeps_pairs,
                 "it keeps contact pairs where this solver does not, or none where it does",

@@ -92,6 +92,7 @@ impl FastEngine {
             previous: BTreeMap::new(),
             joint_warm: vec![Default::default(); model.joints.len()],
             broken: model.broken_joints(),
+            load_averages: Vec::new(),
             sleep: Sleep::new(actors),
             penetration: 0.0,
             pairs: keeps_pairs.then(Default::default),

@@ -59,7 +59,8 @@ pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<Vec<usize>, World
             let out = soft_solve(cx, &states, h, soft)?;
             let sleep = &cx.memory.sleep;
             apply_moves(cx.model, &mut cx.memory.y, &out, |a| !sleep.asleep(a));
-            (out.velocities, break_joints(cx, h / soft.substeps.max(1) as f64))
+            let broken = break_joints(cx, &out.joint_step_impulses, h / soft.substeps.max(1) as f64, h);
+            (out.velocities, broken)
         }
         FastSolver::Exact { .. } => {
             let velocities = solve_velocities(cx, &states, &found, h)?;

@@ -29,6 +29,8 @@ struct Row {
 pub(crate) struct JointSet {
     joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>,
     pub impulses: Vec<JointImpulse>,
+    /// Each joint's impulses summed over the substeps so far: what it carried over the step.
+    pub step_impulses: Vec<JointImpulse>,
     rows: Vec<Row>,
     /// The rows of rigid joints that hold them (equality rows), solved together by a direct solve, and the
     /// factorization of their K = J M^-1 J^T; empty when there are more than `DIRECT_ROWS`.
@@ -59,6 +61,7 @@ impl JointSet {
     /// `joints` with local body indices, their centres at the step's start, and their warm starts.
     pub fn new(joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>, warm: Vec<JointImpulse>) -> JointSet {
         JointSet {
+            step_impulses: vec![JointImpulse::default(); warm.len()],
             joints,
             impulses: warm,
             rows: Vec::new(),
@@ -138,6 +141,15 @@ impl JointSet {
     /// A body's inverse mass, read from the rows' masses (kept with the joints' bodies).
     fn inverse_mass(&self, body: usize) -> f64 {
         self.masses.get(body).copied().unwrap_or(0.0)
+    }
+
+    /// Adds the substep's impulses to the step's.
+    pub fn end_substep(&mut self) {
+        for (step, last) in self.step_impulses.iter_mut().zip(&self.impulses) {
+            for (s, p) in step.0.iter_mut().zip(&last.0) {
+                *s += p;
+            }
+        }
     }
 
     /// Applies every row's accumulated impulse (the last substep's) to the bodies.

@@ -146,8 +146,10 @@ pub struct SoftStep {
     /// hold them).
     pub impulses: Vec<SoftImpulse>,
     pub normal_impulses: Vec<f64>,
-    /// Each joint's row impulses of the last substep (to start the next step with).
+    /// Each joint's row impulses of the last substep (to start the next step with), and over the whole step (the
+    /// substeps' sum: what it carried).
     pub joint_impulses: Vec<JointImpulse>,
+    pub joint_step_impulses: Vec<JointImpulse>,
     /// Islands solved.
     pub islands: usize,
     /// How far the step's end is from the exact contact conditions (m/s): the largest approach speed of a touching
@@ -172,6 +174,7 @@ impl PartialEq for SoftStep {
             && self.impulses == o.impulses
             && self.normal_impulses == o.normal_impulses
             && self.joint_impulses == o.joint_impulses
+            && self.joint_step_impulses == o.joint_step_impulses
             && self.islands == o.islands
             && self.residual.to_bits() == o.residual.to_bits()
             && (self.pushing, self.collisions) == (o.pushing, o.collisions)
@@ -548,6 +551,7 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
         impulses: Vec::new(),
         normal_impulses: Vec::new(),
         joint_impulses: vec![JointImpulse::default(); joints.len()],
+        joint_step_impulses: vec![JointImpulse::default(); joints.len()],
         islands,
         residual: 0.0,
         prepare_seconds: setup,
@@ -610,8 +614,9 @@ impl SoftStep {
             }
         }
         for (set, joints) in group.joints.iter().zip(&spec.joints) {
-            for (&k, impulse) in joints.iter().zip(&set.impulses) {
+            for ((&k, impulse), step) in joints.iter().zip(&set.impulses).zip(&set.step_impulses) {
                 self.joint_impulses[k] = *impulse;
+                self.joint_step_impulses[k] = *step;
             }
         }
     }

@@ -275,6 +275,11 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
             }
             barrier.wait();
             pass(passes.relax, passes.relax_joints);
+            if has_joints && t == 0 {
+                for set in unsafe { joints.range(all_joints.clone()) } {
+                    set.end_substep();
+                }
+            }
             for bu in unsafe { bundles.range(share(&all_bundles, t, threads)) } {
                 for row in &mut bu.rows[..bu.points] {
                     row.step = std::array::from_fn(|l| row.step[l] + row.normal[l]);
