@@ -239,6 +239,10 @@ impl Joint {
     pub fn anchors(&self) -> (Vector3<f64>, Vector3<f64>) {
         (self.spec.anchor_a, self.spec.anchor_b)
     }
+    /// When it breaks (None: never).
+    pub fn breaking(&self) -> Option<Breaking> {
+        self.spec.breaking
+    }
     /// Whether it has broken (past its `breaking` bounds): it then holds nothing.
     pub fn is_broken(&self) -> bool {
         self.broken

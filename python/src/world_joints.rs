@@ -13,7 +13,7 @@ impl PyWorld {
     /// "distance", "rope") between bodies `a` and `b`
     /// (None: the world, whose anchor is then a world point). Use `World.add_joint` with a joint object.
     #[pyo3(signature = (kind, a, b, anchor_a = None, anchor_b = None, axis = None, limits = None, motor = None,
-                        spring = None, softness = None, length = None, breaking = None,
+                        spring = None, softness = None, length = None, breaking = None, break_window = 0.0,
                         collide = false, turn_limits = None))]
     #[allow(clippy::too_many_arguments)]
     fn _add_joint(
@@ -30,6 +30,7 @@ impl PyWorld {
         softness: Option<(f64, f64)>,
         length: Option<f64>,
         breaking: Option<(f64, f64)>,
+        break_window: f64,
         collide: bool,
         turn_limits: Option<(f64, f64)>,
     ) -> PyResult<PyJointHandle> {
@@ -70,7 +71,9 @@ impl PyWorld {
             j = j.softness(hertz, zeta);
         }
         if let Some((force, torque)) = breaking {
-            j = j.breaking(force, torque);
+            j = j.breaking_averaged(force, torque, break_window);
+        } else if break_window != 0.0 {
+            return Err(crate::convert::invalid("break_window", "applies to a joint given `breaking`"));
         }
         j = j.collide(collide);
         if let Some((lo, hi)) = turn_limits {
@@ -95,9 +98,27 @@ impl PyWorld {
         }
     }
 
+    /// When `joint` breaks: (force N, torque N m, window s) as given to `breaking` (a glued piece's bounds from
+    /// its face, `add_fractured`), or None for a joint that never breaks.
+    fn joint_breaking(&self, joint: PyJointHandle) -> PyResult<Option<(f64, f64, f64)>> {
+        let h: tumble::JointHandle = joint.into();
+        match self.r().joint(h) {
+            Some(j) => Ok(j.breaking().map(|b| (b.force, b.torque, b.window))),
+            None => Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "invalid argument `joint`: no joint {h:?} in this world"
+            ))),
+        }
+    }
+
     /// The joints that have broken, in the order they were added.
     fn broken_joints(&self) -> Vec<PyJointHandle> {
         self.r().joints().filter(|(_, j)| j.is_broken()).map(|(h, _)| h.into()).collect()
+    }
+
+    /// The joints, in the order they were added (a fractured object's welds among them).
+    #[getter]
+    fn joint_handles(&self) -> Vec<PyJointHandle> {
+        self.r().joints().map(|(h, _)| h.into()).collect()
     }
 
     /// The number of joints.

@@ -70,12 +70,15 @@ class JointSpring:
 @dataclass(frozen=True)
 class Breaking:
     """When a joint breaks: as soon as the force it carries exceeds ``force`` (N) or its torque about the second
-    body's anchor exceeds ``torque`` (N m), in either mode (either may be left infinite, not both). A broken joint
-    holds nothing from then on and its bodies collide again; ``World.joint_broken`` and ``Run.joint_breaks`` say
-    which broke and when."""
+    body's anchor exceeds ``torque`` (N m), in either mode (either may be left infinite, not both). With a
+    ``window`` (s) the load judged is the one carried averaged over about that long (an impact's impulse counts in
+    full whatever the step, so what breaks converges as the step shrinks); without (0) the load at the instant. A
+    broken joint holds nothing from then on and its bodies collide again; ``World.joint_broken`` and
+    ``Run.joint_breaks`` say which broke and when."""
 
     force: float = float("inf")
     torque: float = float("inf")
+    window: float = 0.0
 
     def _pair(self) -> Tuple[float, float]:
         return (_number("breaking", self.force), _number("breaking", self.torque))
@@ -107,7 +110,9 @@ class _Joint:
             raise ValueError(f"invalid argument `breaking`: expected a tumble.Breaking, got {self.breaking!r}")
         return dict(kind=self._kind, a=self.a, b=self.b, anchor_a=anchor_a, anchor_b=anchor_b,
                     softness=None if self.softness is None else _pair("softness", self.softness),
-                    breaking=None if self.breaking is None else self.breaking._pair(), collide=self._collide())
+                    breaking=None if self.breaking is None else self.breaking._pair(),
+                    break_window=0.0 if self.breaking is None else _number("window", self.breaking.window),
+                    collide=self._collide())
 
     def _collide(self) -> bool:
         if not isinstance(self.collide, bool):

@@ -152,6 +152,15 @@ class Mesh(Shape):
     def volume(self) -> float: ...
     @property
     def name(self) -> str: ...
+    def fracture(
+        self,
+        pieces: int | None = None,
+        seed: int | None = None,
+        points: npt.ArrayLike | None = None,
+        near: Vec3 | None = None,
+    ) -> list[Mesh]:
+        """The mesh cut into pieces at the Voronoi cells of ``pieces`` seeded points inside it (more near ``near``)
+        or of the given ``points``: closed meshes in its frame, named after it, their volumes adding up to its own."""
     def hull(self) -> ConvexHull: ...
     def pieces(
         self, resolution: int | None = None, max_pieces: int | None = None, concavity: float | None = None
@@ -297,6 +306,7 @@ class World:
         softness: tuple[float, float] | None = None,
         length: float | None = None,
         breaking: tuple[float, float] | None = None,
+        break_window: float = 0.0,
         collide: bool = False,
         turn_limits: tuple[float, float] | None = None,
     ) -> JointHandle: ...
@@ -306,6 +316,26 @@ class World:
         """Whether ``joint`` has broken (past its ``breaking`` bounds; it then holds nothing)."""
     def broken_joints(self) -> list[JointHandle]:
         """The joints that have broken, in the order they were added."""
+    def joint_breaking(self, joint: JointHandle) -> tuple[float, float, float] | None:
+        """When ``joint`` breaks: (force N, torque N m, window s), or None for a joint that never breaks."""
+    @property
+    def joint_handles(self) -> list[JointHandle]:
+        """The joints, in the order they were added."""
+    def add_fractured(
+        self,
+        mesh: Mesh,
+        pieces: list[Mesh],
+        density: float | None = None,
+        strength: float | None = None,
+        position: Vec3 | None = None,
+        orientation: Quat | None = None,
+        friction: float | None = None,
+        restitution: float | None = None,
+        window: float | None = None,
+    ) -> list[BodyHandle]:
+        """Adds the pieces of fractured ``mesh`` as bodies where they were modelled, each pair that shares a face
+        glued by a weld that breaks past the face's area times ``strength`` (Pa), its load averaged over ``window``
+        seconds (0.01 by default); returns the pieces' handles."""
     @property
     def joint_count(self) -> int: ...
     def set_particle_state(

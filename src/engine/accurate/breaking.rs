@@ -5,8 +5,9 @@
 //! the joint is let go there and the integration restarts without it. In the touching phase the loads are the
 //! convex program's joint impulses over each accepted step (`ConvexStep::joint_loads`), and a joint past its
 //! bounds breaks at that step's end. A joint with a break window is judged by its load averaged over the window
-//! (`Model::judged_loads`): between events the average is brought on through each accepted step by quadrature on
-//! its dense output (and a break located on it as above); in the touching phase by each step's impulses.
+//! (`Model::judged_loads`): between events the average is brought on through each accepted step from its dense
+//! output (the load taken linear between a few points, the exponential integrated exactly; a break located on it
+//! as above); in the touching phase by each step's impulses.
 
 use super::joint_forces::joint_forces;
 use super::system::AccurateSystem;
@@ -58,16 +59,13 @@ pub(super) fn overloaded_at(
     Ok(system.model.overloaded(&loads))
 }
 
-/// Gauss-Legendre's three points on [0, 1] and their weights.
-const GAUSS: [(f64, f64); 3] = [
-    (0.5 - 0.387_298_334_620_741_7, 5.0 / 18.0),
-    (0.5, 8.0 / 18.0),
-    (0.5 + 0.387_298_334_620_741_7, 5.0 / 18.0),
-];
+/// Pieces the load is taken linear over when it is averaged through part of a step.
+const PIECES: usize = 4;
 
 /// The averaged loads at t within an accepted step, from `start` (theirs at the step's start t0): each windowed
-/// joint's e^(-(t - t0) / window) start + the integral over (t0, t) of e^(-(t - s) / window) F(s) ds / window, by
-/// Gauss-Legendre's three points on the step's dense output; the others' entries as they are.
+/// joint's e^(-(t - t0) / window) start + the integral over (t0, t) of e^(-(t - s) / window) F(s) ds / window, with
+/// F taken linear between `PIECES + 1` points of the step's dense output and the exponential integrated exactly
+/// (so a window far shorter than the step still gives the load itself); the others' entries as they are.
 fn averages_at(
     step: &mut StepView<'_, AccurateSystem>,
     start: &[JointLoad],
@@ -87,17 +85,27 @@ fn averages_at(
         out[k].force *= keep;
         out[k].torque *= keep;
     }
-    if t > t0 {
-        for (x, w) in GAUSS {
-            let s = t0 + x * (t - t0);
-            let y = step.state_at(s)?;
-            let loads = loads_at(step.system_mut(), s, &y)?;
-            for &(k, window) in &windows {
-                let weight = w * (t - t0) * (-(t - s) / window).exp() / window;
-                out[k].force += loads[k].force * weight;
-                out[k].torque += loads[k].torque * weight;
-            }
+    if t <= t0 {
+        return Ok(out);
+    }
+    let at = |step: &mut StepView<'_, AccurateSystem>, s: f64| -> Result<Vec<JointLoad>, OdeError> {
+        let y = step.state_at(s)?;
+        loads_at(step.system_mut(), s, &y)
+    };
+    let mut s0 = t0;
+    let mut f0 = at(step, s0)?;
+    for i in 1..=PIECES {
+        let s1 = t0 + (t - t0) * i as f64 / PIECES as f64;
+        let f1 = at(step, s1)?;
+        for &(k, window) in &windows {
+            // over [s0, s1] with F linear from f0 to f1: f0 (E1 - E0) + (f1 - f0) (E1 - window (E1 - E0) / (s1 - s0)),
+            // E(s) = e^(-(t - s) / window)
+            let (e0, e1) = ((-(t - s0) / window).exp(), (-(t - s1) / window).exp());
+            let slope = e1 - window * (e1 - e0) / (s1 - s0);
+            out[k].force += f0[k].force * (e1 - e0) + (f1[k].force - f0[k].force) * slope;
+            out[k].torque += f0[k].torque * (e1 - e0) + (f1[k].torque - f0[k].torque) * slope;
         }
+        (s0, f0) = (s1, f1);
     }
     Ok(out)
 }

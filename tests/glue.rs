@@ -1,0 +1,137 @@
+//! Glue: a fractured bar's pieces welded with bounds from their face's area times the strength (exact), a glued
+//! beam that snaps when its load averaged over the window reaches the bound (the closed-form time in accurate mode,
+//! located to the time tolerance; the step's discrete form in fast mode), an unloaded glued object that holds, and
+//! bad glue refused by name with nothing added.
+
+use nalgebra::{Point3, Vector3};
+use tumble::{
+    bond_bounds, Cells, FastSettings, Glue, JointBuilder, Method, Mesh, Mode, Settings, Shape, World, WorldError,
+};
+
+const G: f64 = 9.81;
+
+/// A 2 x 0.2 x 0.1 m bar (a box's own triangles), and its two halves cut at x = 0.
+fn bar() -> (Mesh, Vec<Mesh>) {
+    let (v, t) = Shape::cuboid(Vector3::new(1.0, 0.1, 0.05)).unwrap().triangle_mesh(8, 1.0);
+    let mesh = Mesh::new(&v, &t, "bar").unwrap();
+    let halves = mesh.fracture(&Cells::at(vec![Point3::new(-0.5, 0.0, 0.0), Point3::new(0.5, 0.0, 0.0)])).unwrap();
+    (mesh, halves)
+}
+
+fn accurate() -> World {
+    let mut w = World::new();
+    w.set_integrator(Settings::tolerances(Method::Dopri5, 1e-10, 1e-12)).unwrap();
+    w
+}
+
+fn fast(dt: f64) -> World {
+    let mut w = World::new();
+    w.set_mode(Mode::Fast(FastSettings::new(dt))).unwrap();
+    w
+}
+
+#[test]
+fn a_two_piece_bar_is_welded_with_bounds_from_its_section() {
+    let (mesh, halves) = bar();
+    let mut w = fast(1.0 / 240.0);
+    let glued = w.add_fractured(&mesh, &halves, &Glue::new(1000.0, 3e5)).unwrap();
+    assert_eq!(glued.bonds.len(), 1);
+    let (joint, face) = &glued.bonds[0];
+    // the section is 0.2 x 0.1 m: to rounding of the cut and the overlap's clipping
+    assert!((face.area - 0.02).abs() < 1e-15);
+    let b = w.joint(*joint).unwrap().breaking().unwrap();
+    // the bounds are the face's: strength x area, and strength x area x r / 4 (a round face, r = sqrt(area / pi)),
+    // 1e-12 relative to the section's closed form (the area's rounding)
+    assert_eq!(bond_bounds(face.area, 3e5), (b.force, b.torque));
+    let r = (0.02 / std::f64::consts::PI).sqrt();
+    assert!((b.force / (3e5 * 0.02) - 1.0).abs() < 1e-12 && (b.torque / (3e5 * 0.02 * r / 4.0) - 1.0).abs() < 1e-12);
+    assert_eq!(b.window, 0.01);
+}
+
+/// The beam: the bar's halves glued, the left one welded to the world at its centre; the right one (10 kg at
+/// density 500) hangs on the glue, whose torque is m g L = 49.05 N m about the face (L = 0.5 m from it to the
+/// half's centre) from the start. Glue of `strength` with the torque bound a share `ratio` of that, window 10 ms.
+fn beam(mut w: World, ratio: f64) -> (World, f64) {
+    let (mesh, halves) = bar();
+    let load = 10.0 * G * 0.5;
+    let r = (0.02 / std::f64::consts::PI).sqrt();
+    let strength = ratio * load * 4.0 / (0.02 * r);
+    let glued = w.add_fractured(&mesh, &halves, &Glue::new(500.0, strength)).unwrap();
+    w.add_joint(JointBuilder::weld(Some(glued.bodies[0]), None).anchor_b(Vector3::new(-0.5, 0.0, 0.0))).unwrap();
+    (w, load)
+}
+
+#[test]
+fn a_beam_snaps_when_its_averaged_load_reaches_the_bound_at_the_closed_form_time() {
+    // accurate mode: the average of a load M put on at t = 0 is M (1 - e^(-t / window)); it reaches the bound
+    // ratio M at t = -window ln(1 - ratio), located to the time tolerance (1e-10 s by default, 1e-9 allowed: bisection on the step's
+    // dense output; the average between a step's points is exact for a load constant in time, as here)
+    for ratio in [0.3, 0.5, 0.9] {
+        let (mut w, _) = beam(accurate(), ratio);
+        let run = w.run(0.2, 0.01).unwrap();
+        let expected = -0.01 * (1.0 - ratio).ln();
+        assert_eq!(run.joint_breaks.len(), 1, "ratio {ratio}");
+        let (t, _) = run.joint_breaks[0];
+        assert!((t - expected).abs() <= 1e-9, "ratio {ratio}: broke at {t}, the closed form {expected}");
+    }
+}
+
+#[test]
+fn fast_mode_counts_each_step_s_impulse_at_its_end() {
+    // fast mode: after k steps of h under the load M, the average is (M h / window) sum_{i<k} e^(-i h / window);
+    // it breaks at the end of the first step where that passes the bound (the same step as the closed form)
+    let h = 1.0 / 240.0;
+    for ratio in [0.3, 0.5, 0.9, 1.2] {
+        let (mut w, load) = beam(fast(h), ratio);
+        let run = w.run(0.2, 0.01).unwrap();
+        let keep = (-h / 0.01f64).exp();
+        let mut average = 0.0;
+        let mut k = 0;
+        while average <= ratio * load {
+            average = average * keep + load * h / 0.01;
+            k += 1;
+        }
+        assert_eq!(run.joint_breaks.len(), 1, "ratio {ratio}");
+        // the soft weld's load is the hanging half's weight to 1%: the step it breaks in is the formula's
+        let (t, _) = run.joint_breaks[0];
+        assert!((t - k as f64 * h).abs() < 1e-12, "ratio {ratio}: broke at {t}, expected step {k}");
+    }
+}
+
+#[test]
+fn an_unloaded_glued_bar_holds_as_one_in_both_modes() {
+    // the beam at a strength ten times what the load needs: nothing breaks in 1 s and the hanging half stays
+    // within 1 mm of where it was glued (fast mode's soft welds sag by about g / (2 pi f)^2 at their stiffness)
+    for w in [fast(1.0 / 240.0), accurate()] {
+        let (mut w, _) = beam(w, 10.0);
+        let glued: Vec<_> = w.bodies().map(|(h, _)| h).collect();
+        let run = w.run(1.0, 0.01).unwrap();
+        assert!(run.joint_breaks.is_empty());
+        let p = w.body(glued[1]).unwrap().position();
+        assert!((p - Vector3::new(0.5, 0.0, 0.0)).norm() < 1e-3, "{p}");
+    }
+}
+
+#[test]
+fn bad_glue_is_refused_by_name_and_nothing_is_added() {
+    let (mesh, halves) = bar();
+    let mut w = fast(1.0 / 240.0);
+    let name = |w: &mut World, glue: Glue, pieces: &[Mesh]| match w.add_fractured(&mesh, pieces, &glue) {
+        Err(WorldError::InvalidArgument { name, .. }) => name,
+        other => panic!("{other:?}"),
+    };
+    for (glue, expected) in [
+        (Glue::new(1000.0, 0.0), "strength"),
+        (Glue::new(1000.0, f64::NAN), "strength"),
+        (Glue::new(1000.0, 1e13), "strength"),
+        (Glue { window: -1.0, ..Glue::new(1000.0, 1e6) }, "window"),
+        (Glue { position: Vector3::new(f64::NAN, 0.0, 0.0), ..Glue::new(1000.0, 1e6) }, "position"),
+        (Glue::new(-1.0, 1e6), "density"),
+    ] {
+        assert_eq!(name(&mut w, glue, &halves), expected);
+    }
+    assert_eq!(name(&mut w, Glue::new(1000.0, 1e6), &halves[..1]), "pieces");
+    assert_eq!(name(&mut w, Glue::new(1000.0, 1e6), &[]), "pieces");
+    assert_eq!(w.bodies().count(), 0);
+    assert_eq!(w.joints().count(), 0);
+}
