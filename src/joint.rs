@@ -90,6 +90,10 @@ pub struct JointBuilder {
     /// Whether its two bodies collide with each other (they do not by default).
     #[serde(default)]
     pub(crate) collide: bool,
+    /// Whether it binds its bodies into one piece with every body bound to them by other such joints (a glued
+    /// object's welds): none of them collide with each other while the joints hold.
+    #[serde(default)]
+    pub(crate) cluster: bool,
 }
 
 impl JointBuilder {
@@ -108,6 +112,7 @@ impl JointBuilder {
             softness: None,
             breaking: None,
             collide: false,
+            cluster: false,
         }
     }
     /// A ball (spherical) joint: the anchors coincide.
@@ -194,6 +199,13 @@ impl JointBuilder {
     /// converges as the step shrinks (a window of 0 is `breaking`).
     pub fn breaking_averaged(mut self, max_force: f64, max_torque: f64, window: f64) -> Self {
         self.breaking = Some(Breaking { force: max_force, torque: max_torque, window });
+        self
+    }
+    /// Binds the joint's bodies into one piece with every body bound to them by other such joints, as a glued
+    /// object's welds do (`World::add_fractured`): no two bodies of a piece collide while its joints hold (pieces of
+    /// an object that touch along an edge pushed at each other, and their welds carried it).
+    pub fn cluster(mut self, on: bool) -> Self {
+        self.cluster = on;
         self
     }
     /// Lets the joint's two bodies collide with each other (Bullet's and Blender's "disable collisions" off, USD's

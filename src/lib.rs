@@ -71,7 +71,7 @@ pub use run::{Run, RunArrays, DEFAULT_FRAME_INTERVAL};
 pub use spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
 pub use world::{
     bond_bounds, ContactInfo, Fractured, Glue, MaterialChange, SpringJacobian, World, WorldState, GLUE_WINDOW,
-    MAX_STRENGTH, MIN_STRENGTH,
+    MAX_STRENGTH, MIN_STRENGTH, SMALLEST_BOND,
 };
 
 /// Shapes and mass properties (tumble-collide).

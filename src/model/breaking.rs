@@ -3,7 +3,7 @@
 //! right-hand side or convex program, fast mode's soft step) and break joints here; a broken joint gives no rows
 //! and no longer keeps its bodies from colliding.
 
-use crate::model::joints::EndState;
+use crate::model::joints::{CompiledJoint, EndState};
 #[cfg(feature = "contact")]
 use crate::model::joints::JointEnd;
 use crate::model::Model;
@@ -110,19 +110,50 @@ impl Model {
         Ok(())
     }
 
-    /// The actor pairs a holding joint joins directly (they do not collide, unless the joint lets them), sorted,
-    /// each once.
+    /// The actor pairs a holding joint joins directly (they do not collide, unless the joint lets them), and every
+    /// pair of bodies one piece of holding cluster joints binds (`JointBuilder::cluster`), sorted, each once.
     #[cfg(feature = "contact")]
     pub(crate) fn joined_pairs(&self) -> Vec<(usize, usize)> {
         let p = self.layout.particles;
+        let bodies = |j: &CompiledJoint| match (j.a, j.b) {
+            (JointEnd::Body(a), JointEnd::Body(b)) => Some((p + a, p + b)),
+            _ => None,
+        };
         let mut joined: Vec<(usize, usize)> = self
             .holding_joints()
             .filter(|(_, j)| !j.collide)
-            .filter_map(|(_, j)| match (j.a, j.b) {
-                (JointEnd::Body(a), JointEnd::Body(b)) => Some(((p + a).min(p + b), (p + a).max(p + b))),
-                _ => None,
-            })
+            .filter_map(|(_, j)| bodies(j))
+            .map(|(a, b)| (a.min(b), a.max(b)))
             .collect();
+        // the pieces: bodies bound by cluster joints, by union-find (roots the smallest actor, so the order is the
+        // actors')
+        let mut root: std::collections::BTreeMap<usize, usize> = std::collections::BTreeMap::new();
+        fn find(root: &mut std::collections::BTreeMap<usize, usize>, a: usize) -> usize {
+            let r = *root.entry(a).or_insert(a);
+            if r == a {
+                return a;
+            }
+            let top = find(root, r);
+            root.insert(a, top);
+            top
+        }
+        for (a, b) in self.holding_joints().filter(|(_, j)| j.cluster).filter_map(|(_, j)| bodies(j)) {
+            let (ra, rb) = (find(&mut root, a), find(&mut root, b));
+            if ra != rb {
+                root.insert(ra.max(rb), ra.min(rb));
+            }
+        }
+        let members: Vec<usize> = root.keys().copied().collect();
+        let mut pieces: std::collections::BTreeMap<usize, Vec<usize>> = std::collections::BTreeMap::new();
+        for a in members {
+            let r = find(&mut root, a);
+            pieces.entry(r).or_default().push(a);
+        }
+        for piece in pieces.values() {
+            for (i, &a) in piece.iter().enumerate() {
+                joined.extend(piece[i + 1..].iter().map(|&b| (a.min(b), a.max(b))));
+            }
+        }
         joined.sort_unstable();
         joined.dedup();
         joined

@@ -37,6 +37,9 @@ pub(crate) struct CompiledJoint {
     /// Whether its bodies collide with each other.
     #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub collide: bool,
+    /// Whether it binds its bodies into one piece with those other such joints bind (`JointBuilder::cluster`).
+    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
+    pub cluster: bool,
 }
 
 /// A body's pose and velocities as the joint rows need them, with its world inverse inertia and mass.
@@ -208,6 +211,7 @@ pub(crate) fn compile_joints(
                 breaking: s.breaking,
                 broken: j.broken,
                 collide: s.collide,
+                cluster: s.cluster,
             }
         })
         .collect()

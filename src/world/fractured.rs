@@ -69,6 +69,21 @@ pub fn bond_bounds(area: f64, strength: f64) -> (f64, f64) {
     (strength * area, strength * area * radius / 4.0)
 }
 
+/// A shared face smaller than this share of the object's median face is a touch, not a bond: it is left unglued.
+/// (Where cells meet the surface at a glancing angle they share slivers of face; glued, each held a hundredth of
+/// a typical bond's load and broke under the object's own weight, whatever shares the load among the welds.)
+pub const SMALLEST_BOND: f64 = 0.05;
+
+/// The faces to glue: those of at least `SMALLEST_BOND` of the median face's area.
+fn glued_faces(mut faces: Vec<SharedFace>) -> Vec<SharedFace> {
+    let mut areas: Vec<f64> = faces.iter().map(|f| f.area).collect();
+    areas.sort_by(f64::total_cmp);
+    if let Some(&median) = areas.get(areas.len() / 2) {
+        faces.retain(|f| f.area >= SMALLEST_BOND * median);
+    }
+    faces
+}
+
 impl World {
     /// Adds the `pieces` of fractured `mesh` (closed meshes in its frame that fill it, as `Mesh::fracture` makes them) as
     /// bodies where they were modelled, the frame placed at `glue`'s pose; a convex piece collides as its hull,
@@ -92,7 +107,7 @@ impl World {
         limits::in_range("strength", glue.strength, MIN_STRENGTH, MAX_STRENGTH, "Pa")?;
         limits::non_negative("window", glue.window, limits::TIME, "s")?;
         limits::vector("position", &glue.position, limits::COORDINATE, "m")?;
-        let faces = shared_faces(pieces);
+        let faces = glued_faces(shared_faces(pieces));
         // every body built (and so checked) before any is added
         let built = pieces
             .iter()
@@ -135,7 +150,8 @@ impl World {
             let joint = JointBuilder::weld(Some(bodies[a]), Some(bodies[b]))
                 .anchor_a(anchor_a)
                 .anchor_b(anchor_b)
-                .breaking_averaged(force, torque, glue.window);
+                .breaking_averaged(force, torque, glue.window)
+                .cluster(true);
             bonds.push((self.add_joint(joint)?, face));
         }
         Ok(Fractured { bodies, bonds })

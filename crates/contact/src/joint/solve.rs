@@ -44,8 +44,17 @@ pub fn delassus(rows: &[[RowPart; 2]]) -> DMatrix<f64> {
     k
 }
 
-/// The Cholesky factor of K's rows and columns `at`, regularised by 1e-12 of its largest diagonal entry if it is
-/// singular (a redundant joint); `None` if `at` is empty or it does not factor even so.
+/// A pivot of K's Cholesky factor (squared) below this share of K's largest diagonal entry means K is singular to
+/// rounding: the rows are redundant (joints that close a loop, as a glued object's welds do).
+const REDUNDANT: f64 = 1e-9;
+/// The regularisation of a singular K, as a share of its largest diagonal entry: the impulses come out those of
+/// least size that do the work, to that share (redundant rows otherwise carry impulses of any size that cancel,
+/// rounding's share of the right-hand side over the smallest pivot: the welds of a glued wall in free fall carried
+/// their bricks' weight and broke).
+const REGULARISE: f64 = 1e-8;
+
+/// The Cholesky factor of K's rows and columns `at`, regularised by `REGULARISE` of its largest diagonal entry if it
+/// is singular (redundant joints); `None` if `at` is empty or it does not factor even so.
 pub fn factor(k: &DMatrix<f64>, at: &[usize]) -> Option<Cholesky<f64, Dyn>> {
     if at.is_empty() {
         return None;
@@ -53,7 +62,11 @@ pub fn factor(k: &DMatrix<f64>, at: &[usize]) -> Option<Cholesky<f64, Dyn>> {
     let n = at.len();
     let sub = DMatrix::from_fn(n, n, |i, j| k[(at[i], at[j])]);
     let scale = sub.diagonal().amax().max(1e-300);
-    sub.clone().cholesky().or_else(|| (sub + DMatrix::identity(n, n) * (1e-12 * scale)).cholesky())
+    let plain = sub.clone().cholesky().filter(|c| {
+        let l = c.l_dirty();
+        (0..n).all(|i| l[(i, i)] * l[(i, i)] > REDUNDANT * scale)
+    });
+    plain.or_else(|| (sub + DMatrix::identity(n, n) * (REGULARISE * scale)).cholesky())
 }
 
 /// A bounded solve of K x = want: each row's accumulated value `base + x` kept within its bounds (`(-inf, inf)`:
