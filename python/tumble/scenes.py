@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 from ._world import World
 
 if TYPE_CHECKING:
-    from ._tumble import ParticleHandle
+    from ._tumble import Mesh, ParticleHandle
 
 
 def cloth(
@@ -168,3 +168,63 @@ def mesh_pile(count: int = 50, fast: bool = True, hull: bool = False) -> World:
     """``count`` meshes of five kinds (cup, ring, stool, pebble, peg) dropped in a loose column (fast mode by
     default); ``hull=True`` gives each its convex hull."""
     return World._rust_scene("mesh_pile", count=count, fast=int(fast), hull=int(hull))
+
+
+def _glued_world(fast: bool, dt: float | None = None) -> World:
+    """A world with a floor, fast mode (at ``dt``, one thread) or accurate mode (one thread)."""
+    if fast:
+        w = World(mode="fast", dt=dt, threads=1) if dt else World(mode="fast", threads=1)
+    else:
+        w = World(threads=1)
+    w.add_ground(friction=0.7)
+    return w
+
+
+def vase_mesh(segments: int = 100) -> "Mesh":
+    """A vase turned from a profile of 51 points in ``segments`` steps (10,000 triangles at 100), 0.3 m tall with
+    6 mm walls."""
+    from ._tumble import Mesh  # noqa: PLC0415
+
+    heights = [0.3 * k / 25 for k in range(26)]
+    outer = [0.06 + 0.03 * math.sin(math.pi * z / 0.3) for z in heights]
+    inner = [(r - 0.006, z) for r, z in zip(outer[::-1][:-2], heights[::-1][:-2])]
+    profile = [(0.0, 0.0), *zip(outer, heights), *inner, (0.0, 0.008)]
+    return Mesh.revolve(profile, segments=segments, name="vase")
+
+
+def vase_drop(fast: bool = True, height: float = 1.0, strength: float = 2e6) -> World:
+    """A ceramic vase (``vase_mesh``) cut into 50 pieces glued at ``strength`` Pa, dropped from ``height`` m."""
+    mesh = vase_mesh()
+    w = _glued_world(fast)
+    w.add_fractured(mesh, mesh.fracture(pieces=50, seed=1), density=2400.0, strength=strength,
+                    position=(0.0, 0.0, height))
+    return w
+
+
+def glass_pane(fast: bool = True, strength: float = 2e6) -> World:
+    """A 0.8 x 0.6 m glass pane 8 mm thick standing on the floor, cut into 50 pieces (more of them where the ball
+    hits) glued at ``strength`` Pa, and a 3 cm steel ball thrown through it at 10 m/s."""
+    from ._tumble import Box, Mesh, Sphere  # noqa: PLC0415
+
+    vertices, triangles = Box((0.4, 0.004, 0.3)).triangle_mesh()
+    pane = Mesh(vertices, triangles, name="pane")
+    w = _glued_world(fast)
+    w.add_fractured(pane, pane.fracture(pieces=50, seed=2, near=(0.0, 0.0, 0.0)), density=2500.0,
+                    strength=strength, position=(0.0, 0.0, 0.3))
+    w.add_body(Sphere(0.03), density=7800.0, position=(0.0, -0.5, 0.3), velocity=(0.0, 10.0, 0.0), name="ball")
+    return w
+
+
+def wrecking_ball(fast: bool = True, dt: float | None = None, strength: float = 1e6, window: float = 0.01) -> World:
+    """A wall of 8 x 6 bricks (0.3 x 0.2 x 0.15 m, 1800 kg/m^3) glued at ``strength`` Pa (30 kN across a side
+    face at 1 MPa), on the floor, and a 110 kg ball 0.3 m in radius rolling into its middle at 6 m/s."""
+    from ._tumble import Box, Mesh, Sphere  # noqa: PLC0415
+
+    vertices, triangles = Box((1.2, 0.1, 0.45)).triangle_mesh()
+    wall = Mesh(vertices, triangles, name="wall")
+    bricks = wall.fracture(points=[(-1.05 + 0.3 * i, 0.0, -0.375 + 0.15 * j) for j in range(6) for i in range(8)])
+    w = _glued_world(fast, dt)
+    w.add_fractured(wall, bricks, density=1800.0, strength=strength, position=(0.0, 0.0, 0.45), friction=0.7,
+                    window=window)
+    w.add_body(Sphere(0.3), mass=110.0, position=(0.0, -1.0, 0.45), velocity=(0.0, 6.0, 0.0), name="ball")
+    return w
