@@ -4,7 +4,7 @@ the vase's); the vase glued and standing on a table, unhit, in both modes (break
 and in accurate mode); a glass pane of 50 pieces hit by a ball in fast mode (the time against the time simulated,
 one thread).
 
-    python python/examples/fracture.py [--parts vase,wall,pane] [--modes fast,accurate]
+    python python/examples/fracture.py [--parts vase,wall,pane] [--modes fast,accurate] [--windows 0.01]
 """
 
 from __future__ import annotations
@@ -52,18 +52,20 @@ def measure_vase(modes: list[str]) -> None:
             print(f"{mode:>8} vase standing glued: failed after {time.perf_counter() - clock:.1f} s: {error}")
 
 
-def measure_wall(modes: list[str]) -> None:
-    for mode in modes:
-        for dt in ((1 / 240, 1 / 480, 1 / 960) if mode == "fast" else (None,)):
-            w = tumble.scenes.wrecking_ball(fast=mode == "fast", dt=dt)
-            clock = time.perf_counter()
-            try:
-                w.run(1.0)
+def measure_wall(modes: list[str], windows: list[float]) -> None:
+    for window in windows:
+        for mode in modes:
+            for dt in ((1 / 240, 1 / 480, 1 / 960) if mode == "fast" else (None,)):
+                w = tumble.scenes.wrecking_ball(fast=mode == "fast", dt=dt, window=window)
+                clock = time.perf_counter()
                 label = f"dt 1/{round(1 / dt)}" if dt else "accurate"
-                print(f"wall hit: {label}: {len(w.broken_joints())} of {w.joint_count} welds broke "
-                      f"({time.perf_counter() - clock:.1f} s)")
-            except tumble.SimulationError as error:
-                print(f"wall hit ({mode}): failed after {time.perf_counter() - clock:.1f} s: {error}")
+                try:
+                    w.run(1.0)
+                    print(f"wall hit, window {window * 1e3:g} ms, {label}: {len(w.broken_joints())} of "
+                          f"{w.joint_count} welds broke ({time.perf_counter() - clock:.1f} s)")
+                except tumble.SimulationError as error:
+                    print(f"wall hit, window {window * 1e3:g} ms, {label}: failed after "
+                          f"{time.perf_counter() - clock:.1f} s: {error}")
 
 
 def measure_pane() -> None:
@@ -79,12 +81,13 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--parts", default="vase,wall,pane")
     p.add_argument("--modes", default="fast,accurate")
+    p.add_argument("--windows", default="0.01", help="break windows (s) for the wall, comma-separated")
     args = p.parse_args()
     parts, modes = args.parts.split(","), args.modes.split(",")
     if "vase" in parts:
         measure_vase(modes)
     if "wall" in parts:
-        measure_wall(modes)
+        measure_wall(modes, [float(x) for x in args.windows.split(",")])
     if "pane" in parts:
         measure_pane()
 
