@@ -70,7 +70,7 @@ pub use rollout::{rollout, RolloutSettings};
 pub use run::{Run, RunArrays, DEFAULT_FRAME_INTERVAL};
 pub use spring::{Attachment, BodyHandle, ParticleHandle, Spring, SpringBuilder, SpringHandle};
 pub use world::{
-    bond_bounds, ContactInfo, Fractured, Glue, MaterialChange, SpringJacobian, World, WorldState, GLUE_WINDOW,
+    bond_bounds, bonds, ContactInfo, Fractured, Glue, MaterialChange, SpringJacobian, World, WorldState, GLUE_WINDOW,
     MAX_STRENGTH, MIN_STRENGTH, SMALLEST_BOND,
 };
 

@@ -105,3 +105,32 @@ impl PyWorld {
         Ok(added.bodies.into_iter().map(Into::into).collect())
     }
 }
+
+/// The faces `pieces` (closed meshes in one frame) share: for each touching pair `(a, b, area, centre, normal)`,
+/// `a < b` indices into the list, the area (m^2), its centroid, and its unit normal out of `a` into `b`, ordered by
+/// pair.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+pub fn shared_faces(pieces: Vec<PyRef<'_, PyMesh>>) -> Vec<(usize, usize, f64, [f64; 3], [f64; 3])> {
+    let meshes: Vec<tumble::Mesh> = pieces.iter().map(|p| mesh_of(&p.as_super().shape).clone()).collect();
+    tumble::collide::shared_faces(&meshes)
+        .into_iter()
+        .map(|f| (f.a, f.b, f.area, f.centre.coords.into(), f.normal.into()))
+        .collect()
+}
+
+/// The bonds that glue `pieces` at `strength` (Pa), as `World.add_fractured` makes them: for each face two pieces
+/// share (of at least a twentieth of the median face) `(a, b, area, centre, normal, force, torque)`, the weld's
+/// bounds in N and N m.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+pub fn bonds(
+    pieces: Vec<PyRef<'_, PyMesh>>,
+    strength: f64,
+) -> Vec<(usize, usize, f64, [f64; 3], [f64; 3], f64, f64)> {
+    let meshes: Vec<tumble::Mesh> = pieces.iter().map(|p| mesh_of(&p.as_super().shape).clone()).collect();
+    tumble::bonds(&meshes, strength)
+        .into_iter()
+        .map(|(f, force, torque)| (f.a, f.b, f.area, f.centre.coords.into(), f.normal.into(), force, torque))
+        .collect()
+}

@@ -35,6 +35,8 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::_rollout, m)?)?;
     m.add_function(wrap_pyfunction!(shapes::_shape_from_json, m)?)?;
     m.add_function(wrap_pyfunction!(handles::_handle, m)?)?;
+    m.add_function(wrap_pyfunction!(fracture::shared_faces, m)?)?;
+    m.add_function(wrap_pyfunction!(fracture::bonds, m)?)?;
     m.add_class::<state::PyState>()?;
     m.add_class::<shapes::PyShape>()?;
     m.add_class::<shapes::Sphere>()?;

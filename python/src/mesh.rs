@@ -110,6 +110,12 @@ impl PyMesh {
         mesh_of(&self_.as_super().shape).volume()
     }
 
+    /// Whether the solid is convex (every vertex on or below every triangle's plane, to 1e-9 of its size).
+    #[getter]
+    fn is_convex(self_: PyRef<'_, Self>) -> bool {
+        mesh_of(&self_.as_super().shape).is_convex()
+    }
+
     /// The name (the file's, or as given).
     #[getter]
     fn name(self_: PyRef<'_, Self>) -> String {

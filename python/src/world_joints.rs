@@ -14,7 +14,7 @@ impl PyWorld {
     /// (None: the world, whose anchor is then a world point). Use `World.add_joint` with a joint object.
     #[pyo3(signature = (kind, a, b, anchor_a = None, anchor_b = None, axis = None, limits = None, motor = None,
                         spring = None, softness = None, length = None, breaking = None, break_window = 0.0,
-                        collide = false, turn_limits = None))]
+                        collide = false, turn_limits = None, cluster = false))]
     #[allow(clippy::too_many_arguments)]
     fn _add_joint(
         &mut self,
@@ -33,6 +33,7 @@ impl PyWorld {
         break_window: f64,
         collide: bool,
         turn_limits: Option<(f64, f64)>,
+        cluster: bool,
     ) -> PyResult<PyJointHandle> {
         let (a, b) = (a.map(Into::into), b.map(Into::into));
         let axis = opt_vec3("axis", axis)?.unwrap_or_else(nalgebra::Vector3::x);
@@ -75,7 +76,7 @@ impl PyWorld {
         } else if break_window != 0.0 {
             return Err(crate::convert::invalid("break_window", "applies to a joint given `breaking`"));
         }
-        j = j.collide(collide);
+        j = j.collide(collide).cluster(cluster);
         if let Some((lo, hi)) = turn_limits {
             j = j.turn_limits(lo, hi);
         }

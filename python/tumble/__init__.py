@@ -37,6 +37,8 @@ from ._tumble import (
     State,
     TriMesh,
     __version__,
+    shared_faces,
+    bonds,
 )
 from ._report import Report
 from ._run import Run
@@ -54,6 +56,8 @@ from . import direct, scenes
 __all__ = [
     "World",
     "Run",
+    "shared_faces",
+    "bonds",
     "Batch",
     "rollout",
     "sweep",

@@ -10,7 +10,9 @@ when reached, a motor drives its speed with at most its force. Fast mode solves 
 substep; accurate mode holds them exactly as constraints inside the equations of motion. ``softness`` (a joint made
 a soft row) is fast mode's only: accurate mode refuses it (``ValueError`` naming ``softness``). Any joint may be
 given ``breaking=Breaking(force=..., torque=...)``: it breaks in either mode once it carries more; ``collide=True``
-lets its two bodies collide with each other (they do not by default).
+lets its two bodies collide with each other (they do not by default); ``cluster=True`` binds its bodies into one
+piece with every body bound to them by other such joints (a glued object's welds): none of them collide with each
+other while the joints hold.
 """
 
 from __future__ import annotations
@@ -94,6 +96,7 @@ class _Joint:
     softness: Optional[Tuple[float, float]] = None
     breaking: Optional[Breaking] = None
     collide: bool = False
+    cluster: bool = False
 
     _kind = ""
 
@@ -112,7 +115,7 @@ class _Joint:
                     softness=None if self.softness is None else _pair("softness", self.softness),
                     breaking=None if self.breaking is None else self.breaking._pair(),
                     break_window=0.0 if self.breaking is None else _number("window", self.breaking.window),
-                    collide=self._collide())
+                    collide=self._collide(), cluster=bool(self.cluster))
 
     def _collide(self) -> bool:
         if not isinstance(self.collide, bool):

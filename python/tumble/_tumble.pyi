@@ -58,6 +58,14 @@ class State:
     def replace(self, **changes: float | npt.ArrayLike) -> "State": ...
 
 def _shape_from_json(text: str) -> Shape: ...
+def shared_faces(
+    pieces: list[Mesh],
+) -> list[tuple[int, int, float, list[float], list[float]]]:
+    """The faces closed meshes in one frame share: ``(a, b, area, centre, normal)`` for each touching pair."""
+def bonds(
+    pieces: list[Mesh], strength: float
+) -> list[tuple[int, int, float, list[float], list[float], float, float]]:
+    """The bonds that glue ``pieces`` at ``strength`` Pa: ``(a, b, area, centre, normal, force, torque)``."""
 def _handle(
     kind: str, world: int, index: int, generation: int
 ) -> ParticleHandle | BodyHandle | SpringHandle | LoadHandle | JointHandle: ...
@@ -152,6 +160,9 @@ class Mesh(Shape):
     def volume(self) -> float: ...
     @property
     def name(self) -> str: ...
+    @property
+    def is_convex(self) -> bool:
+        """Whether the solid is convex (every vertex on or below every triangle's plane)."""
     def fracture(
         self,
         pieces: int | None = None,
@@ -309,6 +320,7 @@ class World:
         break_window: float = 0.0,
         collide: bool = False,
         turn_limits: tuple[float, float] | None = None,
+        cluster: bool = False,
     ) -> JointHandle: ...
     def remove_joint(self, joint: JointHandle) -> None:
         """Removes a joint."""

@@ -74,6 +74,18 @@ pub fn bond_bounds(area: f64, strength: f64) -> (f64, f64) {
 /// a typical bond's load and broke under the object's own weight, whatever shares the load among the welds.)
 pub const SMALLEST_BOND: f64 = 0.05;
 
+/// The bonds that glue `pieces` (closed meshes in one frame) at `strength` (Pa): each face they share of at least
+/// `SMALLEST_BOND` of the median face's area, with its force and torque bounds (`bond_bounds`).
+pub fn bonds(pieces: &[Mesh], strength: f64) -> Vec<(SharedFace, f64, f64)> {
+    glued_faces(shared_faces(pieces))
+        .into_iter()
+        .map(|f| {
+            let (force, torque) = bond_bounds(f.area, strength);
+            (f, force, torque)
+        })
+        .collect()
+}
+
 /// The faces to glue: those of at least `SMALLEST_BOND` of the median face's area.
 fn glued_faces(mut faces: Vec<SharedFace>) -> Vec<SharedFace> {
     let mut areas: Vec<f64> = faces.iter().map(|f| f.area).collect();
@@ -107,7 +119,7 @@ impl World {
         limits::in_range("strength", glue.strength, MIN_STRENGTH, MAX_STRENGTH, "Pa")?;
         limits::non_negative("window", glue.window, limits::TIME, "s")?;
         limits::vector("position", &glue.position, limits::COORDINATE, "m")?;
-        let faces = glued_faces(shared_faces(pieces));
+        let glued = bonds(pieces, glue.strength);
         // every body built (and so checked) before any is added
         let built = pieces
             .iter()
@@ -127,13 +139,12 @@ impl World {
         }
         // each bond's weld, its anchors in its pieces' frames as built
         let frame = Isometry3::from_parts(glue.position.into(), glue.orientation);
-        let welds: Vec<(usize, usize, Vector3<f64>, Vector3<f64>, f64, f64)> = faces
+        let welds: Vec<(Vector3<f64>, Vector3<f64>)> = glued
             .iter()
-            .map(|face| {
+            .map(|(face, _, _)| {
                 let at = frame * face.centre;
                 let local = |k: usize| built[k].orientation.inverse() * (at.coords - built[k].position);
-                let (force, torque) = bond_bounds(face.area, glue.strength);
-                (face.a, face.b, local(face.a), local(face.b), force, torque)
+                (local(face.a), local(face.b))
             })
             .collect();
         let mut bodies = Vec::with_capacity(built.len());
@@ -144,16 +155,16 @@ impl World {
             bodies.push(h);
         }
         self.retire_engine();
-        let mut bonds = Vec::with_capacity(faces.len());
-        for ((a, b, anchor_a, anchor_b, force, torque), face) in welds.into_iter().zip(faces) {
+        let mut welded = Vec::with_capacity(glued.len());
+        for ((anchor_a, anchor_b), (face, force, torque)) in welds.into_iter().zip(glued) {
             // two bodies just added, anchors inside them, bounds above zero and finite: nothing a weld refuses
-            let joint = JointBuilder::weld(Some(bodies[a]), Some(bodies[b]))
+            let joint = JointBuilder::weld(Some(bodies[face.a]), Some(bodies[face.b]))
                 .anchor_a(anchor_a)
                 .anchor_b(anchor_b)
                 .breaking_averaged(force, torque, glue.window)
                 .cluster(true);
-            bonds.push((self.add_joint(joint)?, face));
+            welded.push((self.add_joint(joint)?, face));
         }
-        Ok(Fractured { bodies, bonds })
+        Ok(Fractured { bodies, bonds: welded })
     }
 }

@@ -19,7 +19,7 @@ mod stepping;
 mod whole_state;
 
 pub use contacts::ContactInfo;
-pub use fractured::{bond_bounds, Fractured, Glue, GLUE_WINDOW, MAX_STRENGTH, MIN_STRENGTH, SMALLEST_BOND};
+pub use fractured::{bond_bounds, bonds, Fractured, Glue, GLUE_WINDOW, MAX_STRENGTH, MIN_STRENGTH, SMALLEST_BOND};
 pub use materials::MaterialChange;
 pub(crate) use pace::Pace;
 pub use whole_state::WorldState;

@@ -161,6 +161,10 @@ def constraints(world: Any, scene: Any, rbw: Any, handles: dict[str, Any], probl
             # over the substep bounds tumble's force (N) and torque (N m) alike
             bound = float(c.breaking_threshold) / substep
             fields["breaking"] = tumble.Breaking(force=bound * unit, torque=bound * unit * unit)
+            if c.type == "FIXED" and c.disable_collisions:
+                # a breakable Fixed constraint between pieces is glue (Cell Fracture's, or "Fracture with tumble"'s):
+                # the pieces it binds are one piece for collision while it holds
+                fields["cluster"] = True
         turn = np.array(rotation.to_matrix(), dtype=float)
         if c.type in ("GENERIC", "GENERIC_SPRING"):
             if generic_axis is not None:

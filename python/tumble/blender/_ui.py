@@ -134,6 +134,29 @@ def _define() -> list[Any]:
             stop_preview(context.scene)
             return {"FINISHED"}
 
+    class TUMBLE_OT_fracture(bpy.types.Operator):
+        """Cut the active mesh object into glued pieces: rigid bodies joined by Fixed constraints that break at
+        each shared face's area times the strength"""
+
+        bl_idname = "tumble.fracture"
+        bl_label = "Fracture with tumble"
+        bl_options = {"REGISTER", "UNDO"}
+
+        pieces: bpy.props.IntProperty(name="Pieces", default=20, min=1, max=4096)
+        seed: bpy.props.IntProperty(name="Seed", default=0, min=0)
+        strength: bpy.props.FloatProperty(name="Strength", default=1e6, min=1e-3, description="Pa: the glue's")
+
+        def execute(self, context: Any) -> Any:
+            from ._fracture import fracture  # noqa: PLC0415
+
+            try:
+                made = fracture(context.active_object, self.pieces, self.seed, self.strength, context.scene)
+            except ValueError as error:
+                self.report({"ERROR"}, str(error))
+                return {"CANCELLED"}
+            self.report({"INFO"}, f"{len(made)} pieces")
+            return {"FINISHED"}
+
     class TUMBLE_PT_bake(bpy.types.Panel):
         bl_label = "tumble"
         bl_space_type = "PROPERTIES"
@@ -146,6 +169,7 @@ def _define() -> list[Any]:
 
             self.layout.operator(TUMBLE_OT_bake.bl_idname)
             self.layout.operator(TUMBLE_OT_direct.bl_idname)
+            self.layout.operator(TUMBLE_OT_fracture.bl_idname)
             from ._preview import previews  # noqa: PLC0415
 
             directed = last.get(context.scene.name)
@@ -160,7 +184,7 @@ def _define() -> list[Any]:
                 self.layout.operator(TUMBLE_OT_direct_stop_preview.bl_idname)
 
     return [TUMBLE_OT_bake, TUMBLE_OT_direct, TUMBLE_OT_direct_bake, TUMBLE_OT_direct_preview,
-            TUMBLE_OT_direct_stop_preview, TUMBLE_PT_bake]
+            TUMBLE_OT_direct_stop_preview, TUMBLE_OT_fracture, TUMBLE_PT_bake]
 
 
 def _with_answer(operator: Any, context: Any, act: Callable[[Any], Any]) -> Any:
