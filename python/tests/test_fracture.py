@@ -94,3 +94,19 @@ def test_bad_input_is_refused_by_name_and_nothing_is_added():
     w.run(0.1)
     before.run(0.1)
     assert np.array_equal(w.bodies.positions, before.bodies.positions)
+
+
+def test_a_glued_object_is_kept_by_files_and_copies_to_the_bit(tmp_path):
+    """A pane glued and hit, saved mid-run (its welds' bounds, windows and averaged loads, which have broken) and
+    copied: the loaded world and the copy go on as the world does, bit for bit; the pieces keep their names."""
+    w = tumble.scenes.glass_pane()
+    w.run(0.125)
+    path = w.save(tmp_path / "pane.tumble")
+    loaded = tumble.World.load(path)
+    twin = copy.copy(w)
+    runs = [x.run(0.125) for x in (w, loaded, twin)]
+    for other in runs[1:]:
+        assert np.array_equal(runs[0].body_positions, other.body_positions)
+    assert loaded.broken_joints() == w.broken_joints() and w.broken_joints()
+    assert loaded.bodies.names[:2] == ["pane.001", "pane.002"]
+    assert [loaded.joint_breaking(j) for j in loaded.joint_handles] == [w.joint_breaking(j) for j in w.joint_handles]

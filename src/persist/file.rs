@@ -340,6 +340,12 @@ pub struct JointFile {
     /// Whether its bodies collide with each other.
     #[serde(default)]
     pub collide: bool,
+    /// The window its load is averaged over before it is judged (s); absent: 0, the load at the instant.
+    #[serde(default)]
+    pub breaking_window: f64,
+    /// Whether it binds its bodies into one piece with those other such joints bind (a glued object's welds).
+    #[serde(default)]
+    pub cluster: bool,
 }
 
 /// A file's material fields as a material.

@@ -293,10 +293,10 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
         if let Some([hz, zeta]) = j.softness {
             builder = builder.softness(hz, zeta);
         }
-        builder = builder.collide(j.collide);
+        builder = builder.collide(j.collide).cluster(j.cluster);
         if j.breaking_force.is_some() || j.breaking_torque.is_some() {
             let bound = |b: Option<f64>| b.unwrap_or(f64::INFINITY);
-            builder = builder.breaking(bound(j.breaking_force), bound(j.breaking_torque));
+            builder = builder.breaking_averaged(bound(j.breaking_force), bound(j.breaking_torque), j.breaking_window);
         }
         let h = w.add_joint(builder).map_err(at("joints", path.clone()))?;
         // the joint's zero as it was made, to the bit

@@ -186,6 +186,8 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
                 breaking_torque: s.breaking.map(|b| b.torque).filter(|t| t.is_finite()),
                 broken: j.broken,
                 collide: s.collide,
+                breaking_window: s.breaking.map_or(0.0, |b| b.window),
+                cluster: s.cluster,
             }
         })
         .collect();

@@ -166,6 +166,19 @@ mod tests {
         let bounds = [(f64::NEG_INFINITY, f64::INFINITY); 2];
         let x = BoundedSolve { k: &k, want: &[1.0, 1.0], bounds: &bounds, base: &[0.0; 2], rounds: 1 }
             .solve(vec![0, 1], None);
-        assert!((x[0] + x[1] - 1.0).abs() < 1e-9 && (x[0] - x[1]).abs() < 1e-9, "{x:?}");
+        // to the regularisation's share: x0 + x1 = 2 / (2 + 1e-8)
+        assert!((x[0] + x[1] - 1.0).abs() < 1e-8 && (x[0] - x[1]).abs() < 1e-9, "{x:?}");
+    }
+
+    #[test]
+    fn redundant_rows_asked_for_a_rounding_s_worth_of_the_impossible_carry_no_phantom_load() {
+        // two copies of one row asked for values 1e-12 apart (rounding, as a loop of welds asks): no impulses make
+        // both, and the regularised solve's difference between the rows stays that over the regularisation
+        // (1e-12 / 1e-8), where the regularisation of 1e-12 it replaced made the rows differ by 1
+        let k = DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0]);
+        let bounds = [(f64::NEG_INFINITY, f64::INFINITY); 2];
+        let x = BoundedSolve { k: &k, want: &[1.0, 1.0 + 1e-12], bounds: &bounds, base: &[0.0; 2], rounds: 1 }
+            .solve(vec![0, 1], None);
+        assert!((x[0] + x[1] - 1.0).abs() < 1e-8 && (x[0] - x[1]).abs() < 1e-3, "{x:?}");
     }
 }
