@@ -107,6 +107,7 @@ def test_a_glued_object_is_kept_by_files_and_copies_to_the_bit(tmp_path):
     runs = [x.run(0.125) for x in (w, loaded, twin)]
     for other in runs[1:]:
         assert np.array_equal(runs[0].body_positions, other.body_positions)
-    assert loaded.broken_joints() == w.broken_joints() and w.broken_joints()
-    assert loaded.bodies.names[:2] == ["pane.001", "pane.002"]
+    # (a loaded world's handles are its own: the broken welds are compared by count)
+    assert len(loaded.broken_joints()) == len(w.broken_joints()) > 0
+    assert loaded.bodies.names[1:3] == ["pane.001", "pane.002"]  # after the ground
     assert [loaded.joint_breaking(j) for j in loaded.joint_handles] == [w.joint_breaking(j) for j in w.joint_handles]

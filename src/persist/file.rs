@@ -126,8 +126,11 @@ pub enum ShapeFile {
         half_height: f64,
         radius: f64,
     },
+    /// A hull: of the points, or, given its faces (a convex mesh made its own hull), of those faces as they are.
     ConvexHull {
         points: Vec<[f64; 3]>,
+        #[serde(default)]
+        faces: Option<Vec<[u32; 3]>>,
     },
     TriMesh {
         vertices: Vec<[f64; 3]>,

@@ -46,7 +46,8 @@ pub(crate) fn shape(s: &ShapeFile) -> Result<Shape, WorldError> {
         ShapeFile::Box { half_extents } => Shape::cuboid(v3(*half_extents))?,
         ShapeFile::Capsule { half_height, radius } => Shape::capsule(*half_height, *radius)?,
         ShapeFile::Cylinder { half_height, radius } => Shape::cylinder(*half_height, *radius)?,
-        ShapeFile::ConvexHull { points: p } => Shape::convex_hull(&points(p))?,
+        ShapeFile::ConvexHull { points: p, faces: None } => Shape::convex_hull(&points(p))?,
+        ShapeFile::ConvexHull { points: p, faces: Some(f) } => Shape::convex_mesh(&points(p), f)?,
         ShapeFile::TriMesh { vertices, triangles } => Shape::trimesh(&points(vertices), triangles)?,
         ShapeFile::Mesh { vertices, triangles, name, decomposition } => {
             let mesh = Mesh::new(&points(vertices), triangles, name)?;

@@ -32,7 +32,7 @@ struct SavedEngine {
 }
 
 /// The binary format's version (the scene inside it has the scene file's own, `VERSION`).
-const BINARY_VERSION: u32 = 8;
+const BINARY_VERSION: u32 = 9;
 
 fn decode_error(format: &str, e: impl std::fmt::Display) -> WorldError {
     WorldError::invalid("file", format!("not a readable {format} scene: {e}"))

@@ -26,7 +26,10 @@ pub(crate) fn shape_file(s: &Shape) -> ShapeFile {
         Shape::Cuboid { half_extents } => ShapeFile::Box { half_extents: v3(half_extents) },
         Shape::Capsule { half_height, radius } => ShapeFile::Capsule { half_height: *half_height, radius: *radius },
         Shape::Cylinder { half_height, radius } => ShapeFile::Cylinder { half_height: *half_height, radius: *radius },
-        Shape::ConvexHull(h) => ShapeFile::ConvexHull { points: points(h.source_points().to_vec()) },
+        Shape::ConvexHull(h) => ShapeFile::ConvexHull {
+            points: points(h.source_points().to_vec()),
+            faces: h.source_faces().map(<[[u32; 3]]>::to_vec),
+        },
         Shape::TriMesh(m) => ShapeFile::TriMesh { vertices: points(m.vertices()), triangles: m.triangles() },
         Shape::Mesh(m) => ShapeFile::Mesh {
             vertices: points(m.vertices().to_vec()),

@@ -15,6 +15,9 @@ pub struct ConvexHull {
     pub(crate) polyhedron: Arc<ConvexPolyhedron>,
     /// The points it was made from (the hull of the same points is the same hull, features numbered alike).
     pub(crate) source: Arc<Vec<Point3<f64>>>,
+    /// The triangles of the points it was made from, for a convex mesh made its own hull (`Shape::convex_mesh`);
+    /// None for a hull computed from the points.
+    pub(crate) faces: Option<Arc<Vec<[u32; 3]>>>,
 }
 
 impl ConvexHull {
@@ -26,6 +29,11 @@ impl ConvexHull {
     /// The points the hull was made from, in their order.
     pub fn source_points(&self) -> &[Point3<f64>] {
         &self.source
+    }
+
+    /// The triangles it was made from (a convex mesh's own faces), or None for a hull computed from its points.
+    pub fn source_faces(&self) -> Option<&[[u32; 3]]> {
+        self.faces.as_deref().map(Vec::as_slice)
     }
 }
 
@@ -121,7 +129,11 @@ impl Shape {
             ConvexPolyhedron::from_convex_hull(&pts).filter(|p| p.points().len() >= 4 && !flat(p)).ok_or_else(
                 || ShapeError::new("points", "the points are coplanar (or collinear): their hull has no volume"),
             )?;
-        Ok(Shape::ConvexHull(ConvexHull { polyhedron: Arc::new(polyhedron), source: Arc::new(points.to_vec()) }))
+        Ok(Shape::ConvexHull(ConvexHull {
+            polyhedron: Arc::new(polyhedron),
+            source: Arc::new(points.to_vec()),
+            faces: None,
+        }))
     }
 
     /// A triangle mesh from vertices and triangles (indices into `vertices`); static bodies only.
@@ -160,13 +172,31 @@ impl Shape {
         if mesh.is_convex() {
             // a convex mesh is its own hull: its faces as they are (a hull computed of many nearly coplanar points,
             // as a fracture's pieces have, came out up to 0.2% larger than the points' own)
-            let pts: Vec<_> = mesh.vertices().iter().map(point_to_parry).collect();
-            if let Some(polyhedron) = ConvexPolyhedron::from_convex_mesh(pts, mesh.triangles()) {
-                let source = Arc::new(mesh.vertices().to_vec());
-                return Ok(Shape::ConvexHull(ConvexHull { polyhedron: Arc::new(polyhedron), source }));
+            if let Ok(hull) = Self::convex_mesh(mesh.vertices(), mesh.triangles()) {
+                return Ok(hull);
             }
         }
         Self::convex_hull(mesh.vertices()).map_err(|e| ShapeError::new("mesh", format!("its hull: {}", e.reason)))
+    }
+
+    /// A convex polyhedron of the given faces (`triangles` into `points`, counter-clockwise seen from outside, the
+    /// surface closed and convex), as they are: no hull is computed. An error naming `triangles` where they do not
+    /// make a closed polyhedron.
+    pub fn convex_mesh(points: &[Point3<f64>], triangles: &[[u32; 3]]) -> Result<Shape, ShapeError> {
+        for (i, p) in points.iter().enumerate() {
+            finite_point("points", i, p)?;
+        }
+        if triangles.iter().any(|t| t.iter().any(|&k| k as usize >= points.len())) {
+            return Err(ShapeError::new("triangles", "a triangle refers past the points"));
+        }
+        let pts: Vec<_> = points.iter().map(point_to_parry).collect();
+        let polyhedron = ConvexPolyhedron::from_convex_mesh(pts, triangles)
+            .ok_or_else(|| ShapeError::new("triangles", "they do not make a closed convex polyhedron"))?;
+        Ok(Shape::ConvexHull(ConvexHull {
+            polyhedron: Arc::new(polyhedron),
+            source: Arc::new(points.to_vec()),
+            faces: Some(Arc::new(triangles.to_vec())),
+        }))
     }
 
     /// The closed mesh a shape was made from (a mesh or its decomposition).
