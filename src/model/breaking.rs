@@ -3,7 +3,9 @@
 //! right-hand side or convex program, fast mode's soft step) and break joints here; a broken joint gives no rows
 //! and no longer keeps its bodies from colliding.
 
-use crate::model::joints::{CompiledJoint, EndState};
+#[cfg(feature = "contact")]
+use crate::model::joints::CompiledJoint;
+use crate::model::joints::EndState;
 #[cfg(feature = "contact")]
 use crate::model::joints::JointEnd;
 use crate::model::Model;
@@ -58,6 +60,7 @@ impl Model {
     /// `averages` (one a joint, kept from step to step) brought on by the step's `carried` impulses (each counted
     /// in full at the step's end: average = e^(-h / window) average + carried / window); any other its `instant`
     /// load.
+    #[cfg(feature = "contact")]
     pub(crate) fn judged_loads(
         &self,
         averages: &mut Vec<JointLoad>,
