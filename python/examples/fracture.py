@@ -53,19 +53,29 @@ def measure_vase(modes: list[str]) -> None:
 
 
 def measure_wall(modes: list[str], windows: list[float]) -> None:
+    """The welds broken in 1 s, and of those the ones broken within 50 ms of the first break (the impact's own,
+    before loosened bricks strike the others), with how many of those the finest step's run broke too."""
     for window in windows:
+        finest: set[int] | None = None
         for mode in modes:
-            for dt in ((1 / 240, 1 / 480, 1 / 960) if mode == "fast" else (None,)):
+            for dt in ((1 / 960, 1 / 480, 1 / 240) if mode == "fast" else (None,)):
                 w = tumble.scenes.wrecking_ball(fast=mode == "fast", dt=dt, window=window)
                 clock = time.perf_counter()
                 label = f"dt 1/{round(1 / dt)}" if dt else "accurate"
                 try:
-                    w.run(1.0)
-                    print(f"wall hit, window {window * 1e3:g} ms, {label}: {len(w.broken_joints())} of "
-                          f"{w.joint_count} welds broke ({time.perf_counter() - clock:.1f} s)")
+                    run = w.run(1.0)
                 except tumble.SimulationError as error:
                     print(f"wall hit, window {window * 1e3:g} ms, {label}: failed after "
                           f"{time.perf_counter() - clock:.1f} s: {error}")
+                    continue
+                order = {j: k for k, j in enumerate(w.joint_handles)}
+                times = np.asarray(run.joint_break_times)
+                first = times.min() if len(times) else 0.0
+                impact = {order[j] for t, j in zip(times, run.joint_breaks) if t < first + 0.05}
+                finest = impact if finest is None else finest
+                print(f"wall hit, window {window * 1e3:g} ms, {label}: {len(times)} of {w.joint_count} welds broke "
+                      f"in 1 s, {len(impact)} within 50 ms of the first break at {first:.4f} s ({len(impact & finest)} "
+                      f"of them as at the finest step) ({time.perf_counter() - clock:.1f} s)")
 
 
 def measure_pane() -> None:
