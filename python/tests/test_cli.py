@@ -82,3 +82,17 @@ def test_progress_in_a_log_is_occasional_plain_lines():
         shown(k / 1000)
     assert quiet.getvalue() == ""
     assert "\r" not in log.getvalue()
+
+
+def test_the_fracture_scenes_run_and_break(tmp_path):
+    """The three scenes of glued pieces run from the command line and write their files; each breaks some of its
+    welds and keeps others (the report's breaks, counted from the run)."""
+    import tumble
+
+    for name in ("vase-drop", "glass-pane", "wrecking-ball"):
+        done = run_cli("--scene", name, "--duration", "0.5", "--out", str(tmp_path), "--no-gif")
+        assert done.returncode == 0, done.stderr
+        assert (tmp_path / f"{name}.glb").stat().st_size > 1000
+    w = tumble.scenes.glass_pane()
+    w.run(0.5)
+    assert 0 < len(w.broken_joints()) < w.joint_count
