@@ -5,7 +5,7 @@
 
 use nalgebra::{Point3, Vector3};
 use tumble::{
-    bond_bounds, Cells, FastSettings, Glue, JointBuilder, Method, Mesh, Mode, Settings, Shape, World, WorldError,
+    bond_bounds, Cells, FastSettings, Glue, JointBuilder, Mesh, Method, Mode, Settings, Shape, World, WorldError,
 };
 
 const G: f64 = 9.81;
@@ -160,6 +160,11 @@ fn a_pane_hit_in_its_middle_breaks_more_bonds_near_the_hit_than_far() {
         let all: Vec<f64> = glued.bonds.iter().map(|(_, f)| gap(f)).collect();
         assert!(!broken.is_empty() && broken.len() < all.len(), "seed {seed}: {} of {}", broken.len(), all.len());
         let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
-        assert!(mean(&broken) < mean(&all), "seed {seed}: broken {} m from the hit, all {} m", mean(&broken), mean(&all));
+        assert!(
+            mean(&broken) < mean(&all),
+            "seed {seed}: broken {} m from the hit, all {} m",
+            mean(&broken),
+            mean(&all)
+        );
     }
 }

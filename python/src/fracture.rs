@@ -124,10 +124,7 @@ pub fn shared_faces(pieces: Vec<PyRef<'_, PyMesh>>) -> Vec<(usize, usize, f64, [
 /// bounds in N and N m.
 #[pyfunction]
 #[allow(clippy::type_complexity)]
-pub fn bonds(
-    pieces: Vec<PyRef<'_, PyMesh>>,
-    strength: f64,
-) -> Vec<(usize, usize, f64, [f64; 3], [f64; 3], f64, f64)> {
+pub fn bonds(pieces: Vec<PyRef<'_, PyMesh>>, strength: f64) -> Vec<(usize, usize, f64, [f64; 3], [f64; 3], f64, f64)> {
     let meshes: Vec<tumble::Mesh> = pieces.iter().map(|p| mesh_of(&p.as_super().shape).clone()).collect();
     tumble::bonds(&meshes, strength)
         .into_iter()

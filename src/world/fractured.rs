@@ -103,7 +103,10 @@ impl World {
     /// `bond_bounds` of the face's area. Nothing is added when an argument is wrong (the error names it).
     pub fn add_fractured(&mut self, mesh: &Mesh, pieces: &[Mesh], glue: &Glue) -> Result<Fractured, WorldError> {
         if pieces.is_empty() || pieces.len() > MAX_PIECES {
-            return Err(WorldError::invalid("pieces", format!("expected 1 to {MAX_PIECES} meshes, got {}", pieces.len())));
+            return Err(WorldError::invalid(
+                "pieces",
+                format!("expected 1 to {MAX_PIECES} meshes, got {}", pieces.len()),
+            ));
         }
         let filled: f64 = pieces.iter().map(Mesh::volume).sum();
         if (filled - mesh.volume()).abs() > FILLS * mesh.volume() {

@@ -37,7 +37,12 @@ fn assert_tiles(mesh: &Mesh, pieces: &[Mesh]) {
     let parts = assembled(pieces);
     let size = whole.mass.cbrt();
     assert!((parts.mass - whole.mass).abs() <= 1e-9 * whole.mass, "volume {} vs {}", parts.mass, whole.mass);
-    assert!((parts.local_com - whole.local_com).norm() <= 1e-9 * size, "centre {} vs {}", parts.local_com, whole.local_com);
+    assert!(
+        (parts.local_com - whole.local_com).norm() <= 1e-9 * size,
+        "centre {} vs {}",
+        parts.local_com,
+        whole.local_com
+    );
     let scale = whole.inertia.norm();
     assert!((parts.inertia - whole.inertia).norm() <= 1e-9 * scale, "inertia {} vs {}", parts.inertia, whole.inertia);
 }
@@ -112,12 +117,19 @@ fn the_faces_of_a_fracture_are_found_and_each_matches_from_both_sides() {
     let faces = shared_faces(&pieces);
     let area = |m: &Mesh| -> f64 {
         let v = m.vertices();
-        m.triangles().iter().map(|t| (v[t[1] as usize] - v[t[0] as usize]).cross(&(v[t[2] as usize] - v[t[0] as usize])).norm() / 2.0).sum()
+        m.triangles()
+            .iter()
+            .map(|t| (v[t[1] as usize] - v[t[0] as usize]).cross(&(v[t[2] as usize] - v[t[0] as usize])).norm() / 2.0)
+            .sum()
     };
     let pieces_area: f64 = pieces.iter().map(area).sum();
     let shared: f64 = faces.iter().map(|f| f.area).sum();
     // rounding of the overlaps' clipping: 1e-9 of the area
-    assert!((pieces_area - area(&mesh) - 2.0 * shared).abs() < 1e-9 * pieces_area, "{pieces_area} {} {shared}", area(&mesh));
+    assert!(
+        (pieces_area - area(&mesh) - 2.0 * shared).abs() < 1e-9 * pieces_area,
+        "{pieces_area} {} {shared}",
+        area(&mesh)
+    );
     assert!(faces.iter().all(|f| f.a < f.b && f.b < pieces.len()));
 }
 
@@ -149,4 +161,3 @@ fn bad_cells_are_refused_by_name() {
     assert_eq!(name(Cells::random(4, 0).near(Point3::new(10.0, 0.0, 0.0))), "near");
     assert_eq!(name(Cells::random(4, 0).near(Point3::new(f64::INFINITY, 0.0, 0.0))), "near");
 }
-

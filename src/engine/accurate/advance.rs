@@ -98,7 +98,14 @@ impl AccurateEngine {
                 }
                 // a joint that broke is let go of, and the integration restarts on the new equations
                 let y = integrator.state().to_vec();
-                let broke = breaking::break_overloaded(system, stages.broken, stages.averages, Some(&mut *stages.scene), t, &y)?;
+                let broke = breaking::break_overloaded(
+                    system,
+                    stages.broken,
+                    stages.averages,
+                    Some(&mut *stages.scene),
+                    t,
+                    &y,
+                )?;
                 if !broke.is_empty() {
                     integrator.set_state(t, &y)?;
                 }

@@ -3,10 +3,10 @@
 //! (`ContactStages`: the rules, the contact memory, the broken joints, the engine's report, the thread count and the divergence
 //! limit, borrowed together for one advance).
 
-use crate::model::breaking::JointLoad;
 use super::contact_memory::{ContactMemory, ContactScales};
 use crate::engine::collider_set::ColliderSet;
 use crate::mode::AccurateSettings;
+use crate::model::breaking::JointLoad;
 use crate::report::WorldReport;
 use std::collections::BTreeSet;
 use tumble_contact::SolverSettings;

@@ -35,7 +35,14 @@ fn engine(w: &World) -> AccurateEngine {
 fn parts(e: &mut AccurateEngine) -> (ContactStages<'_>, &mut AccurateSystem, &mut Integrator<AccurateSystem>) {
     let AccurateEngine { core, system, contacts, memory, .. } = e;
     let (integration, contact) = (memory.integration.as_mut().unwrap(), memory.contact.as_mut().unwrap());
-    let stages = contacts.as_mut().unwrap().stages(contact, &mut memory.broken, &mut memory.load_averages, &mut core.report, 1, 1e12);
+    let stages = contacts.as_mut().unwrap().stages(
+        contact,
+        &mut memory.broken,
+        &mut memory.load_averages,
+        &mut core.report,
+        1,
+        1e12,
+    );
     (stages, system, integration.live_mut())
 }
 

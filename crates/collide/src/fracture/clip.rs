@@ -36,7 +36,15 @@ impl Surface {
         let distance: Vec<f64> = self.vertices.iter().map(|p| normal.dot(&p.coords) - offset).collect();
         let side: Vec<Side> = distance
             .iter()
-            .map(|&d| if d < -tolerance { Side::Below } else if d > tolerance { Side::Above } else { Side::On })
+            .map(|&d| {
+                if d < -tolerance {
+                    Side::Below
+                } else if d > tolerance {
+                    Side::Above
+                } else {
+                    Side::On
+                }
+            })
             .collect();
         if !side.contains(&Side::Above) {
             return Ok(self.clone());
@@ -204,7 +212,8 @@ impl Surface {
     pub fn flip_slivers(&mut self, smallest: f64) {
         let mut stuck = vec![false; self.triangles.len()];
         for _ in 0..2 * self.triangles.len() {
-            let found = (0..self.triangles.len()).find(|&i| !stuck[i] && self.normal(&self.triangles[i]).norm() <= smallest);
+            let found =
+                (0..self.triangles.len()).find(|&i| !stuck[i] && self.normal(&self.triangles[i]).norm() <= smallest);
             let Some(s) = found else { return };
             let t = self.triangles[s];
             // the longest edge x -> y, and m the point across it
@@ -245,8 +254,6 @@ fn winding(outline: &[(Point2<f64>, Point2<f64>)], p: Point2<f64>) -> i32 {
     turns
 }
 
-
-
 #[cfg(test)]
 mod tests {
     use super::Surface;
@@ -255,10 +262,13 @@ mod tests {
 
     /// The volume a closed surface bounds (the divergence theorem over its triangles).
     fn volume(s: &Surface) -> f64 {
-        s.triangles.iter().map(|t| {
-            let [a, b, c] = t.map(|i| s.vertices[i as usize].coords);
-            a.dot(&b.cross(&c)) / 6.0
-        }).sum()
+        s.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| s.vertices[i as usize].coords);
+                a.dot(&b.cross(&c)) / 6.0
+            })
+            .sum()
     }
 
     /// Whether every edge is met once each way (closed and consistently wound).

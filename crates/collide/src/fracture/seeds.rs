@@ -47,7 +47,10 @@ impl Cells {
     pub(super) fn points(&self, mesh: &Mesh) -> Result<Vec<Point3<f64>>, ShapeError> {
         if let Some(points) = &self.points {
             if points.is_empty() || points.len() > MAX_PIECES {
-                return Err(ShapeError::new("points", format!("expected 1 to {MAX_PIECES} points, got {}", points.len())));
+                return Err(ShapeError::new(
+                    "points",
+                    format!("expected 1 to {MAX_PIECES} points, got {}", points.len()),
+                ));
             }
             for (i, p) in points.iter().enumerate() {
                 if !p.iter().all(|c| c.is_finite()) {
@@ -82,12 +85,18 @@ impl Cells {
                 let p = match close {
                     // uniform in the ball of radius NEAR_RADIUS * size about the point
                     Some((_, c)) => loop {
-                        let d = Vector3::new(random.unit() * 2.0 - 1.0, random.unit() * 2.0 - 1.0, random.unit() * 2.0 - 1.0);
+                        let d = Vector3::new(
+                            random.unit() * 2.0 - 1.0,
+                            random.unit() * 2.0 - 1.0,
+                            random.unit() * 2.0 - 1.0,
+                        );
                         if d.norm_squared() <= 1.0 {
                             break c + d * (NEAR_RADIUS * size);
                         }
                     },
-                    None => Point3::from(lo + (hi - lo).component_mul(&Vector3::new(random.unit(), random.unit(), random.unit()))),
+                    None => Point3::from(
+                        lo + (hi - lo).component_mul(&Vector3::new(random.unit(), random.unit(), random.unit())),
+                    ),
                 };
                 if winding(mesh, &p) > 0.5 && !out.contains(&p) {
                     found = Some(p);
@@ -99,7 +108,9 @@ impl Cells {
                 None if close.is_some() => {
                     return Err(ShapeError::new("near", "is not within a quarter of the mesh's size of its solid"))
                 }
-                None => return Err(ShapeError::new("pieces", "no point inside the mesh's solid was found: it is too thin")),
+                None => {
+                    return Err(ShapeError::new("pieces", "no point inside the mesh's solid was found: it is too thin"))
+                }
             }
         }
         Ok(out)
