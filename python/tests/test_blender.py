@@ -275,6 +275,19 @@ def test_a_ball_in_a_cup_mesh_bakes_as_the_same_world_built_in_python():
     assert 0.005 < z < 0.08 and math.hypot(x, y) < 0.045, "the ball stays in the cup"
 
 
+def key_animated(obj, keys):
+    """Keys ``obj``'s location and "Animated" at each ``(frame, location, animated)``: the location linear between
+    keys, the switch held from its key on."""
+    for frame, location, animated in keys:
+        obj.location = location
+        obj.keyframe_insert("location", frame=frame)
+        obj.rigid_body.kinematic = animated
+        obj.keyframe_insert("rigid_body.kinematic", frame=frame)
+    for curve in obj.animation_data.action.layers[0].strips[0].channelbag(obj.animation_data.action_slot).fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR" if curve.data_path == "location" else "CONSTANT"
+
+
 def test_an_animated_box_switched_to_dynamic_mid_shot_flies_on_as_it_moved():
     """A box keyed to slide along x at 1 m per 30 frames (2 m/s at 60 fps), 1 m up, its "Animated" switched off at
     frame 32: the bake lets it go there (World.release) with the speed it had coming there, and it flies on from
@@ -283,14 +296,7 @@ def test_an_animated_box_switched_to_dynamic_mid_shot_flies_on_as_it_moved():
     scene = empty_scene(61)
     box = blender_body("cube", "box", (0, 0, 1), "BOX", size=0.2, mass=1.0)
     box.rigid_body.kinematic = True
-    for frame, x, animated in ((1, 0.0, True), (31, 1.0, True), (32, 1.0 + 1 / 30, False)):
-        box.location = (x, 0.0, 1.0)
-        box.keyframe_insert("location", frame=frame)
-        box.rigid_body.kinematic = animated
-        box.keyframe_insert("rigid_body.kinematic", frame=frame)
-    for curve in box.animation_data.action.layers[0].strips[0].channelbag(box.animation_data.action_slot).fcurves:
-        for point in curve.keyframe_points:
-            point.interpolation = "LINEAR" if curve.data_path == "location" else "CONSTANT"
+    key_animated(box, [(1, (0.0, 0.0, 1.0), True), (31, (1.0, 0.0, 1.0), True), (32, (1.0 + 1 / 30, 0.0, 1.0), False)])
     mapped = tb.world_from_scene(scene)
     assert mapped.switches == {"box": [(32, False)]} and mapped.densities == {"box": pytest.approx(1.0 / 0.008)}
     tb.bake(scene)
@@ -308,14 +314,7 @@ def test_a_falling_box_keyed_animated_mid_shot_follows_its_animation_from_there(
     keys had it, 3 m/s along x, damped as the body was (Blender's "Animated" both ways: World.hold, then World.release)."""
     scene = empty_scene(70)
     box = blender_body("cube", "box", (0, 0, 1), "BOX", size=0.2, mass=1.0)
-    for frame, x, z, animated in ((1, 0.0, 1.0, False), (40, 0.5, 2.0, True), (60, 1.5, 2.0, False)):
-        box.location = (x, 0.0, z)
-        box.keyframe_insert("location", frame=frame)
-        box.rigid_body.kinematic = animated
-        box.keyframe_insert("rigid_body.kinematic", frame=frame)
-    for curve in box.animation_data.action.layers[0].strips[0].channelbag(box.animation_data.action_slot).fcurves:
-        for point in curve.keyframe_points:
-            point.interpolation = "LINEAR" if curve.data_path == "location" else "CONSTANT"
+    key_animated(box, [(1, (0.0, 0.0, 1.0), False), (40, (0.5, 0.0, 2.0), True), (60, (1.5, 0.0, 2.0), False)])
     mapped = tb.world_from_scene(scene)
     assert mapped.switches == {"box": [(40, True), (60, False)]}
     tb.bake(scene)

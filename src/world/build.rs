@@ -23,13 +23,24 @@ impl World {
 
     /// Adds a rigid body.
     pub fn add_body(&mut self, body: RigidBodyBuilder) -> Result<BodyHandle, WorldError> {
-        let mut b = body.build()?;
+        let b = self.built_body(body)?;
+        Ok(self.insert_body(b))
+    }
+
+    /// `body` built and checked against the world's mode, not yet added.
+    pub(crate) fn built_body(&self, body: RigidBodyBuilder) -> Result<crate::body::RigidBody, WorldError> {
+        let b = body.build()?;
         b.material.fits_mode(&self.mode).map_err(|why| WorldError::invalid("rolling_resistance", why))?;
+        Ok(b)
+    }
+
+    /// Adds a body built by `built_body`, on its path if it is kinematic.
+    pub(crate) fn insert_body(&mut self, mut b: crate::body::RigidBody) -> BodyHandle {
         b.follow(self.time);
         self.retire_engine();
         let h = self.bodies.insert(b);
         self.record_body_start(h);
-        Ok(h)
+        h
     }
 
     fn attachment_point(&self, name: &'static str, a: &Attachment) -> Result<Vector3<f64>, WorldError> {

@@ -128,18 +128,15 @@ impl World {
             .iter()
             .map(|piece| {
                 let shape = if piece.is_convex() { MeshShape::Hull } else { MeshShape::Decomposed(Default::default()) };
-                RigidBodyBuilder::from_shape(Shape::Mesh(piece.clone()), glue.density)
+                let body = RigidBodyBuilder::from_shape(Shape::Mesh(piece.clone()), glue.density)
                     .mesh_shape(shape)
                     .position(glue.position)
                     .orientation(glue.orientation)
                     .material(glue.material)
-                    .name(piece.name())
-                    .build()
+                    .name(piece.name());
+                self.built_body(body)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        for b in &built {
-            b.material.fits_mode(&self.mode).map_err(|why| WorldError::invalid("rolling_resistance", why))?;
-        }
         // each bond's weld, its anchors in its pieces' frames as built
         let frame = Isometry3::from_parts(glue.position.into(), glue.orientation);
         let welds: Vec<(Vector3<f64>, Vector3<f64>)> = glued
@@ -150,14 +147,7 @@ impl World {
                 (local(face.a), local(face.b))
             })
             .collect();
-        let mut bodies = Vec::with_capacity(built.len());
-        for mut b in built {
-            b.follow(self.time);
-            let h = self.bodies.insert(b);
-            self.record_body_start(h);
-            bodies.push(h);
-        }
-        self.retire_engine();
+        let bodies: Vec<BodyHandle> = built.into_iter().map(|b| self.insert_body(b)).collect();
         let mut welded = Vec::with_capacity(glued.len());
         for ((anchor_a, anchor_b), (face, force, torque)) in welds.into_iter().zip(glued) {
             // two bodies just added, anchors inside them, bounds above zero and finite: nothing a weld refuses

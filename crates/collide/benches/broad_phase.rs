@@ -13,21 +13,9 @@ use parry3d_f64::bounding_volume::Aabb as ParryAabb;
 use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use std::hint::black_box;
-use tumble_collide::{Aabb, SortAndSweep};
+use tumble_collide::{Aabb, SortAndSweep, SplitMix as Rng};
 
 const FRAMES: usize = 8;
-
-struct Rng(u64);
-
-impl Rng {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// `FRAMES` successive frames of n moving boxes.
 fn frames(n: usize) -> Vec<Vec<Aabb>> {

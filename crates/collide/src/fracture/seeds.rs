@@ -4,6 +4,7 @@
 use super::MAX_PIECES;
 use crate::error::ShapeError;
 use crate::mesh_overlap::{bounds, winding};
+use crate::split_mix::SplitMix;
 use crate::surface_mesh::Mesh;
 use nalgebra::{Point3, Vector3};
 
@@ -86,16 +87,20 @@ impl Cells {
                     // uniform in the ball of radius NEAR_RADIUS * size about the point
                     Some((_, c)) => loop {
                         let d = Vector3::new(
-                            random.unit() * 2.0 - 1.0,
-                            random.unit() * 2.0 - 1.0,
-                            random.unit() * 2.0 - 1.0,
+                            random.uniform() * 2.0 - 1.0,
+                            random.uniform() * 2.0 - 1.0,
+                            random.uniform() * 2.0 - 1.0,
                         );
                         if d.norm_squared() <= 1.0 {
                             break c + d * (NEAR_RADIUS * size);
                         }
                     },
                     None => Point3::from(
-                        lo + (hi - lo).component_mul(&Vector3::new(random.unit(), random.unit(), random.unit())),
+                        lo + (hi - lo).component_mul(&Vector3::new(
+                            random.uniform(),
+                            random.uniform(),
+                            random.uniform(),
+                        )),
                     ),
                 };
                 if winding(mesh, &p) > 0.5 && !out.contains(&p) {
@@ -114,20 +119,5 @@ impl Cells {
             }
         }
         Ok(out)
-    }
-}
-
-/// Sebastiano Vigna's SplitMix64: a small generator whose numbers depend on its seed alone.
-struct SplitMix(u64);
-
-impl SplitMix {
-    /// A number uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
     }
 }

@@ -2,18 +2,17 @@
 #![allow(dead_code)]
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
-use tumble_collide::{Mesh, Shape};
+use tumble_collide::{Mesh, Shape, SplitMix};
 
 /// SplitMix64: small, seeded, reproducible.
 pub struct Rng(pub u64);
 
 impl Rng {
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        let mut g = SplitMix(self.0);
+        let bits = g.next_u64();
+        self.0 = g.0;
+        bits
     }
 
     /// Uniform in [0, 1).

@@ -15,7 +15,9 @@
 //! carries the load (about g / (2 pi hertz)^2 per body weight), and an iteration count that bounds the work bounds
 //! the accuracy of a deep stack. `residual` says how far an answer is from the exact contact conditions.
 
+mod answer;
 mod bundle;
+mod checks;
 mod geometry;
 mod graph;
 mod group;
@@ -34,6 +36,8 @@ use crate::impulse::BodyVelocity;
 use crate::islands::link_islands;
 use crate::joint::{Joint, JointImpulse};
 use crate::threads::{cores, in_parallel_by};
+pub use answer::SoftStep;
+use checks::{check_bodies, check_joints, check_springs};
 pub use graph::{ColourGraph, COLOURS, OVERFLOW, UNCOLOURED};
 use group::Group;
 use joints::JointSet;
@@ -132,55 +136,6 @@ pub struct SoftImpulse {
     pub tangent: Vector3<f64>,
 }
 
-/// What a soft step gives.
-#[derive(Clone, Debug)]
-pub struct SoftStep {
-    /// Each body's velocities at the step's end.
-    pub velocities: Vec<BodyVelocity>,
-    /// Each body's displacement of its centre of mass over the step.
-    pub displacements: Vec<Vector3<f64>>,
-    /// Each body's rotation over the step (world frame: new orientation = rotation * old).
-    pub rotations: Vec<UnitQuaternion<f64>>,
-    /// Each contact's impulses of the last substep (to start the next step with), and its normal impulse over the
-    /// whole step (the substeps' sum): `soft_step`'s, by contact (`soft_solve` leaves them empty: its manifolds
-    /// hold them).
-    pub impulses: Vec<SoftImpulse>,
-    pub normal_impulses: Vec<f64>,
-    /// Each joint's row impulses of the last substep (to start the next step with), and over the whole step (the
-    /// substeps' sum: what it carried).
-    pub joint_impulses: Vec<JointImpulse>,
-    pub joint_step_impulses: Vec<JointImpulse>,
-    /// Islands solved.
-    pub islands: usize,
-    /// How far the step's end is from the exact contact conditions (m/s): the largest approach speed of a touching
-    /// contact, separating speed of a contact that pushes while apart, or slip of a contact sticking inside its
-    /// friction bound. Zero for the exact answer; what the sweeps left unsolved otherwise.
-    pub residual: f64,
-    /// Time spent building the rows (s: each group's bodies, bundles, constraint axes and effective masses, joints
-    /// and springs), summed over the groups (on several threads it can pass the wall time).
-    pub prepare_seconds: f64,
-    /// Contact points that pushed (a positive impulse over the step), and of those the ones that closed faster than
-    /// the bounce threshold (collisions).
-    pub pushing: usize,
-    pub collisions: usize,
-}
-
-/// Two steps are equal when their answers are: the time they took is not part of it.
-impl PartialEq for SoftStep {
-    fn eq(&self, o: &SoftStep) -> bool {
-        self.velocities == o.velocities
-            && self.displacements == o.displacements
-            && self.rotations == o.rotations
-            && self.impulses == o.impulses
-            && self.normal_impulses == o.normal_impulses
-            && self.joint_impulses == o.joint_impulses
-            && self.joint_step_impulses == o.joint_step_impulses
-            && self.islands == o.islands
-            && self.residual.to_bits() == o.residual.to_bits()
-            && (self.pushing, self.collisions) == (o.pushing, o.collisions)
-    }
-}
-
 thread_local! {
     /// Each body's place among the members of the group being set up on this thread (usize::MAX: none), reset
     /// after each group: a lookup a contact end without a search.
@@ -194,71 +149,6 @@ const COLOUR_THREADS: usize = 1000;
 /// Contact points a batch of islands gathers before it is closed (a few hundred kilobytes of rows, which stay in the
 /// cache over the group's substeps).
 const BATCH_POINTS: usize = 512;
-
-/// Checks each joint against the bodies: indices in range, two different bodies, one of them moving, every number
-/// finite.
-fn check_joints(bodies: &[BodyState], joints: &[Joint], warm: &[JointImpulse]) -> Result<(), ContactError> {
-    if warm.len() != joints.len() {
-        return Err(ContactError::invalid(
-            "joint_warm",
-            format!("has {} entries for {} joints", warm.len(), joints.len()),
-        ));
-    }
-    for (k, j) in joints.iter().enumerate() {
-        if j.a >= bodies.len() || j.b >= bodies.len() || j.a == j.b {
-            return Err(ContactError::invalid("joints", format!("joint {k} joins bodies {} and {}", j.a, j.b)));
-        }
-        if !(bodies[j.a].is_dynamic() || bodies[j.b].is_dynamic()) {
-            return Err(ContactError::invalid("joints", format!("joint {k} joins two bodies that do not move")));
-        }
-        let f = &j.frame;
-        let numbers =
-            [f.ra, f.rb, f.axis, f.across[0], f.across[1], f.axis_b].into_iter().flat_map(|v| [v.x, v.y, v.z]);
-        if !(numbers.chain(f.error.coords.iter().copied()).all(f64::is_finite)
-            && warm[k].0.iter().all(|p| p.is_finite()))
-        {
-            return Err(ContactError::invalid("joints", format!("joint {k} has a non-finite number")));
-        }
-    }
-    Ok(())
-}
-
-/// Checks each spring against the bodies: indices in range, two different bodies, one of them moving, every
-/// number finite, stiffness, damping and rest length not negative.
-fn check_springs(bodies: &[BodyState], springs: &[SoftSpring]) -> Result<(), ContactError> {
-    for (k, s) in springs.iter().enumerate() {
-        if s.a >= bodies.len() || s.b >= bodies.len() || s.a == s.b {
-            return Err(ContactError::invalid("springs", format!("spring {k} joins bodies {} and {}", s.a, s.b)));
-        }
-        if !(bodies[s.a].is_dynamic() || bodies[s.b].is_dynamic()) {
-            return Err(ContactError::invalid("springs", format!("spring {k} joins two bodies that do not move")));
-        }
-        if !s.is_valid() {
-            return Err(ContactError::invalid(
-                "springs",
-                format!("spring {k} has a non-finite or negative stiffness, damping, rest length or arm"),
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// Checks the bodies' numbers: finite, inverse masses not negative (their inertias are taken as given: the caller
-/// keeps them positive definite).
-fn check_bodies(bodies: &[BodyState]) -> Result<(), ContactError> {
-    // one sum of each body's numbers: finite only if each is
-    for (i, b) in bodies.iter().enumerate() {
-        let sum =
-            [b.position.coords, b.velocity, b.angular_velocity, b.force, b.torque].iter().map(|v| v.sum()).sum::<f64>()
-                + b.inertia.sum()
-                + b.inv_inertia.sum()
-                + b.inv_mass;
-        if !(b.inv_mass >= 0.0 && sum.is_finite()) {
-            return Err(ContactError::invalid("bodies", format!("body {i} has a non-finite number or negative mass")));
-        }
-    }
-    Ok(())
-}
 
 /// The joints, joint warm starts and springs of a soft step besides its manifolds.
 #[derive(Clone, Copy, Debug, Default)]
@@ -588,38 +478,6 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
         out.velocities.push(v);
     }
     Ok(out)
-}
-
-impl SoftStep {
-    /// A solved group's contact impulses (into the manifolds), joint impulses and counts.
-    fn take<M: BorrowMut<SoftManifold>>(&mut self, group: &Group, spec: &Spec, manifolds: &mut [M], threshold: f64) {
-        for (bu, fr) in group.bundles.iter().zip(&group.frictions) {
-            for l in 0..bu.lanes {
-                let m = manifolds[bu.manifold[l]].borrow_mut();
-                m.tangent_impulse = fr.vector(l);
-                m.twist_impulse = fr.twist[l];
-                m.rolling_impulse = if fr.resists { fr.roll_vector(l) } else { nalgebra::Vector3::zeros() };
-                for p in 0..bu.count[l] {
-                    let row = &bu.rows[p];
-                    let point = &mut m.points[p];
-                    point.normal_impulse = row.normal[l];
-                    point.step_normal = row.step[l];
-                    if row.step[l] > 0.0 {
-                        self.pushing += 1;
-                        if row.closing[l] < -threshold {
-                            self.collisions += 1;
-                        }
-                    }
-                }
-            }
-        }
-        for (set, joints) in group.joints.iter().zip(&spec.joints) {
-            for ((&k, impulse), step) in joints.iter().zip(&set.impulses).zip(&set.step_impulses) {
-                self.joint_impulses[k] = *impulse;
-                self.joint_step_impulses[k] = *step;
-            }
-        }
-    }
 }
 
 #[cfg(test)]
