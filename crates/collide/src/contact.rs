@@ -6,8 +6,9 @@
 use crate::aabb::check_pose;
 use crate::convert::{from_parry, point_from_parry};
 use crate::error::ShapeError;
-use crate::face_contact::{hull_plane_contacts, long_face_contacts};
+use crate::face_contact::{clipped_contacts, hull_plane_contacts, long_face_contacts};
 use crate::geometry::ParryView;
+use crate::hull_axis::sounder_normal;
 use crate::proximity::unsupported_pair;
 use crate::shape::Shape;
 use nalgebra::{Isometry3, Point3, Unit, Vector3};
@@ -124,6 +125,16 @@ pub fn contacts(
         };
         let planar = part_a.as_halfspace().is_some() || part_b.as_halfspace().is_some();
         if let Some(all) = planar.then(|| hull_plane_contacts(part_a, &sa, part_b, &sb, normal, prediction)).flatten() {
+            for c in all.into_iter().map(tag) {
+                if !out.iter().any(|o| same_place(o, &c)) {
+                    out.push(c);
+                }
+            }
+            continue;
+        }
+        // two hulls touching exactly: parry's normal may be any direction (`hull_axis.rs`)
+        let sounder = sounder_normal(part_a, &sa, part_b, &sb, &normal);
+        if let Some(all) = sounder.and_then(|n| clipped_contacts(part_a, &sa, part_b, &sb, n, prediction)) {
             for c in all.into_iter().map(tag) {
                 if !out.iter().any(|o| same_place(o, &c)) {
                     out.push(c);

@@ -162,6 +162,21 @@ pub(crate) fn long_face_contacts(
     if !(long_face(a, pose_a, n) || long_face(b, pose_b, -n)) {
         return None;
     }
+    clipped_contacts(a, pose_a, b, pose_b, normal, prediction)
+}
+
+/// The contacts of parts `a` at `pose_a` and `b` at `pose_b` along `normal` (world, from A toward B) closer than
+/// `prediction`: the feature of each facing the other, taken whole, and their overlap clipped in the plane across
+/// the normal; `None` for shapes this does not handle (`side`).
+pub(crate) fn clipped_contacts(
+    a: &dyn ParryShape,
+    pose_a: &Pose,
+    b: &dyn ParryShape,
+    pose_b: &Pose,
+    normal: Unit<Vector3<f64>>,
+    prediction: f64,
+) -> Option<Vec<Contact>> {
+    let n = normal.into_inner();
     let (pa, pb) = (side(a, pose_a, n)?, side(b, pose_b, -n)?);
     let mut out = Vec::new();
     let mut push = |point_a: Point3<f64>, point_b: Point3<f64>, feature_a: Feature, feature_b: Feature| {

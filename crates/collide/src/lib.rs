@@ -31,6 +31,7 @@ mod error;
 mod face_contact;
 mod fracture;
 mod geometry;
+mod hull_axis;
 mod mass;
 mod mesh;
 mod mesh_builders;

@@ -188,25 +188,38 @@ pub(super) fn give_broken(system: &mut AccurateSystem, broken: &mut [bool], scen
     }
 }
 
-/// Breaks the joints a contact step of `h` takes past their bounds (`loads`: the forces its impulses make over
-/// it; a joint with a window judged by its average, brought on by them), at the step's end t (booked in `run`);
-/// gives whether any broke.
+/// Breaks the joints a contact step of `h` takes past their bounds, at the step's end t (booked in `run`); gives
+/// whether any broke. `step` is the second of the step's halves: its loads (the forces its impulses make over it)
+/// are the load at the instant; a joint with a window is judged by its average, brought on by each half's
+/// impulses in turn, and breaks if either half takes it past its bounds.
 #[cfg(feature = "contact")]
 pub(super) fn break_after_step(
     cx: &mut super::contact_stages::ContactStages<'_>,
     system: &mut AccurateSystem,
-    loads: &[JointLoad],
+    step: &super::convex_step::ConvexStep,
     h: f64,
     t: f64,
     run: Option<&mut crate::run::Run>,
 ) -> bool {
+    let loads = &step.joint_loads;
     if !system.model.can_break() || loads.is_empty() {
         return false;
     }
-    let carried: Vec<JointLoad> =
-        loads.iter().map(|l| JointLoad { force: l.force * h, torque: l.torque * h }).collect();
-    let judged = system.model.judged_loads(cx.averages, loads, &carried, h);
-    let which = system.model.overloaded(&judged);
+    let half = 0.5 * h;
+    let carried = |loads: &[JointLoad]| -> Vec<JointLoad> {
+        loads.iter().map(|l| JointLoad { force: l.force * half, torque: l.torque * half }).collect()
+    };
+    let mut which = Vec::new();
+    if step.first_half_loads.len() == loads.len() {
+        let first = &step.first_half_loads;
+        let judged = system.model.judged_loads(cx.averages, first, &carried(first), half);
+        let windowed = |k: &usize| system.model.joints[*k].breaking.is_some_and(|b| b.window > 0.0);
+        which.extend(system.model.overloaded(&judged).into_iter().filter(windowed));
+    }
+    let judged = system.model.judged_loads(cx.averages, loads, &carried(loads), half);
+    which.extend(system.model.overloaded(&judged));
+    which.sort_unstable();
+    which.dedup();
     give_broken(system, cx.broken, Some(&mut *cx.scene), &which);
     if let Some(run) = run {
         which.iter().for_each(|&k| run.break_joint(t, k));

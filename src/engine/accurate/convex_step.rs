@@ -49,6 +49,8 @@ pub(crate) struct ConvexStep {
     pub wrenches: BTreeMap<ContactKey, Vector3<f64>>,
     /// Each joint's load over the step (its rows' impulses / h; none without joints).
     pub joint_loads: Vec<JointLoad>,
+    /// For the second of a step's two halves, the first half's `joint_loads` (`doubled_step`); empty otherwise.
+    pub first_half_loads: Vec<JointLoad>,
 }
 
 /// The actors at state y with the applied forces of the equations of motion (gyroscopic term cancelled: the step
@@ -120,6 +122,7 @@ pub fn convex_step(
             pressing: BTreeSet::new(),
             wrenches: BTreeMap::new(),
             joint_loads: Vec::new(),
+            first_half_loads: Vec::new(),
         }));
     }
     let clock = Instant::now();
@@ -203,7 +206,7 @@ pub fn convex_step(
         joint_loads[*k].add(&r.lin, &r.ang_b, rb, p / h);
     }
     cx.report.contact_seconds += clock.elapsed().as_secs_f64();
-    Ok(Some(ConvexStep { y: next, forces, pressing, wrenches, joint_loads }))
+    Ok(Some(ConvexStep { y: next, forces, pressing, wrenches, joint_loads, first_half_loads: Vec::new() }))
 }
 
 /// What a step asks its programs (`lagged_answer`).

@@ -37,9 +37,11 @@ pub(super) fn doubled_step(
     let states = held(system, statics, mid, &first.y, &phase.sleep)?;
     let (later, every) = every_contact_in_reach(cx, &system.model, &states, &first.y, mid, 0.5 * h)?;
     let warm = (&first.forces, &first.wrenches);
-    let Some(second) = convex_step(cx, &system.model, &states, &later, warm, mid, &first.y, 0.5 * h)? else {
+    let Some(mut second) = convex_step(cx, &system.model, &states, &later, warm, mid, &first.y, 0.5 * h)? else {
         return Ok(None);
     };
+    // the joints' loads over the whole step are both halves' (an impact's impulse is mostly the first's)
+    second.first_half_loads = first.joint_loads;
     let involved = involved(&system.model, &[found, &later]);
     let sunk = sinking(&system.model, &every, &first.y, &second.y);
     Ok(Some((whole, second, involved, sunk)))

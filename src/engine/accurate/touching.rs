@@ -266,14 +266,12 @@ pub fn touching_steps(
             cx.report.stages.mark(crate::plan::Stage::Sleeping);
         }
         cx.report.sleepers = phase.sleep.count();
-        phase.lagged = kept.second.forces;
-        phase.warm = kept.second.wrenches;
-        phase.difference = Some((h, kept.difference));
         // joints the step took past their bounds break at its end (the next step's estimate is then its halves':
         // the equations changed)
-        if super::breaking::break_after_step(cx, system, &kept.second.joint_loads, h, t, run.as_deref_mut()) {
-            phase.difference = None;
-        }
+        let broke = super::breaking::break_after_step(cx, system, &kept.second, h, t, run.as_deref_mut());
+        phase.lagged = kept.second.forces;
+        phase.warm = kept.second.wrenches;
+        phase.difference = if broke { None } else { Some((h, kept.difference)) };
         let impulses = found.iter().map(|f| kept.whole.forces.get(&f.key).map_or(0.0, |force| force * h));
         // the contacts that pushed or touch (within the tolerance), not every pair within the step's reach
         phase.last = LastContact::from_found(&found, impulses, h);
