@@ -77,22 +77,23 @@ fn a_beam_snaps_when_its_averaged_load_reaches_the_bound_at_the_closed_form_time
 }
 
 #[test]
-fn fast_mode_counts_each_step_s_impulse_at_its_end() {
-    // fast mode: after k steps of h under the load M, the average is (M h / window) sum_{i<k} e^(-i h / window);
-    // it breaks at the end of the first step where that passes the bound (the same step as the closed form)
+fn fast_mode_averages_each_step_s_load_as_constant_over_it() {
+    // fast mode: each step's impulse is taken as a force constant over the step, so after k steps of h under the
+    // load M the average is M (1 - e^(-k h / window)), the closed form at the step's end: it breaks at the end of
+    // the first step where that passes the bound, and a bound above the load (ratio 1.2) is never reached (counted
+    // in full at the step's end, the average settled at 1.22 M at this step and broke it)
     let h = 1.0 / 240.0;
     for ratio in [0.3, 0.5, 0.9, 1.2] {
         let (mut w, load) = beam(fast(h), ratio);
         let run = w.run(0.2, 0.01).unwrap();
-        let keep = (-h / 0.01f64).exp();
-        let mut average = 0.0;
-        let mut k = 0;
-        while average <= ratio * load {
-            average = average * keep + load * h / 0.01;
-            k += 1;
+        if ratio > 1.0 {
+            assert!(run.joint_breaks.is_empty(), "a bound above the steady load broke: {:?}", run.joint_breaks);
+            continue;
         }
+        let k = (1..).find(|&k| load * (1.0 - (-(k as f64) * h / 0.01).exp()) > ratio * load).unwrap();
         assert_eq!(run.joint_breaks.len(), 1, "ratio {ratio}");
-        // the soft weld's load is the hanging half's weight to 1%: the step it breaks in is the formula's
+        // the soft weld's load is the hanging half's weight to 1%, and at these ratios the closed form is 2% or more
+        // past the bound at the end of step k and short of it at the end of step k - 1: the step is the formula's
         let (t, _) = run.joint_breaks[0];
         assert!((t - k as f64 * h).abs() < 1e-12, "ratio {ratio}: broke at {t}, expected step {k}");
     }

@@ -5,6 +5,7 @@ and in accurate mode); a glass pane of 50 pieces hit by a ball in fast mode (the
 one thread).
 
     python python/examples/fracture.py [--parts vase,wall,pane] [--modes fast,accurate] [--windows 0.01]
+        [--strength 1e6]
 """
 
 from __future__ import annotations
@@ -52,14 +53,17 @@ def measure_vase(modes: list[str]) -> None:
             print(f"{mode:>8} vase standing glued: failed after {time.perf_counter() - clock:.1f} s: {error}")
 
 
-def measure_wall(modes: list[str], windows: list[float]) -> None:
+def measure_wall(modes: list[str], windows: list[float], strength: float) -> None:
     """The welds broken in 1 s, and of those the ones broken within 50 ms of the first break (the impact's own,
-    before loosened bricks strike the others), with how many of those the finest step's run broke too."""
+    before loosened bricks strike the others), with how many of those the finest step's run broke too (at the
+    default strength, 1 MPa, when ``strength`` is another)."""
     for window in windows:
         finest: set[int] | None = None
+        if strength != 1e6 and "fast" not in modes:
+            finest = wall_impact(tumble.scenes.wrecking_ball(dt=1 / 960, window=window), 1.0)[1]
         for mode in modes:
             for dt in ((1 / 960, 1 / 480, 1 / 240) if mode == "fast" else (None,)):
-                w = tumble.scenes.wrecking_ball(fast=mode == "fast", dt=dt, window=window)
+                w = tumble.scenes.wrecking_ball(fast=mode == "fast", dt=dt, window=window, strength=strength)
                 clock = time.perf_counter()
                 label = f"dt 1/{round(1 / dt)}" if dt else "accurate"
                 try:
@@ -68,14 +72,22 @@ def measure_wall(modes: list[str], windows: list[float]) -> None:
                     print(f"wall hit, window {window * 1e3:g} ms, {label}: failed after "
                           f"{time.perf_counter() - clock:.1f} s: {error}")
                     continue
-                order = {j: k for k, j in enumerate(w.joint_handles)}
-                times = np.asarray(run.joint_break_times)
-                first = times.min() if len(times) else 0.0
-                impact = {order[j] for t, j in zip(times, run.joint_breaks) if t < first + 0.05}
+                first, impact = wall_impact(w, run=run)
+                times = run.joint_break_times
                 finest = impact if finest is None else finest
                 print(f"wall hit, window {window * 1e3:g} ms, {label}: {len(times)} of {w.joint_count} welds broke "
                       f"in 1 s, {len(impact)} within 50 ms of the first break at {first:.4f} s ({len(impact & finest)} "
                       f"of them as at the finest step) ({time.perf_counter() - clock:.1f} s)")
+
+
+def wall_impact(w: tumble.World, duration: float = 1.0, run: tumble.Run | None = None) -> tuple[float, set[int]]:
+    """The first break's time in ``run`` (or a run of ``w`` for ``duration``) and the welds (by their order)
+    broken within 50 ms of it."""
+    run = w.run(duration) if run is None else run
+    order = {j: k for k, j in enumerate(w.joint_handles)}
+    times = np.asarray(run.joint_break_times)
+    first = float(times.min()) if len(times) else 0.0
+    return first, {order[j] for t, j in zip(times, run.joint_breaks) if t < first + 0.05}
 
 
 def measure_pane() -> None:
@@ -92,12 +104,13 @@ def main() -> None:
     p.add_argument("--parts", default="vase,wall,pane")
     p.add_argument("--modes", default="fast,accurate")
     p.add_argument("--windows", default="0.01", help="break windows (s) for the wall, comma-separated")
+    p.add_argument("--strength", type=float, default=1e6, help="the wall's glue strength (Pa)")
     args = p.parse_args()
     parts, modes = args.parts.split(","), args.modes.split(",")
     if "vase" in parts:
         measure_vase(modes)
     if "wall" in parts:
-        measure_wall(modes, [float(x) for x in args.windows.split(",")])
+        measure_wall(modes, [float(x) for x in args.windows.split(",")], args.strength)
     if "pane" in parts:
         measure_pane()
 

@@ -56,10 +56,13 @@ impl Model {
         out
     }
 
-    /// The loads to judge each joint by after a step of `h`: a joint with a window its load averaged over it,
-    /// `averages` (one a joint, kept from step to step) brought on by the step's `carried` impulses (each counted
-    /// in full at the step's end: average = e^(-h / window) average + carried / window); any other its `instant`
-    /// load.
+    /// The loads to judge each joint by after a step of `h` taken in substeps of `substep`: a joint with a window
+    /// its load averaged over it, `averages` (one a joint, kept from step to step) brought on by the step's
+    /// `carried` impulses, each substep's taken as a force constant over it. `carried` sums the substeps' impulses
+    /// p_i, each weighed by e^(-substep / window) a later substep, and average = e^(-h / window) average + (1 -
+    /// e^(-substep / window)) carried / substep: a steady load is judged as itself whatever the step, and an
+    /// impulse in a substep far shorter than the window counts as impulse / window. Any other joint is judged by
+    /// its `instant` load.
     #[cfg(feature = "contact")]
     pub(crate) fn judged_loads(
         &self,
@@ -67,15 +70,18 @@ impl Model {
         instant: &[JointLoad],
         carried: &[JointLoad],
         h: f64,
+        substep: f64,
     ) -> Vec<JointLoad> {
         averages.resize(self.joints.len(), JointLoad::default());
         let mut judged = instant.to_vec();
         for (k, j) in self.holding_joints() {
             let Some(b) = j.breaking.filter(|b| b.window > 0.0) else { continue };
             let keep = (-h / b.window).exp();
+            // (1 - e^(-substep / window)) / substep: 1 / window for a substep far below the window
+            let share = -(-substep / b.window).exp_m1() / substep;
             let a = &mut averages[k];
-            a.force = a.force * keep + carried[k].force / b.window;
-            a.torque = a.torque * keep + carried[k].torque / b.window;
+            a.force = a.force * keep + carried[k].force * share;
+            a.torque = a.torque * keep + carried[k].torque * share;
             judged[k] = *a;
         }
         judged

@@ -212,11 +212,11 @@ pub(super) fn break_after_step(
     let mut which = Vec::new();
     if step.first_half_loads.len() == loads.len() {
         let first = &step.first_half_loads;
-        let judged = system.model.judged_loads(cx.averages, first, &carried(first), half);
+        let judged = system.model.judged_loads(cx.averages, first, &carried(first), half, half);
         let windowed = |k: &usize| system.model.joints[*k].breaking.is_some_and(|b| b.window > 0.0);
         which.extend(system.model.overloaded(&judged).into_iter().filter(windowed));
     }
-    let judged = system.model.judged_loads(cx.averages, loads, &carried(loads), half);
+    let judged = system.model.judged_loads(cx.averages, loads, &carried(loads), half, half);
     which.extend(system.model.overloaded(&judged));
     which.sort_unstable();
     which.dedup();

@@ -1,7 +1,7 @@
 //! Fast mode's joint-breaking stage, after the soft step: each breakable joint's load from its rows' impulses of
 //! the last substep over the substep (Box2D's joint force: what the joint carried at the step's end), or, for a
-//! joint with a window, its load averaged over the window, brought on by the impulses it carried over the whole
-//! step (`Model::judged_loads`); a joint past its bounds breaks, holding nothing from the next step on, and its
+//! joint with a window, its load averaged over the window, brought on substep by substep by the impulses it
+//! carried (`Model::judged_loads`); a joint past its bounds breaks, holding nothing from the next step on, and its
 //! bodies collide again.
 
 use super::step::StepContext;
@@ -9,7 +9,8 @@ use crate::engine::breaking::set_broken;
 use tumble_contact::JointImpulse;
 
 /// Breaks the joints the step of `h` took past their bounds (substeps of `substep` s; `carried`: each holding
-/// joint's impulses over the step, in the order of the holding joints); gives them, in order.
+/// joint's impulses over the step, weighed substep by substep by its window, in the order of the holding joints);
+/// gives them, in order.
 pub(super) fn break_joints(cx: &mut StepContext<'_>, carried: &[JointImpulse], substep: f64, h: f64) -> Vec<usize> {
     if !cx.model.can_break() {
         return Vec::new();
@@ -23,7 +24,7 @@ pub(super) fn break_joints(cx: &mut StepContext<'_>, carried: &[JointImpulse], s
             by_joint[k] = *p;
         }
         let over_step = cx.model.joint_loads(&rows, &ends, |i, r| by_joint[rows[i].0].0[r.slot]);
-        loads = cx.model.judged_loads(&mut cx.memory.load_averages, &loads, &over_step, h);
+        loads = cx.model.judged_loads(&mut cx.memory.load_averages, &loads, &over_step, h, substep);
     }
     let broken = cx.model.overloaded(&loads);
     if broken.is_empty() {

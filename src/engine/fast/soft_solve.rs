@@ -45,7 +45,9 @@ pub(super) fn soft_solve(
     // the holding joints (a broken one is left out), each started from its last impulses
     let holding: Vec<usize> = cx.model.holding_joints().map(|(k, _)| k).collect();
     let joint_warm: Vec<JointImpulse> = holding.iter().map(|&k| cx.memory.joint_warm[k]).collect();
-    let links = SoftLinks { joints: &joints, joint_warm: &joint_warm, springs: &springs };
+    // each holding joint's break window: its impulses over the step weighed substep by substep
+    let windows: Vec<f64> = holding.iter().map(|&k| cx.model.joints[k].breaking.map_or(0.0, |b| b.window)).collect();
+    let links = SoftLinks { joints: &joints, joint_warm: &joint_warm, springs: &springs, windows: &windows };
     let mut manifolds = cx.memory.pairs.as_mut().map_or_else(Vec::new, |kept| kept.manifolds(states));
     let touching = !manifolds.is_empty();
     let out = soft_solve_manifolds(actors, &mut manifolds, &links, h, &settings)

@@ -23,7 +23,8 @@ pub struct SoftStep {
     pub impulses: Vec<SoftImpulse>,
     pub normal_impulses: Vec<f64>,
     /// Each joint's row impulses of the last substep (to start the next step with), and over the whole step (the
-    /// substeps' sum: what it carried).
+    /// substeps' sum: what it carried; with a window, each substep's weighed by e^(-substep / window) a later
+    /// substep, `SoftLinks::windows`).
     pub joint_impulses: Vec<JointImpulse>,
     pub joint_step_impulses: Vec<JointImpulse>,
     /// Islands solved.

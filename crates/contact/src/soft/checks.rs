@@ -6,8 +6,22 @@ use crate::error::ContactError;
 use crate::joint::{Joint, JointImpulse};
 
 /// Checks each joint against the bodies: indices in range, two different bodies, one of them moving, every number
-/// finite.
-pub(super) fn check_joints(bodies: &[BodyState], joints: &[Joint], warm: &[JointImpulse]) -> Result<(), ContactError> {
+/// finite; and the windows, one a joint (or none), each finite and >= 0.
+pub(super) fn check_joints(
+    bodies: &[BodyState],
+    joints: &[Joint],
+    warm: &[JointImpulse],
+    windows: &[f64],
+) -> Result<(), ContactError> {
+    if !(windows.is_empty() || windows.len() == joints.len()) {
+        return Err(ContactError::invalid(
+            "windows",
+            format!("has {} entries for {} joints", windows.len(), joints.len()),
+        ));
+    }
+    if let Some((k, w)) = windows.iter().enumerate().find(|(_, w)| !(w.is_finite() && **w >= 0.0)) {
+        return Err(ContactError::invalid("windows", format!("joint {k}'s window is {w}: it must be finite and >= 0")));
+    }
     if warm.len() != joints.len() {
         return Err(ContactError::invalid(
             "joint_warm",

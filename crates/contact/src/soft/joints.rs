@@ -29,8 +29,10 @@ struct Row {
 pub(crate) struct JointSet {
     joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>,
     pub impulses: Vec<JointImpulse>,
-    /// Each joint's impulses summed over the substeps so far: what it carried over the step.
+    /// Each joint's impulses summed over the substeps so far, each substep's weighed by the joint's `decay` once a
+    /// later substep: what it carried over the step (its plain sum where the decay is 1).
     pub step_impulses: Vec<JointImpulse>,
+    decay: Vec<f64>,
     rows: Vec<Row>,
     /// The rows of rigid joints that hold them (equality rows), solved together by a direct solve, and the
     /// factorization of their K = J M^-1 J^T; empty when there are more than `DIRECT_ROWS`.
@@ -58,10 +60,11 @@ pub(crate) struct JointSweep {
 }
 
 impl JointSet {
-    /// `joints` with local body indices, their centres at the step's start, and their warm starts.
-    pub fn new(joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>, warm: Vec<JointImpulse>) -> JointSet {
+    /// `joints` with local body indices, their centres at the step's start, their warm starts and decays.
+    pub fn new(joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>, warm: Vec<JointImpulse>, decay: Vec<f64>) -> JointSet {
         JointSet {
             step_impulses: vec![JointImpulse::default(); warm.len()],
+            decay,
             joints,
             impulses: warm,
             rows: Vec::new(),
@@ -143,11 +146,11 @@ impl JointSet {
         self.masses.get(body).copied().unwrap_or(0.0)
     }
 
-    /// Adds the substep's impulses to the step's.
+    /// Adds the substep's impulses to the step's (those so far weighed by the decay once more).
     pub fn end_substep(&mut self) {
-        for (step, last) in self.step_impulses.iter_mut().zip(&self.impulses) {
+        for ((step, last), &decay) in self.step_impulses.iter_mut().zip(&self.impulses).zip(&self.decay) {
             for (s, p) in step.0.iter_mut().zip(&last.0) {
-                *s += p;
+                *s = *s * decay + p;
             }
         }
     }

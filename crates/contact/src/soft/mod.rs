@@ -150,12 +150,14 @@ const COLOUR_THREADS: usize = 1000;
 /// cache over the group's substeps).
 const BATCH_POINTS: usize = 512;
 
-/// The joints, joint warm starts and springs of a soft step besides its manifolds.
+/// The joints, joint warm starts and springs of a soft step besides its manifolds, and each joint's window: the
+/// time (s) over which its impulses are weighed (`SoftStep::joint_step_impulses`), 0 for none (empty: none).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SoftLinks<'a> {
     pub joints: &'a [Joint],
     pub joint_warm: &'a [JointImpulse],
     pub springs: &'a [SoftSpring],
+    pub windows: &'a [f64],
 }
 
 /// What one soft step solves, by contacts: the bodies, their contacts (each started from `warm[i]`, the same
@@ -260,7 +262,7 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
             split.push(part);
         }
     }
-    let links = SoftLinks { joints, joint_warm, springs };
+    let links = SoftLinks { joints, joint_warm, springs, windows: &[] };
     let mut out = soft_solve(bodies, &mut split, &links, h, settings)?;
     out.impulses = vec![SoftImpulse::default(); contacts.len()];
     out.normal_impulses = vec![0.0; contacts.len()];
@@ -298,7 +300,7 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
     h: f64,
     settings: &SoftSettings,
 ) -> Result<SoftStep, ContactError> {
-    let SoftLinks { joints, joint_warm, springs } = *links;
+    let SoftLinks { joints, joint_warm, springs, windows } = *links;
     settings.check()?;
     if !(h.is_finite() && h > 0.0) {
         return Err(ContactError::invalid("dt", format!("must be finite and > 0, got {h}")));
@@ -307,7 +309,10 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
     for (k, m) in manifolds.iter().enumerate() {
         m.borrow().check(k, bodies)?;
     }
-    check_joints(bodies, joints, joint_warm)?;
+    check_joints(bodies, joints, joint_warm, windows)?;
+    // each joint's weight on a substep's impulses a substep later (its window's decay)
+    let substep = h / settings.substeps.max(1) as f64;
+    let decay = |k: usize| windows.get(k).filter(|&&w| w > 0.0).map_or(1.0, |w| (-substep / w).exp());
     check_springs(bodies, springs)?;
     let clock = std::time::Instant::now();
     let views: Vec<&SoftManifold> = manifolds.iter().map(|m| m.borrow()).collect();
@@ -412,7 +417,8 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
                     let (j, xa, xb) = (&joints[k], bodies[joints[k].a].position, bodies[joints[k].b].position);
                     (Joint { a: local(j.a), b: local(j.b), ..*j }, xa.coords, xb.coords)
                 });
-                group.joints.push(JointSet::new(placed.collect(), set.iter().map(|&k| joint_warm[k]).collect()));
+                let warm = set.iter().map(|&k| joint_warm[k]).collect();
+                group.joints.push(JointSet::new(placed.collect(), warm, set.iter().map(|&k| decay(k)).collect()));
             }
             if !spec.springs.is_empty() {
                 let placed = spec.springs.iter().map(|&k| {
