@@ -59,8 +59,9 @@ def measure_wall(modes: list[str], windows: list[float], strength: float) -> Non
     default strength, 1 MPa, when ``strength`` is another)."""
     for window in windows:
         finest: set[int] | None = None
+        finest_first: set[int] | None = None
         if strength != 1e6 and "fast" not in modes:
-            finest = wall_impact(tumble.scenes.wrecking_ball(dt=1 / 960, window=window), 1.0)[1]
+            _, finest_first, finest = wall_breaks(tumble.scenes.wrecking_ball(dt=1 / 960, window=window), 1.0)
         for mode in modes:
             for dt in ((1 / 960, 1 / 480, 1 / 240) if mode == "fast" else (None,)):
                 w = tumble.scenes.wrecking_ball(fast=mode == "fast", dt=dt, window=window, strength=strength)
@@ -72,22 +73,34 @@ def measure_wall(modes: list[str], windows: list[float], strength: float) -> Non
                     print(f"wall hit, window {window * 1e3:g} ms, {label}: failed after "
                           f"{time.perf_counter() - clock:.1f} s: {error}")
                     continue
-                first, impact = wall_impact(w, run=run)
+                first, at_first, impact = wall_breaks(w, run=run)
                 times = run.joint_break_times
                 finest = impact if finest is None else finest
+                finest_first = at_first if finest_first is None else finest_first
                 print(f"wall hit, window {window * 1e3:g} ms, {label}: {len(times)} of {w.joint_count} welds broke "
                       f"in 1 s, {len(impact)} within 50 ms of the first break at {first:.4f} s ({len(impact & finest)} "
-                      f"of them as at the finest step) ({time.perf_counter() - clock:.1f} s)")
+                      f"of them as at the finest step), {len(at_first)} at it ({len(at_first & finest_first)} as at "
+                      f"the finest step's) ({time.perf_counter() - clock:.1f} s)")
 
 
 def wall_impact(w: tumble.World, duration: float = 1.0, run: tumble.Run | None = None) -> tuple[float, set[int]]:
     """The first break's time in ``run`` (or a run of ``w`` for ``duration``) and the welds (by their order)
     broken within 50 ms of it."""
+    first, _, impact = wall_breaks(w, duration, run)
+    return first, impact
+
+
+def wall_breaks(
+    w: tumble.World, duration: float = 1.0, run: tumble.Run | None = None
+) -> tuple[float, set[int], set[int]]:
+    """The first break's time in ``run`` (or a run of ``w`` for ``duration``), the welds (by their order) broken
+    then, and those broken within 50 ms of it."""
     run = w.run(duration) if run is None else run
     order = {j: k for k, j in enumerate(w.joint_handles)}
     times = np.asarray(run.joint_break_times)
     first = float(times.min()) if len(times) else 0.0
-    return first, {order[j] for t, j in zip(times, run.joint_breaks) if t < first + 0.05}
+    at_first = {order[j] for t, j in zip(times, run.joint_breaks) if t == first}
+    return first, at_first, {order[j] for t, j in zip(times, run.joint_breaks) if t < first + 0.05}
 
 
 def measure_pane() -> None:

@@ -4,26 +4,35 @@
 //! carried (`Model::judged_loads`); a joint past its bounds breaks, holding nothing from the next step on, and its
 //! bodies collide again.
 
+use super::soft_solve::Solved;
 use super::step::StepContext;
 use crate::engine::breaking::set_broken;
+use crate::model::breaking::JointLoad;
 use tumble_contact::JointImpulse;
 
-/// Breaks the joints the step of `h` took past their bounds (substeps of `substep` s; `carried`: each holding
-/// joint's impulses over the step, weighed substep by substep by its window, in the order of the holding joints);
-/// gives them, in order.
-pub(super) fn break_joints(cx: &mut StepContext<'_>, carried: &[JointImpulse], substep: f64, h: f64) -> Vec<usize> {
+/// Breaks the joints the step of `h` took past their bounds (substeps of `substep` s; `solved`: the soft step's
+/// answer, with each joint it solved as rows and its impulses over the step, weighed substep by substep by its
+/// window, and each glued weld's load over the step); gives them, in order.
+pub(super) fn break_joints(cx: &mut StepContext<'_>, solved: &Solved, substep: f64, h: f64) -> Vec<usize> {
     if !cx.model.can_break() {
         return Vec::new();
     }
     let (rows, ends) = cx.model.all_rows(&cx.memory.y, false);
     let warm = &cx.memory.joint_warm;
     let mut loads = cx.model.joint_loads(&rows, &ends, |i, r| warm[rows[i].0].0[r.slot] / substep);
+    // a glued weld's load at the instant is its load over the step (its impulse, weighed as a joint's, over h)
+    for (&k, carried) in &solved.glued {
+        loads[k] = JointLoad { force: carried.force / h, torque: carried.torque / h };
+    }
     if cx.model.has_break_windows() {
         let mut by_joint = vec![JointImpulse::default(); cx.model.joints.len()];
-        for ((k, _), p) in cx.model.holding_joints().zip(carried) {
+        for (&k, p) in solved.rows.iter().zip(&solved.out.joint_step_impulses) {
             by_joint[k] = *p;
         }
-        let over_step = cx.model.joint_loads(&rows, &ends, |i, r| by_joint[rows[i].0].0[r.slot]);
+        let mut over_step = cx.model.joint_loads(&rows, &ends, |i, r| by_joint[rows[i].0].0[r.slot]);
+        for (&k, carried) in &solved.glued {
+            over_step[k] = *carried;
+        }
         loads = cx.model.judged_loads(&mut cx.memory.load_averages, &loads, &over_step, h, substep);
     }
     let broken = cx.model.overloaded(&loads);

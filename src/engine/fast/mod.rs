@@ -11,6 +11,8 @@ mod applied_forces;
 mod bounce_limiter;
 mod breaking;
 mod find_contacts;
+mod glued;
+mod glued_loads;
 mod memory;
 mod sleep;
 mod soft_solve;

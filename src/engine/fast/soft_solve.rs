@@ -8,27 +8,40 @@
 //! undamped spring gained energy at any step, and the cloth drape diverged).
 
 use super::failure;
+use super::glued::{Balance, Glued};
 use super::step::StepContext;
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
+use crate::model::breaking::JointLoad;
 use crate::model::joints::JointEnd;
 use crate::model::End;
 use crate::plan::Stage;
 use nalgebra::{Point3, Vector3};
+use std::collections::BTreeMap;
 use std::time::Instant;
 use tumble_contact::{
     soft_solve as soft_solve_manifolds, BodyState, Joint, JointImpulse, SoftLinks, SoftSettings, SoftSpring, SoftStep,
     SpringLaw,
 };
 
+/// What the soft step gives fast mode: its answer (each glued piece given its object's motion), the holding
+/// joints it solved as rows (in the order of its joint impulses), and each glued weld's impulse over the step,
+/// weighed as a joint's
+/// (`glued.rs`).
+pub(super) struct Solved {
+    pub out: SoftStep,
+    pub rows: Vec<usize>,
+    pub glued: BTreeMap<usize, JointLoad>,
+}
+
 /// The soft step of h for the actors `states` with the contacts the engine keeps (`contact_pairs.rs`), their
-/// impulses kept in them for the next step.
+/// impulses kept in them for the next step; glued objects solved as one body each (`glued.rs`).
 pub(super) fn soft_solve(
     cx: &mut StepContext<'_>,
     states: &[BodyState],
     h: f64,
     soft: SoftSolver,
-) -> Result<SoftStep, WorldError> {
+) -> Result<Solved, WorldError> {
     let clock = Instant::now();
     let settings = SoftSettings {
         substeps: soft.substeps,
@@ -40,18 +53,46 @@ pub(super) fn soft_solve(
         threads: cx.threads,
         ..SoftSettings::default()
     };
-    let (actors, joints, springs) = links_at_start(cx, states);
-    let actors = actors.as_deref().unwrap_or(states);
-    // the holding joints (a broken one is left out), each started from its last impulses
-    let holding: Vec<usize> = cx.model.holding_joints().map(|(k, _)| k).collect();
+    let (actors, mut joints, springs) = links_at_start(cx, states);
+    let mut actors = actors.unwrap_or_else(|| states.to_vec());
+    // the holding joints (a broken one is left out; a glued object's welds are its compound's), each started from
+    // its last impulses
+    let mut holding: Vec<usize> = cx.model.holding_joints().map(|(k, _)| k).collect();
+    let glued = Glued::find(cx.model, states);
+    let mut first = actors.len();
+    if let Some(g) = &glued {
+        let solves: Vec<bool> = holding.iter().map(|&k| g.solves(cx.model, k)).collect();
+        let mut keep = solves.iter().map(|s| !s);
+        joints.retain(|_| keep.next().expect("a joint a holding joint"));
+        for (&k, _) in holding.iter().zip(&solves).filter(|(_, &s)| s) {
+            cx.memory.joint_warm[k] = JointImpulse::default();
+        }
+        let mut keep = solves.iter().map(|s| !s);
+        holding.retain(|_| keep.next().expect("a flag a holding joint"));
+        first = g.actors(&mut actors);
+    }
     let joint_warm: Vec<JointImpulse> = holding.iter().map(|&k| cx.memory.joint_warm[k]).collect();
     // each holding joint's break window: its impulses over the step weighed substep by substep
     let windows: Vec<f64> = holding.iter().map(|&k| cx.model.joints[k].breaking.map_or(0.0, |b| b.window)).collect();
-    let links = SoftLinks { joints: &joints, joint_warm: &joint_warm, springs: &springs, windows: &windows };
     let mut manifolds = cx.memory.pairs.as_mut().map_or_else(Vec::new, |kept| kept.manifolds(states));
     let touching = !manifolds.is_empty();
-    let out = soft_solve_manifolds(actors, &mut manifolds, &links, h, &settings)
-        .map_err(|e| failure(cx.t, format!("contact solve: {e}")))?;
+    let remapped = glued.as_ref().map(|g| g.remap(&mut manifolds, first, &actors));
+    let manifold_windows = remapped.as_ref().map_or(&[][..], |r| &r.windows[..]);
+    let links =
+        SoftLinks { joints: &joints, joint_warm: &joint_warm, springs: &springs, windows: &windows, manifold_windows };
+    let solved = soft_solve_manifolds(&actors, &mut manifolds, &links, h, &settings);
+    if let Some(r) = &remapped {
+        Glued::restore(&mut manifolds, r);
+    }
+    drop(manifolds);
+    let out = solved.map_err(|e| failure(cx.t, format!("contact solve: {e}")))?;
+    let mut loads = BTreeMap::new();
+    let mut out = out;
+    if let (Some(g), Some(remapped)) = (&glued, &remapped) {
+        let balance = Balance { states, out: &out, first, remapped, h, substeps: settings.substeps };
+        loads = g.loads(cx.model, &cx.memory.y, &balance);
+        g.spread(&mut out, states, first);
+    }
     cx.model.counters.spring_evaluations += springs.len() * settings.substeps;
     for (&k, impulse) in holding.iter().zip(&out.joint_impulses) {
         cx.memory.joint_warm[k] = *impulse;
@@ -68,7 +109,7 @@ pub(super) fn soft_solve(
         cx.report.collisions += out.collisions;
     }
     cx.report.contact_seconds += clock.elapsed().as_secs_f64();
-    Ok(out)
+    Ok(Solved { out, rows: holding, glued: loads })
 }
 
 /// The joints and springs where the bodies are at the step's start, for the soft step.

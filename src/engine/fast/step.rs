@@ -56,11 +56,11 @@ pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<Vec<usize>, World
     let found = find_contacts(cx, &mut states, h)?;
     let (velocities, broken) = match cx.settings.solver {
         FastSolver::Soft(soft) => {
-            let out = soft_solve(cx, &states, h, soft)?;
+            let solved = soft_solve(cx, &states, h, soft)?;
             let sleep = &cx.memory.sleep;
-            apply_moves(cx.model, &mut cx.memory.y, &out, |a| !sleep.asleep(a));
-            let broken = break_joints(cx, &out.joint_step_impulses, h / soft.substeps.max(1) as f64, h);
-            (out.velocities, broken)
+            apply_moves(cx.model, &mut cx.memory.y, &solved.out, |a| !sleep.asleep(a));
+            let broken = break_joints(cx, &solved, h / soft.substeps.max(1) as f64, h);
+            (solved.out.velocities, broken)
         }
         FastSolver::Exact { .. } => {
             let velocities = solve_velocities(cx, &states, &found, h)?;

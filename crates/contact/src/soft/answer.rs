@@ -27,6 +27,11 @@ pub struct SoftStep {
     /// substep, `SoftLinks::windows`).
     pub joint_impulses: Vec<JointImpulse>,
     pub joint_step_impulses: Vec<JointImpulse>,
+    /// Each manifold's impulse over the whole step on its body B (normal, friction, twist and rolling together):
+    /// linear, and angular about B's centre at the step's start (A takes the opposite linear impulse, at the same
+    /// points); with a window (`SoftLinks::manifold_windows`), each substep's weighed by e^(-substep / window) a
+    /// later substep. `soft_solve`'s, by manifold (`soft_step` leaves it empty).
+    pub manifold_impulses: Vec<(Vector3<f64>, Vector3<f64>)>,
     /// Islands solved.
     pub islands: usize,
     /// How far the step's end is from the exact contact conditions (m/s): the largest approach speed of a touching
@@ -52,6 +57,7 @@ impl PartialEq for SoftStep {
             && self.normal_impulses == o.normal_impulses
             && self.joint_impulses == o.joint_impulses
             && self.joint_step_impulses == o.joint_step_impulses
+            && self.manifold_impulses == o.manifold_impulses
             && self.islands == o.islands
             && self.residual.to_bits() == o.residual.to_bits()
             && (self.pushing, self.collisions) == (o.pushing, o.collisions)
@@ -73,8 +79,12 @@ impl SoftStep {
                 m.tangent_impulse = fr.vector(l);
                 m.twist_impulse = fr.twist[l];
                 m.rolling_impulse = if fr.resists { fr.roll_vector(l) } else { nalgebra::Vector3::zeros() };
+                let (mut linear, mut angular) = fr.step_impulse(l);
                 for p in 0..bu.count[l] {
                     let row = &bu.rows[p];
+                    let axis = &row.normal_axis;
+                    linear += axis.dir_of(l) * row.weighed[l];
+                    angular += Vector3::new(axis.cb[0][l], axis.cb[1][l], axis.cb[2][l]) * row.weighed[l];
                     let point = &mut m.points[p];
                     point.normal_impulse = row.normal[l];
                     point.step_normal = row.step[l];
@@ -84,6 +94,9 @@ impl SoftStep {
                             self.collisions += 1;
                         }
                     }
+                }
+                if let Some(out) = self.manifold_impulses.get_mut(bu.manifold[l]) {
+                    *out = (linear, angular);
                 }
             }
         }

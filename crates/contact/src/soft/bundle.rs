@@ -12,6 +12,7 @@
 //! lanes 5.9-6.4, eight 4.9-5.6, sixteen 5.7-6.3; then a manifold a lane, eight lanes: 4.2-4.7 ms against 5.1-5.5
 //! (the 100-cube pile 0.34-0.42 against 0.43-0.47 ms).
 
+pub(crate) use super::friction_bundle::FrictionBundle;
 use super::row::Mover;
 use super::softness::Softness;
 
@@ -97,6 +98,9 @@ pub(crate) struct PointLanes {
     /// substep's accumulated impulse, plus restitution's).
     pub closing: Lanes,
     pub step: Lanes,
+    /// The normal impulse over the step so far with each substep's weighed by the lane's `decay` once a later
+    /// substep (`SoftStep::manifold_impulses`).
+    pub weighed: Lanes,
 }
 
 /// A bundle: up to W manifolds of one colour (a lane each: a body pair and up to P contact points), their normal
@@ -121,51 +125,10 @@ pub(crate) struct Bundle {
     pub moves: [(bool, bool); W],
     /// Each lane's coefficient of restitution.
     pub restitution: Lanes,
+    /// Each lane's weight on its impulses a substep later (its window's decay, `SoftLinks::manifold_windows`; 1 for
+    /// a plain sum).
+    pub decay: Lanes,
     pub rows: [PointLanes; P],
-}
-
-/// Each lane's manifold friction, at its friction centre (Box3D's, Rapier's simplified and Jolt's newer friction):
-/// two tangent rows through the centre, bounded together by mu times the manifold's normal impulse (Coulomb's
-/// circle), and a twist row about the manifold's normal, bounded by mu times each point's normal impulse times its
-/// lever arm from the centre, summed.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct FrictionBundle {
-    pub axes: [AxisLanes; 2],
-    /// The inverse of the two tangent rows' 2 x 2 K (its entries 00, 01, 11): they are solved as one block, so that
-    /// an update stops the centre's slip exactly (two rows coupled through the bodies' turn, updated one beside
-    /// the other, overshoot and can gain energy).
-    pub block: [Lanes; 3],
-    pub tangent: [Lanes; 2],
-    /// The twist row: no linear part, its angular Jacobian the normal (`ca` = `cb`).
-    pub twist_axis: AxisLanes,
-    pub twist: Lanes,
-    pub friction: Lanes,
-    /// Each point's distance from the friction centre.
-    pub lever: [Lanes; P],
-    /// Whether a lane resists rolling or torsion (`resistance`); the rest of the fields are then used.
-    pub resists: bool,
-    /// Rolling and torsional resistance: each coefficient times the lane's rolling radius (m), bounding the
-    /// angular impulses by it times the manifold's normal impulse; torsion widens the twist's bound.
-    pub rolling: Lanes,
-    pub torsion: Lanes,
-    /// The rolling rows: angular alone, about the two tangents (`ca` = `cb`), solved as one block (`roll_block`,
-    /// as `block`) within the disc of `rolling` times the normal impulse.
-    pub roll_axes: [AxisLanes; 2],
-    pub roll_block: [Lanes; 3],
-    pub roll: [Lanes; 2],
-}
-
-impl FrictionBundle {
-    /// Lane `l`'s friction impulse as a world vector.
-    pub fn vector(&self, l: usize) -> nalgebra::Vector3<f64> {
-        self.axes[0].dir_of(l) * self.tangent[0][l] + self.axes[1].dir_of(l) * self.tangent[1][l]
-    }
-
-    /// Lane `l`'s rolling impulse as a world vector (an angular impulse on B).
-    pub fn roll_vector(&self, l: usize) -> nalgebra::Vector3<f64> {
-        let axis = |a: &AxisLanes| nalgebra::Vector3::new(a.ca[0][l], a.ca[1][l], a.ca[2][l]);
-        axis(&self.roll_axes[0]) * self.roll[0][l] + axis(&self.roll_axes[1]) * self.roll[1][l]
-    }
 }
 
 /// Where a bundle's points sit on their bodies, for the gaps as the bodies move: the arms from the centres and the
@@ -470,8 +433,6 @@ pub(crate) unsafe trait Zeroed: Default {}
 
 // SAFETY: usize, f64 and bool fields and arrays of them, all zero in their default.
 unsafe impl Zeroed for Bundle {}
-// SAFETY: f64 arrays.
-unsafe impl Zeroed for FrictionBundle {}
 // SAFETY: f64 arrays.
 unsafe impl Zeroed for Arms {}
 

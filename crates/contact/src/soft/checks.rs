@@ -13,15 +13,7 @@ pub(super) fn check_joints(
     warm: &[JointImpulse],
     windows: &[f64],
 ) -> Result<(), ContactError> {
-    if !(windows.is_empty() || windows.len() == joints.len()) {
-        return Err(ContactError::invalid(
-            "windows",
-            format!("has {} entries for {} joints", windows.len(), joints.len()),
-        ));
-    }
-    if let Some((k, w)) = windows.iter().enumerate().find(|(_, w)| !(w.is_finite() && **w >= 0.0)) {
-        return Err(ContactError::invalid("windows", format!("joint {k}'s window is {w}: it must be finite and >= 0")));
-    }
+    check_windows("windows", windows, joints.len())?;
     if warm.len() != joints.len() {
         return Err(ContactError::invalid(
             "joint_warm",
@@ -80,6 +72,17 @@ pub(super) fn check_bodies(bodies: &[BodyState]) -> Result<(), ContactError> {
         if !(b.inv_mass >= 0.0 && sum.is_finite()) {
             return Err(ContactError::invalid("bodies", format!("body {i} has a non-finite number or negative mass")));
         }
+    }
+    Ok(())
+}
+
+/// Checks windows `name` (one for each of `count`, or none): each finite and >= 0.
+pub(super) fn check_windows(name: &'static str, windows: &[f64], count: usize) -> Result<(), ContactError> {
+    if !(windows.is_empty() || windows.len() == count) {
+        return Err(ContactError::invalid(name, format!("has {} entries for {count}", windows.len())));
+    }
+    if let Some((k, w)) = windows.iter().enumerate().find(|(_, w)| !(w.is_finite() && **w >= 0.0)) {
+        return Err(ContactError::invalid(name, format!("entry {k} is {w}: a window must be finite and >= 0")));
     }
     Ok(())
 }

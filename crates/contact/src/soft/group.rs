@@ -71,6 +71,7 @@ impl Group {
         of_group: &[usize],
         local: impl Fn(usize) -> usize,
         converge: bool,
+        decays: &[f64],
     ) -> Group {
         // colour by colour; within a colour the fullest manifolds first (so that a bundle's lanes have as many points
         // as each other), then in order: a counting sort on (colour, points), the order within each kept
@@ -124,6 +125,7 @@ impl Group {
             bu.count[l] = mf.count;
             bu.points = bu.points.max(mf.count);
             bu.restitution[l] = mf.restitution;
+            bu.decay[l] = decays.get(m).copied().unwrap_or(1.0);
             let (xa, xb) = (bodies[mf.a].position, bodies[mf.b].position);
             // the manifold's normal (its points' mean: they share it but for a decomposed mesh's), its tangents,
             // and its friction centre: the points' mean, each weighted less as it lies farther apart than touching
@@ -295,6 +297,7 @@ impl Group {
                     let delta = total - row.normal[l];
                     row.normal[l] = total;
                     row.step[l] += delta;
+                    row.weighed[l] += delta;
                     if delta != 0.0 {
                         n.apply_of(l, a, b, delta);
                         applied.push((k, l, p, delta));
@@ -319,6 +322,7 @@ impl Group {
             let row = &mut self.bundles[k].rows[p];
             row.normal[l] -= (1.0 - s) * delta;
             row.step[l] -= (1.0 - s) * delta;
+            row.weighed[l] -= (1.0 - s) * delta;
         }
     }
 

@@ -18,6 +18,7 @@
 mod answer;
 mod bundle;
 mod checks;
+mod friction_bundle;
 mod geometry;
 mod graph;
 mod group;
@@ -150,14 +151,16 @@ const COLOUR_THREADS: usize = 1000;
 /// cache over the group's substeps).
 const BATCH_POINTS: usize = 512;
 
-/// The joints, joint warm starts and springs of a soft step besides its manifolds, and each joint's window: the
-/// time (s) over which its impulses are weighed (`SoftStep::joint_step_impulses`), 0 for none (empty: none).
+/// The joints, joint warm starts and springs of a soft step besides its manifolds, and each joint's and each
+/// manifold's window: the time (s) over which its impulses over the step are weighed
+/// (`SoftStep::joint_step_impulses`, `SoftStep::manifold_impulses`), 0 for none (empty: none).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SoftLinks<'a> {
     pub joints: &'a [Joint],
     pub joint_warm: &'a [JointImpulse],
     pub springs: &'a [SoftSpring],
     pub windows: &'a [f64],
+    pub manifold_windows: &'a [f64],
 }
 
 /// What one soft step solves, by contacts: the bodies, their contacts (each started from `warm[i]`, the same
@@ -262,9 +265,10 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
             split.push(part);
         }
     }
-    let links = SoftLinks { joints, joint_warm, springs, windows: &[] };
+    let links = SoftLinks { joints, joint_warm, springs, ..SoftLinks::default() };
     let mut out = soft_solve(bodies, &mut split, &links, h, settings)?;
     out.impulses = vec![SoftImpulse::default(); contacts.len()];
+    out.manifold_impulses = Vec::new();
     out.normal_impulses = vec![0.0; contacts.len()];
     for (m, ks) in split.iter().zip(&origin) {
         // a manifold's friction shared among its contacts by their normal impulses (evenly if none pushed)
@@ -300,7 +304,7 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
     h: f64,
     settings: &SoftSettings,
 ) -> Result<SoftStep, ContactError> {
-    let SoftLinks { joints, joint_warm, springs, windows } = *links;
+    let SoftLinks { joints, joint_warm, springs, windows, manifold_windows } = *links;
     settings.check()?;
     if !(h.is_finite() && h > 0.0) {
         return Err(ContactError::invalid("dt", format!("must be finite and > 0, got {h}")));
@@ -310,9 +314,11 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
         m.borrow().check(k, bodies)?;
     }
     check_joints(bodies, joints, joint_warm, windows)?;
+    checks::check_windows("manifold_windows", manifold_windows, manifolds.len())?;
     // each joint's weight on a substep's impulses a substep later (its window's decay)
     let substep = h / settings.substeps.max(1) as f64;
     let decay = |k: usize| windows.get(k).filter(|&&w| w > 0.0).map_or(1.0, |w| (-substep / w).exp());
+    let decays: Vec<f64> = manifold_windows.iter().map(|&w| if w > 0.0 { (-substep / w).exp() } else { 1.0 }).collect();
     check_springs(bodies, springs)?;
     let clock = std::time::Instant::now();
     let views: Vec<&SoftManifold> = manifolds.iter().map(|m| m.borrow()).collect();
@@ -411,7 +417,7 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
             }
             let local = |b: usize| slots[b];
             let movers = members.iter().map(|&b| Mover::new(&bodies[b])).collect();
-            let mut group = Group::new(movers, bodies, &views, &spec.manifolds, local, spec.converge);
+            let mut group = Group::new(movers, bodies, &views, &spec.manifolds, local, spec.converge, &decays);
             for set in &spec.joints {
                 let placed = set.iter().map(|&k| {
                     let (j, xa, xb) = (&joints[k], bodies[joints[k].a].position, bodies[joints[k].b].position);
@@ -448,6 +454,7 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
         normal_impulses: Vec::new(),
         joint_impulses: vec![JointImpulse::default(); joints.len()],
         joint_step_impulses: vec![JointImpulse::default(); joints.len()],
+        manifold_impulses: vec![(Vector3::zeros(), Vector3::zeros()); manifolds.len()],
         islands,
         residual: 0.0,
         prepare_seconds: setup,

@@ -280,10 +280,14 @@ pub(crate) fn substeps(island: Substeps, n: usize, hs: f64, passes: Passes, thre
                     set.end_substep();
                 }
             }
-            for bu in unsafe { bundles.range(share(&all_bundles, t, threads)) } {
+            let mine = share(&all_bundles, t, threads);
+            let (mine_bundles, mine_frictions) = unsafe { (bundles.range(mine.clone()), frictions.range(mine)) };
+            for (bu, fr) in mine_bundles.iter_mut().zip(mine_frictions) {
                 for row in &mut bu.rows[..bu.points] {
                     row.step = std::array::from_fn(|l| row.step[l] + row.normal[l]);
+                    row.weighed = std::array::from_fn(|l| row.weighed[l] * bu.decay[l] + row.normal[l]);
                 }
+                fr.end_substep(&bu.decay);
             }
             barrier.wait();
         }

@@ -1,0 +1,326 @@
+//! Glued objects in fast mode's soft step: the pieces a cluster of holding welds binds (`JointBuilder::cluster`,
+//! the glue of `World::add_fractured`) move as one rigid body while the welds hold, as the production tools move a
+//! glued object. The step solves one compound body for them (their mass, centre and inertia together, their
+//! contacts on it), and the pieces take its motion exactly; no weld rows are solved. Each weld's load is then
+//! found from what moves the pieces: the welds give each piece what its share of the object's motion needs (its
+//! mass times its acceleration as part of the rigid object, turning included) less its applied forces and
+//! contacts, and the welds' wrenches that give every piece that are the least in the bonds' own measure (each force
+//! over its bound, each torque over its bound, squared and summed: a loop of welds shares its load as evenly as it
+//! can), solved by conjugate gradients. The contacts' impulses come from the soft step weighed substep by substep
+//! by the glue's window (`SoftLinks::manifold_windows`), so an impact counts at the substep it lands in. A weld that
+//! breaks frees its pieces to the rows again where the cluster falls apart.
+//!
+//! A cluster is solved so when every piece moves (awake, dynamic) and no other joint or spring holds one of them;
+//! otherwise its welds are rows as any joint's.
+
+use crate::model::breaking::JointLoad;
+use crate::model::joints::JointEnd;
+use crate::model::{End, Model};
+use nalgebra::{Matrix3, Point3, Vector3};
+use std::collections::BTreeMap;
+use tumble_contact::{BodyState, BodyVelocity, JointKind, SoftManifold};
+
+/// One glued object solved as a body.
+pub(super) struct Compound {
+    /// Its pieces (actor indices, in order) and the welds that bind them (joint indices, in order).
+    pub members: Vec<usize>,
+    pub welds: Vec<usize>,
+    /// The compound body at the step's start.
+    pub state: BodyState,
+    /// The welds' break window (the least of theirs; 0: judged at the instant).
+    pub window: f64,
+}
+
+/// The clusters solved as bodies this step, and which compound each actor is in.
+pub(super) struct Glued {
+    pub compounds: Vec<Compound>,
+    of_actor: BTreeMap<usize, usize>,
+}
+
+/// Whether holding joint `k` is a weld of a cluster between two bodies.
+fn is_glue(model: &Model, k: usize) -> bool {
+    let j = &model.joints[k];
+    !j.broken
+        && j.cluster
+        && j.joint.kind == JointKind::Weld
+        && j.joint.softness.is_none()
+        && matches!((j.a, j.b), (JointEnd::Body(_), JointEnd::Body(_)))
+}
+
+impl Glued {
+    /// The clusters of `model` that can be solved as bodies, with the actors `states` at the step's start; `None`
+    /// when there are none.
+    pub fn find(model: &Model, states: &[BodyState]) -> Option<Glued> {
+        let p = model.layout.particles;
+        let body = |end: JointEnd| match end {
+            JointEnd::Body(j) => Some(p + j),
+            JointEnd::Fixed(_) => None,
+        };
+        let glue: Vec<usize> = (0..model.joints.len()).filter(|&k| is_glue(model, k)).collect();
+        if glue.is_empty() {
+            return None;
+        }
+        // the pieces each cluster binds, by union-find (roots the smallest actor)
+        let mut root: BTreeMap<usize, usize> = BTreeMap::new();
+        fn find(root: &mut BTreeMap<usize, usize>, a: usize) -> usize {
+            let r = *root.entry(a).or_insert(a);
+            if r == a {
+                return a;
+            }
+            let top = find(root, r);
+            root.insert(a, top);
+            top
+        }
+        for &k in &glue {
+            let (a, b) = (body(model.joints[k].a).expect("a body"), body(model.joints[k].b).expect("a body"));
+            let (ra, rb) = (find(&mut root, a), find(&mut root, b));
+            if ra != rb {
+                root.insert(ra.max(rb), ra.min(rb));
+            }
+        }
+        // pieces another joint or a spring holds: their clusters stay rows
+        let mut held: Vec<usize> = model
+            .holding_joints()
+            .filter(|&(k, _)| !is_glue(model, k))
+            .flat_map(|(_, j)| [body(j.a), body(j.b)])
+            .flatten()
+            .collect();
+        held.extend(model.springs.iter().flat_map(|s| [s.a, s.b]).filter_map(|e| match e {
+            End::Body(j, _) => Some(p + j),
+            _ => None,
+        }));
+        let actors: Vec<usize> = root.keys().copied().collect();
+        let mut clusters: BTreeMap<usize, (Vec<usize>, Vec<usize>)> = BTreeMap::new();
+        for a in actors {
+            let r = find(&mut root, a);
+            clusters.entry(r).or_default().0.push(a);
+        }
+        for &k in &glue {
+            let r = find(&mut root, body(model.joints[k].a).expect("a body"));
+            clusters.get_mut(&r).expect("its cluster").1.push(k);
+        }
+        let mut glued = Glued { compounds: Vec::new(), of_actor: BTreeMap::new() };
+        for (members, welds) in clusters.into_values() {
+            let moving = members.iter().all(|&a| states[a].is_dynamic() && states[a].inv_inertia != Matrix3::zeros());
+            if members.len() < 2 || !moving || members.iter().any(|a| held.contains(a)) {
+                continue;
+            }
+            for &a in &members {
+                glued.of_actor.insert(a, glued.compounds.len());
+            }
+            let state = compound_state(&members, states);
+            let window =
+                welds.iter().filter_map(|&k| model.joints[k].breaking).map(|b| b.window).fold(f64::INFINITY, f64::min);
+            let window = if window.is_finite() { window } else { 0.0 };
+            glued.compounds.push(Compound { members, welds, state, window });
+        }
+        (!glued.compounds.is_empty()).then_some(glued)
+    }
+
+    /// Whether joint `k` is a weld solved inside a compound (not as rows).
+    pub fn solves(&self, model: &Model, k: usize) -> bool {
+        let p = model.layout.particles;
+        match model.joints[k].a {
+            JointEnd::Body(j) => is_glue(model, k) && self.of_actor.contains_key(&(p + j)),
+            JointEnd::Fixed(_) => false,
+        }
+    }
+
+    /// The actors the soft step solves: `actors` with each compound's pieces fixed where they are (nothing
+    /// refers to them) and the compounds appended; gives the compounds' first index.
+    pub fn actors(&self, actors: &mut Vec<BodyState>) -> usize {
+        let first = actors.len();
+        for (&a, _) in &self.of_actor {
+            actors[a] = BodyState::fixed(actors[a].position);
+        }
+        actors.extend(self.compounds.iter().map(|c| c.state));
+        first
+    }
+
+    /// Points each manifold on a piece at its compound (`first`: the compounds' first actor index), coloured
+    /// again for the solve; gives each manifold's bodies and colour as they were, for `restore`, and its B's centre
+    /// in the solve (where its angular impulse is taken about).
+    pub fn remap(&self, manifolds: &mut [&mut SoftManifold], first: usize, actors: &[BodyState]) -> Remapped {
+        let kept: Vec<[u32; 3]> = manifolds.iter().map(|m| [m.a as u32, m.b as u32, m.colour]).collect();
+        let mut graph = tumble_contact::ColourGraph::new(actors.len());
+        let (mut centres, mut windows) = (Vec::with_capacity(manifolds.len()), Vec::with_capacity(manifolds.len()));
+        for m in manifolds.iter_mut() {
+            let of = |a: usize| self.of_actor.get(&a).copied();
+            // a manifold between two glued objects is weighed by B's window
+            windows.push(of(m.b).or(of(m.a)).map_or(0.0, |c| self.compounds[c].window));
+            let at = |a: usize| of(a).map_or(a, |c| first + c);
+            (m.a, m.b) = (at(m.a), at(m.b));
+            m.colour = graph.add((m.a, actors[m.a].is_dynamic()), (m.b, actors[m.b].is_dynamic()));
+            centres.push(actors[m.b].position);
+        }
+        Remapped { kept, centres, windows }
+    }
+
+    /// Gives each manifold back its bodies and colour (`remap`'s).
+    pub fn restore(manifolds: &mut [&mut SoftManifold], remapped: &Remapped) {
+        for (m, &[a, b, colour]) in manifolds.iter_mut().zip(&remapped.kept) {
+            (m.a, m.b, m.colour) = (a as usize, b as usize, colour);
+        }
+    }
+
+    /// Each piece's velocity, displacement and rotation over the step from its compound's (the soft step's answer
+    /// `out`, compounds from `first`): the compound's rigid motion carried to the piece.
+    pub fn spread(&self, out: &mut tumble_contact::SoftStep, states: &[BodyState], first: usize) {
+        for (c, compound) in self.compounds.iter().enumerate() {
+            let at = first + c;
+            let (v, d, turn) = (out.velocities[at], out.displacements[at], out.rotations[at]);
+            let centre = compound.state.position;
+            for &a in &compound.members {
+                let arm = states[a].position - centre;
+                let moved = turn * arm;
+                out.velocities[a] = BodyVelocity { linear: v.linear + v.angular.cross(&moved), angular: v.angular };
+                out.displacements[a] = d + moved - arm;
+                out.rotations[a] = turn;
+            }
+        }
+    }
+}
+
+/// The manifolds as `Glued::remap` left them for the solve: each one's bodies and colour as they were, its B's
+/// centre in the solve (where its angular impulse is about) and the window its impulses are weighed by.
+pub(super) struct Remapped {
+    pub kept: Vec<[u32; 3]>,
+    pub centres: Vec<Point3<f64>>,
+    pub windows: Vec<f64>,
+}
+
+/// The compound of pieces `members` at the actors `states`: their mass, centre, inertia about it, momentum and
+/// applied forces together.
+fn compound_state(members: &[usize], states: &[BodyState]) -> BodyState {
+    let mass: f64 = members.iter().map(|&a| 1.0 / states[a].inv_mass).sum();
+    let centre = members.iter().fold(Vector3::zeros(), |s, &a| s + states[a].position.coords / states[a].inv_mass);
+    let centre = Point3::from(centre / mass);
+    let (mut inertia, mut momentum, mut spin, mut force, mut torque) =
+        (Matrix3::zeros(), Vector3::zeros(), Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+    for &a in members {
+        let s = &states[a];
+        let (m, r) = (1.0 / s.inv_mass, s.position - centre);
+        inertia += s.inertia + (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * m;
+        momentum += s.velocity * m;
+        spin += s.inertia * s.angular_velocity + r.cross(&(s.velocity * m));
+        force += s.force;
+        torque += s.torque + r.cross(&s.force);
+    }
+    let inv_inertia = inertia.try_inverse().unwrap_or_else(Matrix3::zeros);
+    BodyState {
+        inv_mass: 1.0 / mass,
+        inertia,
+        inv_inertia,
+        position: centre,
+        velocity: momentum / mass,
+        angular_velocity: inv_inertia * spin,
+        force,
+        torque,
+    }
+}
+
+/// What a step's solve left for the welds' loads: the pieces' states at its start, its answer (the manifolds'
+/// impulses, `SoftStep::manifold_impulses`, and the compounds' velocities from `first`), the manifolds as
+/// `remap` left them, and the step in substeps.
+pub(super) struct Balance<'a> {
+    pub states: &'a [BodyState],
+    pub out: &'a tumble_contact::SoftStep,
+    pub first: usize,
+    pub remapped: &'a Remapped,
+    pub h: f64,
+    pub substeps: usize,
+}
+
+impl Balance<'_> {
+    /// A force's impulse over the step weighed substep by substep as window `window` weighs them (the step's
+    /// length for none): the substep times the sum of e^(-k substep / window) over the substeps k before the end.
+    fn weighed_step(&self, window: f64) -> f64 {
+        let (n, hs) = (self.substeps.max(1) as f64, self.h / self.substeps.max(1) as f64);
+        if window > 0.0 {
+            hs * (-n * hs / window).exp_m1() / (-hs / window).exp_m1()
+        } else {
+            self.h
+        }
+    }
+}
+
+impl Glued {
+    /// Each compounded weld's impulse over the step (its force on B and torque on B about its anchor), weighed
+    /// substep by substep by its object's window as a joint's are (`SoftStep::joint_step_impulses`), by joint
+    /// index; `y` the state at the step's start.
+    pub fn loads(&self, model: &Model, y: &[f64], b: &Balance<'_>) -> BTreeMap<usize, JointLoad> {
+        let mut out = BTreeMap::new();
+        for (c, compound) in self.compounds.iter().enumerate() {
+            let wrenches = needed(compound, b.out.velocities[b.first + c].angular, b.weighed_step(compound.window), b);
+            let welds: Vec<WeldArm> =
+                compound.welds.iter().map(|&k| WeldArm::of(model, y, k, &compound.members)).collect();
+            let found = super::glued_loads::least_loads(&welds, compound, b.states, wrenches);
+            for (w, (force, torque)) in welds.iter().zip(found) {
+                out.insert(w.joint, JointLoad { force, torque });
+            }
+        }
+        out
+    }
+}
+
+/// A weld as the load solve sees it: its joint, its pieces (by place among the members), where its anchor is
+/// (world, at the step's start) and its stiffness to force and to torque (`WeldArm::of`).
+pub(super) struct WeldArm {
+    pub joint: usize,
+    pub a: usize,
+    pub b: usize,
+    pub point: Point3<f64>,
+    pub stiffness: (f64, f64),
+}
+
+impl WeldArm {
+    fn of(model: &Model, y: &[f64], k: usize, members: &[usize]) -> WeldArm {
+        let j = &model.joints[k];
+        let (ea, eb) = (model.end_state_of(y, j.a), model.end_state_of(y, j.b));
+        let p = model.layout.particles;
+        let place = |end: JointEnd| match end {
+            JointEnd::Body(i) => members.binary_search(&(p + i)).expect("a member"),
+            JointEnd::Fixed(_) => unreachable!("a weld between bodies"),
+        };
+        // a glued face of area A and radius r = sqrt(A / pi) holds a force sigma A and a torque sigma A r / 4; as a
+        // layer of glue it is as stiff to a force as its area and to a torque as its area's second moment, A r^2 / 4
+        // (up to a common factor): from the bounds, F and 4 T^2 / F. A weld without bounds: 1 and 1.
+        let stiffness = j
+            .breaking
+            .filter(|b| b.force > 0.0 && b.torque > 0.0)
+            .map_or((1.0, 1.0), |b| (b.force, 4.0 * b.torque * b.torque / b.force));
+        let point = Point3::from(eb.x + model.anchor_b(k, &(ea, eb)));
+        WeldArm { joint: k, a: place(j.a), b: place(j.b), point, stiffness }
+    }
+}
+
+/// What the welds must give each member over the step (linear, and angular about its centre at the step's start),
+/// before the object's own acceleration is shared out (`glued_loads::balance`): its turning's needs (the
+/// centripetal force and Euler's gyroscopic torque at the object's spin `omega`) less its applied forces, over the
+/// weighed step `step`, less its contacts' weighed impulses.
+fn needed(compound: &Compound, omega: Vector3<f64>, step: f64, b: &Balance<'_>) -> Vec<(Vector3<f64>, Vector3<f64>)> {
+    let centre = compound.state.position;
+    let mut out: Vec<(Vector3<f64>, Vector3<f64>)> = compound
+        .members
+        .iter()
+        .map(|&a| {
+            let s = &b.states[a];
+            let r = s.position - centre;
+            let linear = (omega.cross(&omega.cross(&r)) / s.inv_mass - s.force) * step;
+            let angular = (omega.cross(&(s.inertia * omega)) - s.torque) * step;
+            (linear, angular)
+        })
+        .collect();
+    let manifolds = b.out.manifold_impulses.iter().zip(&b.remapped.kept).zip(&b.remapped.centres);
+    for (((linear, angular), &[a, bb, _]), centre) in manifolds {
+        for (end, sign) in [(a as usize, -1.0), (bb as usize, 1.0)] {
+            let Ok(i) = compound.members.binary_search(&end) else { continue };
+            // the impulse on B is (linear, angular about B's centre in the solve); A takes the opposite at the
+            // same points
+            let about = *angular + (centre - b.states[end].position).cross(linear);
+            out[i].0 -= linear * sign;
+            out[i].1 -= about * sign;
+        }
+    }
+    out
+}
