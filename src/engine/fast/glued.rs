@@ -4,14 +4,16 @@
 //! contacts on it), and the pieces take its motion exactly; no weld rows are solved. Each weld's load is then
 //! found from what moves the pieces: the welds give each piece what its share of the object's motion needs (its
 //! mass times its acceleration as part of the rigid object, turning included) less its applied forces and
-//! contacts, and the welds' wrenches that give every piece that are the least in the bonds' own measure (each force
-//! over its bound, each torque over its bound, squared and summed: a loop of welds shares its load as evenly as it
-//! can), solved by conjugate gradients. The contacts' impulses come from the soft step weighed substep by substep
-//! by the glue's window (`SoftLinks::manifold_windows`), so an impact counts at the substep it lands in. A weld that
-//! breaks frees its pieces to the rows again where the cluster falls apart.
+//! contacts; of the welds' wrenches that give every piece that, the one with the least elastic energy in the glue
+//! (each bond a spring as stiff as its face is large: a loop of welds shares its load as layers of glue would),
+//! solved by conjugate gradients (`glued_loads.rs`). The contacts' impulses come from the soft step weighed
+//! substep by substep by the glue's window (`SoftLinks::manifold_windows`), so an impact counts at the substep it
+//! lands in. A weld that breaks frees its pieces to the rows again where the cluster falls apart.
 //!
-//! A cluster is solved so when every piece moves (awake, dynamic) and no other joint or spring holds one of them;
-//! otherwise its welds are rows as any joint's.
+//! A cluster is solved so when every piece moves (awake, dynamic), no other joint or spring holds one of them, and
+//! its breakable welds share one window (the object's forces and contacts are weighed by it); otherwise its welds
+//! are rows as any joint's. A contact between two glued objects is weighed by B's object's window, so two objects
+//! glued with different windows that touch each other judge A's welds by B's weights.
 
 use crate::model::breaking::JointLoad;
 use crate::model::joints::JointEnd;
@@ -27,7 +29,7 @@ pub(super) struct Compound {
     pub welds: Vec<usize>,
     /// The compound body at the step's start.
     pub state: BodyState,
-    /// The welds' break window (the least of theirs; 0: judged at the instant).
+    /// The break window its breakable welds share (0: judged at the instant, or none breaks).
     pub window: f64,
 }
 
@@ -102,16 +104,16 @@ impl Glued {
         let mut glued = Glued { compounds: Vec::new(), of_actor: BTreeMap::new() };
         for (members, welds) in clusters.into_values() {
             let moving = members.iter().all(|&a| states[a].is_dynamic() && states[a].inv_inertia != Matrix3::zeros());
-            if members.len() < 2 || !moving || members.iter().any(|a| held.contains(a)) {
+            let windows: Vec<f64> = welds.iter().filter_map(|&k| model.joints[k].breaking).map(|b| b.window).collect();
+            let one_window = windows.windows(2).all(|w| w[0] == w[1]);
+            if members.len() < 2 || !moving || !one_window || members.iter().any(|a| held.contains(a)) {
                 continue;
             }
             for &a in &members {
                 glued.of_actor.insert(a, glued.compounds.len());
             }
             let state = compound_state(&members, states);
-            let window =
-                welds.iter().filter_map(|&k| model.joints[k].breaking).map(|b| b.window).fold(f64::INFINITY, f64::min);
-            let window = if window.is_finite() { window } else { 0.0 };
+            let window = windows.first().copied().unwrap_or(0.0);
             glued.compounds.push(Compound { members, welds, state, window });
         }
         (!glued.compounds.is_empty()).then_some(glued)
