@@ -119,6 +119,38 @@ impl Model {
         Ok(())
     }
 
+    /// The pieces joints `joints` (between bodies; others are passed over) bind into one: each a sorted list of
+    /// actors, in the order of their smallest actor (union-find, each root its piece's smallest actor).
+    #[cfg(feature = "contact")]
+    pub(crate) fn pieces_bound_by(&self, joints: &[usize]) -> Vec<Vec<usize>> {
+        use std::collections::BTreeMap;
+        let p = self.layout.particles;
+        let mut root: BTreeMap<usize, usize> = BTreeMap::new();
+        fn find(root: &mut BTreeMap<usize, usize>, a: usize) -> usize {
+            let r = *root.entry(a).or_insert(a);
+            if r == a {
+                return a;
+            }
+            let top = find(root, r);
+            root.insert(a, top);
+            top
+        }
+        for &k in joints {
+            let (JointEnd::Body(a), JointEnd::Body(b)) = (self.joints[k].a, self.joints[k].b) else { continue };
+            let (ra, rb) = (find(&mut root, p + a), find(&mut root, p + b));
+            if ra != rb {
+                root.insert(ra.max(rb), ra.min(rb));
+            }
+        }
+        let members: Vec<usize> = root.keys().copied().collect();
+        let mut pieces: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+        for a in members {
+            let r = find(&mut root, a);
+            pieces.entry(r).or_default().push(a);
+        }
+        pieces.into_values().collect()
+    }
+
     /// The actor pairs a holding joint joins directly (they do not collide, unless the joint lets them), and every
     /// pair of bodies one piece of holding cluster joints binds (`JointBuilder::cluster`), sorted, each once.
     #[cfg(feature = "contact")]
@@ -134,31 +166,9 @@ impl Model {
             .filter_map(|(_, j)| bodies(j))
             .map(|(a, b)| (a.min(b), a.max(b)))
             .collect();
-        // the pieces: bodies bound by cluster joints, by union-find (roots the smallest actor, so the order is the
-        // actors')
-        let mut root: std::collections::BTreeMap<usize, usize> = std::collections::BTreeMap::new();
-        fn find(root: &mut std::collections::BTreeMap<usize, usize>, a: usize) -> usize {
-            let r = *root.entry(a).or_insert(a);
-            if r == a {
-                return a;
-            }
-            let top = find(root, r);
-            root.insert(a, top);
-            top
-        }
-        for (a, b) in self.holding_joints().filter(|(_, j)| j.cluster).filter_map(|(_, j)| bodies(j)) {
-            let (ra, rb) = (find(&mut root, a), find(&mut root, b));
-            if ra != rb {
-                root.insert(ra.max(rb), ra.min(rb));
-            }
-        }
-        let members: Vec<usize> = root.keys().copied().collect();
-        let mut pieces: std::collections::BTreeMap<usize, Vec<usize>> = std::collections::BTreeMap::new();
-        for a in members {
-            let r = find(&mut root, a);
-            pieces.entry(r).or_default().push(a);
-        }
-        for piece in pieces.values() {
+        let cluster: Vec<usize> = self.holding_joints().filter(|(_, j)| j.cluster).map(|(k, _)| k).collect();
+        let pieces = self.pieces_bound_by(&cluster);
+        for piece in &pieces {
             for (i, &a) in piece.iter().enumerate() {
                 joined.extend(piece[i + 1..].iter().map(|&b| (a.min(b), a.max(b))));
             }

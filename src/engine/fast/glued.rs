@@ -62,24 +62,6 @@ impl Glued {
         if glue.is_empty() {
             return None;
         }
-        // the pieces each cluster binds, by union-find (roots the smallest actor)
-        let mut root: BTreeMap<usize, usize> = BTreeMap::new();
-        fn find(root: &mut BTreeMap<usize, usize>, a: usize) -> usize {
-            let r = *root.entry(a).or_insert(a);
-            if r == a {
-                return a;
-            }
-            let top = find(root, r);
-            root.insert(a, top);
-            top
-        }
-        for &k in &glue {
-            let (a, b) = (body(model.joints[k].a).expect("a body"), body(model.joints[k].b).expect("a body"));
-            let (ra, rb) = (find(&mut root, a), find(&mut root, b));
-            if ra != rb {
-                root.insert(ra.max(rb), ra.min(rb));
-            }
-        }
         // pieces another joint or a spring holds: their clusters stay rows
         let mut held: Vec<usize> = model
             .holding_joints()
@@ -91,18 +73,16 @@ impl Glued {
             End::Body(j, _) => Some(p + j),
             _ => None,
         }));
-        let actors: Vec<usize> = root.keys().copied().collect();
-        let mut clusters: BTreeMap<usize, (Vec<usize>, Vec<usize>)> = BTreeMap::new();
-        for a in actors {
-            let r = find(&mut root, a);
-            clusters.entry(r).or_default().0.push(a);
-        }
+        // each cluster's pieces, and its welds (in order)
+        let pieces = model.pieces_bound_by(&glue);
+        let piece_of: BTreeMap<usize, usize> =
+            pieces.iter().enumerate().flat_map(|(i, piece)| piece.iter().map(move |&a| (a, i))).collect();
+        let mut clusters: Vec<(Vec<usize>, Vec<usize>)> = pieces.into_iter().map(|piece| (piece, Vec::new())).collect();
         for &k in &glue {
-            let r = find(&mut root, body(model.joints[k].a).expect("a body"));
-            clusters.get_mut(&r).expect("its cluster").1.push(k);
+            clusters[piece_of[&body(model.joints[k].a).expect("a body")]].1.push(k);
         }
         let mut glued = Glued { compounds: Vec::new(), of_actor: BTreeMap::new() };
-        for (members, welds) in clusters.into_values() {
+        for (members, welds) in clusters {
             let moving = members.iter().all(|&a| states[a].is_dynamic() && states[a].inv_inertia != Matrix3::zeros());
             let windows: Vec<f64> = welds.iter().filter_map(|&k| model.joints[k].breaking).map(|b| b.window).collect();
             let one_window = windows.windows(2).all(|w| w[0] == w[1]);

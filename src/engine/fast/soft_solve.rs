@@ -61,14 +61,14 @@ pub(super) fn soft_solve(
     let glued = Glued::find(cx.model, states);
     let mut first = actors.len();
     if let Some(g) = &glued {
-        let solves: Vec<bool> = holding.iter().map(|&k| g.solves(cx.model, k)).collect();
-        let mut keep = solves.iter().map(|s| !s);
-        joints.retain(|_| keep.next().expect("a joint a holding joint"));
-        for (&k, _) in holding.iter().zip(&solves).filter(|(_, &s)| s) {
+        // (links_at_start gives a joint a holding joint, in their order)
+        let rows: Vec<bool> = holding.iter().map(|&k| !g.solves(cx.model, k)).collect();
+        let mut kept = rows.iter();
+        joints.retain(|_| *kept.next().expect("a flag a joint"));
+        for (&k, _) in holding.iter().zip(&rows).filter(|(_, &row)| !row) {
             cx.memory.joint_warm[k] = JointImpulse::default();
         }
-        let mut keep = solves.iter().map(|s| !s);
-        holding.retain(|_| keep.next().expect("a flag a holding joint"));
+        holding = holding.iter().zip(&rows).filter(|(_, &row)| row).map(|(&k, _)| k).collect();
         first = g.actors(&mut actors);
     }
     let joint_warm: Vec<JointImpulse> = holding.iter().map(|&k| cx.memory.joint_warm[k]).collect();
@@ -85,9 +85,8 @@ pub(super) fn soft_solve(
         Glued::restore(&mut manifolds, r);
     }
     drop(manifolds);
-    let out = solved.map_err(|e| failure(cx.t, format!("contact solve: {e}")))?;
+    let mut out = solved.map_err(|e| failure(cx.t, format!("contact solve: {e}")))?;
     let mut loads = BTreeMap::new();
-    let mut out = out;
     if let (Some(g), Some(remapped)) = (&glued, &remapped) {
         let balance = Balance { states, out: &out, first, remapped, h, substeps: settings.substeps };
         loads = g.loads(cx.model, &cx.memory.y, &balance);
