@@ -1,7 +1,7 @@
 //! Glue: a fractured bar's pieces welded with bounds from their face's area times the strength (exact), a glued
 //! beam that snaps when its load averaged over the window reaches the bound (the closed-form time in accurate mode,
-//! located to the time tolerance; the step's discrete form in fast mode), an unloaded glued object that holds, and
-//! bad glue refused by name with nothing added.
+//! located to the time tolerance; the step's discrete form in fast mode), an unloaded glued object that holds, a
+//! struck wall that breaks the same welds at three steps, and bad glue refused by name with nothing added.
 
 use nalgebra::{Point3, Vector3};
 use tumble::{
@@ -166,6 +166,68 @@ fn a_pane_hit_in_its_middle_breaks_more_bonds_near_the_hit_than_far() {
             "seed {seed}: broken {} m from the hit, all {} m",
             mean(&broken),
             mean(&all)
+        );
+    }
+}
+
+/// The welds (by their order) a wall of 8 x 6 bricks (0.3 x 0.2 x 0.15 m, 1800 kg/m^3) glued at 1 MPa (30 kN across
+/// a side face, window 10 ms) breaks in fast mode at `dt` when a 110 kg ball 0.3 m in radius rolls into its middle
+/// at 6 m/s, with the time of each; and the time of the first.
+fn wall_hit(dt: f64) -> (Vec<(usize, f64)>, f64) {
+    let (v, t) = Shape::cuboid(Vector3::new(1.2, 0.1, 0.45)).unwrap().triangle_mesh(8, 1.0);
+    let wall = Mesh::new(&v, &t, "wall").unwrap();
+    let centres =
+        (0..6).flat_map(|j| (0..8).map(move |i| Point3::new(-1.05 + 0.3 * i as f64, 0.0, -0.375 + 0.15 * j as f64)));
+    let bricks = wall.fracture(&Cells::at(centres.collect())).unwrap();
+    let mut w = fast(dt);
+    w.set_threads(1).unwrap();
+    w.add_ground(0.0, tumble::Material::new(0.0, 0.7)).unwrap();
+    let glue = Glue {
+        position: Vector3::new(0.0, 0.0, 0.45),
+        material: tumble::Material::new(0.0, 0.7),
+        ..Glue::new(1800.0, 1e6)
+    };
+    let glued = w.add_fractured(&wall, &bricks, &glue).unwrap();
+    let ball = tumble::RigidBodyBuilder::from_shape_with_mass(Shape::sphere(0.3).unwrap(), 110.0)
+        .position(Vector3::new(0.0, -1.0, 0.45))
+        .velocity(Vector3::new(0.0, 6.0, 0.0));
+    w.add_body(ball).unwrap();
+    let duration = (0.3 / dt).round() * dt;
+    let run = w.run(duration, duration).unwrap();
+    let order = |j| glued.bonds.iter().position(|(b, _)| *b == j).expect("a weld of the wall");
+    let broken: Vec<(usize, f64)> = run.joint_breaks.iter().map(|(t, j)| (order(*j), *t)).collect();
+    let first = broken.iter().map(|b| b.1).fold(f64::INFINITY, f64::min);
+    (broken, first)
+}
+
+#[test]
+fn a_wall_hit_by_a_ball_breaks_the_same_welds_at_three_steps() {
+    // judged by their loads averaged over the window, the welds a blow breaks do not depend on the step: at dt
+    // 1/960, 1/480 and 1/240 s the sets differ by at most 15% of the finest's. (The loads at the impact agree to 2%
+    // between the steps, the impulse of the impact's substep weighed as spread over it, (1 - e^(-hs/w)) w / hs:
+    // 0.99 of it at 1/960, 0.95 at 1/240; five welds here are within 2% of their strength and go either way, with
+    // the two or three welds their breaking then loads.) Nor does a blow's impulse, carried into the next step as
+    // its start, break more at each step after (it had broken 46, 37 and 48, 20, 12 and 23 of them a step or two
+    // after the impact): no more than a tenth of the breaks come after the impact's step.
+    let runs: Vec<_> = [960.0, 480.0, 240.0].iter().map(|n| wall_hit(1.0 / n)).collect();
+    let sets: Vec<std::collections::BTreeSet<usize>> =
+        runs.iter().map(|(b, _)| b.iter().map(|(k, _)| *k).collect()).collect();
+    let finest = sets[0].len();
+    assert!((10..=70).contains(&finest), "{finest} of 82 welds broke");
+    for (set, n) in sets.iter().zip([960, 480, 240]).skip(1) {
+        let apart = set.symmetric_difference(&sets[0]).count();
+        assert!(
+            apart as f64 <= 0.15 * finest as f64,
+            "at 1/{n} s {} broke, {apart} apart from the {finest} at 1/960 s",
+            set.len()
+        );
+    }
+    for ((broken, first), n) in runs.iter().zip([960, 480, 240]) {
+        let later = broken.iter().filter(|(_, t)| *t > *first).count();
+        assert!(
+            later as f64 <= 0.1 * broken.len() as f64,
+            "at 1/{n} s {later} of {} after the impact's step",
+            broken.len()
         );
     }
 }

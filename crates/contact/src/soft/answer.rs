@@ -80,6 +80,7 @@ impl SoftStep {
                 m.twist_impulse = fr.twist[l];
                 m.rolling_impulse = if fr.resists { fr.roll_vector(l) } else { nalgebra::Vector3::zeros() };
                 let (mut linear, mut angular) = fr.step_impulse(l);
+                let mut collided = false;
                 for p in 0..bu.count[l] {
                     let row = &bu.rows[p];
                     let axis = &row.normal_axis;
@@ -92,8 +93,16 @@ impl SoftStep {
                         self.pushing += 1;
                         if row.closing[l] < -threshold {
                             self.collisions += 1;
+                            // an impact's impulse is not the next step's start (`SoftPoint::normal_impulse`)
+                            point.normal_impulse = 0.0;
+                            collided = true;
                         }
                     }
+                }
+                if collided {
+                    m.tangent_impulse = nalgebra::Vector3::zeros();
+                    m.twist_impulse = 0.0;
+                    m.rolling_impulse = nalgebra::Vector3::zeros();
                 }
                 if let Some(out) = self.manifold_impulses.get_mut(bu.manifold[l]) {
                     *out = (linear, angular);

@@ -19,7 +19,9 @@ pub struct SoftPoint {
     pub normal: Vector3<f64>,
     /// Gap along the normal at the step's start (negative: overlapping).
     pub gap: f64,
-    /// Its normal impulse over a substep: the last step's on the way in, this step's last substep's on the way out.
+    /// Its normal impulse over a substep: the last step's on the way in, this step's last substep's on the way out
+    /// (none out for a point that closed faster than the bounce threshold and pushed: an impact's impulse stopped
+    /// an approach that is over, and as the next step's start it pushed the struck body on into its neighbours).
     pub normal_impulse: f64,
     /// Its normal impulse over the whole step (out).
     pub step_normal: f64,
@@ -40,7 +42,7 @@ pub struct SoftManifold {
     pub points: [SoftPoint; MANIFOLD_POINTS],
     pub count: usize,
     /// Its friction impulse over a substep (a world vector, so that it carries to the next step's tangents) and its
-    /// twist impulse about the normal: in and out as the points' normal impulses.
+    /// twist impulse about the normal: in and out as the points' normal impulses (none out after an impact).
     pub tangent_impulse: Vector3<f64>,
     pub twist_impulse: f64,
     /// Coefficients of rolling and torsional resistance (as `Contact`'s), and its rolling impulse over a substep
