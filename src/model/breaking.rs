@@ -22,6 +22,19 @@ pub(crate) struct JointLoad {
 }
 
 impl JointLoad {
+    /// This average over `window` brought on by a step of `h` in substeps of `substep` that carried `carried`
+    /// (`Model::judged_loads`): e^(-h / window) of it plus (1 - e^(-substep / window)) / substep of `carried`.
+    #[cfg(feature = "contact")]
+    fn brought_on(&self, carried: &JointLoad, window: f64, h: f64, substep: f64) -> JointLoad {
+        let keep = (-h / window).exp();
+        // (1 - e^(-substep / window)) / substep: 1 / window for a substep far below the window
+        let share = -(-substep / window).exp_m1() / substep;
+        JointLoad {
+            force: self.force * keep + carried.force * share,
+            torque: self.torque * keep + carried.torque * share,
+        }
+    }
+
     /// Adds a row's force `lambda` (the row's linear part `lin` and angular part on B `ang_b`; B's anchor at `rb`
     /// from B's centre, world axes).
     pub fn add(&mut self, lin: &Vector3<f64>, ang_b: &Vector3<f64>, rb: &Vector3<f64>, lambda: f64) {
@@ -76,15 +89,36 @@ impl Model {
         let mut judged = instant.to_vec();
         for (k, j) in self.holding_joints() {
             let Some(b) = j.breaking.filter(|b| b.window > 0.0) else { continue };
-            let keep = (-h / b.window).exp();
-            // (1 - e^(-substep / window)) / substep: 1 / window for a substep far below the window
-            let share = -(-substep / b.window).exp_m1() / substep;
-            let a = &mut averages[k];
-            a.force = a.force * keep + carried[k].force * share;
-            a.torque = a.torque * keep + carried[k].torque * share;
-            judged[k] = *a;
+            averages[k] = averages[k].brought_on(&carried[k], b.window, h, substep);
+            judged[k] = averages[k];
         }
         judged
+    }
+
+    /// Where a step's blow took glued joints' loads, averaged over their windows, at its peak: `averages` (before
+    /// the step) brought on by `peaks`, the step's impulses with the blow at its full weight
+    /// (`SoftStep::manifold_peak_impulses`); `judged` (the loads at the step's end) raised to them where they are
+    /// larger, force and torque apart. A blow is judged where it struck, not at the step's end, whatever the step.
+    #[cfg(feature = "contact")]
+    pub(crate) fn judge_peaks(
+        &self,
+        judged: &mut [JointLoad],
+        averages: &[JointLoad],
+        peaks: &std::collections::BTreeMap<usize, JointLoad>,
+        h: f64,
+        substep: f64,
+    ) {
+        for (&k, peak) in peaks {
+            let Some(b) = self.joints[k].breaking.filter(|b| b.window > 0.0) else { continue };
+            let at = averages.get(k).copied().unwrap_or_default().brought_on(peak, b.window, h, substep);
+            let l = &mut judged[k];
+            if at.force.norm() > l.force.norm() {
+                l.force = at.force;
+            }
+            if at.torque.norm() > l.torque.norm() {
+                l.torque = at.torque;
+            }
+        }
     }
 
     /// Whether any holding joint that can break has a window.

@@ -1,7 +1,7 @@
 //! Built-in scenes: a cloth pinned at two corners, and a heavy top spinning on a pivot; with contact (in
 //! `contact.rs`) a bouncing ball, a tumbling box, a row of dominoes, a pyramid of boxes and a cloth draping over a
 //! sphere; and (in `meshes.rs`) meshes built in code: a ball in a cup, a ring on a peg, a chair, a rolling torus, a
-//! pile of meshes. Examples, benchmarks, tests and the Python module's default job start from them.
+//! pile of meshes; and (in `fracture.rs`) a glued wall a wrecking ball smashes. Examples, benchmarks, tests and the Python module's default job start from them.
 
 #[cfg(feature = "contact")]
 mod benchmark;
@@ -11,6 +11,8 @@ mod bin;
 mod box3d;
 #[cfg(feature = "contact")]
 mod contact;
+#[cfg(feature = "contact")]
+mod fracture;
 #[cfg(feature = "contact")]
 pub mod joints;
 #[cfg(feature = "contact")]
@@ -24,6 +26,8 @@ pub use bin::{Bin, Fill};
 pub use box3d::{LargePyramid, ManyPyramids};
 #[cfg(feature = "contact")]
 pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
+#[cfg(feature = "contact")]
+pub use fracture::{running_bond_wall, WreckingBall};
 pub use registry::{build, check, NAMES};
 
 use crate::body::RigidBodyBuilder;

@@ -7,7 +7,7 @@ use crate::error::WorldError;
 use crate::world::World;
 
 /// The built-in scenes' names.
-pub const NAMES: [&str; 19] = [
+pub const NAMES: [&str; 20] = [
     "cloth",
     "spinning_top",
     "bouncing_ball",
@@ -27,6 +27,7 @@ pub const NAMES: [&str; 19] = [
     "chair",
     "torus_roll",
     "mesh_pile",
+    "wrecking_ball",
 ];
 
 /// Largest count a scene parameter may take (particles a side, dominoes, pyramid layers).
@@ -191,6 +192,27 @@ fn mesh_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>
     }))
 }
 
+/// The wrecking ball (`fracture.rs`): `fast=1` runs fast mode at `dt` (1/240 s unless given; accurate mode
+/// otherwise, which takes no `dt`), the glue's `strength` (Pa) and `window` (s).
+#[cfg(feature = "contact")]
+fn wrecking_ball(mut p: Params<'_>, make: bool) -> Result<Option<World>, WorldError> {
+    let fast = p.flag("fast")?;
+    let given_dt = p.given.iter().any(|(k, _)| k == "dt");
+    let dt = p.number("dt", 1.0 / 240.0)?;
+    let d = super::WreckingBall::default();
+    let scene =
+        super::WreckingBall { strength: p.number("strength", d.strength)?, window: p.number("window", d.window)? };
+    p.finish("wrecking_ball")?;
+    if given_dt && !fast {
+        return Err(WorldError::invalid("dt", "accurate mode chooses its own steps; dt is fast mode's"));
+    }
+    let mode = if fast { crate::mode::Mode::fast(dt) } else { crate::mode::Mode::default() };
+    if !make {
+        return Ok(None);
+    }
+    Ok(Some(scene.build(mode)?.0))
+}
+
 fn unknown(name: &str) -> WorldError {
     WorldError::invalid("name", format!("unknown scene {name:?}; expected one of {}", NAMES.join(", ")))
 }
@@ -291,6 +313,7 @@ fn contact_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<Wor
             make.then(|| scene.build().map(|s| s.0)).transpose()?
         }
         "pendulum" | "chain" | "newtons_cradle" | "door" | "ragdoll" => return jointed(name, p, make),
+        "wrecking_ball" => return wrecking_ball(p, make),
         other => return Err(unknown(other)),
     };
     Ok(world)

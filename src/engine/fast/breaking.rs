@@ -1,7 +1,8 @@
 //! Fast mode's joint-breaking stage, after the soft step: each breakable joint's load from its rows' impulses of
 //! the last substep over the substep (Box2D's joint force: what the joint carried at the step's end), or, for a
 //! joint with a window, its load averaged over the window, brought on substep by substep by the impulses it
-//! carried (`Model::judged_loads`); a joint past its bounds breaks, holding nothing from the next step on, and its
+//! carried (`Model::judged_loads`), a struck glued object's welds at the blow's peak (`Model::judge_peaks`); a
+//! joint past its bounds breaks, holding nothing from the next step on, and its
 //! bodies collide again.
 
 use super::soft_solve::Solved;
@@ -33,7 +34,9 @@ pub(super) fn break_joints(cx: &mut StepContext<'_>, solved: &Solved, substep: f
         for (&k, carried) in &solved.glued {
             over_step[k] = *carried;
         }
+        let before = if solved.glued_peaks.is_empty() { Vec::new() } else { cx.memory.load_averages.clone() };
         loads = cx.model.judged_loads(&mut cx.memory.load_averages, &loads, &over_step, h, substep);
+        cx.model.judge_peaks(&mut loads, &before, &solved.glued_peaks, h, substep);
     }
     let broken = cx.model.overloaded(&loads);
     if broken.is_empty() {

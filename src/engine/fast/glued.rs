@@ -214,6 +214,13 @@ pub(super) struct Balance<'a> {
 }
 
 impl Balance<'_> {
+    /// Whether a blow struck one of `compound`'s manifolds in the step (its peak impulses are not its weighed ones).
+    fn struck(&self, compound: &Compound) -> bool {
+        let members = |a: u32| compound.members.binary_search(&(a as usize)).is_ok();
+        let impulses = self.out.manifold_impulses.iter().zip(&self.out.manifold_peak_impulses);
+        impulses.zip(&self.remapped.kept).any(|((w, p), &[a, b, _])| w != p && (members(a) || members(b)))
+    }
+
     /// A force's impulse over the step weighed substep by substep as window `window` weighs them (the step's
     /// length for none): the substep times the sum of e^(-k substep / window) over the substeps k before the end.
     fn weighed_step(&self, window: f64) -> f64 {
@@ -229,21 +236,35 @@ impl Balance<'_> {
 impl Glued {
     /// Each compounded weld's impulse over the step (its force on B and torque on B about its anchor), weighed
     /// substep by substep by its object's window as a joint's are (`SoftStep::joint_step_impulses`), by joint
-    /// index; `y` the state at the step's start.
-    pub fn loads(&self, model: &Model, y: &[f64], b: &Balance<'_>) -> BTreeMap<usize, JointLoad> {
-        let mut out = BTreeMap::new();
+    /// index; and, for the welds of an object struck in the step, the same with the blow counted at its full weight
+    /// (`SoftStep::manifold_peak_impulses`: the load's peak within the step). `y`: the state at the step's start.
+    pub fn loads(&self, model: &Model, y: &[f64], b: &Balance<'_>) -> (WeldLoads, WeldLoads) {
+        let (mut out, mut peaks) = (BTreeMap::new(), BTreeMap::new());
         for (c, compound) in self.compounds.iter().enumerate() {
-            let wrenches = needed(compound, b.out.velocities[b.first + c].angular, b.weighed_step(compound.window), b);
+            let (omega, step) = (b.out.velocities[b.first + c].angular, b.weighed_step(compound.window));
             let welds: Vec<WeldArm> =
                 compound.welds.iter().map(|&k| WeldArm::of(model, y, k, &compound.members)).collect();
-            let found = super::glued_loads::least_loads(&welds, compound, b.states, wrenches);
-            for (w, (force, torque)) in welds.iter().zip(found) {
-                out.insert(w.joint, JointLoad { force, torque });
+            let solve = |impulses: &[Wrench], into: &mut WeldLoads| {
+                let wrenches = needed(compound, omega, step, b, impulses);
+                let found = super::glued_loads::least_loads(&welds, compound, b.states, wrenches);
+                for (w, (force, torque)) in welds.iter().zip(found) {
+                    into.insert(w.joint, JointLoad { force, torque });
+                }
+            };
+            solve(&b.out.manifold_impulses, &mut out);
+            if b.struck(compound) {
+                solve(&b.out.manifold_peak_impulses, &mut peaks);
             }
         }
-        out
+        (out, peaks)
     }
 }
+
+/// Loads by joint index.
+pub(super) type WeldLoads = BTreeMap<usize, JointLoad>;
+
+/// A wrench: linear and angular parts.
+type Wrench = (Vector3<f64>, Vector3<f64>);
 
 /// A weld as the load solve sees it: its joint, its pieces (by place among the members), where its anchor is
 /// (world, at the step's start) and its stiffness to force and to torque (`WeldArm::of`).
@@ -280,7 +301,7 @@ impl WeldArm {
 /// before the object's own acceleration is shared out (`glued_loads::balance`): its turning's needs (the
 /// centripetal force and Euler's gyroscopic torque at the object's spin `omega`) less its applied forces, over the
 /// weighed step `step`, less its contacts' weighed impulses.
-fn needed(compound: &Compound, omega: Vector3<f64>, step: f64, b: &Balance<'_>) -> Vec<(Vector3<f64>, Vector3<f64>)> {
+fn needed(compound: &Compound, omega: Vector3<f64>, step: f64, b: &Balance<'_>, impulses: &[Wrench]) -> Vec<Wrench> {
     let centre = compound.state.position;
     let mut out: Vec<(Vector3<f64>, Vector3<f64>)> = compound
         .members
@@ -293,7 +314,7 @@ fn needed(compound: &Compound, omega: Vector3<f64>, step: f64, b: &Balance<'_>) 
             (linear, angular)
         })
         .collect();
-    let manifolds = b.out.manifold_impulses.iter().zip(&b.remapped.kept).zip(&b.remapped.centres);
+    let manifolds = impulses.iter().zip(&b.remapped.kept).zip(&b.remapped.centres);
     for (((linear, angular), &[a, bb, _]), centre) in manifolds {
         for (end, sign) in [(a as usize, -1.0), (bb as usize, 1.0)] {
             let Ok(i) = compound.members.binary_search(&end) else { continue };

@@ -8,11 +8,10 @@
 //! undamped spring gained energy at any step, and the cloth drape diverged).
 
 use super::failure;
-use super::glued::{Balance, Glued};
+use super::glued::{Balance, Glued, WeldLoads};
 use super::step::StepContext;
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
-use crate::model::breaking::JointLoad;
 use crate::model::joints::JointEnd;
 use crate::model::End;
 use crate::plan::Stage;
@@ -25,13 +24,13 @@ use tumble_contact::{
 };
 
 /// What the soft step gives fast mode: its answer (each glued piece given its object's motion), the holding
-/// joints it solved as rows (in the order of its joint impulses), and each glued weld's impulse over the step,
-/// weighed as a joint's
-/// (`glued.rs`).
+/// joints it solved as rows (in the order of its joint impulses), each glued weld's impulse over the step, weighed
+/// as a joint's, and for the welds of a struck object the same with the blow at its full weight (`glued.rs`).
 pub(super) struct Solved {
     pub out: SoftStep,
     pub rows: Vec<usize>,
-    pub glued: BTreeMap<usize, JointLoad>,
+    pub glued: WeldLoads,
+    pub glued_peaks: WeldLoads,
 }
 
 /// The soft step of h for the actors `states` with the contacts the engine keeps (`contact_pairs.rs`), their
@@ -86,10 +85,10 @@ pub(super) fn soft_solve(
     }
     drop(manifolds);
     let mut out = solved.map_err(|e| failure(cx.t, format!("contact solve: {e}")))?;
-    let mut loads = BTreeMap::new();
+    let (mut loads, mut peaks) = (BTreeMap::new(), BTreeMap::new());
     if let (Some(g), Some(remapped)) = (&glued, &remapped) {
         let balance = Balance { states, out: &out, first, remapped, h, substeps: settings.substeps };
-        loads = g.loads(cx.model, &cx.memory.y, &balance);
+        (loads, peaks) = g.loads(cx.model, &cx.memory.y, &balance);
         g.spread(&mut out, states, first);
     }
     cx.model.counters.spring_evaluations += springs.len() * settings.substeps;
@@ -108,7 +107,7 @@ pub(super) fn soft_solve(
         cx.report.collisions += out.collisions;
     }
     cx.report.contact_seconds += clock.elapsed().as_secs_f64();
-    Ok(Solved { out, rows: holding, glued: loads })
+    Ok(Solved { out, rows: holding, glued: loads, glued_peaks: peaks })
 }
 
 /// The joints and springs where the bodies are at the step's start, for the soft step.

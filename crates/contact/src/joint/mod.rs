@@ -12,7 +12,7 @@ mod rows;
 mod solve;
 
 pub use rows::{joint_rows, JointRow, RowKind, MAX_ROWS};
-pub use solve::{delassus, factor, BoundedSolve, RowPart};
+pub use solve::{delassus, factor, BoundedSolve, Factor, RowPart};
 
 use nalgebra::{UnitQuaternion, Vector3};
 

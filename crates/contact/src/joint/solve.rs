@@ -4,11 +4,13 @@
 //! `JointRow::speed`.
 //!
 //! The active set: every row starts active; the active rows are solved together (Cholesky of K's active part,
-//! slightly regularised if a redundant joint makes it singular); a row whose accumulated value leaves its bounds is
-//! held at the bound and the rest are solved again, with the held rows' parts moved to the right-hand side, for at
-//! most `rounds` rounds. K is positive semidefinite, so every principal part factors once regularised.
+//! faer's blocked dense factorization on one thread, slightly regularised if a redundant joint makes it singular); a
+//! row whose accumulated value leaves its bounds is held at the bound and the rest are solved again, with the held
+//! rows' parts moved to the right-hand side, for at most `rounds` rounds. K is positive semidefinite, so every principal part factors once regularised.
 
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn, Vector3};
+use faer::linalg::solvers::{Llt, Solve};
+use faer::Side;
+use nalgebra::{DMatrix, Vector3};
 
 /// One side of a row as K sees it: the body it acts on (`None`: a fixed one), that body's inverse mass, the row's
 /// linear part on it (signed: -lin on A, +lin on B) and two angular vectors whose dot products between rows give
@@ -24,21 +26,31 @@ pub struct RowPart {
 }
 
 /// K = J M^-1 J^T of rows given by their two parts: K_rc sums, over the parts of r and c on one moving body,
-/// inv_mass lin_r . lin_c + ang_r . weighted_c (upper triangle computed, the lower mirrored).
+/// inv_mass lin_r . lin_c + ang_r . weighted_c (upper triangle computed, the lower mirrored). Only pairs of rows that
+/// share a body are visited (each body's parts listed once), in the order of r's parts, then c's.
 pub fn delassus(rows: &[[RowPart; 2]]) -> DMatrix<f64> {
     let n = rows.len();
+    // each moving body's parts: (row, part), by row then part
+    let mut on: Vec<(usize, usize, usize)> = rows
+        .iter()
+        .enumerate()
+        .flat_map(|(r, parts)| parts.iter().enumerate().filter_map(move |(i, p)| p.body.map(|b| (b, r, i))))
+        .collect();
+    on.sort_unstable();
     let mut k = DMatrix::zeros(n, n);
-    for r in 0..n {
-        for c in r..n {
-            let mut sum = 0.0;
-            for p in &rows[r] {
-                let Some(body) = p.body else { continue };
-                for q in rows[c].iter().filter(|q| q.body == Some(body)) {
-                    sum += p.inv_mass * p.lin.dot(&q.lin) + p.ang.dot(&q.weighted);
-                }
+    for (r, parts) in rows.iter().enumerate() {
+        for p in parts {
+            let Some(body) = p.body else { continue };
+            let from = on.partition_point(|&(b, c, _)| (b, c) < (body, r));
+            for &(_, c, i) in on[from..].iter().take_while(|&&(b, _, _)| b == body) {
+                let q = &rows[c][i];
+                k[(r, c)] += p.inv_mass * p.lin.dot(&q.lin) + p.ang.dot(&q.weighted);
             }
-            k[(r, c)] = sum;
-            k[(c, r)] = sum;
+        }
+    }
+    for r in 0..n {
+        for c in r + 1..n {
+            k[(c, r)] = k[(r, c)];
         }
     }
     k
@@ -53,20 +65,39 @@ const REDUNDANT: f64 = 1e-9;
 /// their bricks' weight and broke).
 const REGULARISE: f64 = 1e-8;
 
+/// The Cholesky factor L L^T of a principal part of K.
+#[derive(Clone, Debug)]
+pub struct Factor(Llt<f64>);
+
+impl Factor {
+    /// x with L L^T x = rhs.
+    pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
+        let x = self.0.solve(faer::Col::<f64>::from_fn(rhs.len(), |i| rhs[i]));
+        (0..rhs.len()).map(|i| x[i]).collect()
+    }
+}
+
 /// The Cholesky factor of K's rows and columns `at`, regularised by `REGULARISE` of its largest diagonal entry if it
 /// is singular (redundant joints); `None` if `at` is empty or it does not factor even so.
-pub fn factor(k: &DMatrix<f64>, at: &[usize]) -> Option<Cholesky<f64, Dyn>> {
+pub fn factor(k: &DMatrix<f64>, at: &[usize]) -> Option<Factor> {
     if at.is_empty() {
         return None;
     }
     let n = at.len();
-    let sub = DMatrix::from_fn(n, n, |i, j| k[(at[i], at[j])]);
-    let scale = sub.diagonal().amax().max(1e-300);
-    let plain = sub.clone().cholesky().filter(|c| {
-        let l = c.l_dirty();
+    let mut sub = faer::Mat::<f64>::from_fn(n, n, |i, j| k[(at[i], at[j])]);
+    let scale = (0..n).map(|i| sub[(i, i)].abs()).fold(0.0, f64::max).max(1e-300);
+    let plain = Llt::new(sub.as_ref(), Side::Lower).ok().filter(|c| {
+        let l = c.L();
         (0..n).all(|i| l[(i, i)] * l[(i, i)] > REDUNDANT * scale)
     });
-    plain.or_else(|| (sub + DMatrix::identity(n, n) * (REGULARISE * scale)).cholesky())
+    plain
+        .or_else(|| {
+            for i in 0..n {
+                sub[(i, i)] += REGULARISE * scale;
+            }
+            Llt::new(sub.as_ref(), Side::Lower).ok()
+        })
+        .map(Factor)
 }
 
 /// A bounded solve of K x = want: each row's accumulated value `base + x` kept within its bounds (`(-inf, inf)`:
@@ -85,20 +116,26 @@ impl BoundedSolve<'_> {
     /// The solution, starting from the rows `active` (the others stay at zero); `cached` is a factorization of K's
     /// rows `cached.0`, used when the active rows are those and none is held. Rows whose part of K does not factor
     /// are left at zero.
-    pub fn solve(&self, mut active: Vec<usize>, cached: Option<(&[usize], &Cholesky<f64, Dyn>)>) -> Vec<f64> {
+    pub fn solve(&self, mut active: Vec<usize>, cached: Option<(&[usize], &Factor)>) -> Vec<f64> {
         let n = self.want.len();
         let mut x = vec![0.0; n];
         let mut held: Vec<usize> = Vec::new();
         for round in 0..self.rounds {
+            let owned;
             let factor = match cached {
-                Some((rows, f)) if held.is_empty() && rows == &active[..] => Some(f.clone()),
-                _ => factor(self.k, &active),
+                Some((rows, f)) if held.is_empty() && rows == &active[..] => f,
+                _ => match factor(self.k, &active) {
+                    Some(f) => {
+                        owned = f;
+                        &owned
+                    }
+                    None => break,
+                },
             };
-            let Some(factor) = factor else { break };
-            let rhs = DVector::from_iterator(
-                active.len(),
-                active.iter().map(|&r| self.want[r] - held.iter().map(|&h| self.k[(r, h)] * x[h]).sum::<f64>()),
-            );
+            let rhs: Vec<f64> = active
+                .iter()
+                .map(|&r| self.want[r] - held.iter().map(|&h| self.k[(r, h)] * x[h]).sum::<f64>())
+                .collect();
             let solved = factor.solve(&rhs);
             for (&r, &v) in active.iter().zip(solved.iter()) {
                 x[r] = v;

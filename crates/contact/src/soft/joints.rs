@@ -10,7 +10,9 @@
 
 use super::row::Mover;
 use super::softness::Softness;
-use crate::joint::{delassus, factor, joint_rows, BoundedSolve, Joint, JointImpulse, JointRow, RowKind, RowPart};
+use crate::joint::{
+    delassus, factor, joint_rows, BoundedSolve, Factor, Joint, JointImpulse, JointRow, RowKind, RowPart,
+};
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::TAU;
 
@@ -37,7 +39,7 @@ pub(crate) struct JointSet {
     /// The rows of rigid joints that hold them (equality rows), solved together by a direct solve, and the
     /// factorization of their K = J M^-1 J^T; empty when there are more than `DIRECT_ROWS`.
     direct: Vec<usize>,
-    factor: Option<nalgebra::Cholesky<f64, nalgebra::Dyn>>,
+    factor: Option<Factor>,
     /// K of the rows solved together, and the places of the holding rows among them.
     kmat: nalgebra::DMatrix<f64>,
     holding: Vec<usize>,

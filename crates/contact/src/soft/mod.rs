@@ -269,6 +269,7 @@ pub fn soft_step(problem: &SoftProblem<'_>, h: f64, settings: &SoftSettings) -> 
     let mut out = soft_solve(bodies, &mut split, &links, h, settings)?;
     out.impulses = vec![SoftImpulse::default(); contacts.len()];
     out.manifold_impulses = Vec::new();
+    out.manifold_peak_impulses = Vec::new();
     out.normal_impulses = vec![0.0; contacts.len()];
     for (m, ks) in split.iter().zip(&origin) {
         // a manifold's friction shared among its contacts by their normal impulses (evenly if none pushed)
@@ -455,6 +456,7 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
         joint_impulses: vec![JointImpulse::default(); joints.len()],
         joint_step_impulses: vec![JointImpulse::default(); joints.len()],
         manifold_impulses: vec![(Vector3::zeros(), Vector3::zeros()); manifolds.len()],
+        manifold_peak_impulses: vec![(Vector3::zeros(), Vector3::zeros()); manifolds.len()],
         islands,
         residual: 0.0,
         prepare_seconds: setup,
