@@ -1,7 +1,8 @@
 //! Glue: a fractured bar's pieces welded with bounds from their face's area times the strength (exact), a glued
 //! beam that snaps when its load averaged over the window reaches the bound (the closed-form time in accurate mode,
 //! located to the time tolerance; the step's discrete form in fast mode), an unloaded glued object that holds, a
-//! struck wall that breaks the same welds at three steps, and bad glue refused by name with nothing added.
+//! struck wall that breaks the same welds at three steps, cracked around the blow, and bad glue refused by name with
+//! nothing added.
 
 use nalgebra::{Point3, Vector3};
 use tumble::{
@@ -171,15 +172,19 @@ fn a_pane_hit_in_its_middle_breaks_more_bonds_near_the_hit_than_far() {
 }
 
 /// The welds (by their order) the wrecking ball breaks in fast mode at `dt` (`scenes::WreckingBall`: 117 welds of
-/// 30 kN, a 110 kg ball swung into the wall at 6 m/s) in 1.5 s, with the time of each; and the time of the first.
-fn wall_hit(dt: f64) -> (Vec<(usize, f64)>, f64) {
+/// 30 kN, a 110 kg ball swung into the wall at 6 m/s) in 1.5 s, with the time of each; the time of the first; and
+/// each weld's distance from where the ball strikes.
+fn wall_hit(dt: f64) -> (Vec<(usize, f64)>, f64, Vec<f64>) {
     let (mut w, glued, _) = tumble::scenes::WreckingBall::default().build(Mode::Fast(FastSettings::new(dt))).unwrap();
+    // each weld's distance from where the ball strikes (the wall's frame is the world's)
+    let hit = Point3::new(0.0, -0.1, 0.525);
+    let far: Vec<f64> = glued.bonds.iter().map(|(_, f)| (f.centre - hit).norm()).collect();
     let duration = (1.5 / dt).round() * dt;
     let run = w.run(duration, duration).unwrap();
     let order = |j| glued.bonds.iter().position(|(b, _)| *b == j).expect("a weld of the wall");
     let broken: Vec<(usize, f64)> = run.joint_breaks.iter().map(|(t, j)| (order(*j), *t)).collect();
     let first = broken.iter().map(|b| b.1).fold(f64::INFINITY, f64::min);
-    (broken, first)
+    (broken, first, far)
 }
 
 #[test]
@@ -193,7 +198,15 @@ fn a_wall_hit_by_a_ball_breaks_the_same_welds_at_three_steps() {
     // step (bricks that fall and land later break welds of their own, 0.15 s on).
     let runs: Vec<_> = [960.0, 480.0, 240.0].iter().map(|n| wall_hit(1.0 / n)).collect();
     let sets: Vec<std::collections::BTreeSet<usize>> =
-        runs.iter().map(|(b, _)| b.iter().map(|(k, _)| *k).collect()).collect();
+        runs.iter().map(|(b, _, _)| b.iter().map(|(k, _)| *k).collect()).collect();
+    // the crack spreads from the blow: every weld within 0.3 m of where the ball strikes breaks (the struck bricks'
+    // and their neighbours'), none 0.6 m or more from it (the wall is 2.4 m long; 1.2 m to its ends)
+    for (set, (_, _, far)) in sets.iter().zip(&runs) {
+        for (k, d) in far.iter().enumerate() {
+            assert!(*d >= 0.3 || set.contains(&k), "weld {k}, {d:.2} m from the blow, held");
+            assert!(*d < 0.6 || !set.contains(&k), "weld {k}, {d:.2} m from the blow, broke");
+        }
+    }
     let finest = sets[0].len();
     assert!((10..=100).contains(&finest), "{finest} of 117 welds broke");
     for (set, n) in sets.iter().zip([960, 480, 240]).skip(1) {
@@ -204,7 +217,7 @@ fn a_wall_hit_by_a_ball_breaks_the_same_welds_at_three_steps() {
             set.len()
         );
     }
-    for ((broken, first), n) in runs.iter().zip([960, 480, 240]) {
+    for ((broken, first, _), n) in runs.iter().zip([960, 480, 240]) {
         let later = broken.iter().filter(|(_, t)| *t > *first && *t <= *first + 0.1).count();
         assert!(
             later as f64 <= 0.1 * broken.len() as f64,

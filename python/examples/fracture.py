@@ -80,7 +80,8 @@ def measure_wall(modes: list[str], windows: list[float], strength: float) -> Non
                 times = run.joint_break_times
                 finest = impact if finest is None else finest
                 finest_first = at_first if finest_first is None else finest_first
-                print(f"wall hit, window {window * 1e3:g} ms, {label}: {len(times)} of {w.joint_count} welds broke "
+                welds = sum(1 for j in w.joint_handles if w.joint_breaking(j) is not None)
+                print(f"wall hit, window {window * 1e3:g} ms, {label}: {len(times)} of {welds} welds broke "
                       f"in {WALL_RUN:g} s, {len(impact)} within 50 ms of the first break at {first:.4f} s ({len(impact & finest)} "
                       f"of them as at the finest step), {len(at_first)} at it ({len(at_first & finest_first)} as at "
                       f"the finest step's) ({time.perf_counter() - clock:.1f} s)")

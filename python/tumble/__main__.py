@@ -45,7 +45,7 @@ SCENES: dict[str, tuple[Callable[[], World], float, str]] = {
     "mesh-pile": (scenes.mesh_pile, 3.0, "fifty meshes of five kinds dropped in a pile (fast mode)"),
     "vase-drop": (scenes.vase_drop, 2.0, "a vase of 50 glued pieces dropped onto the floor, shattering (fast mode)"),
     "glass-pane": (scenes.glass_pane, 1.0, "a steel ball thrown through a pane of 50 glued pieces (fast mode)"),
-    "wrecking-ball": (scenes.wrecking_ball, 2.0, "a ball smashing a wall of 48 glued bricks (fast mode)"),
+    "wrecking-ball": (scenes.wrecking_ball, 2.0, "a wrecking ball swung into a wall of 48 glued bricks (fast mode)"),
 }
 
 
