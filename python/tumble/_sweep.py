@@ -112,4 +112,5 @@ def sweep(
         ray.init()
     task: Any = ray.remote(_one)  # a RemoteFunction of _one (its parameter type left open)
     shipped = ray.put(build)  # the build function goes to the object store once, not with every task
-    return ray.get([task.remote(shipped, p, duration, frame_interval) for p in params])
+    runs: list[Run] = ray.get([task.remote(shipped, p, duration, frame_interval) for p in params])
+    return runs
