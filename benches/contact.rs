@@ -123,7 +123,7 @@ fn accurate_ball(c: &mut Criterion) {
 }
 
 /// Cubes of edge 0.5 m (density 500, friction 0.6) in a column of ten, 1 mm apart, or twenty dropped on a 3 x 3 grid
-/// in three layers, slightly tilted (the scenes of `tests/accurate_stacks.rs`).
+/// in three layers, slightly tilted (the scenes of `tests/it/accurate_stacks.rs`).
 fn accurate_scene(pile: bool) -> World {
     use nalgebra::{UnitQuaternion, Vector3};
     use tumble::{Material, RigidBodyBuilder, Shape};

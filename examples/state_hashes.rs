@@ -11,7 +11,7 @@
 //! Only the public API is used, so the same file runs on any version that has it. `--quick` leaves out the
 //! slowest scenes.
 
-#[path = "../tests/common/mod.rs"]
+#[path = "../tests/it/common/mod.rs"]
 mod common;
 
 use common::Lcg;
@@ -90,7 +90,7 @@ fn hash_report(h: &mut Fnv, w: &World) {
     h.float(i.error_estimate.unwrap_or(-1.0));
 }
 
-/// The tests' seeded random drop (one to five random shapes over a ground, `tests/common`) in `mode`, with a
+/// The tests' seeded random drop (one to five random shapes over a ground, `tests/it/common`) in `mode`, with a
 /// particle of a radius thrown at it.
 fn random_drop(seed: u64, mode: Mode) -> World {
     let mut w = common::random_drop(seed);

@@ -26,7 +26,7 @@ A worker that dies (an abort, a segfault, an allocation failure) or does not ans
 like any other failure. Joint calls (``add_joint``, ``remove_joint``) are drawn in long runs only: the CI search
 keeps the programs it drew before joints existed (drawn with them, its fixed seed met an accurate-mode pile of four
 millimetre bodies beside the spinning top that takes 41 s on the 2-core machine, and a family of its variants);
-the Rust fuzz (``tests/fuzz.rs``) draws joints in CI.
+the Rust fuzz (``tests/it/fuzz.rs``) draws joints in CI.
 Every call's work is bounded by its budget (``max_steps``, by default 1e6 integrator steps,
 contact steps and convex solves): on these small scenes the costliest calls, accurate-mode piles of millimetre
 bodies, spend it in about 200 s and end in its clear error, so a long run that should report only calls past their

@@ -95,7 +95,7 @@ def test_progress_and_interruption():
 def test_ctrl_c_during_run_keeps_the_frames_done_and_the_next_run_carries_on():
     # A real SIGINT, sent from a timer thread 0.5 s into a run of accurate mode that takes several seconds (60 boxes
     # dropped into a pile); the frames done come with the KeyboardInterrupt and the world is at the last of them (the
-    # frames an interrupt keeps are bit for bit those of a run not interrupted: tests/long_runs.rs).
+    # frames an interrupt keeps are bit for bit those of a run not interrupted: tests/it/long_runs.rs).
     w = tumble.World()
     w.add_ground()
     for k in range(60):
