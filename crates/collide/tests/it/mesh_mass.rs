@@ -2,7 +2,7 @@
 //! error falling as the mesh is refined), against parry's own integration on random closed meshes, and every
 //! mesh that does not bound a solid refused with its reason.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use nalgebra::{Matrix3, Point3, Vector3};

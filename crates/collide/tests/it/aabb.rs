@@ -1,6 +1,6 @@
 //! World and swept bounding boxes against closed forms, and swept boxes holding every sampled point of a motion.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};

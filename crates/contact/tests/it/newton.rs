@@ -3,8 +3,9 @@
 //! restitutions, gaps and lagged normal impulses, with and without joint rows. Both must give the same velocities,
 //! and (where the impulses are fixed by the velocities) the same impulses, to the program's tolerance; and the
 //! Newton method must answer every island itself.
+#![cfg(feature = "clarabel")]
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
 use tumble_contact::{

@@ -1,7 +1,7 @@
 //! Step-size control: the chapter's step doubling around every one-step method, Adams-Moulton with Milne's
 //! estimate, the reports' counters, and the sparse Jacobian path.
 
-mod common;
+use crate::common;
 use common::final_state;
 use tumble_integrate::problems::DampedOscillator;
 use tumble_integrate::*;

@@ -1,7 +1,7 @@
 //! Property tests of the sort-and-sweep broad phase: on many random scenes (including boxes that touch exactly,
 //! zero-size boxes, unbounded boxes, and scenes that move between calls) it reports exactly the pairs brute force does.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use nalgebra::{Point3, Vector3};

@@ -2,8 +2,9 @@
 //! 1 : 1e3 : 1e6), the velocity-product terms of the normal acceleration (a particle sliding along a turning
 //! paddle needs the Coriolis force), and complementarity on random resting configurations checked by recomputing
 //! the accelerations from the forces.
+#![cfg(feature = "clarabel")]
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
 use tumble_contact::{contact_wrenches, resting_forces, BodyState, Contact, NormalMotion, SolverSettings};

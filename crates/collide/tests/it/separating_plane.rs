@@ -1,7 +1,7 @@
 //! The separating-plane test against parry's intersection test on random convex pairs, the planes it returns checked
 //! against the vertices, and the per-pair cache reused while a moving pair stays apart.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};

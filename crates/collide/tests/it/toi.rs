@@ -1,7 +1,7 @@
 //! Collision time against closed forms (a sphere falling onto a plane, two approaching spheres, a box tipping onto a
 //! plane), the three methods agreeing with each other, and the 1000 m/s sphere against a 1 cm wall.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use nalgebra::{Isometry3, Translation3, Vector3};

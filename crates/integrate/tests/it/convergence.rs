@@ -1,6 +1,6 @@
 //! Orders of convergence measured as slopes of log error against log h, against closed forms.
 
-mod common;
+use crate::common;
 use common::{final_state, loglog_slope};
 use tumble_integrate::problems::DampedOscillator;
 use tumble_integrate::{solve, Method, SaveAt, Settings};

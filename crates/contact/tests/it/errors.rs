@@ -1,5 +1,6 @@
 //! Every bad input is refused with an error that names it, and a solver that cannot deliver is an error too
 //! (the functions are pure, so no body is ever changed by a failure).
+#![cfg(feature = "clarabel")]
 
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
 use tumble_contact::{

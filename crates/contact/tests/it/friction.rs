@@ -1,8 +1,9 @@
 //! The time-stepping conic program: sticking and sliding on an incline (with the convex model's gliding error stated
 //! and checked), a box resting on the ground, restitution and the penetration and speculative biases, impulses inside
 //! the friction cone, and islands.
+#![cfg(feature = "clarabel")]
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
 use tumble_contact::{islands, velocity_step, BodyState, Contact, StepSettings, VelocityProblem};

@@ -3,8 +3,9 @@
 //! ground decelerates at mu g, a particle landing with restitution e leaves at e times its closing speed, a box
 //! approaching from a gap stops at it (speculative contact), islands give the same bits on any thread count, and a
 //! spring is semi-implicit Euler at the substep.
+#![cfg(feature = "clarabel")]
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};
 use tumble_contact::{

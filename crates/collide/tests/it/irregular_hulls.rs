@@ -4,7 +4,7 @@
 //! normals are nearest the contact normal; on such hulls those need not be the touching ones, and the whole-face
 //! clip of a long face then found nothing (116 of 905 pairs), or a piece's corner sank unseen.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use nalgebra::{Isometry3, Vector3};

@@ -1,8 +1,9 @@
 //! Collision impulses against closed forms: equal spheres exchanging velocities (e = 1) or moving on together
 //! (e = 0), momentum conserved and kinetic energy never gained, the spin an off-centre hit gives, the particle form,
 //! and simultaneous impulses along a row of touching balls.
+#![cfg(feature = "clarabel")]
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix3, Point3, Unit, Vector3};
 use tumble_contact::{
