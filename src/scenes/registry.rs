@@ -73,8 +73,8 @@ impl<'a> Params<'a> {
     #[cfg(feature = "contact")]
     fn flag(&mut self, key: &'static str) -> Result<bool, WorldError> {
         match self.number(key, 0.0)? {
-            v if v == 0.0 => Ok(false),
-            v if v == 1.0 => Ok(true),
+            0.0 => Ok(false),
+            1.0 => Ok(true),
             v => Err(WorldError::invalid(key, format!("must be 0 or 1, got {v}"))),
         }
     }

@@ -19,7 +19,7 @@ fn modes() -> [(&'static str, Mode); 2] {
 fn a_ball_dropped_into_a_cup_stays_in_it_and_on_the_hull_it_does_not() {
     for (name, mode) in modes() {
         for as_hull in [false, true] {
-            let (mut w, cup, ball) = meshes::ball_in_cup(mode.clone(), as_hull).unwrap();
+            let (mut w, cup, ball) = meshes::ball_in_cup(mode, as_hull).unwrap();
             w.step(5.0).unwrap();
             let (c, b) = (w.body(cup).unwrap().position(), w.body(ball).unwrap().position());
             // the cup's inside: 4.5 cm radius, its floor 5 mm up, its rim 8 cm up (the cup's base sits at z = 0.1 mm)
@@ -116,7 +116,7 @@ fn seeds() -> u64 {
 fn seeded_random_blobs_dropped_run_to_the_end_finite_and_repeat_bit_for_bit() {
     for seed in 0..seeds() {
         for (name, mode) in modes() {
-            let mut w = blob_drop(seed, mode.clone());
+            let mut w = blob_drop(seed, mode);
             w.step(2.0).unwrap_or_else(|e| panic!("seed {seed}, {name}: {e}"));
             let bits = state_bits(&w);
             assert!(bits.iter().all(|b| f64::from_bits(*b).is_finite()), "seed {seed}, {name}: not finite");

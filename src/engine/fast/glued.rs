@@ -112,7 +112,7 @@ impl Glued {
     /// refers to them) and the compounds appended; gives the compounds' first index.
     pub fn actors(&self, actors: &mut Vec<BodyState>) -> usize {
         let first = actors.len();
-        for (&a, _) in &self.of_actor {
+        for &a in self.of_actor.keys() {
             actors[a] = BodyState::fixed(actors[a].position);
         }
         actors.extend(self.compounds.iter().map(|c| c.state));

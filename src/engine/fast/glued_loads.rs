@@ -191,7 +191,7 @@ mod tests {
             needed.iter().zip(&at).map(|((f, _), p)| (p - compound.state.position).cross(f)).sum();
         needed[0].1 = -forces;
         let found = least_loads(&welds, &compound, &states, needed.clone());
-        let mut got = vec![(Vector3::zeros(), Vector3::zeros()); 3];
+        let mut got = [(Vector3::zeros(), Vector3::zeros()); 3];
         for (w, (f, t)) in welds.iter().zip(&found) {
             let (ra, rb) = (w.point - at[w.a], w.point - at[w.b]);
             got[w.b].0 += f;

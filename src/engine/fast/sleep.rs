@@ -162,9 +162,9 @@ pub(super) fn update_sleep(
         speeds[p + j] = f64::INFINITY;
     }
     match &cx.memory.pairs {
-        Some(kept) => cx.memory.sleep.update(kept.touching(), &speeds, &cx.settings, h),
-        None => cx.memory.sleep.update(found.iter().map(|f| (f.contact.a, f.contact.b)), &speeds, &cx.settings, h),
+        Some(kept) => cx.memory.sleep.update(kept.touching(), &speeds, cx.settings, h),
+        None => cx.memory.sleep.update(found.iter().map(|f| (f.contact.a, f.contact.b)), &speeds, cx.settings, h),
     }
-    cx.memory.sleep.freeze(&mut cx.memory.y, &cx.model);
+    cx.memory.sleep.freeze(&mut cx.memory.y, cx.model);
     cx.report.stages.mark(Stage::Sleeping);
 }
