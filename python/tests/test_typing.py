@@ -1,6 +1,6 @@
 """Static typing: ``mypy --strict -p tumble`` passes on the installed package (its ``.py`` files, the compiled
-module's stub ``_tumble.pyi`` and ``py.typed``, as users get them), and a misspelt integrator or mode name is a type
-error. The command runs from a temporary directory so that mypy finds the installed ``tumble`` (from the source
+module's stub ``_tumble.pyi`` and ``py.typed``, as users get them), the stub matches the compiled module (``stubtest``), and a misspelt integrator or
+mode name is a type error. The command runs from a temporary directory so that mypy finds the installed ``tumble`` (from the source
 directory ``python/`` it would check the source tree instead), with the settings of ``python/pyproject.toml``
 (``[tool.mypy]``: the optional modules without type information)."""
 
@@ -42,6 +42,19 @@ def mypy(tmp_path_factory: pytest.TempPathFactory):
 def test_package_passes_mypy_strict(mypy) -> None:
     code, output = mypy("-p", "tumble")
     assert code == 0, f"mypy --strict on the installed tumble ({Path(tumble.__file__).parent}) failed:\n{output}"
+
+
+@requires_mypy
+def test_the_compiled_module_matches_its_stub(tmp_path: Path) -> None:
+    """``stubtest`` compares ``_tumble.pyi`` with the installed compiled module: every class, method, parameter and
+    default the stub names is there, and the module has nothing the stub leaves out (but what
+    ``tests/stubtest_allowlist.txt`` lists, with its reason; PEP 800's disjoint bases are not checked: pyo3's classes
+    all are)."""
+    allowlist = Path(__file__).resolve().parent / "stubtest_allowlist.txt"
+    command = [sys.executable, "-m", "mypy.stubtest", "--mypy-config-file", str(CONFIG), "--ignore-disjoint-bases",
+               "--allowlist", str(allowlist), "tumble._tumble"]
+    done = subprocess.run(command, cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, f"$ {' '.join(command)}\n{done.stdout}{done.stderr}"
 
 
 def _error_lines(output: str, name: str) -> set[int]:

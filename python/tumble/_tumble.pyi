@@ -1,7 +1,7 @@
 """Type stubs of tumble's compiled module (the package ``tumble`` re-exports these)."""
 
 import os
-from typing import Any, Callable, Literal, Self, Sequence, TypedDict
+from typing import Any, Callable, Literal, Self, Sequence, TypedDict, final
 
 import numpy as np
 import numpy.typing as npt
@@ -19,6 +19,7 @@ class SimulationError(RuntimeError):
 
     run: Run  # set by ``World.run``: the frames recorded up to the failure
 
+@final
 class ParticleHandle:
     @property
     def index(self) -> int: ...
@@ -27,6 +28,7 @@ class ParticleHandle:
     @property
     def world(self) -> int: ...
 
+@final
 class BodyHandle:
     @property
     def index(self) -> int: ...
@@ -35,6 +37,7 @@ class BodyHandle:
     @property
     def world(self) -> int: ...
 
+@final
 class State:
     """A world's whole state: read-only arrays (rows as in ``World.bodies`` and ``World.particles``), the time
     and, hidden, the engine's memory; ``World.set_state`` puts it back and the world continues bit for bit."""
@@ -78,6 +81,7 @@ def _rollout(
     progress: Callable[[float], None] | None = None,
 ) -> list[dict[str, Any]]: ...
 
+@final
 class SpringHandle:
     @property
     def index(self) -> int: ...
@@ -86,6 +90,7 @@ class SpringHandle:
     @property
     def world(self) -> int: ...
 
+@final
 class LoadHandle:
     @property
     def index(self) -> int: ...
@@ -94,6 +99,7 @@ class LoadHandle:
     @property
     def world(self) -> int: ...
 
+@final
 class JointHandle:
     @property
     def index(self) -> int: ...
@@ -115,32 +121,39 @@ class Shape:
         self, subdivisions: int | None = None, extent: float | None = None
     ) -> tuple[np.ndarray, np.ndarray]: ...
 
+@final
 class Sphere(Shape):
-    def __init__(self, radius: float) -> None: ...
+    def __new__(cls, radius: float) -> Self: ...
 
+@final
 class Box(Shape):
-    def __init__(self, half_extents: Vec3) -> None: ...
+    def __new__(cls, half_extents: Vec3) -> Self: ...
 
+@final
 class Capsule(Shape):
     """Along z."""
-    def __init__(self, half_height: float, radius: float) -> None: ...
+    def __new__(cls, half_height: float, radius: float) -> Self: ...
 
+@final
 class Cylinder(Shape):
     """Along z."""
-    def __init__(self, half_height: float, radius: float) -> None: ...
+    def __new__(cls, half_height: float, radius: float) -> Self: ...
 
+@final
 class ConvexHull(Shape):
-    def __init__(self, points: npt.ArrayLike) -> None: ...
+    def __new__(cls, points: npt.ArrayLike) -> Self: ...
 
+@final
 class TriMesh(Shape):
     """Static bodies only."""
-    def __init__(self, vertices: npt.ArrayLike, triangles: npt.ArrayLike) -> None: ...
+    def __new__(cls, vertices: npt.ArrayLike, triangles: npt.ArrayLike) -> Self: ...
 
+@final
 class Mesh(Shape):
     """A closed triangle mesh (counter-clockwise seen from outside). A moving body carries its convex
     decomposition (or its hull, ``shape="hull"``), a static one the exact triangles; its mass properties are the
     solid's. Raises ValueError naming the mesh when it does not bound a solid."""
-    def __init__(self, vertices: npt.ArrayLike | Any, triangles: npt.ArrayLike | None = None, name: str = "") -> None: ...
+    def __new__(cls, vertices: npt.ArrayLike | Any, triangles: npt.ArrayLike | None = None, name: str = "") -> Self: ...
     @staticmethod
     def load(path: str | os.PathLike[str], scale: float = 1.0, up: Literal["y", "z"] | None = None) -> Mesh:
         """An OBJ, STL, PLY, glTF or GLB file's meshes merged, placed by the file's transforms, scaled by ``scale``
@@ -186,8 +199,8 @@ class Decomposition(TypedDict, total=False):
     concavity: float
 
 class World:
-    def __init__(
-        self,
+    def __new__(
+        cls,
         gravity: Vec3 | None = None,
         integrator: IntegratorName | None = None,
         rtol: float | None = None,
@@ -206,7 +219,7 @@ class World:
         substeps: int | None = None,
         friction_combine: CombineName | None = None,
         restitution_combine: CombineName | None = None,
-    ) -> None: ...
+    ) -> Self: ...
     def set_integrator(
         self,
         integrator: IntegratorName | None = None,
