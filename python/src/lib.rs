@@ -16,11 +16,6 @@ mod report;
 mod shapes;
 mod state;
 mod world;
-mod world_bodies;
-mod world_joints;
-mod world_modes;
-mod world_scenes;
-mod world_state;
 
 pyo3::create_exception!(
     tumble,

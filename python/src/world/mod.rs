@@ -1,6 +1,13 @@
 //! `World` for Python, building and stepping: the keyword arguments of the public contract mapped onto the Rust
 //! world, runs with the interpreter lock released and a progress callback between chunks. Reading state is in
-//! `world_state.rs`, adding bodies in `world_bodies.rs`.
+//! `state.rs`, adding bodies in `bodies.rs`, joints in `joints.rs`, the modes in `modes.rs`, the built-in scenes in
+//! `scenes.rs`.
+
+mod bodies;
+mod joints;
+mod modes;
+mod scenes;
+mod state;
 
 use crate::args::{attachment, integrator_options, to_target};
 use crate::control::Control;
