@@ -17,7 +17,7 @@ import pytest
 
 import tumble
 from tumble._geometry import rotation_matrices, rotation_matrix
-from tumble._gltf_links import segments, transforms
+from tumble.export._gltf_links import segments, transforms
 
 from gltf_check import Y_UP, parse_glb, validate
 

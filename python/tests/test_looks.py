@@ -111,7 +111,7 @@ def test_usd_prims_carry_the_names_and_display_colours(tmp_path):
 
 
 def test_the_viewer_shows_the_colours_in_srgb():
-    from tumble._viewer_scene import PALETTE, body_colors  # noqa: PLC0415
+    from tumble.viewer._scene import PALETTE, body_colors  # noqa: PLC0415
 
     run = world().run(0.05, 1 / 60)
     colours = body_colors(run, 6)

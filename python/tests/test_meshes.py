@@ -284,7 +284,7 @@ def test_the_exported_gltf_draws_the_users_mesh_at_the_simulated_poses(tmp_path:
 def test_the_exported_usd_draws_the_users_mesh_at_the_simulated_poses(tmp_path: Path) -> None:
     pytest.importorskip("pxr", reason="usd-core is the `usd` extra")
     from pxr import Usd, UsdGeom
-    from tumble._usd import time_codes
+    from tumble.usd._write import time_codes
     run, mesh = tossed_cup(tmp_path)
     stage = Usd.Stage.Open(str(run.export_usd(tmp_path / "cup.usdc")))
     prim = stage.GetPrimAtPath("/World/body_1/collider_0/mesh")

@@ -10,7 +10,7 @@ from PIL import Image
 
 import tumble
 from tumble import scenes
-from tumble._preview import BACKGROUND, FIXED, JOINT, SPRING, TEXT, TITLE_BAND, durations_ms
+from tumble.export._preview import BACKGROUND, FIXED, JOINT, SPRING, TEXT, TITLE_BAND, durations_ms
 
 BACKGROUND_RGB = FIXED[BACKGROUND]
 
@@ -189,7 +189,7 @@ def hued(frame, channel):
 def test_bodies_are_drawn_in_their_colours(tmp_path):
     # Three boxes alike, seen alike: white, blue, and one given no colour (drawn in the palette's grey for still
     # bodies). The pixels around each box's projected centre are its faces'.
-    from tumble._preview import EDGE, Renderer
+    from tumble.export._preview import EDGE, Renderer
 
     w = tumble.World(mode="fast")
     for x, color in ((-0.6, (1.0, 1.0, 1.0)), (0.0, (0.0, 0.0, 1.0)), (0.6, None)):
@@ -270,7 +270,7 @@ def test_bad_camera_and_contacts_arguments_are_refused(tmp_path):
 
 def test_the_floor_is_left_out_seen_from_below(tmp_path):
     # Seen from above, the floor's grey fills much of the picture; from below it would hide everything on it.
-    from tumble._preview import FLOOR
+    from tumble.export._preview import FLOOR
 
     w = tumble.World(mode="fast")
     w.add_ground()
@@ -286,7 +286,7 @@ def test_each_face_is_turned_as_its_triangles(tmp_path):
     # The chair is one mesh whose faces are many triangles each, with corners in line along their outlines (its seat
     # and back): each face's normal is a unit vector on the side its triangles face, so that no face is taken for
     # one turned away from the camera and left out. 1e-9: rounding of unit vectors.
-    from tumble._preview_mesh import gather_meshes
+    from tumble.export._preview_mesh import gather_meshes
 
     meshes = gather_meshes(scenes.chair().run(1 / 60))
     v, t = meshes.vertices, meshes.triangles
@@ -297,7 +297,7 @@ def test_each_face_is_turned_as_its_triangles(tmp_path):
 
 def test_contacts_can_be_left_out(tmp_path):
     # A grey box resting on the floor: its contacts at its bottom corners, the nearest of them in sight.
-    from tumble._preview import CONTACT
+    from tumble.export._preview import CONTACT
 
     w = tumble.World(mode="fast")
     w.add_ground()
@@ -337,7 +337,7 @@ def test_a_box_inside_a_closed_box_is_hidden(tmp_path):
 
 def test_a_contact_behind_a_wall_is_hidden(tmp_path):
     # A ball resting on the floor of a closed box: its contact (and the ball) hidden by the walls in front of it.
-    from tumble._preview import CONTACT
+    from tumble.export._preview import CONTACT
 
     w = tumble.World(mode="fast")
     closed_box(w)

@@ -11,7 +11,7 @@ import tumble
 pxr = pytest.importorskip("pxr", reason="usd-core is the `usd` extra")
 from pxr import Gf, Usd, UsdGeom, UsdPhysics  # noqa: E402
 
-from tumble._usd import time_codes  # noqa: E402
+from tumble.usd._write import time_codes  # noqa: E402
 
 
 def a_run() -> tumble.Run:

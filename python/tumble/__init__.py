@@ -46,8 +46,8 @@ from ._geometry import EulerOrder, quaternion_to_euler, quaternion_to_matrix, up
 from ._batch import Batch, rollout
 from ._sweep import sweep
 from ._kinematic import keyframes_from
-from ._usd_shapes import UsdSceneError
-from ._usd_values import UsdImportWarning
+from .usd._shapes import UsdSceneError
+from .usd._values import UsdImportWarning
 from ._joints import Ball, Breaking, Distance, Drive, Hinge, JointSpring, Motor, Piston, Slider, Weld
 from ._names import CombineName, IntegratorName, LinearSolverName, ModeName, SolverName
 from ._world import BodiesView, ParticlesView, World

@@ -20,7 +20,7 @@ if TYPE_CHECKING:
 
     from ._geometry import Link
     from ._tumble import BodyHandle, JointHandle, ParticleHandle, Shape
-    from ._viewer import Viewer
+    from .viewer._viewer import Viewer
 
 # A body's colliders: each shape with its position and orientation (w, x, y, z) in the body's frame.
 Colliders = list[tuple["Shape", list[float], list[float]]]
@@ -315,7 +315,7 @@ class Run:
         twice as large). ``fps`` frames a second (default: the run's frame rate, at most 30); a frame is held until
         the next one's time, and frames where nothing moves are merged into one. ``size`` is the longer side in
         inches at 128 pixels an inch. Returns the path."""
-        from ._preview import write_preview  # noqa: PLC0415
+        from .export._preview import write_preview  # noqa: PLC0415
 
         return write_preview(self, as_path(path), fps, size, title, camera, zoom, contacts)
 
@@ -327,13 +327,13 @@ class Run:
         ``World.from_usd``), a layer over that stage instead: the run's time samples on the original rigid body
         prims, in the stage's units, axes and time codes. Returns the path."""
         if over is not None:
-            from ._usd_over import export_over  # noqa: PLC0415
+            from .usd._over import export_over  # noqa: PLC0415
 
             target = as_path(path)
             if target.suffix.lower() not in (".usda", ".usdc", ".usd"):
                 raise ValueError(f"invalid argument `path`: USD files end in .usda, .usdc or .usd, got {target.name!r}")
             return export_over(self, target, as_path(over))
-        from ._usd import export  # noqa: PLC0415
+        from .usd._write import export  # noqa: PLC0415
 
         return export(self, as_path(path))
 
@@ -344,7 +344,7 @@ class Run:
         joint is a thin cylinder stretched between its ends, each joint's anchors small spheres; materials are plain
         named colours (static bodies grey, moving ones a colour per distinct collider set, particles, springs and
         joints one colour each). A run that diverged is written up to its last finite frame. Returns the path."""
-        from ._gltf import export  # noqa: PLC0415
+        from .export._gltf import export  # noqa: PLC0415
 
         return export(self, as_path(path))
 
@@ -355,7 +355,7 @@ class Run:
         takes a free port (a taken one, the next free one: ``Viewer.url`` says which); ``host="0.0.0.0"`` serves
         other machines too. With ``block`` it prints the address and serves until Ctrl-C; without, it returns the
         ``Viewer`` at once (``viewer.stop()`` ends it)."""
-        from ._viewer import show  # noqa: PLC0415
+        from .viewer._viewer import show  # noqa: PLC0415
 
         return show(self, port, block, host)
 
@@ -363,6 +363,6 @@ class Run:
         """Writes the viewer's scene, recorded frame by frame, as one self-contained HTML file (``.html``, viser's
         client and the recording in it) that a browser opens from disk, no server, and plays with play/pause,
         scrubbing and speed; no plots (viser records the scene only). Returns the path."""
-        from ._viewer import export  # noqa: PLC0415
+        from .viewer._viewer import export  # noqa: PLC0415
 
         return export(self, as_path(path))

@@ -17,7 +17,7 @@ from ._joints import Joint
 from ._tumble import BodyHandle, JointHandle, ParticleHandle, SimulationError, World as _World
 
 if TYPE_CHECKING:
-    from ._viewer import Viewer
+    from .viewer._viewer import Viewer
 
 class ParticlesView:
     """The particles' state as (P, 3) arrays, in the order of ``handles``. The arrays are read-only copies
@@ -262,7 +262,7 @@ class World(_World):
         its prim path, so ``Run.export_usd(path, over=source)`` writes a run back onto the stage's prims.
         ``world_options`` go to ``World``. What cannot be mapped raises ``tumble.UsdSceneError`` (a ValueError)
         listing each prim and attribute."""
-        from ._usd_physics import read_stage  # noqa: PLC0415
+        from .usd._read import read_stage  # noqa: PLC0415
 
         return read_stage(as_path(path), cls, **world_options)
 
@@ -343,7 +343,7 @@ class World(_World):
         """Shows the world in the interactive 3-D viewer (``Run.show``; ``pip install "./python[viewer]"``). With a
         ``duration`` it runs that long (frames every ``frame_interval``) and shows the run; without, it shows the
         world as it is now, with its current contacts, and leaves it unchanged. Returns the ``Viewer``."""
-        from ._viewer import check_arguments, snapshot  # noqa: PLC0415
+        from .viewer._viewer import check_arguments, snapshot  # noqa: PLC0415
 
         check_arguments(port, block, host)  # before a run that a bad port would waste
         if duration is None:

@@ -123,7 +123,7 @@ class Found:
         """One image (PNG) of the alternatives' last frames, best first, each labelled with its cost and change."""
         from PIL import Image  # noqa: PLC0415
 
-        from .._preview import Renderer  # noqa: PLC0415
+        from ..export._preview import Renderer  # noqa: PLC0415
 
         pictures = []
         for k, a in enumerate(self.alternatives):

@@ -14,12 +14,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._geometry import rotation_matrices
-from ._mesh import LINK, shape_mesh
+from .._geometry import rotation_matrices
+from .._mesh import LINK, shape_mesh
 
 if TYPE_CHECKING:
     from ._gltf import Writer
-    from ._run import Run
+    from .._run import Run
 
 
 def segments(run: Run, frames: np.ndarray) -> np.ndarray:
@@ -123,6 +123,6 @@ def add_links(w: Writer, run: Run, frames: np.ndarray, root: int, body_nodes: li
 
 def _cylinder(radius: float) -> tuple[np.ndarray, np.ndarray]:
     """A cylinder of ``radius`` and unit length along z, centred on the origin, with eight sides."""
-    from ._tumble import Cylinder  # noqa: PLC0415
+    from .._tumble import Cylinder  # noqa: PLC0415
 
     return shape_mesh(Cylinder(0.5, radius), LINK)

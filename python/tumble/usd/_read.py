@@ -15,8 +15,8 @@ from typing import Any
 
 import numpy as np
 
-from ._usd_shapes import Frames, UsdSceneError, _pxr, material_of, quaternion, shape_of
-from ._usd_values import note, value
+from ._shapes import Frames, UsdSceneError, _pxr, material_of, quaternion, shape_of
+from ._values import note, value
 
 Array = np.ndarray
 _Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])  # stage y up -> tumble z up
@@ -150,14 +150,14 @@ def read_stage(path: str | Path, make: Any = None, **world_options: Any) -> tupl
                                                               restitution=restitution, name=str(prim.GetPath()))
             except ValueError as error:
                 problems.append(f"{prim.GetPath()}: {error}")
-    from ._usd_bodies import add_rigid_body  # noqa: PLC0415
+    from ._bodies import add_rigid_body  # noqa: PLC0415
 
     for prim in stage.Traverse():
         if prim.HasAPI(UsdPhysics.RigidBodyAPI):
             handle = add_rigid_body(world, stage, prim, owned.get(str(prim.GetPath()), []), frames, problems, notes)
             if handle is not None:
                 handles[str(prim.GetPath())] = handle
-    from ._usd_joints import add_joints  # noqa: PLC0415
+    from ._joints import add_joints  # noqa: PLC0415
 
     add_joints(world, stage, handles, frames, problems)
     if problems:

@@ -11,9 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from ._geometry import rotation_matrix
-from ._usd_shapes import Frames
-from ._usd_values import shown, value
+from .._geometry import rotation_matrix
+from ._shapes import Frames
+from ._values import shown, value
 
 Array = np.ndarray
 _AXES = {"X": 0, "Y": 1, "Z": 2}
@@ -21,7 +21,7 @@ _AXES = {"X": 0, "Y": 1, "Z": 2}
 
 def _frame(stage: Any, rel: Any, pos: Any, rot: Any, frames: Frames) -> tuple[Any, Array, Array]:
     """A joint end: its body prim (or None: the world) and its joint frame's world pose in tumble's axes."""
-    from ._usd_physics import _world_matrix  # noqa: PLC0415
+    from ._read import _world_matrix  # noqa: PLC0415
 
     targets = rel.GetTargets()
     local = np.asarray(value(pos, np.zeros(3)), dtype=float)

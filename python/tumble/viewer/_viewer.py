@@ -26,13 +26,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ._geometry import normal_links
-from ._install import install_hint
-from ._viewer_scene import Scene
+from .._geometry import normal_links
+from .._install import install_hint
+from ._scene import Scene
 
 if TYPE_CHECKING:
-    from ._run import Run
-    from ._world import World
+    from .._run import Run
+    from .._world import World
 
 def _viser() -> Any:
     try:
@@ -156,7 +156,7 @@ class Viewer:
                              f"Largest penetration: {float(run.penetration[0]):.3g} m "
                              f"({int(run.contact_counts[0])} contacts)")
         if any(kind != "spring" for kind, _, _ in run.links):
-            from ._plots import joint_gaps  # noqa: PLC0415
+            from .._plots import joint_gaps  # noqa: PLC0415
 
             gaps = joint_gaps(run)
             if gaps is not None and run.frames >= 2:
@@ -309,7 +309,7 @@ def export(run: "Run", path: Path) -> Path:
 
 def snapshot(world: "World") -> "Run":
     """A one-frame run of the world as it is now, with its current contacts (``World.show`` without a duration)."""
-    from ._run import Run  # noqa: PLC0415
+    from .._run import Run  # noqa: PLC0415
 
     contacts = world.contacts()
     points = np.asarray(contacts["points"], dtype=float).reshape(-1, 3)

@@ -18,13 +18,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from ._geometry import link_segments, rotation_matrices
+from .._geometry import link_segments, rotation_matrices
 from ._preview_camera import TITLE_BAND, Camera, camera_view, check_zoom, frame_camera
 from ._preview_mesh import Meshes, floor_quad, gather_meshes, scene_points
 from ._preview_raster import DepthBuffer, depth_buffer, in_front, line_pixels, outlines
 
 if TYPE_CHECKING:
-    from ._run import Run
+    from .._run import Run
 
 __all__ = ["TITLE_BAND", "Camera", "Renderer", "durations_ms", "frame_camera", "preview_frames", "write_preview"]
 

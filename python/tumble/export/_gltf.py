@@ -27,10 +27,10 @@ import numpy as np
 import numpy.typing as npt
 import pygltflib as g
 
-from ._mesh import MARKER, body_mesh, pivoted, shape_mesh
+from .._mesh import MARKER, body_mesh, pivoted, shape_mesh
 
 if TYPE_CHECKING:
-    from ._run import Run
+    from .._run import Run
 
 Array = npt.NDArray[np.float64]
 
@@ -189,7 +189,7 @@ def kept_frames(run: Run) -> np.ndarray:
 
 
 def _sphere(radius: float) -> tuple[np.ndarray, np.ndarray]:
-    from ._tumble import Sphere  # noqa: PLC0415
+    from .._tumble import Sphere  # noqa: PLC0415
 
     return shape_mesh(Sphere(radius), MARKER)
 

@@ -1,6 +1,6 @@
 """USD Physics in, its parts: a stage's units and axes as tumble's, a collider prim's shape (UsdGeom Cube, Sphere,
 Capsule, Cylinder, Cone, Mesh with MeshCollisionAPI's approximation) and its physics material, and the error that
-lists what cannot be mapped (``_usd_physics.py`` reads the world). Approximations made go to a list of notes."""
+lists what cannot be mapped (``_read.py`` reads the world). Approximations made go to a list of notes."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from ._install import install_hint
-from ._usd_values import shown, value
+from .._install import install_hint
+from ._values import shown, value
 
 # The sides of the pyramid whose hull stands for a cone (tumble has no cone primitive).
 CONE_SIDES = 64

@@ -9,11 +9,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ._geometry import rotation_matrices
-from ._mesh import half_space_plane, shape_mesh
+from .._geometry import rotation_matrices
+from .._mesh import half_space_plane, shape_mesh
 
 if TYPE_CHECKING:
-    from ._run import Run
+    from .._run import Run
 
 # body colours (a body keeps its colour across frames and runs): saturated, so that they stand out of the grey
 # ground and the light background

@@ -14,13 +14,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ._install import install_hint
-from ._mesh import pivoted
-from ._mesh import shape_mesh as mesh_of
+from .._install import install_hint
+from .._mesh import pivoted
+from .._mesh import shape_mesh as mesh_of
 
 if TYPE_CHECKING:
-    from ._run import Run
-    from ._tumble import Shape
+    from .._run import Run
+    from .._tumble import Shape
 
 
 def _pxr() -> tuple[Any, Any, Any, Any]:
@@ -152,7 +152,7 @@ def export(run: "Run", path: Path) -> Path:
                 gprim.CreateDisplayColorAttr([Gf.Vec3f(*color[:3])])
                 gprim.CreateDisplayOpacityAttr([float(color[3])])
     if run.particle_positions.shape[1]:
-        from ._tumble import Sphere  # noqa: PLC0415
+        from .._tumble import Sphere  # noqa: PLC0415
 
         dot = Sphere(0.01)
         for i in range(run.particle_positions.shape[1]):

@@ -8,11 +8,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._geometry import link_segments, rotation_matrices, rotation_matrix
-from ._mesh import PREVIEW, collider_mesh, half_space_plane
+from .._geometry import link_segments, rotation_matrices, rotation_matrix
+from .._mesh import PREVIEW, collider_mesh, half_space_plane
 
 if TYPE_CHECKING:
-    from ._run import Run
+    from .._run import Run
 
 # The colours of bodies given none (sRGB): the first, grey, for bodies that do not move, the others in turn for
 # those that do.

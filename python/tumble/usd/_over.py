@@ -13,20 +13,20 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._geometry import rotation_matrix
-from ._usd_shapes import _pxr, quaternion
+from .._geometry import rotation_matrix
+from ._shapes import _pxr, quaternion
 
 if TYPE_CHECKING:
-    from ._run import Run
+    from .._run import Run
 
 
 def export_over(run: "Run", path: Path, source: Path) -> Path:
     _pxr()
     from pxr import Gf, Sdf, Usd, UsdGeom, UsdPhysics  # noqa: PLC0415
 
-    from ._usd import time_codes  # noqa: PLC0415
-    from ._usd_physics import _world_matrix, frames_of, read_stage  # noqa: PLC0415
-    from ._usd_values import UsdImportWarning  # noqa: PLC0415
+    from ._write import time_codes  # noqa: PLC0415
+    from ._read import _world_matrix, frames_of, read_stage  # noqa: PLC0415
+    from ._values import UsdImportWarning  # noqa: PLC0415
 
     src = Usd.Stage.Open(str(source))
     if src is None:

@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from ._usd_shapes import DEFAULT_DENSITY, Frames, quaternion
-from ._usd_values import value
+from ._shapes import DEFAULT_DENSITY, Frames, quaternion
+from ._values import value
 
 Array = np.ndarray
 
@@ -33,7 +33,7 @@ def _mass_api(prim: Any) -> tuple[Any, Any, Any, Any, Array]:
     axes = value(api.GetPrincipalAxesAttr())
     turn = np.eye(3)
     if axes is not None:
-        from ._geometry import rotation_matrix  # noqa: PLC0415
+        from .._geometry import rotation_matrix  # noqa: PLC0415
 
         turn = rotation_matrix(axes)
     return (_set(value(api.GetMassAttr()), 0.0), _set(value(api.GetDensityAttr()), 0.0),
@@ -45,7 +45,7 @@ def _velocities(prim: Any, frames: Frames) -> tuple[Array, Array]:
     prim's parent's space, in stage units a second and degrees a second."""
     from pxr import UsdPhysics  # noqa: PLC0415
 
-    from ._usd_physics import _world_matrix  # noqa: PLC0415
+    from ._read import _world_matrix  # noqa: PLC0415
 
     api = UsdPhysics.RigidBodyAPI(prim)
     parent = prim.GetParent()
@@ -61,7 +61,7 @@ def add_rigid_body(world: Any, stage: Any, prim: Any, collider_prims: list[Any],
     it cannot be taken (said in ``problems``); approximations made are said in ``notes``."""
     from pxr import UsdPhysics  # noqa: PLC0415
 
-    from ._usd_physics import _animation, _collider, _one_material, _relative, _world_matrix  # noqa: PLC0415
+    from ._read import _animation, _collider, _one_material, _relative, _world_matrix  # noqa: PLC0415
 
     path = str(prim.GetPath())
     api = UsdPhysics.RigidBodyAPI(prim)
@@ -141,7 +141,7 @@ def _by_mass_and_inertia(world: Any, prim: Any, parts: list[Any], x_b: Array, r_
                          common: dict[str, Any]) -> Any:
     """A body of the given mass and principal inertia (about axes turned by principalAxes in the prim's frame), its
     centre of mass given (in the prim's local space) or its one shape's, its colliders posed about that centre."""
-    from ._usd_physics import _relative  # noqa: PLC0415
+    from ._read import _relative  # noqa: PLC0415
 
     path = str(prim.GetPath())
     if centre is not None:
