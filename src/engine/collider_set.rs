@@ -120,8 +120,8 @@ impl ColliderSet {
         if moving == 0 || colliders.len() < 2 {
             return None;
         }
-        let actors = layout.particles + layout.bodies + static_poses.len();
-        let inert = (0..actors).map(|a| a >= layout.particles + layout.bodies).collect();
+        let actors = layout.actors() + static_poses.len();
+        let inert = (0..actors).map(|a| a >= layout.actors()).collect();
         let immovable = (0..actors)
             .map(|a| match a.checked_sub(layout.particles) {
                 Some(j) if j < layout.bodies => bodies.get(dynamic[j]).expect("live").kinematic.is_some(),
@@ -148,8 +148,8 @@ impl ColliderSet {
     pub fn index(&self, a: Actor) -> usize {
         match a {
             Actor::Particle(i) => i,
-            Actor::Body(j) => self.layout.particles + j,
-            Actor::Static(s) => self.layout.particles + self.layout.bodies + s,
+            Actor::Body(j) => self.layout.body_actor(j),
+            Actor::Static(s) => self.layout.actors() + s,
         }
     }
 
@@ -160,7 +160,7 @@ impl ColliderSet {
 
     /// Number of actors.
     pub fn actors(&self) -> usize {
-        self.layout.particles + self.layout.bodies + self.static_poses.len()
+        self.layout.actors() + self.static_poses.len()
     }
 
     /// The size of the scene in state y: the diagonal of the box around every finite collider of an actor that moves

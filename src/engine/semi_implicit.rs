@@ -57,7 +57,7 @@ pub(crate) fn update_positions(
         set3(y, l.pv(i), &v[i].linear);
     }
     for (j, b) in m.bodies.iter().enumerate() {
-        let a = l.particles + j;
+        let a = l.body_actor(j);
         if !moves(a) {
             continue;
         }
@@ -95,7 +95,7 @@ pub(crate) fn apply_moves(m: &Model, y: &mut [f64], out: &SoftStep, moves: impl 
         set3(y, l.pv(i), &out.velocities[i].linear);
     }
     for (j, b) in m.bodies.iter().enumerate() {
-        let a = l.particles + j;
+        let a = l.body_actor(j);
         if !moves(a) {
             continue;
         }

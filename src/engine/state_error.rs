@@ -21,7 +21,7 @@ pub(crate) fn state_difference(
         e = e.max((get3(a, l.px(i)) - get3(b, l.px(i))).amax());
         e = e.max(h * (get3(a, l.pv(i)) - get3(b, l.pv(i))).amax());
     }
-    for (j, body) in model.bodies.iter().enumerate().filter(|(j, _)| involved(l.particles + j)) {
+    for (j, body) in model.bodies.iter().enumerate().filter(|(j, _)| involved(l.body_actor(*j))) {
         let r = (body.inertia.trace() / (2.0 * body.mass)).sqrt();
         e = e.max((get3(a, l.bx(j)) - get3(b, l.bx(j))).amax());
         // a velocity difference, or a momentum's over the mass (an angular one over the mass times the radius)

@@ -10,7 +10,7 @@ use tumble_integrate::OdeError;
 
 /// The pose of every actor (particles: translation only; then dynamic bodies; then `statics`) in state y.
 pub(crate) fn actor_poses(l: Layout, y: &[f64], statics: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
-    let mut out = Vec::with_capacity(l.particles + l.bodies + statics.len());
+    let mut out = Vec::with_capacity(l.actors() + statics.len());
     for i in 0..l.particles {
         out.push(Isometry3::from_parts(Translation3::from(get3(y, l.px(i))), UnitQuaternion::identity()));
     }
@@ -44,7 +44,7 @@ impl Model {
     ) -> Vec<BodyState> {
         let (l, q) = (self.layout, self.layout.positions());
         let asleep = |a: usize| options.asleep.get(a).copied().unwrap_or(false);
-        let mut out = Vec::with_capacity(l.particles + l.bodies + statics.len());
+        let mut out = Vec::with_capacity(l.actors() + statics.len());
         for (i, p) in self.particles.iter().enumerate() {
             let x = Point3::from(get3(y, l.px(i)));
             if asleep(i) {
@@ -57,7 +57,7 @@ impl Model {
         }
         for (j, b) in self.bodies.iter().enumerate() {
             let x = Point3::from(get3(y, l.bx(j)));
-            if asleep(l.particles + j) {
+            if asleep(l.body_actor(j)) {
                 out.push(BodyState::fixed(x));
                 continue;
             }

@@ -33,7 +33,7 @@ impl Model {
     ) -> f64 {
         let l = self.layout;
         let particles: f64 = (0..l.particles).map(|i| self.actor_kinetic(y, i, &body)).sum();
-        let bodies: f64 = (0..l.bodies).map(|j| self.actor_kinetic(y, l.particles + j, &body)).sum();
+        let bodies: f64 = (0..l.bodies).map(|j| self.actor_kinetic(y, l.body_actor(j), &body)).sum();
         particles + bodies
     }
 

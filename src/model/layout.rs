@@ -15,6 +15,15 @@ impl Layout {
     pub fn positions(&self) -> usize {
         3 * self.particles + 7 * self.bodies
     }
+    /// The moving actors: the particles, then the dynamic bodies (an actor's index in that order).
+    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
+    pub fn actors(&self) -> usize {
+        self.particles + self.bodies
+    }
+    /// Dynamic body `j`'s actor index.
+    pub fn body_actor(&self, j: usize) -> usize {
+        self.particles + j
+    }
     /// Length of y.
     pub fn dim(&self) -> usize {
         6 * self.particles + 13 * self.bodies

@@ -64,7 +64,7 @@ fn clock_groups(
     (t, y, span): (f64, &[f64], f64),
 ) -> Result<Option<Vec<Vec<usize>>>, OdeError> {
     let l = system.model.layout;
-    let actors = l.particles + l.bodies;
+    let actors = l.actors();
     if actors > MAX_ACTORS {
         return Ok(None);
     }
@@ -152,7 +152,7 @@ fn advance_groups(
     budget: &mut Budget<'_>,
 ) -> Result<Option<(Vec<f64>, Vec<(f64, Vec<f64>)>)>, OdeError> {
     let l = system.model.layout;
-    let actors = l.particles + l.bodies;
+    let actors = l.actors();
     let mut group_of = vec![usize::MAX; actors];
     for (g, members) in groups.iter().enumerate() {
         members.iter().for_each(|&k| group_of[k] = g);

@@ -110,13 +110,13 @@ fn speeds(
         let a = cx.scene.index(c.actor);
         radius[a] = radius[a].max(if c.reach.is_finite() { c.reach } else { 0.0 });
     }
-    let mut out = vec![(0.0, 0.0); l.particles + l.bodies + statics.len()];
+    let mut out = vec![(0.0, 0.0); l.actors() + statics.len()];
     for i in 0..l.particles {
         let (v0, v1) = (get3(y0, l.pv(i)), get3(y1, l.pv(i)));
         out[i] = (1.1 * v0.norm().max(v1.norm()), 0.25 * (v1 - v0).norm());
     }
     for j in 0..l.bodies {
-        let a = l.particles + j;
+        let a = l.body_actor(j);
         let (k0, k1) = (model.body_kin(y0, j), model.body_kin(y1, j));
         let s0 = k0.velocity.norm() + k0.omega.norm() * radius[a];
         let s1 = k1.velocity.norm() + k1.omega.norm() * radius[a];

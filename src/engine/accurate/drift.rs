@@ -40,7 +40,7 @@ pub(super) fn correct_drift(
 /// times the sink: a rocking cylinder's energy crept up 6.8e-5 J of 0.13 J in 0.07 s without this.
 fn pay_for_the_lift(model: &Model, before: &[f64], y: &mut [f64]) {
     let l = model.layout;
-    for actor in 0..l.particles + l.bodies {
+    for actor in 0..l.actors() {
         let (mass, at) = if actor < l.particles {
             (model.particles[actor].mass, l.px(actor))
         } else {
@@ -72,7 +72,7 @@ fn shift_positions(model: &Model, y: &mut [f64], shift: &[BodyVelocity]) {
         set3(y, l.px(i), &x);
     }
     for j in 0..l.bodies {
-        let a = l.particles + j;
+        let a = l.body_actor(j);
         let x = get3(y, l.bx(j)) + shift[a].linear;
         let q =
             UnitQuaternion::from_scaled_axis(shift[a].angular) * UnitQuaternion::new_normalize(get_quat(y, l.bq(j)));

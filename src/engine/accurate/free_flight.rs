@@ -28,7 +28,7 @@ pub(crate) struct FreeFlight {
 /// contact, and those joined to them by springs, transitively.
 pub(crate) fn involved(model: &Model, found: &[&[FoundContact]]) -> Vec<bool> {
     let l = model.layout;
-    let n = l.particles + l.bodies;
+    let n = l.actors();
     let mut out = vec![false; n];
     for f in found.iter().flat_map(|f| f.iter()) {
         for a in [f.contact.a, f.contact.b] {
@@ -58,11 +58,11 @@ pub(crate) fn links(model: &Model) -> Vec<(usize, usize)> {
     let l = model.layout;
     let actor = |e: &End| match *e {
         End::Particle(i) => Some(i),
-        End::Body(j, _) => Some(l.particles + j),
+        End::Body(j, _) => Some(l.body_actor(j)),
         End::Point(_) => None,
     };
     let joint_actor = |e: &JointEnd| match *e {
-        JointEnd::Body(j) => Some(l.particles + j),
+        JointEnd::Body(j) => Some(l.body_actor(j)),
         JointEnd::Fixed(_) => None,
     };
     let springs = model.springs.iter().map(|s| (actor(&s.a), actor(&s.b)));

@@ -61,7 +61,7 @@ pub(super) fn set_moving(
 ) -> Result<Vec<usize>, OdeError> {
     let sleep = &phase.sleep;
     let l = system.model.layout;
-    let actors = l.particles + l.bodies;
+    let actors = l.actors();
     let awake = |k: usize| k < actors && !sleep.resting_actor(k);
     let loaded = |a: usize, b: usize| a < actors && sleep.is_held(a) && awake(b);
     if !found.iter().any(|f| loaded(f.contact.a, f.contact.b) || loaded(f.contact.b, f.contact.a)) {

@@ -165,7 +165,7 @@ fn write_velocities(model: &Model, y: &mut [f64], v: &[tumble_contact::BodyVeloc
     }
     for (j, b) in model.bodies.iter().enumerate() {
         let k = &model.kin[j];
-        let a = l.particles + j;
+        let a = l.body_actor(j);
         set3(y, l.bp(j), &(v[a].linear * b.mass));
         set3(y, l.bl(j), &(k.rot * b.inertia * k.rot.transpose() * v[a].angular));
     }

@@ -229,7 +229,7 @@ pub(crate) fn bilateral_rows(model: &Model, y: &[f64], h: f64, first_extra: usiz
     let mut scratch = Vec::new();
     for (k, cj) in model.holding_joints() {
         let mut index = |end: JointEnd| match end {
-            JointEnd::Body(j) => l.particles + j,
+            JointEnd::Body(j) => l.body_actor(j),
             JointEnd::Fixed(p) => {
                 extra.push(tumble_contact::BodyState::fixed(nalgebra::Point3::from(p.translation.vector)));
                 first_extra + extra.len() - 1

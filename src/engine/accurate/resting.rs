@@ -123,7 +123,7 @@ pub(super) fn add_resting_forces(
     for (k, (force, torque)) in contact_wrenches(&states, &contacts, &out.forces).iter().enumerate() {
         if k < l.particles {
             add3(dp, l.pv(k) - q, &(force * model.particles[k].inv_mass));
-        } else if k < l.particles + l.bodies {
+        } else if k < l.actors() {
             let j = k - l.particles;
             add3(dp, l.bp(j) - q, force);
             add3(dp, l.bl(j) - q, torque);

@@ -113,7 +113,7 @@ impl Sleep {
         (resting_speed, sleep_time): (f64, f64),
     ) -> bool {
         let l = model.layout;
-        let actors = l.particles + l.bodies;
+        let actors = l.actors();
         let touching = |a: usize| a < actors && !self.resting_actor(a);
         // union-find over the awake touching actors
         let mut parent: Vec<usize> = (0..actors).collect();

@@ -67,7 +67,7 @@ pub(super) fn sinking(model: &Model, found: &[FoundContact], from: &[f64], to: &
     let moved = |actor: usize, p: &nalgebra::Point3<f64>| -> nalgebra::Vector3<f64> {
         if actor < l.particles {
             get3(to, l.px(actor)) - get3(from, l.px(actor))
-        } else if actor < l.particles + l.bodies {
+        } else if actor < l.actors() {
             let j = actor - l.particles;
             let (x0, x1) = (get3(from, l.bx(j)), get3(to, l.bx(j)));
             let q = |y: &[f64]| nalgebra::UnitQuaternion::from_quaternion(get_quat(y, l.bq(j)));
@@ -99,7 +99,7 @@ pub(super) fn momenta(model: &Model, involved: &[bool], y: &[f64]) -> f64 {
         .map(|(i, p)| p.mass * get3(y, l.pv(i)).norm())
         .sum();
     let bodies: f64 =
-        (0..model.bodies.len()).filter(|j| involved[l.particles + j]).map(|j| get3(y, l.bp(j)).norm()).sum();
+        (0..model.bodies.len()).filter(|j| involved[l.body_actor(*j)]).map(|j| get3(y, l.bp(j)).norm()).sum();
     particles + bodies
 }
 
@@ -117,7 +117,7 @@ pub(super) fn interpolate(model: &Model, a: &[f64], b: &[f64], s: f64) -> Vec<f6
         let q = get_quat(&y, l.bq(j));
         set_quat(&mut y, l.bq(j), &nalgebra::UnitQuaternion::from_quaternion(q));
     }
-    for actor in 0..l.particles + l.bodies {
+    for actor in 0..l.actors() {
         let (start, end) = (model.actor_kinetic_energy(a, actor), model.actor_kinetic_energy(b, actor));
         let target = start + s * (end - start);
         let blended = model.actor_kinetic_energy(&y, actor);

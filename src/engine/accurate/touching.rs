@@ -123,7 +123,7 @@ pub fn touching_steps(
     let Some(mut phase) = cx.memory.touching.take() else {
         return Err(failure(t, "contact steps without a touching phase".into()));
     };
-    let actors = system.model.layout.particles + system.model.layout.bodies;
+    let actors = system.model.layout.actors();
     let links = links(&system.model);
     let sleeps = cx.settings.sleep && !system.model.has_joints();
     let sleeping = (cx.memory.scales.resting_speed, cx.settings.sleep_time);

@@ -84,7 +84,7 @@ impl FastEngine {
         divergence_limit: f64,
     ) -> Self {
         let Compiled { model, rows } = compiled;
-        let actors = model.layout.particles + model.layout.bodies;
+        let actors = model.layout.actors();
         let keeps_pairs = keeps_pairs(scene.is_some(), &settings);
         let mut own = y.clone();
         model.to_velocities(&y, &mut own);
@@ -203,7 +203,7 @@ impl FastEngine {
     /// The sizes a memory must fit.
     fn fit(&self) -> memory::Fit {
         let l = self.model.layout;
-        let actors = l.particles + l.bodies;
+        let actors = l.actors();
         memory::Fit {
             dim: self.memory.y.len(),
             actors,

@@ -128,7 +128,7 @@ impl Sleep {
             }
         }
         for j in 0..l.bodies {
-            if self.asleep[l.particles + j] {
+            if self.asleep[l.body_actor(j)] {
                 set3(y, l.bp(j), &zero);
                 set3(y, l.bl(j), &zero);
             }

@@ -134,7 +134,7 @@ pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Link
     for (_, cj) in model.holding_joints() {
         let (ea, eb) = (model.end_state_of(&cx.memory.y, cj.a), model.end_state_of(&cx.memory.y, cj.b));
         let mut index = |end: JointEnd| match end {
-            JointEnd::Body(j) => l.particles + j,
+            JointEnd::Body(j) => l.body_actor(j),
             JointEnd::Fixed(p) => fixed(Point3::from(p.translation.vector)),
         };
         let (a, b) = (index(cj.a), index(cj.b));
@@ -142,7 +142,7 @@ pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Link
     }
     let actor = |end: End| match end {
         End::Particle(i) => Some(i),
-        End::Body(j, _) => Some(l.particles + j),
+        End::Body(j, _) => Some(l.body_actor(j)),
         End::Point(_) => None,
     };
     let mut springs = Vec::with_capacity(model.springs.len());
@@ -154,7 +154,7 @@ pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Link
         }
         let mut place = |end: End| match end {
             End::Particle(i) => (i, Vector3::zeros()),
-            End::Body(j, local) => (l.particles + j, model.kin[j].rot * local),
+            End::Body(j, local) => (l.body_actor(j), model.kin[j].rot * local),
             End::Point(p) => (fixed(Point3::from(p)), Vector3::zeros()),
         };
         let ((a, ra), (b, rb)) = (place(s.a), place(s.b));
