@@ -95,22 +95,22 @@ impl Model {
         judged
     }
 
-    /// Where a step's blow took glued joints' loads, averaged over their windows, at its peak: `averages` (before
-    /// the step) brought on by `peaks`, the step's impulses with the blow at its full weight
+    /// Where a step's blow took glued joints' loads, averaged over their windows, at its peak: their `averages`
+    /// before the step brought on by `peaks`, the step's impulses with the blow at its full weight
     /// (`SoftStep::manifold_peak_impulses`); `judged` (the loads at the step's end) raised to them where they are
     /// larger, force and torque apart. A blow is judged where it struck, not at the step's end, whatever the step.
     #[cfg(feature = "contact")]
     pub(crate) fn judge_peaks(
         &self,
         judged: &mut [JointLoad],
-        averages: &[JointLoad],
+        averages: &std::collections::BTreeMap<usize, JointLoad>,
         peaks: &std::collections::BTreeMap<usize, JointLoad>,
         h: f64,
         substep: f64,
     ) {
         for (&k, peak) in peaks {
             let Some(b) = self.joints[k].breaking.filter(|b| b.window > 0.0) else { continue };
-            let at = averages.get(k).copied().unwrap_or_default().brought_on(peak, b.window, h, substep);
+            let at = averages.get(&k).copied().unwrap_or_default().brought_on(peak, b.window, h, substep);
             let l = &mut judged[k];
             if at.force.norm() > l.force.norm() {
                 l.force = at.force;
@@ -158,7 +158,7 @@ impl Model {
     #[cfg(feature = "contact")]
     pub(crate) fn pieces_bound_by(&self, joints: &[usize]) -> Vec<Vec<usize>> {
         use std::collections::BTreeMap;
-        let p = self.layout.particles;
+        let l = self.layout;
         let mut root: BTreeMap<usize, usize> = BTreeMap::new();
         fn find(root: &mut BTreeMap<usize, usize>, a: usize) -> usize {
             let r = *root.entry(a).or_insert(a);
@@ -171,7 +171,7 @@ impl Model {
         }
         for &k in joints {
             let (JointEnd::Body(a), JointEnd::Body(b)) = (self.joints[k].a, self.joints[k].b) else { continue };
-            let (ra, rb) = (find(&mut root, p + a), find(&mut root, p + b));
+            let (ra, rb) = (find(&mut root, l.body_actor(a)), find(&mut root, l.body_actor(b)));
             if ra != rb {
                 root.insert(ra.max(rb), ra.min(rb));
             }
@@ -189,9 +189,9 @@ impl Model {
     /// pair of bodies one piece of holding cluster joints binds (`JointBuilder::cluster`), sorted, each once.
     #[cfg(feature = "contact")]
     pub(crate) fn joined_pairs(&self) -> Vec<(usize, usize)> {
-        let p = self.layout.particles;
+        let l = self.layout;
         let bodies = |j: &CompiledJoint| match (j.a, j.b) {
-            (JointEnd::Body(a), JointEnd::Body(b)) => Some((p + a, p + b)),
+            (JointEnd::Body(a), JointEnd::Body(b)) => Some((l.body_actor(a), l.body_actor(b))),
             _ => None,
         };
         let mut joined: Vec<(usize, usize)> = self

@@ -30,6 +30,7 @@ mod hardening;
 mod held_at_rest;
 mod hulls_stand;
 mod island_clocks;
+mod joint_kinds;
 mod joints;
 mod kinematic;
 mod long_runs;

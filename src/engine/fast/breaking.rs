@@ -2,13 +2,13 @@
 //! the last substep over the substep (Box2D's joint force: what the joint carried at the step's end), or, for a
 //! joint with a window, its load averaged over the window, brought on substep by substep by the impulses it
 //! carried (`Model::judged_loads`), a struck glued object's welds at the blow's peak (`Model::judge_peaks`); a
-//! joint past its bounds breaks, holding nothing from the next step on, and its
-//! bodies collide again.
+//! joint past its bounds breaks, holding nothing from the next step on, and its bodies collide again.
 
 use super::soft_solve::Solved;
 use super::step::StepContext;
 use crate::engine::breaking::set_broken;
 use crate::model::breaking::JointLoad;
+use std::collections::BTreeMap;
 use tumble_contact::JointImpulse;
 
 /// Breaks the joints the step of `h` took past their bounds (substeps of `substep` s; `solved`: the soft step's
@@ -34,7 +34,12 @@ pub(super) fn break_joints(cx: &mut StepContext<'_>, solved: &Solved, substep: f
         for (&k, carried) in &solved.glued {
             over_step[k] = *carried;
         }
-        let before = if solved.glued_peaks.is_empty() { Vec::new() } else { cx.memory.load_averages.clone() };
+        // the struck welds' averages before the step, which the peaks are brought on from
+        let before: BTreeMap<usize, JointLoad> = solved
+            .glued_peaks
+            .keys()
+            .map(|&k| (k, cx.memory.load_averages.get(k).copied().unwrap_or_default()))
+            .collect();
         loads = cx.model.judged_loads(&mut cx.memory.load_averages, &loads, &over_step, h, substep);
         cx.model.judge_peaks(&mut loads, &before, &solved.glued_peaks, h, substep);
     }

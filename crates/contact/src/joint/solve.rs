@@ -6,7 +6,8 @@
 //! The active set: every row starts active; the active rows are solved together (Cholesky of K's active part,
 //! faer's blocked dense factorization on one thread, slightly regularised if a redundant joint makes it singular); a
 //! row whose accumulated value leaves its bounds is held at the bound and the rest are solved again, with the held
-//! rows' parts moved to the right-hand side, for at most `rounds` rounds. K is positive semidefinite, so every principal part factors once regularised.
+//! rows' parts moved to the right-hand side, for at most `rounds` rounds. K is positive semidefinite, so every
+//! principal part factors once regularised.
 
 use faer::linalg::solvers::{Llt, Solve};
 use faer::Side;
