@@ -43,6 +43,7 @@ mod plan;
 mod rigid_bodies;
 mod rolling_resistance;
 mod rollout;
+mod source_graph;
 mod source_layout;
 mod stiff;
 mod whole_state;
