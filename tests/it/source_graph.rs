@@ -1,7 +1,7 @@
 //! The workspace's module graphs and public names, read from the sources: no crate has an import cycle, and each
 //! public type name is defined once across the crates.
 //!
-//! A module's edges are its `use` lines (those outside `#[cfg(test)] mod tests`), each followed to the module that
+//! A module's edges are its `use` lines (those outside an inline `#[cfg(test)]` module), each followed to the module that
 //! defines the name: a `use` of a name another module imports or re-exports goes on to where that name comes from.
 //! A `pub use` is a module's facade, not something it uses, so it makes no edge of its own.
 
@@ -35,11 +35,15 @@ fn module_of(src: &Path, file: &Path) -> Module {
     parts
 }
 
-/// The text without line comments, cut where an inline test module starts.
+/// The text without line comments, cut where an inline test module (`#[cfg(test)] mod name {`) starts.
 fn code(text: &str) -> String {
     let kept: Vec<&str> = text.lines().map(|l| l.find("//").map_or(l, |i| &l[..i])).collect();
     let joined = kept.join("\n");
-    match joined.find("#[cfg(test)]\nmod tests") {
+    let inline_test = joined.match_indices("#[cfg(test)]\nmod ").map(|(i, _)| i).find(|&i| {
+        let line = joined[i..].lines().nth(1).unwrap_or("");
+        line.trim_end().ends_with('{')
+    });
+    match inline_test {
         Some(i) => joined[..i].to_string(),
         None => joined,
     }

@@ -51,7 +51,6 @@ pub fn islands(bodies: &[BodyState], contacts: &[Contact]) -> Vec<Vec<usize>> {
 /// island lists its contacts and its joints (`pairs`, the joints' bodies), each in their original order; islands
 /// come in the order of their first contact, then of their first joint. A contact that does not link goes with the
 /// island of its bodies where both are in one (or one does not move), and is set aside (the second list) otherwise.
-#[cfg(feature = "clarabel")]
 pub(crate) fn joint_islands(
     bodies: &[BodyState],
     contacts: &[Contact],

@@ -13,6 +13,8 @@ pub(crate) struct Row {
     pub ang: Vector3<f64>,
 }
 
+// (the chapter's QPs use these; without clarabel only the rows are)
+#[cfg_attr(not(feature = "clarabel"), allow(dead_code))]
 impl Row {
     /// This row's share of the relative velocity.
     pub fn velocity(&self, bodies: &[BodyState]) -> f64 {

@@ -3,73 +3,26 @@
 //! min 1/2 f^T A f + q^T f subject to f >= 0.
 
 use crate::error::ContactError;
+use crate::solver_settings::SolverSettings;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus};
 
-/// Accuracy and limits of the clarabel solves.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SolverSettings {
-    /// clarabel's gap and feasibility tolerances (relative and absolute); 1e-12 by default: each halving of the
-    /// exponent costs about one interior-point iteration, and near the edge of a friction cone (a block on an incline
-    /// within 0.1% of its friction angle) 1e-10 leaves velocities 6e-7 m/s off where 1e-12 leaves 1e-10.
-    pub tolerance: f64,
-    /// clarabel's iteration cap.
-    pub max_iterations: u32,
-    /// The largest complementarity residual accepted (relative to the force and velocity scales of the problem):
-    /// f >= -tol F, w >= -tol W, |f_i w_i| <= tol F W. This, not clarabel's status, decides: an answer clarabel
-    /// could not polish to `tolerance` (status AlmostSolved, InsufficientProgress, MaxIterations) is used when it
-    /// passes, and a larger residual is an `Inaccurate` error.
-    pub complementarity_tolerance: f64,
-    /// clarabel's iterative refinement of each linear solve (on by default). Off, a solve takes about a third less
-    /// time and an answer that then misses `complementarity_tolerance` is solved again with it on; fast mode turns
-    /// it off.
-    pub iterative_refinement: bool,
-}
-
-impl Default for SolverSettings {
-    fn default() -> Self {
-        SolverSettings {
-            tolerance: 1e-12,
-            max_iterations: 200,
-            complementarity_tolerance: 1e-6,
-            iterative_refinement: true,
-        }
-    }
-}
-
-impl SolverSettings {
-    pub(crate) fn check(&self) -> Result<(), ContactError> {
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0 && self.tolerance < 1.0) {
-            return Err(ContactError::invalid(
-                "settings",
-                format!("tolerance must be in (0, 1), got {}", self.tolerance),
-            ));
-        }
-        if self.max_iterations == 0 {
-            return Err(ContactError::invalid("settings", "max_iterations must be > 0"));
-        }
-        if !(self.complementarity_tolerance.is_finite() && self.complementarity_tolerance > 0.0) {
-            return Err(ContactError::invalid("settings", "complementarity_tolerance must be finite and > 0"));
-        }
-        Ok(())
-    }
-
-    pub(crate) fn clarabel(
-        &self,
-        problem: &'static str,
-    ) -> Result<clarabel::solver::DefaultSettings<f64>, ContactError> {
-        let t = self.tolerance;
-        DefaultSettingsBuilder::default()
-            .verbose(false)
-            .max_iter(self.max_iterations)
-            .tol_gap_abs(t)
-            .tol_gap_rel(t)
-            .tol_feas(t)
-            .tol_ktratio(t.sqrt().min(1e-6))
-            .iterative_refinement_enable(self.iterative_refinement)
-            .build()
-            .map_err(|e| ContactError::Solver { problem, status: format!("settings: {e}"), iterations: 0 })
-    }
+/// clarabel's settings for `s`.
+pub(crate) fn clarabel_settings(
+    s: &SolverSettings,
+    problem: &'static str,
+) -> Result<clarabel::solver::DefaultSettings<f64>, ContactError> {
+    let t = s.tolerance;
+    DefaultSettingsBuilder::default()
+        .verbose(false)
+        .max_iter(s.max_iterations)
+        .tol_gap_abs(t)
+        .tol_gap_rel(t)
+        .tol_feas(t)
+        .tol_ktratio(t.sqrt().min(1e-6))
+        .iterative_refinement_enable(s.iterative_refinement)
+        .build()
+        .map_err(|e| ContactError::Solver { problem, status: format!("settings: {e}"), iterations: 0 })
 }
 
 /// A symmetric matrix by its upper-triangle entries (i <= j; repeats add up).
@@ -238,8 +191,9 @@ pub(crate) fn solve(
     let neg_identity = CscMatrix::new(n, n, (0..=n).collect(), (0..n).collect(), vec![-1.0; n]);
     let cones = [NonnegativeConeT(n)];
     let ((f, w), residual, iterations) = with_retries(settings, problem, |s| {
-        let mut solver = DefaultSolver::new(&p, &q_unit, &neg_identity, &vec![0.0; n], &cones, s.clarabel(problem)?)
-            .map_err(|e| ContactError::Solver { problem, status: format!("{e:?}"), iterations: 0 })?;
+        let mut solver =
+            DefaultSolver::new(&p, &q_unit, &neg_identity, &vec![0.0; n], &cones, clarabel_settings(s, problem)?)
+                .map_err(|e| ContactError::Solver { problem, status: format!("{e:?}"), iterations: 0 })?;
         solver.solve();
         let sol = &solver.solution;
         usable(sol.status, sol.iterations, problem)?;

@@ -1,8 +1,10 @@
 //! tumble-contact: what happens when bodies touch. The chapter's classification of contacts by relative normal
 //! velocity, its impulse formula (and the particle form), simultaneous impulses under Newton's restitution law,
 //! Baraff's resting-contact forces as a QP, and beyond the chapter Coulomb friction as a velocity-level conic
-//! program; contacts are split into islands and every island is solved on its own with clarabel (the `clarabel`
-//! feature, on by default; without it the soft step, the joint rows and their kernel and the spring law remain).
+//! program; contacts are split into islands and every island is solved on its own, by tumble's Newton method or by
+//! clarabel. The `clarabel` feature (on by default) brings clarabel: its island programs, and the chapter's QPs
+//! (simultaneous impulses, resting forces, position correction); without it the velocity step is the Newton
+//! method's alone, and the soft step, the joint rows and the spring law remain.
 //! Every function is pure: it returns impulses, forces and velocities and changes nothing, so a failure leaves
 //! every body as it was.
 //!
@@ -34,55 +36,36 @@ mod contact;
 #[cfg(feature = "clarabel")]
 mod delassus;
 mod error;
-#[cfg(feature = "clarabel")]
-mod friction;
-#[cfg(feature = "clarabel")]
-mod friction_island;
 mod impulse;
-#[cfg(feature = "clarabel")]
-mod island_check;
 mod islands;
-#[cfg(feature = "clarabel")]
 mod jacobian;
 mod joint;
 #[cfg(feature = "clarabel")]
 mod lcp;
 #[cfg(feature = "clarabel")]
-mod newton_hessian;
-#[cfg(feature = "clarabel")]
-mod newton_island;
-#[cfg(feature = "clarabel")]
-mod newton_program;
-#[cfg(feature = "clarabel")]
 mod polish;
 #[cfg(feature = "clarabel")]
 mod projection;
-#[cfg(feature = "clarabel")]
-mod resistance;
 #[cfg(feature = "clarabel")]
 mod resting;
 #[cfg(feature = "clarabel")]
 mod simultaneous;
 mod soft;
+mod solver_settings;
 mod spring;
+mod step;
 mod threads;
 
 pub use body::BodyState;
 pub use classify::{classify, velocity_tolerance, ContactClass};
 pub use contact::{Contact, NormalMotion};
 pub use error::ContactError;
-#[cfg(feature = "clarabel")]
-pub use friction::{
-    free_velocity, velocity_step, BilateralKind, BilateralRow, StepMethod, StepSettings, VelocityProblem, VelocityStep,
-};
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
 pub use islands::{body_islands, islands};
 pub use joint::{
     across, delassus, factor, joint_rows, BoundedSolve, Joint, JointFrame, JointImpulse, JointKind, JointMotor,
     JointRow, JointSpring, RowKind, RowPart, MAX_ROWS,
 };
-#[cfg(feature = "clarabel")]
-pub use lcp::SolverSettings;
 #[cfg(feature = "clarabel")]
 pub use projection::{position_correction, Correction};
 #[cfg(feature = "clarabel")]
@@ -93,5 +76,9 @@ pub use soft::{
     soft_solve, soft_step, ColourGraph, SoftImpulse, SoftLinks, SoftManifold, SoftPoint, SoftProblem, SoftSettings,
     SoftSpring, SoftStep, COLOURS, MANIFOLD_POINTS, OVERFLOW, UNCOLOURED,
 };
+pub use solver_settings::SolverSettings;
 pub use spring::{SpringLaw, COINCIDENT};
+pub use step::{
+    free_velocity, velocity_step, BilateralKind, BilateralRow, StepMethod, StepSettings, VelocityProblem, VelocityStep,
+};
 pub use threads::{cores, Workers};

@@ -9,7 +9,8 @@ use crate::delassus::NormalSystem;
 use crate::error::ContactError;
 use crate::impulse::{velocities_after, BodyVelocity};
 use crate::islands::islands;
-use crate::lcp::{solve, SolverSettings};
+use crate::lcp::solve;
+use crate::solver_settings::SolverSettings;
 
 /// The displacement (`linear`) and rotation vector (`angular`) of every body that closes the gaps of the contacts
 /// with negative `distance` and opens none of the others beyond what they need (contacts with a positive gap may

@@ -7,7 +7,8 @@ use crate::contact::{check_all, Contact};
 use crate::delassus::{free_normal_acceleration, NormalSystem};
 use crate::error::ContactError;
 use crate::islands::islands;
-use crate::lcp::{solve, SolverSettings};
+use crate::lcp::solve;
+use crate::solver_settings::SolverSettings;
 use nalgebra::Vector3;
 
 /// Resting-contact forces and what they achieve.

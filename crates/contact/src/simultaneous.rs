@@ -8,7 +8,8 @@ use crate::delassus::NormalSystem;
 use crate::error::ContactError;
 use crate::impulse::{velocities_after, BodyVelocity};
 use crate::islands::islands;
-use crate::lcp::{solve, SolverSettings};
+use crate::lcp::solve;
+use crate::solver_settings::SolverSettings;
 
 /// The outcome of a simultaneous collision.
 #[derive(Clone, Debug, PartialEq)]

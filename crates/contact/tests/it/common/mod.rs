@@ -2,6 +2,7 @@
 
 /// Uniform numbers in [0, 1) from a 64-bit linear congruential generator (Knuth's MMIX constants) seeded with
 /// `seed`: the same scenes on every run and machine.
+#[cfg_attr(not(feature = "clarabel"), allow(dead_code))]
 pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
     let mut state = seed;
     move || {

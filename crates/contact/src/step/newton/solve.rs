@@ -13,20 +13,16 @@
 //! M is). The outer iteration stops when lambda no longer moves: then lambda = P_K(lambda - rho u), the exact
 //! optimality conditions of the rigid program, so nothing of the proximal weight remains in the answer.
 
+use super::hessian::Hessian;
+use super::program::{program, Island, Program, Set};
 use crate::contact::tangents;
-use crate::friction_island::{velocities_of, IslandSolution};
-use crate::newton_hessian::Hessian;
-use crate::newton_program::{program, Island, Program, Set};
+use crate::step::island::{velocities_of, IslandSolution};
 use nalgebra::{DVector, Vector3};
 
 /// The proximal weight as a multiple of each block's own inverse effective mass: each outer iteration shrinks the
 /// distance to the optimum by about 1 / (1 + STIFFNESS) along the block's own direction, while the Hessian's
 /// condition grows by about that factor.
 const STIFFNESS: f64 = 1e3;
-/// The first outer iteration's weight, raised tenfold each iteration up to `STIFFNESS` (a continuation: a soft
-/// first subproblem has few kinks for Newton's method to cross and finds most of the active set; each stiffer one
-/// starts from the last's answer).
-pub(crate) const FIRST_STIFFNESS: f64 = 1e2;
 /// How far the proximal weight may be raised over `STIFFNESS` in slow iterations (the Hessian's condition grows
 /// with it: at 1e6 it stays far from f64's limits for masses within 1e4 of each other).
 const GROWTH_LIMIT: f64 = 1e6;

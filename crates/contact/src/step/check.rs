@@ -1,10 +1,11 @@
 //! The test every answer to an island's program must pass (`residual`: the step's conditions to the solver's
-//! tolerance, whichever method answered), and the answer with no impulse at all (`untouched`) where it passes.
+//! tolerance, whichever method answered), the answer with no impulse at all (`untouched`) where it passes, and how
+//! fast given velocities would close a contact (`closing`).
 
+use super::island::{bias, row_layout, IslandSolution, Rows};
+use super::settings::StepSettings;
 use crate::body::BodyState;
 use crate::contact::Contact;
-use crate::friction::StepSettings;
-use crate::friction_island::{bias, row_layout, IslandSolution, Rows};
 use crate::impulse::{velocities_after, BodyVelocity};
 use nalgebra::Vector3;
 
@@ -36,8 +37,7 @@ pub(crate) fn untouched(
     // A caller's own velocity scale also bounds how far the free velocities may close a contact: relative to a
     // fast island's speeds, a step's fall under gravity (g h) looks small, and a box sliding at 2 m/s sank 1e-9 m
     // a step at h = 1e-5 s when only the relative test was made.
-    let closing =
-        island.iter().map(|&i| crate::friction::closing(&contacts[i], bodies, free, s)).fold(0.0f64, f64::max);
+    let closing = island.iter().map(|&i| closing(&contacts[i], bodies, free, s)).fold(0.0f64, f64::max);
     let held = s.velocity_scale == 0.0 || closing <= s.solver.complementarity_tolerance * s.velocity_scale;
     (r <= s.solver.complementarity_tolerance && held).then_some(out)
 }
@@ -124,4 +124,11 @@ pub(crate) fn residual(
             .max(complementarity / (p_scale * v_scale));
     }
     worst
+}
+
+/// How fast velocities `v` would close contact `c` past its constraint: minus its normal velocity plus its bias
+/// (positive: the constraint is broken).
+pub(crate) fn closing(c: &Contact, bodies: &[BodyState], v: &[BodyVelocity], s: &StepSettings) -> f64 {
+    let point = |k: usize| v[k].linear + v[k].angular.cross(&(c.point - bodies[k].position));
+    -(c.normal.dot(&(point(c.b) - point(c.a))) + bias(c, bodies, s))
 }

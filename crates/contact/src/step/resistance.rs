@@ -4,9 +4,9 @@
 //! zero, whose impulse is bounded, held in the same program as the contacts). Rolling is resisted along the axis
 //! the bodies roll about at the step's start and across it, each bounded alone; torsion about the normal.
 
+use super::problem::{BilateralKind, BilateralRow};
 use crate::body::BodyState;
 use crate::contact::{tangents, Contact};
-use crate::friction::{BilateralKind, BilateralRow};
 use nalgebra::Vector3;
 
 /// The rows of contact `c` at lagged normal impulse `bound` (none without a coefficient, a bound, or a body that
@@ -51,7 +51,7 @@ mod tests {
     use super::resistance_rows;
     use crate::body::BodyState;
     use crate::contact::Contact;
-    use crate::friction::{velocity_step, BilateralKind, StepSettings, VelocityProblem};
+    use crate::step::{velocity_step, BilateralKind, StepSettings, VelocityProblem};
     use nalgebra::{Matrix3, Point3, Unit, Vector3};
 
     const G: f64 = 9.81;

@@ -1,9 +1,9 @@
-//! The Newton method's Hessian M + J^T rho dP J over an island's velocities (`newton_island.rs`), assembled body
+//! The Newton method's Hessian M + J^T rho dP J over an island's velocities (`solve.rs`), assembled body
 //! block by body block and factorised by Cholesky: dense (faer) for a lone body, sparse with its symbolic
 //! analysis done once per program for more (a pile's island couples each body to a few neighbours: the
 //! 20-cube pile's 108 unknowns hold about a fifth of a dense lower triangle).
 
-use crate::newton_program::Program;
+use super::program::Program;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering};
@@ -260,12 +260,12 @@ fn minimum_degree(nodes: usize, pairs: &[(usize, usize)]) -> Vec<usize> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::program::{program, Island, Set};
     use super::*;
     use crate::body::BodyState;
     use crate::contact::Contact;
-    use crate::friction::StepSettings;
     use crate::impulse::BodyVelocity;
-    use crate::newton_program::{program, Island, Set};
+    use crate::step::StepSettings;
     use nalgebra::{DMatrix, Matrix3, Point3, Unit, Vector3};
 
     /// A random island: a stack of rigid bodies and particles on the ground, each on the one below through 1-3

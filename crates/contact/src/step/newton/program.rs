@@ -1,15 +1,20 @@
-//! The program of one island as tumble's Newton method sees it (`newton_island.rs`): the velocity unknowns and
+//! The program of one island as tumble's Newton method sees it (`solve.rs`): the velocity unknowns and
 //! their block-diagonal mass, the Jacobian rows with their constants, the blocks of rows with the sets their
 //! impulses lie in and their proximal weights; the subproblem's impulses, gradient, Hessian and exact line search.
 
 use crate::body::BodyState;
 use crate::contact::{tangents, Contact};
-use crate::friction::{BilateralKind, BilateralRow, StepSettings};
-use crate::friction_island::bias;
 use crate::impulse::BodyVelocity;
 use crate::jacobian::{rows, Row};
-use crate::newton_island::FIRST_STIFFNESS;
+use crate::step::island::bias;
+use crate::step::problem::{BilateralKind, BilateralRow};
+use crate::step::settings::StepSettings;
 use nalgebra::{DVector, Matrix3, Vector3};
+
+/// The first outer iteration's weight, raised tenfold each iteration up to `STIFFNESS` (a continuation: a soft
+/// first subproblem has few kinks for Newton's method to cross and finds most of the active set; each stiffer one
+/// starts from the last's answer).
+pub(crate) const FIRST_STIFFNESS: f64 = 1e2;
 
 /// An island's inputs: the bodies and contacts of the step, the lagged normal impulses, the island's contacts and
 /// joint rows, the free velocities and settings, and its velocity unknowns (`offset` of each member, `n` in all).
