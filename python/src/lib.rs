@@ -38,8 +38,8 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<shapes::PyBox>()?;
     m.add_class::<shapes::Capsule>()?;
     m.add_class::<shapes::Cylinder>()?;
-    m.add_class::<shapes::ConvexHull>()?;
-    m.add_class::<shapes::TriMesh>()?;
+    m.add_class::<shapes::PyConvexHull>()?;
+    m.add_class::<shapes::PyTriMesh>()?;
     m.add_class::<mesh::PyMesh>()?;
     m.add_class::<handles::PyParticleHandle>()?;
     m.add_class::<handles::PyBodyHandle>()?;

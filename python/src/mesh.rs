@@ -2,7 +2,7 @@
 //! PLY or glTF/GLB file), its mass properties the solid's; and the decomposition parameters `add_body` takes.
 
 use crate::convert::{array, invalid, number, points as to_points, repr};
-use crate::shapes::{shape_err, triangles_arg, ConvexHull, PyShape};
+use crate::shapes::{shape_err, triangles_arg, PyConvexHull, PyShape};
 use numpy::PyArrayMethods;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -123,9 +123,9 @@ impl PyMesh {
     }
 
     /// The convex hull of the vertices, as a `ConvexHull`.
-    fn hull(self_: PyRef<'_, Self>, py: Python<'_>) -> PyResult<Py<ConvexHull>> {
+    fn hull(self_: PyRef<'_, Self>, py: Python<'_>) -> PyResult<Py<PyConvexHull>> {
         let shape = Shape::hull_of(mesh_of(&self_.as_super().shape)).map_err(shape_err)?;
-        Py::new(py, PyClassInitializer::from(PyShape { shape }).add_subclass(ConvexHull))
+        Py::new(py, PyClassInitializer::from(PyShape { shape }).add_subclass(PyConvexHull))
     }
 
     /// The convex pieces a moving body of this mesh collides with (as `add_body` makes them, from the same cache),
@@ -137,7 +137,7 @@ impl PyMesh {
         resolution: Option<u32>,
         max_pieces: Option<u32>,
         concavity: Option<f64>,
-    ) -> PyResult<Vec<Py<ConvexHull>>> {
+    ) -> PyResult<Vec<Py<PyConvexHull>>> {
         let params = params(resolution, max_pieces, concavity);
         let mesh = mesh_of(&self_.as_super().shape).clone();
         let d = py.detach(|| tumble::collide::Decomposed::new(&mesh, &params)).map_err(shape_err)?;
@@ -145,7 +145,7 @@ impl PyMesh {
             .iter()
             .map(|h| {
                 let shape = Shape::ConvexHull(h.clone());
-                Py::new(py, PyClassInitializer::from(PyShape { shape }).add_subclass(ConvexHull))
+                Py::new(py, PyClassInitializer::from(PyShape { shape }).add_subclass(PyConvexHull))
             })
             .collect()
     }

@@ -198,30 +198,30 @@ impl Cylinder {
 }
 
 /// The convex hull of an (N, 3) point cloud (at least 4 points, not coplanar).
-#[pyclass(module = "tumble._tumble", extends = PyShape, frozen)]
-pub struct ConvexHull;
+#[pyclass(module = "tumble._tumble", name = "ConvexHull", extends = PyShape, frozen)]
+pub struct PyConvexHull;
 
 #[pymethods]
-impl ConvexHull {
+impl PyConvexHull {
     #[new]
     fn new(points: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
         let p = to_points("points", points)?;
         Ok(PyClassInitializer::from(PyShape { shape: Shape::convex_hull(&p).map_err(shape_err)? })
-            .add_subclass(ConvexHull))
+            .add_subclass(PyConvexHull))
     }
 }
 
 /// A triangle mesh (static bodies only): vertices (V, 3) and triangles (T, 3) of vertex indices.
-#[pyclass(module = "tumble._tumble", extends = PyShape, frozen)]
-pub struct TriMesh;
+#[pyclass(module = "tumble._tumble", name = "TriMesh", extends = PyShape, frozen)]
+pub struct PyTriMesh;
 
 #[pymethods]
-impl TriMesh {
+impl PyTriMesh {
     #[new]
     fn new(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
         let v = to_points("vertices", vertices)?;
         let t = triangles_arg("triangles", triangles)?;
         Ok(PyClassInitializer::from(PyShape { shape: Shape::trimesh(&v, &t).map_err(shape_err)? })
-            .add_subclass(TriMesh))
+            .add_subclass(PyTriMesh))
     }
 }
