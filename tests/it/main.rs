@@ -45,6 +45,7 @@ mod rolling_resistance;
 mod rollout;
 mod source_graph;
 mod source_layout;
+mod source_map;
 mod stiff;
 mod whole_state;
 mod world_errors;
