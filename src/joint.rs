@@ -7,46 +7,10 @@
 use crate::handle::Handle;
 use crate::spring::BodyHandle;
 use nalgebra::{UnitQuaternion, Vector3};
+pub use tumble_contact::{JointKind, JointMotor, JointSpring};
 
 /// Handle of a joint.
 pub type JointHandle = Handle<Joint>;
-
-/// What a joint allows (see each builder).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum JointType {
-    Ball,
-    Hinge,
-    Slider,
-    Weld,
-    /// A piston (cylindrical joint): B slides along the axis and turns about it.
-    Piston,
-    /// A drive alone: its motor drives B's spin about the axis relative to A (or, `linear`, its slide along it);
-    /// nothing else is held (Bullet's and Blender's motor constraint).
-    Drive {
-        linear: bool,
-    },
-    /// The anchors held `length` apart (None when built: their distance then); a rope only pulls.
-    Distance {
-        length: Option<f64>,
-        rope: bool,
-    },
-}
-
-/// A motor: drives a hinge's angular speed (rad/s, torque in N m) or a slider's speed (m/s, force in N).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Motor {
-    pub speed: f64,
-    pub max_force: f64,
-}
-
-/// A spring on a hinge's angle (N m/rad, N m s/rad) or a slider's travel (N/m, N s/m), towards `target`.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct JointSpringSpec {
-    pub stiffness: f64,
-    pub damping: f64,
-    pub target: f64,
-}
 
 /// When a joint breaks: as soon as the force it carries (on B, N) or its torque about B's anchor (N m) exceeds its
 /// bound; either may be infinite. With a `window` (s) the load judged is the one carried averaged over about that
@@ -66,7 +30,7 @@ pub struct Breaking {
 /// Describes a joint to add: `JointBuilder::hinge(a, b, axis).anchor_a(..).anchor_b(..).limits(-1.0, 1.0)`.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct JointBuilder {
-    pub(crate) kind: JointType,
+    pub(crate) kind: JointKind,
     #[serde(skip)]
     pub(crate) a: Option<BodyHandle>,
     #[serde(skip)]
@@ -80,8 +44,8 @@ pub struct JointBuilder {
     /// A piston's limits on its turn about the axis (rad).
     #[serde(default)]
     pub(crate) turn_limits: Option<(f64, f64)>,
-    pub(crate) motor: Option<Motor>,
-    pub(crate) spring: Option<JointSpringSpec>,
+    pub(crate) motor: Option<JointMotor>,
+    pub(crate) spring: Option<JointSpring>,
     /// A soft joint's stiffness (Hz) and damping ratio (fast mode); None: rigid.
     pub(crate) softness: Option<(f64, f64)>,
     /// When it breaks; None: never.
@@ -97,7 +61,7 @@ pub struct JointBuilder {
 }
 
 impl JointBuilder {
-    fn new(kind: JointType, a: Option<BodyHandle>, b: Option<BodyHandle>) -> Self {
+    fn new(kind: JointKind, a: Option<BodyHandle>, b: Option<BodyHandle>) -> Self {
         JointBuilder {
             kind,
             a,
@@ -117,42 +81,42 @@ impl JointBuilder {
     }
     /// A ball (spherical) joint: the anchors coincide.
     pub fn ball(a: Option<BodyHandle>, b: Option<BodyHandle>) -> Self {
-        Self::new(JointType::Ball, a, b)
+        Self::new(JointKind::Ball, a, b)
     }
     /// A hinge (revolute) joint about `axis` (A's frame).
     pub fn hinge(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
-        Self { axis, ..Self::new(JointType::Hinge, a, b) }
+        Self { axis, ..Self::new(JointKind::Hinge, a, b) }
     }
     /// A slider (prismatic) joint along `axis` (A's frame).
     pub fn slider(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
-        Self { axis, ..Self::new(JointType::Slider, a, b) }
+        Self { axis, ..Self::new(JointKind::Slider, a, b) }
     }
     /// A piston (cylindrical) joint along `axis` (A's frame): the anchors may part along it and B turn about it;
     /// limits, a motor and a spring act on the travel, as a slider's.
     pub fn piston(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
-        Self { axis, ..Self::new(JointType::Piston, a, b) }
+        Self { axis, ..Self::new(JointKind::Piston, a, b) }
     }
     /// A drive about `axis` (A's frame): give it a `motor` (speed in rad/s, torque in N m) that drives B's spin
     /// about the axis relative to A; nothing else is held.
     pub fn spin_drive(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
-        Self { axis, ..Self::new(JointType::Drive { linear: false }, a, b) }
+        Self { axis, ..Self::new(JointKind::Drive { linear: false }, a, b) }
     }
     /// A drive along `axis` (A's frame): give it a `motor` (speed in m/s, force in N) that drives B's anchor along
     /// the axis relative to A's; nothing else is held.
     pub fn slide_drive(a: Option<BodyHandle>, b: Option<BodyHandle>, axis: Vector3<f64>) -> Self {
-        Self { axis, ..Self::new(JointType::Drive { linear: true }, a, b) }
+        Self { axis, ..Self::new(JointKind::Drive { linear: true }, a, b) }
     }
     /// A weld (fixed) joint: no relative motion.
     pub fn weld(a: Option<BodyHandle>, b: Option<BodyHandle>) -> Self {
-        Self::new(JointType::Weld, a, b)
+        Self::new(JointKind::Weld, a, b)
     }
     /// A rigid rod between the anchors, of `length` (None: their distance when added).
     pub fn distance(a: Option<BodyHandle>, b: Option<BodyHandle>, length: Option<f64>) -> Self {
-        Self::new(JointType::Distance { length, rope: false }, a, b)
+        Self::new(JointKind::Distance { length, rope: false }, a, b)
     }
     /// A rope between the anchors, at most `length` long (None: their distance when added).
     pub fn rope(a: Option<BodyHandle>, b: Option<BodyHandle>, length: Option<f64>) -> Self {
-        Self::new(JointType::Distance { length, rope: true }, a, b)
+        Self::new(JointKind::Distance { length, rope: true }, a, b)
     }
     /// Anchor on A: in A's frame, or a world point when A is the world.
     pub fn anchor_a(mut self, p: Vector3<f64>) -> Self {
@@ -181,12 +145,12 @@ impl JointBuilder {
     }
     /// A motor of target `speed` and at most `max_force` (N m for a hinge, N for a slider).
     pub fn motor(mut self, speed: f64, max_force: f64) -> Self {
-        self.motor = Some(Motor { speed, max_force });
+        self.motor = Some(JointMotor { speed, max_force });
         self
     }
     /// A spring towards `target` (angle or travel).
     pub fn spring(mut self, stiffness: f64, damping: f64, target: f64) -> Self {
-        self.spring = Some(JointSpringSpec { stiffness, damping, target });
+        self.spring = Some(JointSpring { stiffness, damping, target });
         self
     }
     /// Breaks the joint once the force it carries exceeds `max_force` (N) or its torque about B's anchor exceeds
@@ -244,7 +208,7 @@ impl Joint {
         self.spec.b
     }
     /// Its kind.
-    pub fn kind(&self) -> JointType {
+    pub fn kind(&self) -> JointKind {
         self.spec.kind
     }
     /// Its anchors: on A (A's frame, or a world point when A is the world) and on B (likewise).

@@ -54,7 +54,7 @@ pub use look::{Look, MAX_NAME};
 pub mod limit {
     pub use crate::limits::{COORDINATE, FORCE, GRAVITY, INERTIA, MASS, SPEED, STIFFNESS, TIME};
 }
-pub use joint::{Joint, JointBuilder, JointHandle, JointSpringSpec, JointType, Motor};
+pub use joint::{Joint, JointBuilder, JointHandle, JointKind, JointMotor, JointSpring};
 pub use load::{ForceCallback, Load, LoadHandle, Target, TargetState, Wrench};
 pub use mesh_shape::MeshShape;
 pub use mode::{

@@ -6,7 +6,7 @@
 use crate::model::layout::{get3, get_quat};
 use crate::model::Model;
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
-use tumble_contact::{joint_rows, Joint, JointFrame, JointRow, RowKind};
+use tumble_contact::{joint_rows, JointConstraint, JointFrame, JointRow, RowKind};
 
 /// Where a joint end is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,7 +30,7 @@ pub(crate) struct CompiledJoint {
     pub axis_b: Vector3<f64>,
     /// q_A^-1 q_B when the joint was made.
     pub reference: UnitQuaternion<f64>,
-    pub joint: Joint,
+    pub joint: JointConstraint,
     /// When it breaks (`breaking.rs`), and whether it has: a broken joint gives no rows and joins nothing.
     pub breaking: Option<crate::joint::Breaking>,
     pub broken: bool,
@@ -151,7 +151,6 @@ pub(crate) fn compile_joints(
     bodies: &crate::handle::Arena<crate::body::RigidBody>,
     b_index: &std::collections::HashMap<crate::spring::BodyHandle, usize>,
 ) -> Vec<CompiledJoint> {
-    use crate::joint::JointType;
     let end = |h: Option<crate::spring::BodyHandle>| match h {
         None => JointEnd::Fixed(Isometry3::identity()),
         Some(h) => match b_index.get(&h) {
@@ -167,19 +166,11 @@ pub(crate) fn compile_joints(
         .map(|(_, j)| {
             let s = &j.spec;
             let axis_a = s.axis.normalize();
-            let kind = match s.kind {
-                JointType::Ball => tumble_contact::JointKind::Ball,
-                JointType::Hinge => tumble_contact::JointKind::Hinge,
-                JointType::Slider => tumble_contact::JointKind::Slider,
-                JointType::Weld => tumble_contact::JointKind::Weld,
-                JointType::Piston => tumble_contact::JointKind::Piston,
-                JointType::Drive { linear } => tumble_contact::JointKind::Drive { linear },
-                JointType::Distance { rope, .. } => tumble_contact::JointKind::Distance { length: j.length, rope },
-            };
-            let joint = Joint {
+            let joint = JointConstraint {
                 a: 0,
                 b: 0,
-                kind,
+                kind: s.kind,
+                length: j.length,
                 frame: JointFrame {
                     ra: Vector3::zeros(),
                     rb: Vector3::zeros(),
@@ -190,12 +181,8 @@ pub(crate) fn compile_joints(
                 },
                 limits: s.limits,
                 turn_limits: s.turn_limits,
-                motor: s.motor.map(|m| tumble_contact::JointMotor { speed: m.speed, max_force: m.max_force }),
-                spring: s.spring.map(|p| tumble_contact::JointSpring {
-                    stiffness: p.stiffness,
-                    damping: p.damping,
-                    target: p.target,
-                }),
+                motor: s.motor,
+                spring: s.spring,
                 softness: s.softness,
             };
             CompiledJoint {

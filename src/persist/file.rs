@@ -302,7 +302,7 @@ fn x_axis() -> [f64; 3] {
 #[derive(Serialize, Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct JointFile {
-    pub kind: crate::joint::JointType,
+    pub kind: crate::joint::JointKind,
     #[serde(default)]
     pub a: Option<usize>,
     #[serde(default)]
@@ -320,9 +320,9 @@ pub struct JointFile {
     #[serde(default)]
     pub turn_limits: Option<[f64; 2]>,
     #[serde(default)]
-    pub motor: Option<crate::joint::Motor>,
+    pub motor: Option<crate::joint::JointMotor>,
     #[serde(default)]
-    pub spring: Option<crate::joint::JointSpringSpec>,
+    pub spring: Option<crate::joint::JointSpring>,
     /// Stiffness (Hz) and damping ratio of a soft joint.
     #[serde(default)]
     pub softness: Option<[f64; 2]>,

@@ -4,7 +4,7 @@
 use super::file::*;
 use crate::body::RigidBodyBuilder;
 use crate::error::{check_finite, WorldError};
-use crate::joint::{JointBuilder, JointType};
+use crate::joint::{JointBuilder, JointKind};
 use crate::keyframes::Keyframes;
 use crate::limits;
 use crate::load::{Load, Target};
@@ -268,15 +268,15 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
         let end = |i: Option<usize>| i.map(|i| body("joints", &path, i)).transpose();
         let (a, b) = (end(j.a)?, end(j.b)?);
         let mut builder = match j.kind {
-            JointType::Ball => JointBuilder::ball(a, b),
-            JointType::Hinge => JointBuilder::hinge(a, b, v3(j.axis)),
-            JointType::Slider => JointBuilder::slider(a, b, v3(j.axis)),
-            JointType::Weld => JointBuilder::weld(a, b),
-            JointType::Piston => JointBuilder::piston(a, b, v3(j.axis)),
-            JointType::Drive { linear: false } => JointBuilder::spin_drive(a, b, v3(j.axis)),
-            JointType::Drive { linear: true } => JointBuilder::slide_drive(a, b, v3(j.axis)),
-            JointType::Distance { length, rope: false } => JointBuilder::distance(a, b, length),
-            JointType::Distance { length, rope: true } => JointBuilder::rope(a, b, length),
+            JointKind::Ball => JointBuilder::ball(a, b),
+            JointKind::Hinge => JointBuilder::hinge(a, b, v3(j.axis)),
+            JointKind::Slider => JointBuilder::slider(a, b, v3(j.axis)),
+            JointKind::Weld => JointBuilder::weld(a, b),
+            JointKind::Piston => JointBuilder::piston(a, b, v3(j.axis)),
+            JointKind::Drive { linear: false } => JointBuilder::spin_drive(a, b, v3(j.axis)),
+            JointKind::Drive { linear: true } => JointBuilder::slide_drive(a, b, v3(j.axis)),
+            JointKind::Distance { length, rope: false } => JointBuilder::distance(a, b, length),
+            JointKind::Distance { length, rope: true } => JointBuilder::rope(a, b, length),
         };
         builder = builder.anchor_a(v3(j.anchor_a)).anchor_b(v3(j.anchor_b)).axis(v3(j.axis));
         if let Some([lo, hi]) = j.limits {

@@ -3,7 +3,7 @@
 
 use super::file::*;
 use crate::error::WorldError;
-use crate::joint::JointType;
+use crate::joint::JointKind;
 use crate::load::{Load, Target};
 use crate::spring::Attachment;
 use crate::world::World;
@@ -168,7 +168,7 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
         .map(|(_, j)| {
             let s = &j.spec;
             let kind = match s.kind {
-                JointType::Distance { rope, .. } => JointType::Distance { length: Some(j.length), rope },
+                JointKind::Distance { rope, .. } => JointKind::Distance { length: Some(j.length), rope },
                 other => other,
             };
             JointFile {

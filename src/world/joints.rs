@@ -5,7 +5,7 @@
 
 use super::{unknown, World};
 use crate::error::WorldError;
-use crate::joint::{Joint, JointBuilder, JointHandle, JointType};
+use crate::joint::{Joint, JointBuilder, JointHandle, JointKind};
 use crate::limits;
 use crate::mode::{FastSolver, Mode, Persistent};
 use crate::spring::BodyHandle;
@@ -47,8 +47,8 @@ impl World {
         if !(n > 1e-12 * spec.axis.amax().max(1e-300) && n > 1e-150) {
             return Err(WorldError::invalid("axis", "must have a length > 0"));
         }
-        let moving = matches!(spec.kind, JointType::Hinge | JointType::Slider | JointType::Piston);
-        let drive = matches!(spec.kind, JointType::Drive { .. });
+        let moving = matches!(spec.kind, JointKind::Hinge | JointKind::Slider | JointKind::Piston);
+        let drive = matches!(spec.kind, JointKind::Drive { .. });
         if drive && (spec.motor.is_none() || spec.limits.is_some() || spec.spring.is_some()) {
             let name = if spec.motor.is_none() {
                 "motor"
@@ -70,7 +70,7 @@ impl World {
             if !moving {
                 return Err(what("limits"));
             }
-            let bound = if spec.kind == JointType::Hinge { std::f64::consts::PI } else { limits::COORDINATE };
+            let bound = if spec.kind == JointKind::Hinge { std::f64::consts::PI } else { limits::COORDINATE };
             limits::in_range("limits", lo, -bound, bound, "")?;
             limits::in_range("limits", hi, -bound, bound, "")?;
             if lo > hi {
@@ -78,7 +78,7 @@ impl World {
             }
         }
         if let Some((lo, hi)) = spec.turn_limits {
-            if spec.kind != JointType::Piston {
+            if spec.kind != JointKind::Piston {
                 return Err(WorldError::invalid(
                     "turn_limits",
                     format!("a {:?} joint has none: only pistons do", spec.kind),
@@ -128,7 +128,7 @@ impl World {
         let world_a = if spec.a.is_some() { xa + qa * spec.anchor_a } else { spec.anchor_a };
         let world_b = if spec.b.is_some() { xb + qb * spec.anchor_b } else { spec.anchor_b };
         let length = match spec.kind {
-            JointType::Distance { length: Some(l), .. } => {
+            JointKind::Distance { length: Some(l), .. } => {
                 limits::non_negative("length", l, 4.0 * limits::COORDINATE, "m")?
             }
             _ => (world_a - world_b).norm(),

@@ -63,8 +63,8 @@ pub use error::ContactError;
 pub use impulse::{impulse_magnitude, reflect, velocities_after, BodyVelocity};
 pub use islands::{body_islands, islands};
 pub use joint::{
-    across, delassus, factor, joint_rows, BoundedSolve, Joint, JointFrame, JointImpulse, JointKind, JointMotor,
-    JointRow, JointSpring, RowKind, RowPart, MAX_ROWS,
+    across, delassus, factor, joint_rows, BoundedSolve, JointConstraint, JointFrame, JointImpulse, JointKind,
+    JointMotor, JointRow, JointSpring, RowKind, RowPart, MAX_ROWS,
 };
 #[cfg(feature = "clarabel")]
 pub use projection::{position_correction, Correction};

@@ -220,15 +220,15 @@ impl PyWorld {
                 None => end(tumble::Attachment::Point(p)),
             };
             let kind = match j.kind() {
-                tumble::JointType::Ball => "ball",
-                tumble::JointType::Hinge => "hinge",
-                tumble::JointType::Slider => "slider",
-                tumble::JointType::Weld => "weld",
-                tumble::JointType::Piston => "piston",
-                tumble::JointType::Drive { linear: false } => "spin-drive",
-                tumble::JointType::Drive { linear: true } => "slide-drive",
-                tumble::JointType::Distance { rope: false, .. } => "distance",
-                tumble::JointType::Distance { rope: true, .. } => "rope",
+                tumble::JointKind::Ball => "ball",
+                tumble::JointKind::Hinge => "hinge",
+                tumble::JointKind::Slider => "slider",
+                tumble::JointKind::Weld => "weld",
+                tumble::JointKind::Piston => "piston",
+                tumble::JointKind::Drive { linear: false } => "spin-drive",
+                tumble::JointKind::Drive { linear: true } => "slide-drive",
+                tumble::JointKind::Distance { rope: false, .. } => "distance",
+                tumble::JointKind::Distance { rope: true, .. } => "rope",
             };
             out.push((kind, side(j.a(), pa)?, side(j.b(), pb)?));
         }

@@ -19,8 +19,8 @@ use nalgebra::{Point3, Vector3};
 use std::collections::BTreeMap;
 use std::time::Instant;
 use tumble_contact::{
-    soft_solve as soft_solve_manifolds, BodyState, Joint, JointImpulse, SoftLinks, SoftSettings, SoftSpring, SoftStep,
-    SpringLaw,
+    soft_solve as soft_solve_manifolds, BodyState, JointConstraint, JointImpulse, SoftLinks, SoftSettings, SoftSpring,
+    SoftStep, SpringLaw,
 };
 
 /// What the soft step gives fast mode: its answer (each glued piece given its object's motion), the holding
@@ -111,7 +111,7 @@ pub(super) fn soft_solve(
 }
 
 /// The joints and springs where the bodies are at the step's start, for the soft step.
-pub(super) type Links = (Option<Vec<BodyState>>, Vec<Joint>, Vec<SoftSpring>);
+pub(super) type Links = (Option<Vec<BodyState>>, Vec<JointConstraint>, Vec<SoftSpring>);
 
 /// The joints, springs and anchor pulls where the bodies are at the step's start, for the soft step: a dynamic
 /// end is its actor, a fixed end (the world, a static body, a fixed point, a particle's anchor) an extra fixed
@@ -138,7 +138,7 @@ pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Link
             JointEnd::Fixed(p) => fixed(Point3::from(p.translation.vector)),
         };
         let (a, b) = (index(cj.a), index(cj.b));
-        joints.push(Joint { a, b, frame: cj.frame(&ea, &eb), ..cj.joint });
+        joints.push(JointConstraint { a, b, frame: cj.frame(&ea, &eb), ..cj.joint });
     }
     let actor = |end: End| match end {
         End::Particle(i) => Some(i),

@@ -1,5 +1,5 @@
 //! Joints between two bodies (or a body and the world) as the solvers see them: the kind and options
-//! (`Joint`), where the joint sits in world axes at the start of a step (`JointFrame`), and the constraint rows
+//! (`JointConstraint`), where the joint sits in world axes at the start of a step (`JointFrame`), and the constraint rows
 //! its kind gives at a pose (`rows.rs`): the velocity Jacobian of each row, its position error and, for the
 //! acceleration-level solve of accurate mode, the velocity product J' v. Fast mode's soft step solves the rows
 //! with its contacts (`soft`); accurate mode's right-hand side solves them for forces.
@@ -16,8 +16,9 @@ pub use solve::{delassus, factor, BoundedSolve, Factor, RowPart};
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// What a joint allows.
+/// What a joint allows (the user's word for it and the solvers': `JointBuilder` keeps one, the solvers read it).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum JointKind {
     /// Spherical: the anchors coincide; any relative rotation.
     Ball,
@@ -32,8 +33,9 @@ pub enum JointKind {
     /// A drive alone (Bullet's motor constraint): nothing held, its motor drives B's spin about the axis relative
     /// to A (or, `linear`, B's anchor's slide along it).
     Drive { linear: bool },
-    /// The anchors at `length` apart: a rigid rod, or a rope (`rope`) that only pulls and may slacken.
-    Distance { length: f64, rope: bool },
+    /// The anchors at `length` apart (None: their distance when the joint is added; the length in force is the
+    /// constraint's `length`): a rigid rod, or a rope (`rope`) that only pulls and may slacken.
+    Distance { length: Option<f64>, rope: bool },
 }
 
 /// A motor on a hinge (rad/s, N m) or a slider (m/s, N): it drives the joint's speed to `speed` with at most
@@ -54,10 +56,12 @@ pub struct JointSpring {
 
 /// A joint between bodies `a` and `b` (indices into the solver's bodies; a static body is the world).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Joint {
+pub struct JointConstraint {
     pub a: usize,
     pub b: usize,
     pub kind: JointKind,
+    /// The length a distance joint holds (m); the other kinds do not read it.
+    pub length: f64,
     /// The joint's place at the step's start.
     pub frame: JointFrame,
     /// Lower and upper angle (hinge, rad) or travel (slider, piston, m).

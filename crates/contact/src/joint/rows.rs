@@ -10,7 +10,7 @@
 //! Limits are one-sided rows on the hinge angle or slider travel (and a piston's turn); a motor is a row on their speed; a spring a soft
 //! row on their value.
 
-use super::{Joint, JointFrame, JointKind};
+use super::{JointConstraint, JointFrame, JointKind};
 use nalgebra::Vector3;
 
 /// Most rows one joint gives (a piston with limits on its travel and its turn, a motor and a spring).
@@ -58,7 +58,7 @@ pub type PairVelocity = (Vector3<f64>, Vector3<f64>, Vector3<f64>, Vector3<f64>)
 /// The rows of `joint` placed at `frame`, with the centres of mass at `xa` and `xb`; with `velocity`, each row's
 /// J' v as well. Rows are appended to `out`.
 pub fn joint_rows(
-    joint: &Joint,
+    joint: &JointConstraint,
     frame: &JointFrame,
     xa: &Vector3<f64>,
     xb: &Vector3<f64>,
@@ -121,7 +121,8 @@ pub fn joint_rows(
             }
             joint.kind
         }
-        JointKind::Distance { length, rope } => {
+        JointKind::Distance { rope, .. } => {
+            let length = joint.length;
             let len = d.norm();
             let n = if len > 1e-12 * (1.0 + f.ra.norm() + f.rb.norm()) { d / len } else { f.axis };
             let bend = if len > 0.0 { (d_dot.norm_squared() - n.dot(&d_dot).powi(2)) / len } else { 0.0 };
@@ -176,7 +177,7 @@ pub fn joint_rows(
 /// A hinge's or slider's limit, motor and spring rows on its value `x` along the row `(lin, ang_a, ang_b)` whose
 /// velocity product is `k`.
 fn options(
-    joint: &Joint,
+    joint: &JointConstraint,
     x: f64,
     (lin, a, b): (Vector3<f64>, Vector3<f64>, Vector3<f64>),
     k: f64,

@@ -3,13 +3,13 @@
 use super::SoftSpring;
 use crate::body::BodyState;
 use crate::error::ContactError;
-use crate::joint::{Joint, JointImpulse};
+use crate::joint::{JointConstraint, JointImpulse};
 
 /// Checks each joint against the bodies: indices in range, two different bodies, one of them moving, every number
 /// finite; and the windows, one a joint (or none), each finite and >= 0.
 pub(super) fn check_joints(
     bodies: &[BodyState],
-    joints: &[Joint],
+    joints: &[JointConstraint],
     warm: &[JointImpulse],
     windows: &[f64],
 ) -> Result<(), ContactError> {

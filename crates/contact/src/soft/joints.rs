@@ -11,7 +11,7 @@
 use super::row::Mover;
 use super::softness::Softness;
 use crate::joint::{
-    delassus, factor, joint_rows, BoundedSolve, Factor, Joint, JointImpulse, JointRow, RowKind, RowPart,
+    delassus, factor, joint_rows, BoundedSolve, Factor, JointConstraint, JointImpulse, JointRow, RowKind, RowPart,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::TAU;
@@ -29,7 +29,7 @@ struct Row {
 /// An island's joints: each joint (its bodies by local index, and their centres at the step's start), its
 /// accumulated impulses and its rows at the current substep, in solve order.
 pub(crate) struct JointSet {
-    joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>,
+    joints: Vec<(JointConstraint, Vector3<f64>, Vector3<f64>)>,
     pub impulses: Vec<JointImpulse>,
     /// Each joint's impulses summed over the substeps so far, each substep's weighed by the joint's `decay` once a
     /// later substep: what it carried over the step (its plain sum where the decay is 1).
@@ -63,7 +63,11 @@ pub(crate) struct JointSweep {
 
 impl JointSet {
     /// `joints` with local body indices, their centres at the step's start, their warm starts and decays.
-    pub fn new(joints: Vec<(Joint, Vector3<f64>, Vector3<f64>)>, warm: Vec<JointImpulse>, decay: Vec<f64>) -> JointSet {
+    pub fn new(
+        joints: Vec<(JointConstraint, Vector3<f64>, Vector3<f64>)>,
+        warm: Vec<JointImpulse>,
+        decay: Vec<f64>,
+    ) -> JointSet {
         JointSet {
             step_impulses: vec![JointImpulse::default(); warm.len()],
             decay,

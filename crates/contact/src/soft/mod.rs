@@ -36,7 +36,7 @@ use crate::contact::{check_all, Contact};
 use crate::error::ContactError;
 use crate::impulse::BodyVelocity;
 use crate::islands::link_islands;
-use crate::joint::{Joint, JointImpulse};
+use crate::joint::{JointConstraint, JointImpulse};
 use crate::threads::{cores, in_parallel_by};
 pub use answer::SoftStep;
 use checks::{check_bodies, check_joints, check_springs};
@@ -78,7 +78,7 @@ const BATCH_POINTS: usize = 512;
 /// (`SoftStep::joint_step_impulses`, `SoftStep::manifold_impulses`), 0 for none (empty: none).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SoftLinks<'a> {
-    pub joints: &'a [Joint],
+    pub joints: &'a [JointConstraint],
     pub joint_warm: &'a [JointImpulse],
     pub springs: &'a [SoftSpring],
     pub windows: &'a [f64],
@@ -95,7 +95,7 @@ pub struct SoftProblem<'a> {
     pub bodies: &'a [BodyState],
     pub contacts: &'a [Contact],
     pub warm: &'a [SoftImpulse],
-    pub joints: &'a [Joint],
+    pub joints: &'a [JointConstraint],
     pub joint_warm: &'a [JointImpulse],
     pub springs: &'a [SoftSpring],
 }
@@ -107,7 +107,7 @@ impl<'a> SoftProblem<'a> {
     }
 
     /// Joints with their warm starts.
-    pub fn joints(self, joints: &'a [Joint], joint_warm: &'a [JointImpulse]) -> Self {
+    pub fn joints(self, joints: &'a [JointConstraint], joint_warm: &'a [JointImpulse]) -> Self {
         SoftProblem { joints, joint_warm, ..self }
     }
 
@@ -344,7 +344,7 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
             for set in &spec.joints {
                 let placed = set.iter().map(|&k| {
                     let (j, xa, xb) = (&joints[k], bodies[joints[k].a].position, bodies[joints[k].b].position);
-                    (Joint { a: local(j.a), b: local(j.b), ..*j }, xa.coords, xb.coords)
+                    (JointConstraint { a: local(j.a), b: local(j.b), ..*j }, xa.coords, xb.coords)
                 });
                 let warm = set.iter().map(|&k| joint_warm[k]).collect();
                 group.joints.push(JointSet::new(placed.collect(), warm, set.iter().map(|&k| decay(k)).collect()));

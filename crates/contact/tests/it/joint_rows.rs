@@ -4,7 +4,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 use tumble_contact::{
-    across, joint_rows, Joint, JointFrame, JointKind, JointMotor, JointRow, JointSpring, RowKind, MAX_ROWS,
+    across, joint_rows, JointConstraint, JointFrame, JointKind, JointMotor, JointRow, JointSpring, RowKind, MAX_ROWS,
 };
 
 struct Rng(u64);
@@ -21,7 +21,7 @@ impl Rng {
 /// A pose of both bodies after time t of constant velocities: centres and the frame.
 fn at(
     t: f64,
-    j: &Joint,
+    j: &JointConstraint,
     x: &[Vector3<f64>; 2],
     v: &(Vector3<f64>, Vector3<f64>, Vector3<f64>, Vector3<f64>),
 ) -> Vec<JointRow> {
@@ -47,8 +47,8 @@ fn rows_are_the_derivatives_of_their_errors() {
         JointKind::Slider,
         JointKind::Weld,
         JointKind::Piston,
-        JointKind::Distance { length: 0.7, rope: false },
-        JointKind::Distance { length: 0.7, rope: true },
+        JointKind::Distance { length: Some(0.7), rope: false },
+        JointKind::Distance { length: Some(0.7), rope: true },
     ];
     let mut checked = 0;
     for case in 0..600 {
@@ -72,10 +72,11 @@ fn rows_are_the_derivatives_of_their_errors() {
             axis_b: if held { axis } else { (axis + rng.v(0.3)).normalize() },
             error,
         };
-        let joint = Joint {
+        let joint = JointConstraint {
             a: 0,
             b: 1,
             kind,
+            length: 0.7,
             frame,
             limits: Some((-1.0, 1.0)),
             turn_limits: (kind == JointKind::Piston).then_some((-0.5, 0.7)),
