@@ -25,6 +25,7 @@
 
 mod aabb;
 mod contact;
+mod contact_point;
 mod convert;
 mod decompose;
 mod error;
@@ -49,7 +50,8 @@ mod sweep_prune;
 mod toi;
 
 pub use aabb::Aabb;
-pub use contact::{contacts, Contact, ContactKind, Feature};
+pub use contact::contacts;
+pub use contact_point::{Contact, ContactKind, Feature};
 pub use decompose::{Decomposed, Decomposition, MAX_DECOMPOSED_TRIANGLES};
 pub use error::{ShapeError, LENGTH};
 pub use fracture::{shared_faces, Cells, SharedFace, MAX_PIECES};
