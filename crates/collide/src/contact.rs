@@ -1,9 +1,10 @@
 //! Contact geometry of a touching or interpenetrating pair, from parry's contact manifolds: points on both surfaces, a
-//! common normal, signed distance and the kind of contact. As in the chapter, contacts of polyhedra are vertex-face or
-//! edge-edge; the degenerate kinds (vertex-vertex, vertex-edge) are folded into vertex-face. A point of a curved
-//! surface acts as a vertex against a face and as a face against a vertex or an edge.
+//! common normal, signed distance and the kind of contact (a `Contact`, `contact_point.rs`). Where parry's manifold
+//! of hulls is partial (a face of more than four vertices, a hull on a plane, two hulls touching exactly), their
+//! faces are taken whole in `face_contact.rs`.
 
 use crate::aabb::check_pose;
+use crate::contact_point::{kind, Contact, Feature};
 use crate::convert::{from_parry, point_from_parry};
 use crate::error::ShapeError;
 use crate::face_contact::{clipped_contacts, hull_plane_contacts, long_face_contacts};
@@ -11,57 +12,11 @@ use crate::geometry::ParryView;
 use crate::hull_axis::sounder_normal;
 use crate::proximity::unsupported_pair;
 use crate::shape::Shape;
-use nalgebra::{Isometry3, Point3, Unit, Vector3};
+use nalgebra::{Isometry3, Point3, Unit};
 use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 use parry3d_f64::shape::{FeatureId, Shape as ParryShape};
 
-/// The feature of a shape that carries a contact point.
-#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Feature {
-    /// A vertex (parry's id).
-    Vertex(u32),
-    /// An edge (parry's id).
-    Edge(u32),
-    /// A face (parry's id).
-    Face(u32),
-    /// A point of a curved surface (sphere, capsule).
-    Curved,
-    /// Not known (parry's deepest-point fallback).
-    Unknown,
-}
-
-/// The kind of a contact in the chapter's terms.
-#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ContactKind {
-    /// A vertex of A (or a point of its curved surface) on a face of B; normal = B's face normal.
-    VertexFace,
-    /// A face of A against a vertex of B; normal = A's face normal.
-    FaceVertex,
-    /// An edge of A crossing an edge of B; normal = the cross product of the edges.
-    EdgeEdge,
-    /// Two curved surfaces (sphere on sphere, say); normal = their common normal.
-    Curved,
-}
-
-/// One contact point of a pair (A, B), in world coordinates.
-#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
-pub struct Contact {
-    /// The point of A's surface.
-    pub point_a: Point3<f64>,
-    /// The point of B's surface.
-    pub point_b: Point3<f64>,
-    /// Unit normal from A toward B.
-    pub normal: Unit<Vector3<f64>>,
-    /// Signed distance `normal . (point_b - point_a)`: positive apart, negative interpenetrating.
-    pub distance: f64,
-    /// The kind of contact.
-    pub kind: ContactKind,
-    /// A's feature.
-    pub feature_a: Feature,
-    /// B's feature.
-    pub feature_b: Feature,
-}
-
+/// The feature of `shape` that parry's id names (a point of a sphere or capsule is of its curved surface).
 fn feature(shape: &Shape, id: FeatureId) -> Feature {
     if matches!(shape, Shape::Sphere { .. } | Shape::Capsule { .. }) {
         return Feature::Curved;
@@ -71,18 +26,6 @@ fn feature(shape: &Shape, id: FeatureId) -> Feature {
         FeatureId::Edge(i) => Feature::Edge(i),
         FeatureId::Face(i) => Feature::Face(i),
         _ => Feature::Unknown,
-    }
-}
-
-pub(crate) fn kind(a: Feature, b: Feature) -> ContactKind {
-    use Feature::*;
-    match (a, b) {
-        (Edge(_), Edge(_)) => ContactKind::EdgeEdge,
-        (Curved, Curved) => ContactKind::Curved,
-        (Face(_) | Curved, Vertex(_) | Edge(_)) | (Face(_), Curved) => ContactKind::FaceVertex,
-        // A vertex on a face, and the folded kinds: vertex-vertex, vertex-edge, edge-face, face-face, unknown.
-        (Edge(_), Vertex(_)) => ContactKind::FaceVertex,
-        _ => ContactKind::VertexFace,
     }
 }
 

@@ -3,8 +3,8 @@
 //! in each voxel part, kept per process by a digest of the mesh and the parameters, so a mesh is decomposed once.
 
 use crate::convert::{point_from_parry, point_to_parry};
+use crate::convex_hull::ConvexHull;
 use crate::error::ShapeError;
-use crate::shape::{ConvexHull, Shape};
 use crate::surface_mesh::{label, Fnv, Mesh};
 use nalgebra::Point3;
 use parry3d_f64::math::Pose;
@@ -110,13 +110,7 @@ impl Decomposed {
         seconds: f64,
     ) -> Result<Decomposed, ShapeError> {
         params.check()?;
-        let hulls: Vec<ConvexHull> = pieces
-            .iter()
-            .filter_map(|p| match Shape::convex_hull(p) {
-                Ok(Shape::ConvexHull(h)) => Some(h),
-                _ => None,
-            })
-            .collect();
+        let hulls: Vec<ConvexHull> = pieces.iter().filter_map(|p| ConvexHull::from_points(p).ok()).collect();
         if hulls.is_empty() {
             return Err(ShapeError::new(
                 "mesh",

@@ -1,5 +1,6 @@
 //! The error of shape construction and geometric queries: which argument was wrong and why.
 
+use nalgebra::Point3;
 use std::fmt;
 
 /// A shape or query argument out of its domain.
@@ -35,5 +36,14 @@ pub(crate) fn positive(name: &'static str, v: f64) -> Result<f64, ShapeError> {
         Ok(v)
     } else {
         Err(ShapeError::new(name, format!("must be finite and within [{:e}, {:e}] m, got {v:e}", LENGTH.0, LENGTH.1)))
+    }
+}
+
+/// Checks that point `i` of argument `name` is finite and within `LENGTH.1` of the origin.
+pub(crate) fn finite_point(name: &'static str, i: usize, p: &Point3<f64>) -> Result<(), ShapeError> {
+    if p.iter().all(|c| c.is_finite() && c.abs() <= LENGTH.1) {
+        Ok(())
+    } else {
+        Err(ShapeError::new(name, format!("point {i} must be finite and within 1e9 m of the origin: {p:?}")))
     }
 }

@@ -3,7 +3,7 @@
 //! prism on the ground tips over. Here both touching features are taken whole, along the manifold's normal, and
 //! their overlap is clipped in the plane across it: every vertex of the overlap is a contact point.
 
-use crate::contact::{kind, Contact, Feature};
+use crate::contact_point::{kind, Contact, Feature};
 use crate::convert::{from_parry, point_from_parry, to_parry};
 use nalgebra::{Point3, Unit, Vector2, Vector3};
 use parry3d_f64::math::Pose;

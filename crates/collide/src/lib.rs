@@ -25,7 +25,9 @@
 
 mod aabb;
 mod contact;
+mod contact_point;
 mod convert;
+mod convex_hull;
 mod decompose;
 mod error;
 mod face_contact;
@@ -49,7 +51,9 @@ mod sweep_prune;
 mod toi;
 
 pub use aabb::Aabb;
-pub use contact::{contacts, Contact, ContactKind, Feature};
+pub use contact::contacts;
+pub use contact_point::{Contact, ContactKind, Feature};
+pub use convex_hull::ConvexHull;
 pub use decompose::{Decomposed, Decomposition, MAX_DECOMPOSED_TRIANGLES};
 pub use error::{ShapeError, LENGTH};
 pub use fracture::{shared_faces, Cells, SharedFace, MAX_PIECES};
@@ -59,7 +63,7 @@ pub use motion::Motion;
 pub use polyhedron::Polyhedron;
 pub use proximity::{distance, intersects};
 pub use separating_plane::{separating_plane, PlaneSource, SeparatingPlane, SeparatingPlaneCache};
-pub use shape::{ConvexHull, Shape, TriMesh};
+pub use shape::{Shape, TriMesh};
 pub use split_mix::SplitMix;
 pub use surface_mesh::{Mesh, MAX_TRIANGLES};
 pub use sweep_prune::{brute_force_pairs, SortAndSweep, SweepStats};

@@ -1,4 +1,4 @@
-//! The step of each method behind one trait, so the driver (`integrator.rs`) can run any of them under any
+//! The step of each method behind one trait, so the driver (`integrator/`) can run any of them under any
 //! step control.
 
 mod adams;
