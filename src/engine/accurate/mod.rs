@@ -47,6 +47,8 @@ mod energy_guard;
 #[cfg(feature = "contact")]
 mod free_flight;
 #[cfg(feature = "contact")]
+mod free_flight_memory;
+#[cfg(feature = "contact")]
 mod held;
 #[cfg(feature = "contact")]
 mod impact;
@@ -67,6 +69,8 @@ mod slide_limit;
 mod step_estimate;
 #[cfg(feature = "contact")]
 mod step_judgement;
+#[cfg(feature = "contact")]
+mod sync;
 mod system;
 #[cfg(all(test, feature = "contact"))]
 mod tests;
