@@ -14,6 +14,7 @@
 
 use super::contact_stages::ContactStages;
 use super::convex_step::{actors_with_forces, every_contact_in_reach};
+use super::failure::failure;
 use super::free_flight::{copy_free, links};
 use super::sleep::Sleep;
 use super::sync::next_sync;
@@ -175,7 +176,7 @@ fn advance_groups(
         let out = touching_steps(cx, system, (t, y.to_vec()), until, &mut cursor, None, budget)?;
         let sub = cx.memory.touching.take().unwrap_or_else(|| unreachable_phase(phase));
         if out.frames.len() != times.len() || out.t < end - cursor.slack() {
-            return Err(super::failure(
+            return Err(failure(
                 t,
                 format!("a group's advance to {end:e} s stopped at {:e} s (an engine fault)", out.t),
             ));

@@ -25,7 +25,7 @@ use super::convex_step::{every_contact_in_reach, ConvexStep};
 use super::doubled_step::{doubled_step, held};
 use super::drift::correct_drift;
 use super::energy_guard::Guarded;
-use super::failure;
+use super::failure::failure;
 use super::free_flight::{copy_free, free_flight, links};
 use super::held::set_moving;
 use super::late_sink::{deepest, sunk_step, LATE_SINK};
