@@ -6,15 +6,25 @@
 //! The budget also carries the call's control: charges tell it how far the call has come (at most every 50 ms of
 //! wall time, so that a control that takes Python's lock costs nothing; the clock decides only when it is asked,
 //! never what is computed), and a control that answers false (Ctrl-C in Python) stops the call, which the world
-//! then puts back as it was.
+//! then puts back as it was. The pace is watched through `Watch` (the world's `Pace`, `world/pace.rs`, is one),
+//! so that the budget knows nothing of the world.
 
 use crate::control::Control;
-use crate::world::Pace;
 use std::time::{Duration, Instant};
 use tumble_integrate::OdeError;
 
 /// Least wall time between two calls of the control from within the work.
 const TELL_EVERY: Duration = Duration::from_millis(50);
+
+/// What watches a call's pace for its budget (the world's `Pace`, `world/pace.rs`): told the fraction of the call
+/// done at every tell, it gives the one line for the control when one is due.
+pub(crate) trait Watch {
+    /// The line, once, when `fraction` done after the time taken so far projects a slow call.
+    fn watch(&mut self, fraction: f64) -> Option<String>;
+
+    /// Whether the line was given.
+    fn given(&self) -> bool;
+}
 
 /// The step budget of one call over its span [t0, t_end], with the call's control.
 pub(crate) struct Budget<'c> {
@@ -25,7 +35,7 @@ pub(crate) struct Budget<'c> {
     /// Told the fraction of the span done; false stops the call.
     control: Option<&'c mut dyn Control>,
     /// The call's pace, watched at every tell (`world/pace.rs`).
-    pace: Option<Pace<'c>>,
+    pace: Option<Box<dyn Watch + 'c>>,
     /// The largest fraction told so far (what the control sees never goes back).
     shown: f64,
     /// Whether the control stopped the call.
@@ -57,14 +67,14 @@ impl<'c> Budget<'c> {
     }
 
     /// The same, watching the call's pace and giving the control its line when one is due.
-    pub fn with_pace(mut self, pace: Option<Pace<'c>>) -> Budget<'c> {
-        self.pace = pace;
+    pub fn with_pace(mut self, pace: Option<impl Watch + 'c>) -> Budget<'c> {
+        self.pace = pace.map(|p| Box::new(p) as Box<dyn Watch + 'c>);
         self
     }
 
     /// Whether the pace's line was given.
     pub fn hinted(&self) -> bool {
-        self.pace.as_ref().is_some_and(|p| p.given)
+        self.pace.as_ref().is_some_and(|p| p.given())
     }
 
     /// Tells the control that `fraction` of the call is done; false (and `stopped`) if it stops the call.

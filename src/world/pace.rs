@@ -4,6 +4,7 @@
 
 use super::World;
 use crate::control::Quiet;
+use crate::engine::Watch;
 use crate::mode::Mode;
 use crate::options::DEFAULT_DT;
 use std::time::Instant;
@@ -21,7 +22,7 @@ pub(crate) struct Pace<'w> {
     span: f64,
     start: Instant,
     /// Whether the line was given.
-    pub given: bool,
+    given: bool,
 }
 
 impl<'w> Pace<'w> {
@@ -34,15 +35,21 @@ impl<'w> Pace<'w> {
             given: false,
         })
     }
+}
 
+impl Watch for Pace<'_> {
     /// The line, once, when `fraction` done after the time taken so far projects past `SLOW` times the span.
-    pub fn watch(&mut self, fraction: f64) -> Option<String> {
+    fn watch(&mut self, fraction: f64) -> Option<String> {
         if self.given {
             return None;
         }
         let projected = projected_if_slow(self.start.elapsed().as_secs_f64(), fraction, self.span)?;
         self.given = true;
         Some(slow_line(projected, self.span, fast_estimate(self.world, self.span)))
+    }
+
+    fn given(&self) -> bool {
+        self.given
     }
 }
 

@@ -2,8 +2,9 @@
 //! call), then repeatedly contact steps while bodies touch, or the integrator to the next event (a joint that
 //! breaks there let go of) and its impact stage; each event recorded, and a time that events cannot leave is an error.
 
+use super::failure::failure;
 use super::integration::within_budget;
-use super::{breaking, detect, failure, impact, mechanical_energy, touching, AccurateEngine, AccurateMemory, STUCK};
+use super::{breaking, clocks, detect, impact, mechanical_energy, touching, AccurateEngine, AccurateMemory, STUCK};
 use crate::engine::budget::Budget;
 use crate::engine::frames::FrameCursor;
 use crate::error::WorldError;
@@ -42,7 +43,7 @@ impl AccurateEngine {
                 if let Some(phase) = stages.memory.touching.as_mut() {
                     // the phase goes on from where it got to; the integrator's state is set only when it ends
                     let start = phase.at.take().unwrap_or_else(|| (integrator.time(), integrator.state().to_vec()));
-                    let until = touching::Until { end: t_end, pause, one_clock: false };
+                    let until = touching::Until { end: t_end, pause, own_clocks: Some(clocks::own_clocks) };
                     let end = touching::touching_steps(
                         &mut stages,
                         system,

@@ -9,6 +9,7 @@
 //! output (the load taken linear between a few points, the exponential integrated exactly; a break located on it
 //! as above); in the touching phase by each step's impulses.
 
+use super::failure::failure;
 use super::joint_forces::joint_forces;
 use super::system::AccurateSystem;
 use crate::model::breaking::JointLoad;
@@ -29,7 +30,7 @@ const HALVINGS: usize = 100;
 pub(super) fn loads_at(system: &mut AccurateSystem, t: f64, y: &[f64]) -> Result<Vec<JointLoad>, OdeError> {
     let model = &mut system.model;
     let mut dy = vec![0.0; y.len()];
-    model.rates(t, y, &mut dy, true).map_err(|e| super::failure(t, e.to_string()))?;
+    model.rates(t, y, &mut dy, true).map_err(|e| failure(t, e.to_string()))?;
     let q = model.layout.positions();
     let mut loads = vec![JointLoad::default(); model.joints.len()];
     let model = &system.model;

@@ -8,14 +8,19 @@
 //! step size from one span to the next (`TouchingPhase::clocks`, by its first actor). So ten boxes that land at ten
 //! different times cost ten boxes' steps, not every box at the step the busiest needs. The groups are advanced in
 //! the order of their first actor, so the bits are the same on any thread count. Worlds with joints keep one clock,
-//! and so do worlds of more than `MAX_ACTORS` actors and spans with more than `MAX_CLOCKS` groups.
+//! and so do worlds of more than `MAX_ACTORS` actors and spans with more than `MAX_CLOCKS` groups. The sync times
+//! are `sync.rs`'s. This module is above the touching phase's steps (`touching.rs`), which it runs for each group:
+//! they reach `own_clocks` only through the advance's `Until::own_clocks`.
 
 use super::contact_stages::ContactStages;
 use super::convex_step::{actors_with_forces, every_contact_in_reach};
+use super::failure::failure;
 use super::free_flight::{copy_free, links};
 use super::sleep::Sleep;
+use super::sync::next_sync;
 use super::system::AccurateSystem;
-use super::touching::{touching_steps, TouchingPhase, Until};
+use super::touching::{touching_steps, Until};
+use super::touching_phase::TouchingPhase;
 use crate::engine::frames::FrameCursor;
 use crate::engine::Budget;
 use crate::run::Run;
@@ -28,30 +33,6 @@ use tumble_integrate::OdeError;
 /// with at most 16 groups) and 0.55 s on one; ten took 0.049 s against 0.070 s. Past these, one clock.
 const MAX_CLOCKS: usize = 16;
 const MAX_ACTORS: usize = 64;
-
-/// The groups meet at every multiple of this (s), whatever the frames and pauses (so that recording frames or pausing
-/// changes nothing): frames inside a sync period are each group's own interpolation.
-const SYNC: f64 = 1.0 / 60.0;
-
-/// The first sync time after t.
-fn next_sync(t: f64) -> f64 {
-    let next = ((t / SYNC).floor() + 1.0) * SYNC;
-    if next > t {
-        next
-    } else {
-        next + SYNC
-    }
-}
-
-/// Whether the groups are due to be looked for at t: at the first step past each sync time (the phase keeps when it
-/// last looked, so the answer is the same however the calls are cut); marks it looked for.
-pub(super) fn sync_due(phase: &mut TouchingPhase, t: f64) -> bool {
-    let due = !(phase.synced.is_finite() && (phase.synced / SYNC).floor() == (t / SYNC).floor());
-    if due {
-        phase.synced = t;
-    }
-    due
-}
 
 /// The groups of actors that cannot meet over [t, t + span] and have awake actors, each its actors in increasing
 /// order, the groups in the order of their first actor (actors in no pair and awake join the first group); None
@@ -191,11 +172,11 @@ fn advance_groups(
             synced: phase.synced,
         });
         let mut cursor = FrameCursor::new(times, end);
-        let until = Until { end, pause: end, one_clock: true };
+        let until = Until { end, pause: end, own_clocks: None };
         let out = touching_steps(cx, system, (t, y.to_vec()), until, &mut cursor, None, budget)?;
         let sub = cx.memory.touching.take().unwrap_or_else(|| unreachable_phase(phase));
         if out.frames.len() != times.len() || out.t < end - cursor.slack() {
-            return Err(super::failure(
+            return Err(failure(
                 t,
                 format!("a group's advance to {end:e} s stopped at {:e} s (an engine fault)", out.t),
             ));

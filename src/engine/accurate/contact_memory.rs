@@ -1,9 +1,10 @@
 //! What accurate mode's contact stages carry between calls (`ContactMemory`, part of the engine's memory), with the
 //! scales set from the scene's size where the engine was built (`ContactScales`).
 
+use super::free_flight_memory::FreeFlight;
 use super::resting::RestingContacts;
 use super::system::AccurateSystem;
-use super::touching::TouchingPhase;
+use super::touching_phase::TouchingPhase;
 use crate::engine::found_contact::ContactKey;
 use crate::mode::AccurateSettings;
 use serde::{Deserialize, Serialize};
@@ -124,7 +125,7 @@ impl ContactMemory {
         };
         let integration = free.integration.into_live(template).map_err(|e| format!("its free flight's {e}"))?;
         if let Some(touching) = self.touching.as_mut() {
-            touching.free = Some(super::free_flight::FreeFlight { frozen, integration });
+            touching.free = Some(FreeFlight { frozen, integration });
         }
         Ok(self)
     }

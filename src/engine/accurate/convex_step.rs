@@ -8,7 +8,7 @@
 //! beyond the first guess.
 
 use super::contact_stages::ContactStages;
-use super::failure;
+use super::failure::failure;
 use super::joint_forces::{bilateral_rows, project_joints, BilateralRows, JOINT_DRIFT};
 use super::system::AccurateSystem;
 use crate::engine::bounce_scale::{body_kinetic, largest_keeping_energy, moving_bodies};

@@ -6,6 +6,7 @@
 use super::collision_time::collision_time;
 use super::contact_stages::ContactStages;
 use super::drift::drifted;
+use super::failure::failure;
 use super::pass_through::pass_through;
 use super::system::AccurateSystem;
 use crate::model::layout::get3;
@@ -53,7 +54,7 @@ fn watch_for_stall(cx: &mut ContactStages<'_>, t0: f64, t1: f64) -> Result<(), O
     cx.memory.window = (t1, 0);
     let mean = (t1 - start) / STALL as f64;
     if mean < cx.memory.scales.stall_step {
-        return Err(super::failure(
+        return Err(failure(
             t1,
             format!(
                 "{} steps took {:.1e} s, a mean step of {mean:.1e} s: the motion is too stiff for this method \
@@ -80,7 +81,7 @@ fn detect_stages(cx: &mut ContactStages<'_>, step: &mut StepView<'_, AccurateSys
     let margins: Vec<f64> = speeds.iter().map(|(s, bulge)| bulge * h + delta + 1e-12 * s).collect();
     let checks = cx.scene.checks;
     cx.report.stages.mark(Stage::CollisionDetection);
-    let pairs = cx.scene.swept_pairs(&poses0, &poses1, &margins).map_err(|e| super::failure(t0, e))?;
+    let pairs = cx.scene.swept_pairs(&poses0, &poses1, &margins).map_err(|e| failure(t0, e))?;
     if pairs.is_empty() {
         return Ok(None);
     }

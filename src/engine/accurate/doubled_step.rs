@@ -6,7 +6,7 @@ use super::free_flight::involved;
 use super::sleep::Sleep;
 use super::step_estimate::sinking;
 use super::system::AccurateSystem;
-use super::touching::TouchingPhase;
+use super::touching_phase::TouchingPhase;
 use tumble_integrate::OdeError;
 
 /// One step of h taken whole and as two halves (the first half on the whole step's contacts, the second on its

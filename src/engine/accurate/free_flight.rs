@@ -2,9 +2,11 @@
 //! contact of a step (and joined to none by a spring) follow the integrator over that step, under its own error
 //! control, with the touching actors held still. Their error then never sets the contact step, which is for the
 //! contacts alone: a fast damped particle flying beside a settling pile made every contact step 4e-5 s (first-order
-//! contact steps following its smooth motion), 21 s of work for a quarter second.
+//! contact steps following its smooth motion), 21 s of work for a quarter second. What the free flight carries from
+//! step to step is `FreeFlight` (`free_flight_memory.rs`).
 
 use super::contact_stages::ContactStages;
+use super::free_flight_memory::FreeFlight;
 use super::integration::within_budget;
 use super::integration::Integration;
 use super::system::AccurateSystem;
@@ -14,15 +16,6 @@ use crate::model::joints::JointEnd;
 use crate::model::layout::Layout;
 use crate::model::{End, Model};
 use tumble_integrate::OdeError;
-
-/// The integration of the free actors, kept from step to step while the same actors are held (its proposed step
-/// carries over).
-#[derive(Clone, serde::Serialize, serde::Deserialize)]
-pub(crate) struct FreeFlight {
-    /// The state components held still (those of the touching actors).
-    pub frozen: Vec<usize>,
-    pub integration: Integration,
-}
 
 /// Which actors (particles, then dynamic bodies) take part in a step with the contacts `found`: those of a
 /// contact, and those joined to them by springs, transitively.

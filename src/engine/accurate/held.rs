@@ -15,7 +15,7 @@ use super::contact_stages::ContactStages;
 use super::convex_step::{actors_with_forces, convex_step, every_contact_in_reach};
 use super::sleep::{speed, Sleep};
 use super::system::AccurateSystem;
-use super::touching::TouchingPhase;
+use super::touching_phase::TouchingPhase;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use nalgebra::Vector3;
 use std::collections::BTreeMap;

@@ -8,7 +8,7 @@
 
 use super::contact_stages::ContactStages;
 use super::drift::correct_drift;
-use super::failure;
+use super::failure::failure;
 use super::resting::{RestingContact, RestingContacts};
 use super::system::AccurateSystem;
 use super::touching::start_touching;

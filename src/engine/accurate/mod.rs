@@ -21,7 +21,8 @@
 //!
 //! The advance reads as: impact stage; then repeatedly either take contact steps while touching, or integrate
 //! until an event, record it, impact stage. Everything the steps carry between calls is the engine's memory
-//! (`memory.rs`).
+//! (`memory.rs`; given back, it is checked and put in place by `give_memory.rs`). The stages fail with
+//! `failure.rs`'s error.
 
 #[cfg(feature = "contact")]
 mod advance;
@@ -44,8 +45,12 @@ mod doubled_step;
 mod drift;
 #[cfg(feature = "contact")]
 mod energy_guard;
+mod failure;
 #[cfg(feature = "contact")]
 mod free_flight;
+#[cfg(feature = "contact")]
+mod free_flight_memory;
+mod give_memory;
 #[cfg(feature = "contact")]
 mod held;
 #[cfg(feature = "contact")]
@@ -67,6 +72,8 @@ mod slide_limit;
 mod step_estimate;
 #[cfg(feature = "contact")]
 mod step_judgement;
+#[cfg(feature = "contact")]
+mod sync;
 mod system;
 #[cfg(all(test, feature = "contact"))]
 mod tests;
@@ -87,7 +94,7 @@ use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
 use integration::{within_budget, Integration};
-use tumble_integrate::{Integrator, OdeError, Settings};
+use tumble_integrate::{Integrator, Settings};
 
 /// Events at one time without progress before the advance gives up (an impact stage that cannot settle).
 #[cfg(feature = "contact")]
@@ -108,10 +115,6 @@ pub(crate) struct AccurateEngine {
     time_tolerance: f64,
     /// The memory where the current call began (`checkpoint`).
     checkpoint: Option<EngineMemory>,
-}
-
-pub(crate) fn failure(t: f64, message: String) -> OdeError {
-    OdeError::System { t, message }
 }
 
 impl AccurateEngine {

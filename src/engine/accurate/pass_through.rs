@@ -3,7 +3,7 @@
 //! searched along the step's dense output by a distance-bounded bisection (`tumble_collide::first_contact`).
 
 use super::contact_stages::ContactStages;
-use super::failure;
+use super::failure::failure;
 use super::system::AccurateSystem;
 use crate::engine::found_contact::FoundContact;
 use crate::model::actor_poses;

@@ -20,13 +20,12 @@
 //! ends when no pair is within reach of a step and nothing sleeps: the integrator's state is set then, and it takes
 //! over (`advance.rs`).
 
-use super::clocks::{own_clocks, sync_due};
 use super::contact_stages::ContactStages;
 use super::convex_step::{every_contact_in_reach, ConvexStep};
 use super::doubled_step::{doubled_step, held};
 use super::drift::correct_drift;
 use super::energy_guard::Guarded;
-use super::failure;
+use super::failure::failure;
 use super::free_flight::{copy_free, free_flight, links};
 use super::held::set_moving;
 use super::late_sink::{deepest, sunk_step, LATE_SINK};
@@ -34,8 +33,9 @@ use super::sleep::Sleep;
 use super::slide_limit::slide_limit;
 use super::step_estimate::{extrapolate, interpolate, sinking, stopped_slip};
 use super::step_judgement::{judge, judge_kept, next_step, Estimates, Verdict};
+use super::sync::sync_due;
 use super::system::AccurateSystem;
-pub(crate) use super::touching_phase::TouchingPhase;
+use super::touching_phase::TouchingPhase;
 use crate::engine::found_contact::FoundContact;
 use crate::engine::frames::FrameCursor;
 use crate::engine::last_contacts::LastContact;
@@ -55,7 +55,7 @@ pub(crate) struct TouchingEnd {
     pub y: Vec<f64>,
     /// Whether the bodies still touch (the advance reached its end); false when they parted.
     pub touching: bool,
-    /// A group's advance's frames (`Until::one_clock`): each frame time reached and the state there.
+    /// A group's advance's frames (`Until::own_clocks` None): each frame time reached and the state there.
     pub frames: Vec<(f64, Vec<f64>)>,
 }
 
@@ -85,15 +85,30 @@ fn min_step(t: f64) -> f64 {
     (16.0 * f64::EPSILON * t.abs()).max(1e-14)
 }
 
+/// The islands' own clocks (`clocks::own_clocks`, which advances each group by `touching_steps`): from (t, y) to
+/// the next sync time (at most the end), if the actors split into groups that stay apart, the time and state
+/// reached, each frame inside recorded; None where one clock takes the span. The advance hands it in (`Until`),
+/// so that this module, which `clocks.rs` runs, does not use it in turn.
+pub(crate) type OwnClocks = fn(
+    &mut ContactStages<'_>,
+    &mut AccurateSystem,
+    &[nalgebra::Isometry3<f64>],
+    &mut TouchingPhase,
+    (f64, &[f64], f64),
+    &mut FrameCursor<'_>,
+    Option<&mut Run>,
+    &mut Budget<'_>,
+) -> Result<Option<(f64, Vec<f64>)>, OdeError>;
+
 /// Where a touching phase's advance ends: at `end`, pausing once past `pause` (a progress check or a chunk's end).
 #[derive(Clone, Copy)]
 pub(crate) struct Until {
     pub end: f64,
     pub pause: f64,
-    /// Whether every actor keeps one clock (a group's own advance, `clocks.rs`, which gives back its frames'
-    /// states instead of recording them); otherwise groups that cannot meet before the next sync time each go on
-    /// their own.
-    pub one_clock: bool,
+    /// Where groups that cannot meet before the next sync time each go on their own clock (`clocks.rs`); None where
+    /// every actor keeps one clock (a group's own advance, which gives back its frames' states instead of recording
+    /// them).
+    pub own_clocks: Option<OwnClocks>,
 }
 
 /// A contact step that was kept: the state it ends in and what the phase carries on from it.
@@ -127,13 +142,14 @@ pub fn touching_steps(
     let links = links(&system.model);
     let sleeps = cx.settings.sleep && !system.model.has_joints();
     let sleeping = (cx.memory.scales.resting_speed, cx.settings.sleep_time);
+    let one_clock = until.own_clocks.is_none();
     // whether the step being tried was cut at a stop
     let mut located = false;
     let mut kept_frames = Vec::new();
     let result = loop {
         // (each frame at its own time: while everything sleeps the clock jumps past several frames at once)
         while let Some(s) = frames.reached(t) {
-            if until.one_clock {
+            if one_clock {
                 kept_frames.push((s, y.clone()));
             } else if let Some(run) = run.as_deref_mut() {
                 let contacts = phase.last.iter().map(|c| (c.point, c.normal));
@@ -145,11 +161,14 @@ pub fn touching_steps(
             break Ok(true);
         }
         // groups that cannot meet before the next sync time go on their own clocks to it (`clocks.rs`)
-        if !until.one_clock && cx.settings.island_clocks && !system.model.has_joints() && sync_due(&mut phase, t) {
-            let at = (t, y.as_slice(), until.end);
-            if let Some(met) = own_clocks(cx, system, &statics, &mut phase, at, frames, run.as_deref_mut(), budget)? {
-                (t, y) = met;
-                continue;
+        if let Some(own_clocks) = until.own_clocks.filter(|_| cx.settings.island_clocks && !system.model.has_joints()) {
+            if sync_due(&mut phase, t) {
+                let at = (t, y.as_slice(), until.end);
+                let met = own_clocks(cx, system, &statics, &mut phase, at, frames, run.as_deref_mut(), budget)?;
+                if let Some(met) = met {
+                    (t, y) = met;
+                    continue;
+                }
             }
         }
         // frames do not steer the steps: only the end of the advance cuts one
@@ -254,7 +273,7 @@ pub fn touching_steps(
         // frames inside the step from the step's own interpolation (`interpolate`); a frame at its end is its state
         while let Some(s) = frames.inside(t) {
             let frame = || interpolate(&system.model, &y0, &y, (s - t0) / (t - t0));
-            if until.one_clock {
+            if one_clock {
                 kept_frames.push((s, frame()));
             } else if let Some(run) = run.as_deref_mut() {
                 let contacts = phase.last.iter().map(|c| (c.point, c.normal));

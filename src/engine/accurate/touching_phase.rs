@@ -1,7 +1,7 @@
 //! What accurate mode's touching phase carries from step to step (part of the engine's memory), and its check
 //! when a file gives it back.
 
-use super::free_flight::FreeFlight;
+use super::free_flight_memory::FreeFlight;
 use super::sleep::Sleep;
 use crate::engine::found_contact::ContactKey;
 use crate::engine::last_contacts::LastContact;
@@ -37,7 +37,7 @@ pub(crate) struct TouchingPhase {
     /// group's first actor. (Absent from files written before: one clock.)
     #[serde(default)]
     pub clocks: BTreeMap<usize, f64>,
-    /// When the groups were last looked for (`clocks.rs`: once a sync period, at the first step past each sync
+    /// When the groups were last looked for (`sync.rs`: once a sync period, at the first step past each sync
     /// time).
     #[serde(default = "never")]
     pub synced: f64,

@@ -2,8 +2,8 @@
 //! the equations of motion's force part; without the springs for the soft step, which evaluates them at every
 //! substep), and the actors as the contact solve sees them, sleeping ones fixed.
 
-use super::failure;
-use super::step::StepContext;
+use super::context::StepContext;
+use super::failure::failure;
 use crate::mode::FastSolver;
 use crate::WorldError;
 use tumble_contact::BodyState;

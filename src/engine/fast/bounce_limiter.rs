@@ -5,7 +5,7 @@
 //! factor that keeps the energy (`bounce_scale.rs`; a bounce begun a step's travel u h above the floor gains up to
 //! m g u h, about 2% of its energy at 4 m/s and h = 1/240 s, so the factor is about 0.99).
 
-use super::solve_velocities::Solver;
+use super::solver::Solver;
 use crate::engine::bounce_scale::{kinetic, largest_keeping_energy, moving_bodies};
 use crate::error::WorldError;
 use nalgebra::Vector3;

@@ -4,8 +4,8 @@
 //! carried (`Model::judged_loads`), a struck glued object's welds at the blow's peak (`Model::judge_peaks`); a
 //! joint past its bounds breaks, holding nothing from the next step on, and its bodies collide again.
 
+use super::context::StepContext;
 use super::soft_solve::Solved;
-use super::step::StepContext;
 use crate::engine::breaking::set_broken;
 use crate::model::breaking::JointLoad;
 use std::collections::BTreeMap;

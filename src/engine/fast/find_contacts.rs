@@ -7,8 +7,8 @@
 //! contacts are found again with it awake.
 
 use super::applied_forces::actors;
-use super::failure;
-use super::step::StepContext;
+use super::context::StepContext;
+use super::failure::failure;
 use crate::engine::found_contact::FoundContact;
 use crate::error::WorldError;
 use crate::plan::Stage;

@@ -2,14 +2,19 @@
 //! forces at the step's start (`applied_forces.rs`), contacts found with a margin (`find_contacts.rs`), the contact
 //! solve: either the soft step, which gives velocities and poses from its substeps (`soft_solve.rs`, the default),
 //! or the exact solver's velocities from one conic program per island (`solve_velocities.rs`, with `warm_start.rs`
-//! and `bounce_limiter.rs`) and positions from them; then sleep (`sleep.rs`) and the report. What the steps carry
-//! from one to the next is the engine's memory (`memory.rs`).
+//! and `bounce_limiter.rs`, both solving with `solver.rs`) and positions from them; the joints the step broke
+//! (`breaking.rs`); then sleep (`update_sleep.rs`, over `sleep.rs`) and the report. The stages work on the step's
+//! context (`context.rs`: the engine's parts, borrowed for the step) and fail with `failure.rs`'s error; what the
+//! steps carry from one to the next is the engine's memory (`memory.rs`). This module is the engine, above all of
+//! them: it makes the context and runs the step on it.
 //! The engine always steps by its `dt`: an advance ends at a whole number of steps, and frames are the states at the
 //! steps that reach them.
 
 mod applied_forces;
 mod bounce_limiter;
 mod breaking;
+mod context;
+mod failure;
 mod find_contacts;
 mod glued;
 mod glued_loads;
@@ -17,9 +22,11 @@ mod memory;
 mod sleep;
 mod soft_solve;
 mod solve_velocities;
+mod solver;
 mod step;
 #[cfg(test)]
 mod tests;
+mod update_sleep;
 mod warm_start;
 
 pub(crate) use memory::FastMemory;
@@ -35,11 +42,10 @@ use crate::model::{Compiled, Model};
 use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
+use context::StepContext;
 use sleep::Sleep;
 use std::collections::BTreeMap;
 use std::time::Instant;
-use step::StepContext;
-use tumble_integrate::OdeError;
 
 /// The method name fast mode reports.
 pub(crate) const FAST: &str = "fast (semi-implicit Euler, contact by conic program)";
@@ -67,10 +73,6 @@ pub(crate) struct FastEngine {
     published: Vec<f64>,
     /// The memory where the current call began (`checkpoint`), kept after it for its room.
     checkpoint: Option<FastMemory>,
-}
-
-pub(crate) fn failure(t: f64, message: String) -> WorldError {
-    WorldError::Simulation(OdeError::System { t, message })
 }
 
 impl FastEngine {
@@ -123,7 +125,7 @@ impl FastEngine {
                 FastSolver::Soft(_) => Stage::ContactSoftStep,
                 FastSolver::Exact { .. } => Stage::ContactConeProgram,
             });
-            // jointed bodies do not sleep (`sleep.rs`)
+            // jointed bodies do not sleep (`update_sleep.rs`)
             if settings.sleep && !joints {
                 out.push(Stage::Sleeping);
             }

@@ -1,15 +1,12 @@
 //! Sleeping in fast mode: an actor (particle or dynamic body) that has moved slower than the sleep speed for the
 //! sleep time is still; a group of actors in contact sleeps when all its members are still, and is skipped (held
-//! fixed, momenta zero) until an awake actor touches one of them, which wakes the whole group.
+//! fixed, momenta zero) until an awake actor touches one of them, which wakes the whole group. This is what sleeps
+//! (`Sleep`, part of the engine's memory); the stage that brings it up to a step's end is `update_sleep.rs`.
 
-use super::step::StepContext;
-use crate::engine::found_contact::FoundContact;
 use crate::mode::FastSettings;
 use crate::model::layout::set3;
 use crate::model::Model;
-use crate::plan::Stage;
 use nalgebra::Vector3;
-use tumble_contact::{BodyState, BodyVelocity};
 
 /// Who sleeps, and how long each awake actor has been still.
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
@@ -134,37 +131,4 @@ impl Sleep {
             }
         }
     }
-}
-
-/// Fifth stage: books how long each actor has been still (at the velocities the step ended with) and puts
-/// still islands to sleep, their momenta zeroed.
-pub(super) fn update_sleep(
-    cx: &mut StepContext<'_>,
-    states: &[BodyState],
-    v: &[BodyVelocity],
-    found: &[FoundContact],
-    h: f64,
-) {
-    let (true, Some(scene)) = (cx.settings.sleep, cx.scene.as_deref()) else { return };
-    // jointed bodies do not sleep (sleep groups bodies by their contacts alone)
-    if cx.model.has_joints() {
-        return;
-    }
-    let moved: Vec<BodyState> = states
-        .iter()
-        .zip(v)
-        .map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s })
-        .collect();
-    let mut speeds = scene.reach(&moved, 1.0);
-    // a kinematic body with moving still to do is never still
-    let p = cx.model.layout.particles;
-    for j in (0..cx.model.bodies.len()).filter(|&j| cx.model.kinematic_moves_after(j, cx.t_next)) {
-        speeds[p + j] = f64::INFINITY;
-    }
-    match &cx.memory.pairs {
-        Some(kept) => cx.memory.sleep.update(kept.touching(), &speeds, cx.settings, h),
-        None => cx.memory.sleep.update(found.iter().map(|f| (f.contact.a, f.contact.b)), &speeds, cx.settings, h),
-    }
-    cx.memory.sleep.freeze(&mut cx.memory.y, cx.model);
-    cx.report.stages.mark(Stage::Sleeping);
 }

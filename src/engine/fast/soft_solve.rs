@@ -7,9 +7,9 @@
 //! every substep (as forces evaluated once a step and spread over the substeps they were not symplectic: an
 //! undamped spring gained energy at any step, and the cloth drape diverged).
 
-use super::failure;
+use super::context::StepContext;
+use super::failure::failure;
 use super::glued::{Balance, Glued, WeldLoads};
-use super::step::StepContext;
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
 use crate::model::joints::JointEnd;

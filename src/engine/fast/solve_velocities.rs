@@ -4,8 +4,9 @@
 //! restitution (`bounce_limiter.rs`). Without contacts, the free velocities.
 
 use super::bounce_limiter::limit_bounce_energy;
-use super::failure;
-use super::step::StepContext;
+use super::context::StepContext;
+use super::failure::failure;
+use super::solver::Solver;
 use super::warm_start::known_impulses;
 use crate::engine::found_contact::FoundContact;
 use crate::engine::last_contacts::LastContact;
@@ -13,34 +14,7 @@ use crate::error::WorldError;
 use crate::mode::{FastFriction, FastSolver};
 use crate::plan::Stage;
 use std::time::Instant;
-use tumble_contact::{
-    free_velocity, islands, velocity_step, BodyState, BodyVelocity, Contact, StepSettings, VelocityProblem,
-    VelocityStep,
-};
-
-/// The conic-program solver of one step: the actors, the settings, and how many clarabel calls it made.
-pub(super) struct Solver<'a> {
-    pub states: &'a [BodyState],
-    pub settings: StepSettings,
-    pub friction: FastFriction,
-    pub t: f64,
-    pub solves: usize,
-}
-
-impl Solver<'_> {
-    /// The velocity step for `contacts`, friction bounded by `previous` normal impulses when lagged.
-    pub fn solve(&mut self, contacts: &[Contact], previous: &[f64]) -> Result<VelocityStep, WorldError> {
-        let out = match self.friction {
-            FastFriction::Lagged => {
-                velocity_step(&VelocityProblem::new(self.states, contacts).lagged(previous), &self.settings)
-            }
-            FastFriction::Cone => velocity_step(&VelocityProblem::new(self.states, contacts), &self.settings),
-        }
-        .map_err(|e| failure(self.t, format!("contact solve: {e}")))?;
-        self.solves += out.solver_calls;
-        Ok(out)
-    }
-}
+use tumble_contact::{free_velocity, islands, BodyState, BodyVelocity, Contact, StepSettings};
 
 /// The velocities after step h of the actors `states` with contacts `found`; remembers the normal impulses.
 pub(super) fn solve_velocities(

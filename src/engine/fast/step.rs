@@ -1,46 +1,25 @@
-//! One step of fast mode as a list of stages, one file each, run in order on the step's context (the engine's
-//! parts, borrowed for the step): the kinematic bodies put on their path, the applied forces at the step's start
-//! (`applied_forces.rs`), the contacts found
-//! with a margin (`find_contacts.rs`), the contact solve, either the soft step, which gives velocities and poses
-//! from its substeps (`soft_solve.rs`, the default), or the exact solver's velocities from one conic program per
-//! island (`solve_velocities.rs`) and positions from them by semi-implicit Euler; the joints the step broke
-//! (`breaking.rs`); then the state's check, the joints' errors, sleep (`sleep.rs`) and the report.
+//! One step of fast mode as a list of stages, one file each, run in order on the step's context (`context.rs`: the
+//! engine's parts, borrowed for the step): the kinematic bodies put on their path, the applied forces at the step's
+//! start (`applied_forces.rs`), the contacts found with a margin (`find_contacts.rs`), the contact solve, either the
+//! soft step, which gives velocities and poses from its substeps (`soft_solve.rs`, the default), or the exact
+//! solver's velocities from one conic program per island (`solve_velocities.rs`) and positions from them by
+//! semi-implicit Euler; the joints the step broke (`breaking.rs`); then the state's check, the joints' errors,
+//! sleep (`update_sleep.rs`) and the report. This is the scheduler: it uses the stages, and no stage uses it.
 
 use super::applied_forces::applied_forces;
 use super::breaking::break_joints;
+use super::context::StepContext;
 use super::find_contacts::find_contacts;
-use super::memory::FastMemory;
-use super::sleep::update_sleep;
 use super::soft_solve::soft_solve;
 use super::solve_velocities::solve_velocities;
-use crate::engine::collider_set::ColliderSet;
+use super::update_sleep::update_sleep;
 use crate::engine::semi_implicit::{apply_moves, update_positions, Form};
 use crate::error::WorldError;
-use crate::mode::{FastSettings, FastSolver};
+use crate::mode::FastSolver;
 use crate::model::Model;
 use crate::plan::Stage;
-use crate::report::WorldReport;
 use std::time::Instant;
 use tumble_integrate::OdeError;
-
-/// What a stage works on: the engine's parts for one step of `h` from time `t`.
-pub(super) struct StepContext<'a> {
-    pub model: &'a mut Model,
-    pub scene: Option<&'a mut ColliderSet>,
-    pub settings: &'a FastSettings,
-    pub memory: &'a mut FastMemory,
-    /// The rates of the step's force evaluation (scratch kept by the engine).
-    pub dy: &'a mut Vec<f64>,
-    /// The energy of the state where the last step ended (kept by the engine; none once the state was set).
-    pub energy: &'a mut Option<f64>,
-    pub report: &'a mut WorldReport,
-    pub threads: usize,
-    /// A state component past this is divergence.
-    pub divergence_limit: f64,
-    /// The step's start and end times.
-    pub t: f64,
-    pub t_next: f64,
-}
 
 /// One step of size h, as its stages; gives the joints it broke.
 pub(super) fn step(cx: &mut StepContext<'_>, h: f64) -> Result<Vec<usize>, WorldError> {

@@ -192,7 +192,7 @@ fn the_bounce_limiter_replaces_an_answer_that_gains_energy_by_one_with_less_rest
     // an answer of the particle's bounce that would leave at 4 m/s (more than it came with) is solved again with
     // its restitution scaled back: the answer taken keeps the energy and is at least the one at 98% restitution
     use super::bounce_limiter::limit_bounce_energy;
-    use super::solve_velocities::Solver;
+    use super::solver::Solver;
     let mut e = engine(&landing(1.0), FastSettings { solver: FastSolver::exact(), ..FastSettings::new(H) });
     let mut cx = e.context();
     let mut states = applied_forces(&mut cx).unwrap();

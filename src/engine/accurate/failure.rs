@@ -1,0 +1,8 @@
+//! An accurate-mode stage's failure, said as the integrator's error (a system error at time t).
+
+use tumble_integrate::OdeError;
+
+/// The error of a stage that failed at time t.
+pub(crate) fn failure(t: f64, message: String) -> OdeError {
+    OdeError::System { t, message }
+}
