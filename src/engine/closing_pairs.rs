@@ -163,7 +163,7 @@ impl ColliderSet {
                 contacts_now.clear();
             }
             let material = ca.material.combine(&cb.material, &self.rules);
-            let as_found = |c: &tumble_collide::Contact| self.found_contact((i, j), (ia, ib), material, *c);
+            let as_found = |c: &tumble_collide::ShapeContact| self.found_contact((i, j), (ia, ib), material, *c);
             gaps.clear();
             gaps.extend(contacts_now.iter().map(|c| c.distance));
             let reduce = || {

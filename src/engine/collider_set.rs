@@ -337,7 +337,7 @@ impl ColliderSet {
         pair: (usize, usize),
         (ia, ib): (usize, usize),
         material: Material,
-        c: tumble_collide::Contact,
+        c: tumble_collide::ShapeContact,
     ) -> FoundContact {
         let (ca, cb) = (&self.colliders[pair.0], &self.colliders[pair.1]);
         let motion = match c.kind {

@@ -23,7 +23,7 @@ use crate::engine::last_contacts::LastContact;
 use nalgebra::{Isometry3, Matrix4, Point3, Unit, Vector3};
 use smallvec::SmallVec;
 use std::sync::Arc;
-use tumble_collide::{Contact, ContactKind, Shape};
+use tumble_collide::{ContactKind, Shape, ShapeContact};
 use tumble_contact::{BodyState, ColourGraph, SoftManifold, SoftPoint, MANIFOLD_POINTS, UNCOLOURED};
 
 /// The relative motion up to which a manifold is reused (m), and as a fraction of the smaller collider's bounding
@@ -49,7 +49,7 @@ struct Local {
     /// The normal in A's frame, or in B's if `on_b`.
     normal: Vector3<f64>,
     on_b: bool,
-    contact: Contact,
+    contact: ShapeContact,
 }
 
 /// One pair's manifold as computed.
@@ -191,8 +191,8 @@ impl Pair {
         (shape_a, pose_a, radius_a): (&Shape, &Isometry3<f64>, f64),
         (shape_b, pose_b, radius_b): (&Shape, &Isometry3<f64>, f64),
         prediction: f64,
-        compute: impl FnOnce(f64) -> Result<Vec<Contact>, E>,
-        out: &mut Vec<Contact>,
+        compute: impl FnOnce(f64) -> Result<Vec<ShapeContact>, E>,
+        out: &mut Vec<ShapeContact>,
     ) -> Result<Found, E> {
         out.clear();
         self.carried = None;
@@ -276,7 +276,7 @@ impl Pair {
     /// their features: what a reused manifold gives a resting pair step after step), their impulses and colour kept
     /// as they are and their material `material` (it may have changed between steps); gives whether it did (else
     /// `set_contacts` sets them).
-    pub fn carry_kept(&mut self, contacts: &[Contact], kept: &[usize], material: Material) -> bool {
+    pub fn carry_kept(&mut self, contacts: &[ShapeContact], kept: &[usize], material: Material) -> bool {
         let same = self.features.len() == kept.len()
             && kept.iter().zip(&self.features).all(|(&k, f)| {
                 let c = &contacts[k];
@@ -530,10 +530,10 @@ fn merged(a: Vec<Pair>, b: Vec<Pair>) -> Vec<Pair> {
 /// The contacts of `candidates` within reach (the `Some`s), into `out`, and, if `choosing`, their places among the
 /// candidates.
 fn within_reach(
-    candidates: impl Iterator<Item = Option<Contact>>,
+    candidates: impl Iterator<Item = Option<ShapeContact>>,
     capacity: usize,
     choosing: bool,
-    out: &mut Vec<Contact>,
+    out: &mut Vec<ShapeContact>,
 ) -> Option<Vec<u32>> {
     let mut carried = Vec::with_capacity(if choosing { capacity } else { 0 });
     for (k, c) in candidates.enumerate() {
@@ -549,14 +549,14 @@ fn within_reach(
 
 /// A kept contact where its bodies now are (their poses as matrices, `frames`), if within `prediction`: its points
 /// carried by their bodies, its normal by the face that gives it, its gap measured anew.
-fn carry(l: &Local, (a, b): &(Matrix4<f64>, Matrix4<f64>), prediction: f64) -> Option<Contact> {
+fn carry(l: &Local, (a, b): &(Matrix4<f64>, Matrix4<f64>), prediction: f64) -> Option<ShapeContact> {
     let point_a = a.transform_point(&l.a);
     let point_b = b.transform_point(&l.b);
     let frame = if l.on_b { b } else { a };
     // a rotation keeps the normal's length to the rounding
     let normal = Unit::new_unchecked(frame.transform_vector(&l.normal));
     let distance = normal.dot(&(point_b - point_a));
-    (distance <= prediction).then_some(Contact { point_a, point_b, normal, distance, ..l.contact })
+    (distance <= prediction).then_some(ShapeContact { point_a, point_b, normal, distance, ..l.contact })
 }
 
 #[cfg(test)]

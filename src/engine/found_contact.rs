@@ -37,7 +37,7 @@ impl ContactKey {
 
 /// The contact point tumble-contact takes for a contact of parry's: the vertex (or curved point) that carries it, or
 /// between the two points.
-pub(crate) fn contact_point(c: &tumble_collide::Contact) -> Point3<f64> {
+pub(crate) fn contact_point(c: &tumble_collide::ShapeContact) -> Point3<f64> {
     match c.kind {
         tumble_collide::ContactKind::FaceVertex => c.point_b,
         tumble_collide::ContactKind::VertexFace => c.point_a,

@@ -1,10 +1,10 @@
 //! Contact geometry of a touching or interpenetrating pair, from parry's contact manifolds: points on both surfaces, a
-//! common normal, signed distance and the kind of contact (a `Contact`, `contact_point.rs`). Where parry's manifold
+//! common normal, signed distance and the kind of contact (a `ShapeContact`, `contact_point.rs`). Where parry's manifold
 //! of hulls is partial (a face of more than four vertices, a hull on a plane, two hulls touching exactly), their
 //! faces are taken whole in `face_contact.rs`.
 
 use crate::aabb::check_pose;
-use crate::contact_point::{kind, Contact, Feature};
+use crate::contact_point::{kind, Feature, ShapeContact};
 use crate::convert::{from_parry, point_from_parry};
 use crate::error::ShapeError;
 use crate::face_contact::{clipped_contacts, hull_plane_contacts, long_face_contacts};
@@ -38,7 +38,7 @@ pub fn contacts(
     b: &Shape,
     pose_b: &Isometry3<f64>,
     prediction: f64,
-) -> Result<Vec<Contact>, ShapeError> {
+) -> Result<Vec<ShapeContact>, ShapeError> {
     check_pose("pose_a", pose_a)?;
     check_pose("pose_b", pose_b)?;
     if !(prediction.is_finite() && prediction >= 0.0) {
@@ -50,7 +50,7 @@ pub fn contacts(
     DefaultQueryDispatcher
         .contact_manifolds(&pa.inv_mul(&pb), va.as_dyn(), vb.as_dyn(), prediction, &mut manifolds, &mut None)
         .map_err(|_| unsupported_pair(a, b))?;
-    let mut out: Vec<Contact> = Vec::new();
+    let mut out: Vec<ShapeContact> = Vec::new();
     for m in &manifolds {
         let sa = m.subshape_poses.as_ref().and_then(|s| s.pos1).map_or(pa, |s| pa * s);
         let sb = m.subshape_poses.as_ref().and_then(|s| s.pos2).map_or(pb, |s| pb * s);
@@ -61,7 +61,7 @@ pub fn contacts(
         let part_a: &dyn ParryShape = ta.as_ref().map(|t| t as &dyn ParryShape).or(ca).unwrap_or(va.as_dyn());
         let part_b: &dyn ParryShape = tb.as_ref().map(|t| t as &dyn ParryShape).or(cb).unwrap_or(vb.as_dyn());
         // a compound's features are numbered within each piece: the piece's number goes into the id
-        let tag = |c: Contact| Contact {
+        let tag = |c: ShapeContact| ShapeContact {
             feature_a: ca.map_or(c.feature_a, |_| in_piece(c.feature_a, m.subshape1)),
             feature_b: cb.map_or(c.feature_b, |_| in_piece(c.feature_b, m.subshape2)),
             ..c
@@ -109,7 +109,7 @@ pub fn contacts(
             if unknown && p.dist >= deepest_labelled - 1e-12 * (1.0 + p.dist.abs()) {
                 continue;
             }
-            let c = tag(Contact {
+            let c = tag(ShapeContact {
                 point_a: point_from_parry(sa.transform_point(p.local_p1)),
                 point_b: point_from_parry(sb.transform_point(p.local_p2)),
                 normal,
@@ -139,7 +139,7 @@ fn in_piece(f: Feature, piece: u32) -> Feature {
 }
 
 /// Whether two contacts sit at the same place (to 1e-9 relative).
-fn same_place(x: &Contact, y: &Contact) -> bool {
+fn same_place(x: &ShapeContact, y: &ShapeContact) -> bool {
     let close = |p: &Point3<f64>, q: &Point3<f64>| (p - q).norm() <= 1e-9 * (1.0 + p.coords.amax());
     close(&x.point_a, &y.point_a) && close(&x.point_b, &y.point_b)
 }

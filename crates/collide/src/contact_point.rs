@@ -35,7 +35,7 @@ pub enum ContactKind {
 
 /// One contact point of a pair (A, B), in world coordinates.
 #[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
-pub struct Contact {
+pub struct ShapeContact {
     /// The point of A's surface.
     pub point_a: Point3<f64>,
     /// The point of B's surface.

@@ -3,7 +3,7 @@
 //! prism on the ground tips over. Here both touching features are taken whole, along the manifold's normal, and
 //! their overlap is clipped in the plane across it: every vertex of the overlap is a contact point.
 
-use crate::contact_point::{kind, Contact, Feature};
+use crate::contact_point::{kind, Feature, ShapeContact};
 use crate::convert::{from_parry, point_from_parry, to_parry};
 use nalgebra::{Point3, Unit, Vector2, Vector3};
 use parry3d_f64::math::Pose;
@@ -93,7 +93,7 @@ pub(crate) fn hull_plane_contacts(
     pose_b: &Pose,
     normal: Unit<Vector3<f64>>,
     prediction: f64,
-) -> Option<Vec<Contact>> {
+) -> Option<Vec<ShapeContact>> {
     let (hull, hull_pose, plane, plane_pose, hull_is_a) =
         match (a.as_convex_polyhedron(), b.as_halfspace(), a.as_halfspace(), b.as_convex_polyhedron()) {
             (Some(h), Some(p), _, _) => (h, pose_a, p, pose_b, true),
@@ -134,7 +134,7 @@ pub(crate) fn hull_plane_contacts(
         } else {
             (on_plane, q, Feature::Face(0), Feature::Vertex(i))
         };
-        out.push(Contact {
+        out.push(ShapeContact {
             point_a,
             point_b,
             normal,
@@ -157,7 +157,7 @@ pub(crate) fn long_face_contacts(
     pose_b: &Pose,
     normal: Unit<Vector3<f64>>,
     prediction: f64,
-) -> Option<Vec<Contact>> {
+) -> Option<Vec<ShapeContact>> {
     let n = normal.into_inner();
     if !(long_face(a, pose_a, n) || long_face(b, pose_b, -n)) {
         return None;
@@ -175,14 +175,14 @@ pub(crate) fn clipped_contacts(
     pose_b: &Pose,
     normal: Unit<Vector3<f64>>,
     prediction: f64,
-) -> Option<Vec<Contact>> {
+) -> Option<Vec<ShapeContact>> {
     let n = normal.into_inner();
     let (pa, pb) = (side(a, pose_a, n)?, side(b, pose_b, -n)?);
     let mut out = Vec::new();
     let mut push = |point_a: Point3<f64>, point_b: Point3<f64>, feature_a: Feature, feature_b: Feature| {
         let distance = n.dot(&(point_b - point_a));
         if distance <= prediction {
-            out.push(Contact {
+            out.push(ShapeContact {
                 point_a,
                 point_b,
                 normal,

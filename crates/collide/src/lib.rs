@@ -52,7 +52,7 @@ mod toi;
 
 pub use aabb::Aabb;
 pub use contact::contacts;
-pub use contact_point::{Contact, ContactKind, Feature};
+pub use contact_point::{ContactKind, Feature, ShapeContact};
 pub use convex_hull::ConvexHull;
 pub use decompose::{Decomposed, Decomposition, MAX_DECOMPOSED_TRIANGLES};
 pub use error::{ShapeError, LENGTH};

@@ -5,7 +5,7 @@
 
 use crate::memory::{MemoryReader, MemoryWriter};
 use crate::method::Method;
-use crate::settings::{Control, Settings};
+use crate::settings::{Settings, StepControl};
 
 const SAFE: f64 = 0.9;
 
@@ -33,10 +33,10 @@ pub(crate) enum Controller {
 impl Controller {
     pub fn for_settings(settings: &Settings) -> Self {
         match settings.control {
-            Control::Fixed { .. } => Controller::Fixed,
-            Control::StepDoubling { .. } => Controller::Doubling { order: settings.method.order() },
-            Control::Derivative { .. } => Controller::Own,
-            Control::Tolerances { .. } => match settings.method {
+            StepControl::Fixed { .. } => Controller::Fixed,
+            StepControl::StepDoubling { .. } => Controller::Doubling { order: settings.method.order() },
+            StepControl::Derivative { .. } => Controller::Own,
+            StepControl::Tolerances { .. } => match settings.method {
                 Method::Rodas4 => Controller::Predictive { last: None, max_increase: 6.0 },
                 Method::Radau5 => Controller::Predictive { last: None, max_increase: 8.0 },
                 Method::Am4 => Controller::Halving { calm: 0 },

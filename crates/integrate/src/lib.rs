@@ -49,7 +49,7 @@ pub use memory::IntegratorMemory;
 pub use method::Method;
 pub use report::Report;
 pub use second_order::{FirstOrder, SecondOrderSystem};
-pub use settings::{Control, LinearSolver, NewtonMode, Settings};
+pub use settings::{LinearSolver, NewtonMode, Settings, StepControl};
 pub use solve::{solve, SaveAt, Solution};
 pub use system::{FnSystem, JacobianStructure, OdeSystem, Split};
 

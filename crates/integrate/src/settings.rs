@@ -9,7 +9,7 @@ use crate::system::OdeSystem;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case", deny_unknown_fields))]
-pub enum Control {
+pub enum StepControl {
     /// Fixed step: each interval between stops (output times, the end) is divided into equal steps no longer
     /// than `dt`, so uniform outputs keep h constant and multistep histories alive.
     Fixed { dt: f64 },
@@ -55,7 +55,7 @@ pub struct Settings {
     /// The method.
     pub method: Method,
     /// The step control.
-    pub control: Control,
+    pub control: StepControl,
     /// Implicit Euler's treatment of the nonlinear equation.
     pub newton: NewtonMode,
     /// Implicit Euler's linear solver for sparse Jacobians.
@@ -79,7 +79,7 @@ pub struct Settings {
 }
 
 impl Settings {
-    fn with_control(method: Method, control: Control) -> Self {
+    fn with_control(method: Method, control: StepControl) -> Self {
         Settings {
             method,
             control,
@@ -96,22 +96,22 @@ impl Settings {
 
     /// A fixed step `dt`.
     pub fn fixed(method: Method, dt: f64) -> Self {
-        Self::with_control(method, Control::Fixed { dt })
+        Self::with_control(method, StepControl::Fixed { dt })
     }
 
     /// Error control by the method's own estimate (dopri5, rodas4, am4).
     pub fn tolerances(method: Method, rtol: f64, atol: f64) -> Self {
-        Self::with_control(method, Control::Tolerances { rtol, atol })
+        Self::with_control(method, StepControl::Tolerances { rtol, atol })
     }
 
     /// The chapter's step doubling with per-step error `tolerance`, first step `dt`.
     pub fn step_doubling(method: Method, tolerance: f64, dt: f64) -> Self {
-        Self::with_control(method, Control::StepDoubling { tolerance, dt })
+        Self::with_control(method, StepControl::StepDoubling { tolerance, dt })
     }
 
     /// The chapter's variable-step Euler with per-step error `tolerance`.
     pub fn euler_variable(tolerance: f64) -> Self {
-        Self::with_control(Method::EulerVariable, Control::Derivative { tolerance })
+        Self::with_control(Method::EulerVariable, StepControl::Derivative { tolerance })
     }
 
     /// Sets implicit Euler's Newton mode.
@@ -165,7 +165,7 @@ impl Settings {
     /// The tolerances that weight error norms (also used by Newton's convergence test).
     pub(crate) fn weights(&self) -> (f64, f64) {
         match self.control {
-            Control::Tolerances { rtol, atol } => (rtol, atol),
+            StepControl::Tolerances { rtol, atol } => (rtol, atol),
             _ => (1e-10, 1e-10),
         }
     }
@@ -182,13 +182,13 @@ impl Settings {
         };
         let unsupported = |reason: &str| Err(OdeError::Unsupported { method: m.name(), reason: reason.into() });
         match self.control {
-            Control::Fixed { dt } => {
+            StepControl::Fixed { dt } => {
                 positive("dt", dt)?;
                 if m == Method::EulerVariable {
-                    return unsupported("it chooses its own step; use Control::Derivative");
+                    return unsupported("it chooses its own step; use StepControl::Derivative");
                 }
             }
-            Control::Tolerances { rtol, atol } => {
+            StepControl::Tolerances { rtol, atol } => {
                 for (name, v) in [("rtol", rtol), ("atol", atol)] {
                     if !(v.is_finite() && v >= 0.0) {
                         return Err(OdeError::invalid(name, format!("must be finite and >= 0, got {v}")));
@@ -201,22 +201,22 @@ impl Settings {
                     return unsupported("it has no error estimate; use a fixed step or step doubling");
                 }
             }
-            Control::StepDoubling { tolerance, dt } => {
+            StepControl::StepDoubling { tolerance, dt } => {
                 positive("tolerance", tolerance)?;
                 positive("dt", dt)?;
                 if !m.is_one_step() {
                     return unsupported("step doubling needs a one-step method");
                 }
             }
-            Control::Derivative { tolerance } => {
+            StepControl::Derivative { tolerance } => {
                 positive("tolerance", tolerance)?;
                 if m != Method::EulerVariable {
-                    return unsupported("Control::Derivative belongs to euler-variable");
+                    return unsupported("StepControl::Derivative belongs to euler-variable");
                 }
             }
         }
-        if m == Method::EulerVariable && !matches!(self.control, Control::Derivative { .. }) {
-            return unsupported("euler-variable needs Control::Derivative");
+        if m == Method::EulerVariable && !matches!(self.control, StepControl::Derivative { .. }) {
+            return unsupported("euler-variable needs StepControl::Derivative");
         }
         if let NewtonMode::Newton { tol, max_iter } = self.newton {
             positive("newton tol", tol)?;

@@ -34,7 +34,7 @@ pub struct Curve {
 
 /// One measured point.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Run {
+pub struct PrecisionRun {
     /// Problem name.
     pub problem: String,
     /// Curve label.
@@ -56,7 +56,7 @@ pub struct Run {
 /// The CSV header shared with the peer scripts (`benches/peers/`).
 pub const CSV_HEADER: &str = "problem,method,param,error,seconds,rhs_evals,steps,rejected";
 
-impl Run {
+impl PrecisionRun {
     /// One CSV row in the order of [`CSV_HEADER`].
     pub fn csv_row(&self) -> String {
         format!(
@@ -67,12 +67,12 @@ impl Run {
 
     /// Parses a CSV row written by [`Run::csv_row`] or a peer script (an empty `rejected` reads as 0: scipy does
     /// not report rejected steps).
-    pub fn parse_csv_row(line: &str) -> Option<Run> {
+    pub fn parse_csv_row(line: &str) -> Option<PrecisionRun> {
         let f: Vec<&str> = line.trim().split(',').collect();
         if f.len() != 8 {
             return None;
         }
-        Some(Run {
+        Some(PrecisionRun {
             problem: f[0].to_string(),
             method: f[1].to_string(),
             param: f[2].parse().ok()?,
@@ -172,7 +172,7 @@ pub fn measure(
     param: f64,
     reference: &[f64],
     budget: Duration,
-) -> Result<Run, OdeError> {
+) -> Result<PrecisionRun, OdeError> {
     let run_once = || {
         let mut sys = problem.system();
         let start = Instant::now();
@@ -185,7 +185,7 @@ pub fn measure(
     for _ in 0..repeats {
         best = best.min(run_once()?.0);
     }
-    Ok(Run {
+    Ok(PrecisionRun {
         problem: problem.name.to_string(),
         method: label.to_string(),
         param,
@@ -204,7 +204,7 @@ pub fn sweep_problem(
     problem: &Problem,
     budget: Duration,
     mut skipped: impl FnMut(&str, f64, String),
-) -> Result<Vec<Run>, OdeError> {
+) -> Result<Vec<PrecisionRun>, OdeError> {
     let reference = reference(problem)?;
     let mut runs = Vec::new();
     for curve in curves(problem) {
@@ -227,7 +227,7 @@ pub fn sweep_problem(
 /// The fastest time in which any curve of `runs` reaches an error of at most `error`, with its label. A curve
 /// reaches it at every measured point with error <= `error`, and, between consecutive points of its sweep that
 /// bracket `error`, at the time interpolated linearly in log(seconds) against log(error).
-pub fn best_time_at(runs: &[Run], error: f64) -> Option<(f64, String)> {
+pub fn best_time_at(runs: &[PrecisionRun], error: f64) -> Option<(f64, String)> {
     let mut labels: Vec<&str> = runs.iter().map(|r| r.method.as_str()).collect();
     labels.sort();
     labels.dedup();
@@ -238,7 +238,7 @@ pub fn best_time_at(runs: &[Run], error: f64) -> Option<(f64, String)> {
         }
     };
     for label in labels {
-        let curve: Vec<&Run> = runs.iter().filter(|r| r.method == label && r.error > 0.0).collect();
+        let curve: Vec<&PrecisionRun> = runs.iter().filter(|r| r.method == label && r.error > 0.0).collect();
         for r in curve.iter().filter(|r| r.error <= error) {
             offer(r.seconds, label);
         }
@@ -257,8 +257,8 @@ pub fn best_time_at(runs: &[Run], error: f64) -> Option<(f64, String)> {
 mod tests {
     use super::*;
 
-    fn run(method: &str, error: f64, seconds: f64) -> Run {
-        Run {
+    fn run(method: &str, error: f64, seconds: f64) -> PrecisionRun {
+        PrecisionRun {
             problem: "p".into(),
             method: method.into(),
             param: 0.0,

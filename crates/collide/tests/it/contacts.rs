@@ -3,7 +3,7 @@
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 use std::f64::consts::FRAC_PI_4;
-use tumble_collide::{contacts, Contact, ContactKind, Feature, Shape};
+use tumble_collide::{contacts, ContactKind, Feature, Shape, ShapeContact};
 
 // Contact points come from parry's clipping and GJK/EPA on shapes of unit size: 1e-9 covers their tolerances.
 const TOL: f64 = 1e-9;
@@ -12,7 +12,7 @@ fn near(p: &Point3<f64>, q: &Point3<f64>) -> bool {
     (p - q).norm() < TOL
 }
 
-fn find<'a>(cs: &'a [Contact], point_a: &Point3<f64>) -> &'a Contact {
+fn find<'a>(cs: &'a [ShapeContact], point_a: &Point3<f64>) -> &'a ShapeContact {
     cs.iter().find(|c| near(&c.point_a, point_a)).unwrap_or_else(|| panic!("no contact at {point_a:?} in {cs:#?}"))
 }
 

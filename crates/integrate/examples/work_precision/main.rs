@@ -17,7 +17,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 use tumble_integrate::problems;
-use tumble_integrate::work_precision::{best_time_at, sweep_problem, Run, CSV_HEADER};
+use tumble_integrate::work_precision::{best_time_at, sweep_problem, PrecisionRun, CSV_HEADER};
 
 struct Args {
     out: PathBuf,
@@ -49,9 +49,9 @@ fn parse_args() -> Result<Args, String> {
     Ok(args)
 }
 
-fn read_runs(path: &PathBuf) -> Result<Vec<Run>, String> {
+fn read_runs(path: &PathBuf) -> Result<Vec<PrecisionRun>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(text.lines().skip(1).filter_map(Run::parse_csv_row).collect())
+    Ok(text.lines().skip(1).filter_map(PrecisionRun::parse_csv_row).collect())
 }
 
 fn main() {
@@ -63,7 +63,8 @@ fn main() {
         }
     };
     std::fs::create_dir_all(&args.out).expect("create the output directory");
-    let peers: Vec<Run> = args.peers.iter().flat_map(|p| read_runs(p).unwrap_or_else(|e| panic!("{e}"))).collect();
+    let peers: Vec<PrecisionRun> =
+        args.peers.iter().flat_map(|p| read_runs(p).unwrap_or_else(|e| panic!("{e}"))).collect();
     let selected: Vec<_> = problems::all()
         .into_iter()
         .filter(|p| args.problems.is_empty() || args.problems.iter().any(|n| n == p.name))
@@ -82,7 +83,7 @@ fn main() {
             skipped,
             clock.elapsed().as_secs_f64()
         );
-        let peer_runs: Vec<Run> = peers.iter().filter(|r| r.problem == problem.name).cloned().collect();
+        let peer_runs: Vec<PrecisionRun> = peers.iter().filter(|r| r.problem == problem.name).cloned().collect();
         let png = args.out.join(format!("{}.png", problem.name));
         plot::work_precision(&png, problem.name, &runs, &peer_runs)
             .unwrap_or_else(|e| panic!("plot {}: {e}", png.display()));
@@ -105,13 +106,13 @@ fn main() {
 
 /// For each problem and each error level 1e-3 .. 1e-10 that both sides reach: our best time, the peer's best
 /// time, and their ratio.
-fn comparison(problems: &[&str], ours: &[Run], peers: &[Run]) -> String {
+fn comparison(problems: &[&str], ours: &[PrecisionRun], peers: &[PrecisionRun]) -> String {
     let mut s = String::from(
         "| problem | error | ours (best method) | peer (best method) | peer / ours |\n|---|---|---|---|---|\n",
     );
     for &name in problems {
-        let mine: Vec<Run> = ours.iter().filter(|r| r.problem == name).cloned().collect();
-        let theirs: Vec<Run> = peers.iter().filter(|r| r.problem == name).cloned().collect();
+        let mine: Vec<PrecisionRun> = ours.iter().filter(|r| r.problem == name).cloned().collect();
+        let theirs: Vec<PrecisionRun> = peers.iter().filter(|r| r.problem == name).cloned().collect();
         for k in 3..=10 {
             let e = 10f64.powi(-k);
             if let (Some((a, am)), Some((b, bm))) = (best_time_at(&mine, e), best_time_at(&theirs, e)) {

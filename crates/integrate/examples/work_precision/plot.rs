@@ -3,12 +3,12 @@
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
-use tumble_integrate::work_precision::Run;
+use tumble_integrate::work_precision::PrecisionRun;
 
 static FONT: Once = Once::new();
 
 /// Groups runs by curve label, keeping the sweep order.
-fn curves(runs: &[Run]) -> Vec<(String, Vec<(f64, f64)>)> {
+fn curves(runs: &[PrecisionRun]) -> Vec<(String, Vec<(f64, f64)>)> {
     let mut out: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for r in runs.iter().filter(|r| r.error > 0.0 && r.seconds > 0.0) {
         match out.iter_mut().find(|(l, _)| *l == r.method) {
@@ -30,8 +30,8 @@ fn decade_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 pub fn work_precision(
     path: &Path,
     problem: &str,
-    ours: &[Run],
-    peers: &[Run],
+    ours: &[PrecisionRun],
+    peers: &[PrecisionRun],
 ) -> Result<(), Box<dyn std::error::Error>> {
     FONT.call_once(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular()).ok();

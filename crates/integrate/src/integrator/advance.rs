@@ -6,7 +6,7 @@ use super::Integrator;
 use crate::error::OdeError;
 use crate::events::{Advance, StepView};
 use crate::point::max_norm;
-use crate::settings::Control;
+use crate::settings::StepControl;
 use crate::system::OdeSystem;
 use std::time::Instant;
 
@@ -105,7 +105,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
         let h0 = self.h;
         let clock = Instant::now();
         let result = match self.settings.control {
-            Control::Fixed { dt } => self.run_fixed(sys, dt, t_end, pause_at, save_at, &mut on_save, detect),
+            StepControl::Fixed { dt } => self.run_fixed(sys, dt, t_end, pause_at, save_at, &mut on_save, detect),
             _ => self.run_adaptive(sys, t_end, pause_at, save_at, &mut on_save, detect),
         };
         self.ctx.report.wall_seconds += clock.elapsed().as_secs_f64();
@@ -210,7 +210,7 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
     ) -> Result<Advance, OdeError> {
         let dense = self.settings.dense_output
             && self.stepper.has_dense_output()
-            && !matches!(self.settings.control, Control::StepDoubling { .. });
+            && !matches!(self.settings.control, StepControl::StepDoubling { .. });
         let mut si = 0;
         while si < saves.len() && saves[si] <= self.cur.t {
             on_save(sys, saves[si], &self.cur.y);

@@ -4,14 +4,15 @@
 use super::Integrator;
 use crate::error::OdeError;
 use crate::events::StepView;
-use crate::settings::Control;
+use crate::settings::StepControl;
 use crate::system::OdeSystem;
 
 /// The driver's side of events: showing the step just accepted to a detector, and ending it at an event.
 impl<S: OdeSystem + ?Sized> Integrator<S> {
     /// The step just accepted (cur -> next), for a detector or an interpolation.
     pub(crate) fn view<'a>(&'a mut self, sys: &'a mut S) -> StepView<'a, S> {
-        let dense = self.stepper.has_dense_output() && !matches!(self.settings.control, Control::StepDoubling { .. });
+        let dense =
+            self.stepper.has_dense_output() && !matches!(self.settings.control, StepControl::StepDoubling { .. });
         StepView { sys, stepper: &mut *self.stepper, ctx: &mut self.ctx, from: &self.cur, to: &self.next, dense }
     }
 

@@ -3,7 +3,7 @@
 use super::Integrator;
 use crate::error::OdeError;
 use crate::point::eval;
-use crate::settings::Control;
+use crate::settings::StepControl;
 use crate::system::OdeSystem;
 
 /// The driver's first step size.
@@ -15,10 +15,10 @@ impl<S: OdeSystem + ?Sized> Integrator<S> {
             return Ok(h.min(self.settings.max_step));
         }
         match self.settings.control {
-            Control::StepDoubling { dt, .. } => return Ok(dt.min(self.settings.max_step)),
-            Control::Fixed { dt } => return Ok(dt),
-            Control::Derivative { .. } => return Ok(self.settings.max_step.min(1.0)),
-            Control::Tolerances { .. } => {}
+            StepControl::StepDoubling { dt, .. } => return Ok(dt.min(self.settings.max_step)),
+            StepControl::Fixed { dt } => return Ok(dt),
+            StepControl::Derivative { .. } => return Ok(self.settings.max_step.min(1.0)),
+            StepControl::Tolerances { .. } => {}
         }
         let (rtol, atol) = (self.ctx.rtol, self.ctx.atol);
         let order = self.settings.method.order() as f64;

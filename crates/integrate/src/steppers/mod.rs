@@ -17,7 +17,7 @@ use crate::memory::{MemoryReader, MemoryWriter};
 use crate::method::Method;
 use crate::point::Point;
 use crate::report::Report;
-use crate::settings::{Control, NewtonMode, Settings};
+use crate::settings::{NewtonMode, Settings, StepControl};
 use crate::system::OdeSystem;
 
 /// What a step needs besides the system and the points: counters and the error weights.
@@ -116,8 +116,8 @@ pub(crate) fn build<S: OdeSystem + ?Sized>(
         Method::Midpoint => finish(explicit_rk::ExplicitRk::new(&explicit_rk::MIDPOINT, n), n, settings),
         Method::Rk4 => finish(explicit_rk::ExplicitRk::new(&explicit_rk::RK4, n), n, settings),
         Method::EulerVariable => match settings.control {
-            Control::Derivative { tolerance } => Box::new(explicit_rk::EulerVariable::new(n, tolerance)),
-            _ => unreachable!("validated: euler-variable runs under Control::Derivative"),
+            StepControl::Derivative { tolerance } => Box::new(explicit_rk::EulerVariable::new(n, tolerance)),
+            _ => unreachable!("validated: euler-variable runs under StepControl::Derivative"),
         },
         Method::Ab4 => Box::new(adams::Adams::new(n, false)),
         Method::Am4 => Box::new(adams::Adams::new(n, true)),
@@ -143,7 +143,7 @@ fn finish<S: OdeSystem + ?Sized, T: Stepper<S> + Clone + Send + 'static>(
     settings: &Settings,
 ) -> Box<dyn Stepper<S> + Send> {
     match settings.control {
-        Control::StepDoubling { tolerance, .. } => {
+        StepControl::StepDoubling { tolerance, .. } => {
             Box::new(step_doubling::StepDoubling::new(stepper, n, tolerance, settings.method.order()))
         }
         _ => Box::new(stepper),
