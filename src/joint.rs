@@ -2,7 +2,7 @@
 //! is described by a `JointBuilder` (its kind, the two ends, anchors in each body's frame, the axis in A's frame,
 //! and a hinge's or slider's limits, motor and spring) and added with `World::add_joint`, which checks it and fixes
 //! its reference: the bodies' relative rotation when it is added is the joint's zero (a hinge's angle, a weld's
-//! hold). A `None` end is the world: its anchor is then a world point. Joints need the `contact` feature.
+//! hold). A `None` end is the world: its anchor is then a world point.
 
 use crate::handle::Handle;
 use crate::spring::BodyHandle;

@@ -78,7 +78,6 @@ pub use world::{
 pub use tumble_collide as collide;
 pub use tumble_collide::{Cells, Decomposition, Mesh, Shape, SharedFace};
 /// Contact response (tumble-contact).
-#[cfg(feature = "contact")]
 pub use tumble_contact as contact;
 /// The integrators (tumble-integrate).
 pub use tumble_integrate as integrate;

@@ -162,6 +162,14 @@ impl AccurateSettings {
             limits::positive("contact_tolerance", v, limits::COORDINATE, "m")?;
         }
         limits::non_negative("sleep_time", self.sleep_time, limits::TIME, "s")?;
+        // clarabel's programs, in a build without it (the Newton method and the convex steps are always there)
+        let without = |what: &str| format!("{what} needs tumble built with the `clarabel` feature");
+        if !cfg!(feature = "clarabel") && self.persistent == Persistent::RestingForces {
+            return Err(WorldError::invalid("persistent", without("resting_forces (the chapter's QP)")));
+        }
+        if !cfg!(feature = "clarabel") && self.solver == AccurateSolver::Clarabel {
+            return Err(WorldError::invalid("solver", without("the clarabel solver")));
+        }
         Ok(())
     }
 }

@@ -223,7 +223,6 @@ impl WorldReport {
     }
 
     /// Books joint errors (m, rad) measured at a state with `rows` joint rows.
-    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub(crate) fn book_joints(&mut self, rows: usize, (position, angle): (f64, f64)) {
         self.joint_rows = rows;
         self.joint_error = self.joint_error.max(position);

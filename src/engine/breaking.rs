@@ -5,10 +5,14 @@ use crate::engine::collider_set::ColliderSet;
 use crate::model::Model;
 
 /// Gives the model and the collider set these broken flags (one per joint), or says why they do not fit.
-pub(crate) fn set_broken(model: &mut Model, scene: Option<&mut ColliderSet>, broken: &[bool]) -> Result<(), String> {
+pub(crate) fn set_broken(
+    model: &mut Model,
+    collider_set: Option<&mut ColliderSet>,
+    broken: &[bool],
+) -> Result<(), String> {
     model.set_broken_joints(broken)?;
-    if let Some(scene) = scene {
-        scene.set_joined(model.joined_pairs());
+    if let Some(collider_set) = collider_set {
+        collider_set.set_joined(model.joined_pairs());
     }
     Ok(())
 }

@@ -91,7 +91,7 @@ impl ColliderSet {
         let (pairs, closing) = self.closing_pairs(poses, states, reach)?;
         let movable = |a: usize| !self.immovable[a];
         let actor = |c: usize| self.index(self.colliders[c].actor);
-        let rest = |(i, j): (usize, usize)| self.inert[actor(i)] && self.inert[actor(j)];
+        let rest = |(i, j): (usize, usize)| self.idle[actor(i)] && self.idle[actor(j)];
         let mut entries = store.open(&pairs, movable, rest);
         self.kept_pair_contacts(&mut entries, poses, &|a, b| closing.of(a, b), states, threads);
         let movable = |a: usize| !self.immovable[a];

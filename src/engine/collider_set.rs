@@ -25,7 +25,7 @@ pub(crate) enum Actor {
 
 /// A collider of the scene.
 #[derive(Clone, Debug)]
-pub(crate) struct SceneCollider {
+pub(crate) struct ColliderEntry {
     pub actor: Actor,
     pub shape: Shape,
     /// The shape's pose in the actor's frame (origin at the centre of mass).
@@ -42,14 +42,14 @@ pub(crate) struct SceneCollider {
 /// The colliders of a world and a broad phase that persists from call to call.
 #[derive(Clone)]
 pub(crate) struct ColliderSet {
-    pub colliders: Vec<SceneCollider>,
+    pub colliders: Vec<ColliderEntry>,
     pub static_poses: Vec<Isometry3<f64>>,
     pub layout: Layout,
     broad: SortAndSweep,
     /// Narrow-phase pair tests so far.
     pub checks: usize,
     /// Actors that cannot move this step (static, or asleep): pairs of two are not tested.
-    pub inert: Vec<bool>,
+    pub idle: Vec<bool>,
     /// Actors nothing can push (static and kinematic): pairs of two are not tested.
     pub(super) immovable: Vec<bool>,
     /// Contacts the last call found: room made for as many (a growing list of contacts would copy them).
@@ -74,11 +74,11 @@ struct FatBoxes {
 /// How far a fat box reaches past its collider's box, as a fraction of the collider's bounding radius.
 const FAT: f64 = 0.1;
 
-fn collider_entry(actor: Actor, c: &Collider, b: &RigidBody) -> SceneCollider {
+fn collider_entry(actor: Actor, c: &Collider, b: &RigidBody) -> ColliderEntry {
     let radius = c.shape.bounding_radius();
     let reach = c.offset.translation.vector.norm() + radius;
     let (material, groups) = (b.material, b.groups);
-    SceneCollider { actor, shape: c.shape.clone(), offset: c.offset, material, reach, radius, groups }
+    ColliderEntry { actor, shape: c.shape.clone(), offset: c.offset, material, reach, radius, groups }
 }
 
 impl ColliderSet {
@@ -95,7 +95,7 @@ impl ColliderSet {
         for (i, (_, p)) in particles.iter().enumerate() {
             if p.radius > 0.0 {
                 let shape = Shape::sphere(p.radius).expect("radius checked > 0");
-                colliders.push(SceneCollider {
+                colliders.push(ColliderEntry {
                     actor: Actor::Particle(i),
                     shape,
                     offset: Isometry3::identity(),
@@ -121,7 +121,7 @@ impl ColliderSet {
             return None;
         }
         let actors = layout.actors() + static_poses.len();
-        let inert = (0..actors).map(|a| a >= layout.actors()).collect();
+        let idle = (0..actors).map(|a| a >= layout.actors()).collect();
         let immovable = (0..actors)
             .map(|a| match a.checked_sub(layout.particles) {
                 Some(j) if j < layout.bodies => bodies.get(dynamic[j]).expect("live").kinematic.is_some(),
@@ -135,7 +135,7 @@ impl ColliderSet {
             layout,
             broad: SortAndSweep::new(),
             checks: 0,
-            inert,
+            idle,
             immovable,
             found_last: 0,
             rules,
@@ -295,7 +295,7 @@ impl ColliderSet {
         // not both static or asleep
         let awake = |i: usize, j: usize| {
             let (a, b) = (self.index(self.colliders[i].actor), self.index(self.colliders[j].actor));
-            !(self.inert[a] && self.inert[b])
+            !(self.idle[a] && self.idle[b])
         };
         let mut pairs: Vec<(usize, usize)> = fat
             .iter()

@@ -77,14 +77,12 @@ pub(crate) trait Engine: Send {
     fn set_divergence_limit(&mut self, limit: f64);
 
     /// The contacts of the last step (fast mode) or contact step (accurate mode, while bodies touch).
-    #[cfg(feature = "contact")]
     fn last_contacts(&self) -> Vec<super::last_contacts::LastContact> {
         Vec::new()
     }
 
     /// Gives every collider of the actor whose row among particles and dynamic and static bodies is `actor` its
     /// material (a world's `set_material`, between steps); the memory is kept.
-    #[cfg(feature = "contact")]
     fn set_material(&mut self, actor: usize, material: crate::Material);
 
     /// What the engine's own work since the last call cost, reset to zero (the model's counters are added by

@@ -9,37 +9,23 @@
 //! budget), never its own items.
 
 pub(crate) mod accurate;
-#[cfg(feature = "contact")]
 mod bounce_scale;
-#[cfg(feature = "contact")]
 pub(crate) mod breaking;
 mod budget;
-#[cfg(feature = "contact")]
 mod closing_pairs;
-#[cfg(feature = "contact")]
 pub(crate) mod collider_set;
-#[cfg(feature = "contact")]
 mod contact_pairs;
-#[cfg(feature = "contact")]
 mod contact_reduction;
 mod core;
-#[cfg(feature = "contact")]
 pub(crate) mod fast;
-#[cfg(feature = "contact")]
 pub(crate) mod found_contact;
-#[cfg(feature = "contact")]
 mod frames;
 mod interface;
-#[cfg(feature = "contact")]
 pub(crate) mod last_contacts;
 mod memory;
-#[cfg(feature = "contact")]
 mod reach;
-#[cfg(feature = "contact")]
 mod semi_implicit;
-#[cfg(feature = "contact")]
 mod state_error;
-#[cfg(feature = "contact")]
 mod support_polygon;
 
 pub(crate) use self::core::EngineCore;
@@ -54,17 +40,14 @@ use crate::plan::Stage;
 use accurate::AccurateEngine;
 use tumble_integrate::Settings;
 
-/// What an engine is built from, besides the compiled model and its state (without the `contact` feature only
-/// the integrator's settings matter).
-#[cfg_attr(not(feature = "contact"), allow(dead_code))]
+/// What an engine is built from, besides the compiled model and its state.
 pub(crate) struct EngineSpec {
     /// The contact mode and its settings.
     pub mode: Mode,
     /// The integrator's settings (accurate mode), with the divergence limit already set.
     pub settings: Settings,
     /// The colliders, when two of them can touch.
-    #[cfg(feature = "contact")]
-    pub scene: Option<collider_set::ColliderSet>,
+    pub collider_set: Option<collider_set::ColliderSet>,
     /// |g|, for accurate mode's resting speed and first contact step.
     pub gravity: f64,
     /// Threads for the contact solves (0: one per core).
@@ -75,27 +58,15 @@ pub(crate) struct EngineSpec {
 /// stages when colliders can touch.
 pub(crate) fn build(spec: EngineSpec, compiled: Compiled, t: f64, y: Vec<f64>) -> Result<Box<dyn Engine>, WorldError> {
     let EngineSpec { mode, settings, gravity, threads, .. } = spec;
-    #[cfg(feature = "contact")]
-    let scene = spec.scene;
+    let collider_set = spec.collider_set;
     match mode {
-        #[cfg(feature = "contact")]
         Mode::Fast(fast) => {
             let limit = settings.divergence_limit;
-            Ok(Box::new(fast::FastEngine::new(compiled, scene, t, y, fast, threads, limit)))
+            Ok(Box::new(fast::FastEngine::new(compiled, collider_set, t, y, fast, threads, limit)))
         }
-        #[cfg(not(feature = "contact"))]
-        Mode::Fast(_) => Err(WorldError::invalid("mode", "fast mode needs tumble built with the `contact` feature")),
-        Mode::Accurate(accurate) => Ok(Box::new(AccurateEngine::new(
-            compiled,
-            #[cfg(feature = "contact")]
-            scene,
-            settings,
-            accurate,
-            gravity,
-            threads,
-            t,
-            y,
-        )?)),
+        Mode::Accurate(accurate) => {
+            Ok(Box::new(AccurateEngine::new(compiled, collider_set, settings, accurate, gravity, threads, t, y)?))
+        }
     }
 }
 
@@ -105,14 +76,11 @@ pub(crate) fn planned(mode: &Mode, model: &Model, settings: &Settings, has_scene
     let mut stages = model.stages();
     let dim = model.layout.dim();
     match mode {
-        #[cfg(feature = "contact")]
         Mode::Fast(f) => stages.extend(fast::FastEngine::planned(f, dim, has_scene, model.has_joints())),
         Mode::Accurate(a) => {
             let joints = (model.has_joints(), model.can_break());
             stages.extend(AccurateEngine::planned(settings, has_scene.then_some(a), dim, joints))
         }
-        #[cfg(not(feature = "contact"))]
-        Mode::Fast(_) => {}
     }
     stages
 }

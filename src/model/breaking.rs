@@ -3,14 +3,11 @@
 //! right-hand side or convex program, fast mode's soft step) and break joints here; a broken joint gives no rows
 //! and no longer keeps its bodies from colliding.
 
-#[cfg(feature = "contact")]
 use crate::model::joints::CompiledJoint;
 use crate::model::joints::EndState;
-#[cfg(feature = "contact")]
 use crate::model::joints::JointEnd;
 use crate::model::Model;
 use nalgebra::Vector3;
-#[cfg(feature = "contact")]
 use tumble_contact::JointRow;
 
 /// What one joint carries: the force on B (N) and the torque on B about B's anchor (N m); A takes the opposite. (Or
@@ -24,7 +21,6 @@ pub(crate) struct JointLoad {
 impl JointLoad {
     /// This average over `window` brought on by a step of `h` in substeps of `substep` that carried `carried`
     /// (`Model::judged_loads`): e^(-h / window) of it plus (1 - e^(-substep / window)) / substep of `carried`.
-    #[cfg(feature = "contact")]
     fn brought_on(&self, carried: &JointLoad, window: f64, h: f64, substep: f64) -> JointLoad {
         let keep = (-h / window).exp();
         // (1 - e^(-substep / window)) / substep: 1 / window for a substep far below the window
@@ -55,7 +51,6 @@ impl Model {
     }
 
     /// The loads of every joint from each row's force (`rows` with their joints' indices, `lambda` by row).
-    #[cfg(feature = "contact")]
     pub(crate) fn joint_loads(
         &self,
         rows: &[(usize, JointRow)],
@@ -76,7 +71,6 @@ impl Model {
     /// e^(-substep / window)) carried / substep: a steady load is judged as itself whatever the step, and an
     /// impulse in a substep far shorter than the window counts as impulse / window. Any other joint is judged by
     /// its `instant` load.
-    #[cfg(feature = "contact")]
     pub(crate) fn judged_loads(
         &self,
         averages: &mut Vec<JointLoad>,
@@ -99,7 +93,6 @@ impl Model {
     /// before the step brought on by `peaks`, the step's impulses with the blow at its full weight
     /// (`SoftStep::manifold_peak_impulses`); `judged` (the loads at the step's end) raised to them where they are
     /// larger, force and torque apart. A blow is judged where it struck, not at the step's end, whatever the step.
-    #[cfg(feature = "contact")]
     pub(crate) fn judge_peaks(
         &self,
         judged: &mut [JointLoad],
@@ -155,39 +148,26 @@ impl Model {
 
     /// The pieces joints `joints` (between bodies; others are passed over) bind into one: each a sorted list of
     /// actors, in the order of their smallest actor (union-find, each root its piece's smallest actor).
-    #[cfg(feature = "contact")]
     pub(crate) fn pieces_bound_by(&self, joints: &[usize]) -> Vec<Vec<usize>> {
-        use std::collections::BTreeMap;
+        use std::collections::{BTreeMap, BTreeSet};
         let l = self.layout;
-        let mut root: BTreeMap<usize, usize> = BTreeMap::new();
-        fn find(root: &mut BTreeMap<usize, usize>, a: usize) -> usize {
-            let r = *root.entry(a).or_insert(a);
-            if r == a {
-                return a;
-            }
-            let top = find(root, r);
-            root.insert(a, top);
-            top
-        }
+        let mut sets = tumble_contact::UnionFind::new(l.actors());
+        let mut members = BTreeSet::new();
         for &k in joints {
             let (JointEnd::Body(a), JointEnd::Body(b)) = (self.joints[k].a, self.joints[k].b) else { continue };
-            let (ra, rb) = (find(&mut root, l.body_actor(a)), find(&mut root, l.body_actor(b)));
-            if ra != rb {
-                root.insert(ra.max(rb), ra.min(rb));
-            }
+            let (a, b) = (l.body_actor(a), l.body_actor(b));
+            sets.union(a, b);
+            members.extend([a, b]);
         }
-        let members: Vec<usize> = root.keys().copied().collect();
         let mut pieces: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
         for a in members {
-            let r = find(&mut root, a);
-            pieces.entry(r).or_default().push(a);
+            pieces.entry(sets.find(a)).or_default().push(a);
         }
         pieces.into_values().collect()
     }
 
     /// The actor pairs a holding joint joins directly (they do not collide, unless the joint lets them), and every
     /// pair of bodies one piece of holding cluster joints binds (`JointBuilder::cluster`), sorted, each once.
-    #[cfg(feature = "contact")]
     pub(crate) fn joined_pairs(&self) -> Vec<(usize, usize)> {
         let l = self.layout;
         let bodies = |j: &CompiledJoint| match (j.a, j.b) {

@@ -19,7 +19,6 @@ impl Model {
 
     /// The kinetic energy of one actor (a particle, then the bodies in order; a kinematic body carries none) in
     /// state y.
-    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub(crate) fn actor_kinetic_energy(&self, y: &[f64], actor: usize) -> f64 {
         self.actor_kinetic(y, actor, &momentum_form)
     }

@@ -35,10 +35,8 @@ pub(crate) struct CompiledJoint {
     pub breaking: Option<crate::joint::Breaking>,
     pub broken: bool,
     /// Whether its bodies collide with each other.
-    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub collide: bool,
     /// Whether it binds its bodies into one piece with those other such joints bind (`JointBuilder::cluster`).
-    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub cluster: bool,
 }
 

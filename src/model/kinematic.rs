@@ -82,7 +82,6 @@ impl Model {
     }
 
     /// Whether kinematic body j (by body index) has moving still to do after t (it cannot sleep until then).
-    #[cfg_attr(not(feature = "contact"), allow(dead_code))] // sleep is a contact stage
     pub(crate) fn kinematic_moves_after(&self, j: usize, t: f64) -> bool {
         self.bodies[j].kinematic.as_ref().is_some_and(|k| k.moves_after(t))
     }

@@ -16,7 +16,6 @@ impl Layout {
         3 * self.particles + 7 * self.bodies
     }
     /// The moving actors: the particles, then the dynamic bodies (an actor's index in that order).
-    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub fn actors(&self) -> usize {
         self.particles + self.bodies
     }

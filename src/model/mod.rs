@@ -1,7 +1,6 @@
 //! The compiled model: the world's contents as flat arrays in state order, with handles resolved to indices.
 //! It is rebuilt when the world's structure changes and is the `OdeSystem` the integrators step.
 
-#[cfg(feature = "contact")]
 mod actors;
 pub(crate) mod breaking;
 mod dynamics;
@@ -10,10 +9,8 @@ mod jacobian;
 pub(crate) mod joints;
 mod kinematic;
 pub(crate) mod layout;
-#[cfg(feature = "contact")]
 mod velocities;
 
-#[cfg(feature = "contact")]
 pub(crate) use actors::actor_poses;
 
 use crate::body::RigidBody;
@@ -40,7 +37,6 @@ pub(crate) struct ParticleProps {
 pub(crate) struct BodyProps {
     pub mass: f64,
     pub inv_mass: f64,
-    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub inertia: Matrix3<f64>,
     pub inv_inertia: Matrix3<f64>,
     pub linear_damping: f64,
@@ -288,7 +284,6 @@ impl Model {
     }
 
     /// Whether each dynamic body is an end of a joint (empty without joints).
-    #[cfg_attr(not(feature = "contact"), allow(dead_code))]
     pub(crate) fn jointed_bodies(&self) -> Vec<bool> {
         if !self.joints.is_empty() {
             let mut out = vec![false; self.bodies.len()];

@@ -168,7 +168,7 @@ pub(crate) fn is_json(path: &std::path::Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }
 
-#[cfg(all(test, feature = "contact"))]
+#[cfg(test)]
 mod tests {
     use crate::{FastSettings, Material, Mode, RigidBodyBuilder, Shape, World, WorldError};
     use nalgebra::Vector3;

@@ -3,30 +3,18 @@
 //! sphere; and (in `meshes.rs`) meshes built in code: a ball in a cup, a ring on a peg, a chair, a rolling torus, a
 //! pile of meshes; and (in `fracture.rs`) a glued wall a wrecking ball smashes. Examples, benchmarks, tests and the Python module's default job start from them.
 
-#[cfg(feature = "contact")]
 mod benchmark;
-#[cfg(feature = "contact")]
 mod bin;
-#[cfg(feature = "contact")]
 mod box3d;
-#[cfg(feature = "contact")]
 mod contact;
-#[cfg(feature = "contact")]
 mod fracture;
-#[cfg(feature = "contact")]
 pub mod joints;
-#[cfg(feature = "contact")]
 pub mod meshes;
 mod registry;
-#[cfg(feature = "contact")]
 pub use benchmark::Benchmark;
-#[cfg(feature = "contact")]
 pub use bin::{Bin, Fill};
-#[cfg(feature = "contact")]
 pub use box3d::{LargePyramid, ManyPyramids};
-#[cfg(feature = "contact")]
 pub use contact::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
-#[cfg(feature = "contact")]
 pub use fracture::{running_bond_wall, WreckingBall};
 pub use registry::{build, check, NAMES};
 
@@ -180,7 +168,6 @@ pub fn spinning_top() -> Result<(World, BodyHandle), WorldError> {
 }
 
 /// The built-in scenes' colours (linear RGB, opaque): the bodies of a scene take them in turn.
-#[cfg_attr(not(feature = "contact"), allow(dead_code))] // the scenes that use it have contact
 const PALETTE: [[f64; 4]; 6] = [
     [0.80, 0.18, 0.12, 1.0],
     [0.10, 0.35, 0.75, 1.0],
@@ -191,7 +178,6 @@ const PALETTE: [[f64; 4]; 6] = [
 ];
 
 /// The k-th colour of the built-in scenes' palette.
-#[cfg_attr(not(feature = "contact"), allow(dead_code))]
 pub(crate) fn hue(k: usize) -> [f64; 4] {
     PALETTE[k % PALETTE.len()]
 }

@@ -70,7 +70,6 @@ impl<'a> Params<'a> {
     }
 
     /// A yes-or-no parameter given as 0 or 1, or `false` (the mesh scenes' only, which need contact).
-    #[cfg(feature = "contact")]
     fn flag(&mut self, key: &'static str) -> Result<bool, WorldError> {
         match self.number(key, 0.0)? {
             0.0 => Ok(false),
@@ -131,16 +130,12 @@ fn scene(name: &str, params: &[(String, f64)], make: bool) -> Result<Option<Worl
                 None
             }
         }
-        #[cfg(feature = "contact")]
         _ => return contact_scene(name, p, make),
-        #[cfg(not(feature = "contact"))]
-        other => return Err(unknown(other)),
     };
     Ok(world)
 }
 
 /// The jointed scenes (`joints.rs`).
-#[cfg(feature = "contact")]
 fn jointed(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>, WorldError> {
     use super::joints;
     let world = match name {
@@ -173,7 +168,6 @@ fn jointed(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>, W
 
 /// The mesh scenes (`meshes.rs`): `fast=1` runs fast mode at 1/240 s (accurate mode otherwise); `hull=1` gives
 /// the cup, or the pile's meshes, their convex hulls.
-#[cfg(feature = "contact")]
 fn mesh_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>, WorldError> {
     use super::meshes;
     let mode = if p.flag("fast")? { crate::mode::Mode::fast(1.0 / 240.0) } else { crate::mode::Mode::default() };
@@ -194,7 +188,6 @@ fn mesh_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>
 
 /// The wrecking ball (`fracture.rs`): `fast=1` runs fast mode at `dt` (1/240 s unless given; accurate mode
 /// otherwise, which takes no `dt`), the glue's `strength` (Pa) and `window` (s).
-#[cfg(feature = "contact")]
 fn wrecking_ball(mut p: Params<'_>, make: bool) -> Result<Option<World>, WorldError> {
     let fast = p.flag("fast")?;
     let given_dt = p.given.iter().any(|(k, _)| k == "dt");
@@ -217,7 +210,6 @@ fn unknown(name: &str) -> WorldError {
     WorldError::invalid("name", format!("unknown scene {name:?}; expected one of {}", NAMES.join(", ")))
 }
 
-#[cfg(feature = "contact")]
 fn contact_scene(name: &str, mut p: Params<'_>, make: bool) -> Result<Option<World>, WorldError> {
     use super::{tumbling_box, BouncingBall, ClothDrape, Dominoes, Pile, Pyramid};
     let world = match name {

@@ -27,9 +27,8 @@ impl World {
     /// The contacts of the last step: in fast mode every contact its solve took (an impulse of zero: in reach but
     /// not pushing); in accurate mode those of the last contact step while bodies touch, with the whole step's
     /// impulses (none once they fly free, and none for collisions resolved at an instant). Empty before the first
-    /// step, after any change of structure or state, and without the `contact` feature.
+    /// step, and after any change of structure or state.
     pub fn contacts(&self) -> Vec<ContactInfo> {
-        #[cfg(feature = "contact")]
         if let (Some(e), false) = (&self.engine, self.state_changed) {
             let rows = e.rows();
             let statics: Vec<crate::spring::BodyHandle> =

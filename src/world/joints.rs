@@ -29,9 +29,6 @@ impl World {
 
     /// Checks a joint description against the world; gives the joint with its reference.
     fn check_joint(&self, spec: JointBuilder) -> Result<Joint, WorldError> {
-        if cfg!(not(feature = "contact")) {
-            return Err(WorldError::invalid("joint", "joints need tumble built with the `contact` feature"));
-        }
         let (xa, qa, moves_a) = self.end_pose("a", spec.a)?;
         let (xb, qb, moves_b) = self.end_pose("b", spec.b)?;
         if spec.a.is_some() && spec.a == spec.b {

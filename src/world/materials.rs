@@ -49,7 +49,6 @@ impl World {
             Target::Particle(h) => self.particles.get_mut(h).expect("checked above").material = new,
             Target::Body(h) => self.bodies.get_mut(h).expect("checked above").material = new,
         }
-        #[cfg(feature = "contact")]
         if let Some(actor) = self.actor_of(target) {
             if let Some(engine) = &mut self.engine {
                 engine.set_material(actor, new);
@@ -60,7 +59,6 @@ impl World {
 
     /// The index of a particle or body among the engine's actors (particles, then dynamic bodies, then static
     /// bodies), if the world has an engine.
-    #[cfg(feature = "contact")]
     fn actor_of(&self, target: Target) -> Option<usize> {
         let rows = self.engine.as_ref()?.rows();
         let (np, nb) = (rows.particles.len(), rows.bodies.len());

@@ -130,12 +130,9 @@ impl World {
         self.mode
     }
 
-    /// Chooses accurate (event-driven) or fast (time-stepping) contact. Fast mode needs the `contact` feature.
+    /// Chooses accurate (event-driven) or fast (time-stepping) contact.
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), WorldError> {
         mode.check()?;
-        if cfg!(not(feature = "contact")) && matches!(mode, Mode::Fast(_)) {
-            return Err(WorldError::invalid("mode", "fast mode needs tumble built with the `contact` feature"));
-        }
         // the joints already in the world must fit the new mode (the error names the mode, this call's argument)
         for (_, j) in self.joints.iter() {
             joints::joint_fits_mode(&mode, &j.spec).map_err(|(_, why)| WorldError::invalid("mode", why))?;

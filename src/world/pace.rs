@@ -131,7 +131,6 @@ mod tests {
     }
 
     #[test]
-    #[cfg(feature = "contact")] // (fast mode needs the contact crate)
     fn fast_modes_estimate_is_timed_on_a_copy_and_leaves_the_world_alone() {
         let mut w = World::new();
         w.add_ground(0.0, crate::Material::default()).unwrap();

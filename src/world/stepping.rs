@@ -34,18 +34,11 @@ impl World {
 
     /// Whether the compiled world has colliders that can touch.
     pub(crate) fn has_contact(&self, compiled: &Compiled) -> bool {
-        #[cfg(feature = "contact")]
-        return self.collider_set(compiled).is_some();
-        #[cfg(not(feature = "contact"))]
-        {
-            let _ = compiled;
-            false
-        }
+        self.collider_set(compiled).is_some()
     }
 
-    #[cfg(feature = "contact")]
     pub(crate) fn collider_set(&self, compiled: &Compiled) -> Option<crate::engine::collider_set::ColliderSet> {
-        let mut scene = crate::engine::collider_set::ColliderSet::build(
+        let mut collider_set = crate::engine::collider_set::ColliderSet::build(
             compiled.model.layout,
             &self.particles,
             &self.bodies,
@@ -53,8 +46,8 @@ impl World {
             self.combine,
         )?;
         // bodies a joint joins directly do not collide with each other
-        scene.set_joined(compiled.model.joined_pairs());
-        Some(scene)
+        collider_set.set_joined(compiled.model.joined_pairs());
+        Some(collider_set)
     }
 
     /// A new engine for the world as it is.
@@ -69,8 +62,7 @@ impl World {
         let spec = EngineSpec {
             mode: self.mode,
             settings: self.settings.clone().divergence_limit(self.divergence_factor * scale),
-            #[cfg(feature = "contact")]
-            scene: self.collider_set(&compiled),
+            collider_set: self.collider_set(&compiled),
             gravity: self.gravity.norm(),
             threads: self.threads,
         };

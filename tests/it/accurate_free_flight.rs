@@ -1,7 +1,6 @@
 //! Accurate mode's touching phase with actors that touch nothing: they follow the integrator (its order and
 //! tolerances), not the first-order contact steps, and their motion no longer sets the contact step. Actors joined
 //! by a spring to a touching one step with it.
-#![cfg(feature = "contact")]
 
 use crate::common;
 

@@ -1,7 +1,6 @@
 //! Coulomb friction in accurate mode against closed forms: a box sliding to a stop, a box on an incline below and
 //! above its friction angle, a sphere rolling down an incline, and a spinning box thrown onto a floor. An incline
 //! is the floor under gravity tilted by the incline's angle (the same equations in the incline's frame).
-#![cfg(feature = "contact")]
 
 use crate::common;
 

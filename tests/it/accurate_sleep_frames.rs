@@ -2,7 +2,8 @@
 //! every 1/30, 1/60 and 1/240 s and with none, on contact scenes, islands on their own clocks and in free flight), and a pile falls asleep,
 //! costs no contact step while asleep, wakes when a body is dropped on it, with the same bits on one and two
 //! threads and across a save and load.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use crate::common;
 

@@ -2,7 +2,6 @@
 //! below its friction angle, the rolling sphere) over contact tolerances from 1e-2 to 1e-9 m and at the defaults,
 //! with frames every 1/60 s: the error against the closed form is printed for each, and held within the tolerance
 //! and within 1e-6 of the distance (what the defaults are chosen to keep).
-#![cfg(feature = "contact")]
 
 use tumble::scenes::Benchmark;
 use tumble::{AccurateSettings, Mode};

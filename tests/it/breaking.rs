@@ -2,7 +2,6 @@
 //! (the closed form of a rigid pendulum released from the horizontal), a welded box let go of that then lands on
 //! the body it was welded to, seeded random chains (shapes, orientations, masses, thresholds) that break and stay
 //! finite and deterministic, files and failed calls that keep the broken flags, and bad bounds refused by name.
-#![cfg(feature = "contact")]
 
 use crate::common;
 

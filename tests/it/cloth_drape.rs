@@ -1,6 +1,5 @@
 //! A regression test for the cloth drape (the command line's cloth-drape scene), which diverged once the soft step
 //! spread the springs' forces over its substeps: it runs its full 3 s and lies over the ball and on the floor.
-#![cfg(feature = "contact")]
 
 use nalgebra::Vector3;
 use tumble::scenes::ClothDrape;

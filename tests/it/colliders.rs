@@ -39,7 +39,6 @@ fn materials_combine_to_the_larger_restitution_and_the_geometric_mean_friction()
     assert_eq!(a.combine(&b, &Default::default()), b.combine(&a, &Default::default()));
 }
 
-#[cfg(feature = "contact")]
 #[test]
 fn the_offset_collider_is_the_one_that_lands() {
     // A dumbbell dropped upright, its second ball given as an extra collider 1 m below the first: in fast mode the

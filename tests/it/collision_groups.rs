@@ -1,5 +1,4 @@
 //! Collision groups: two bodies touch only if their groups share a bit, in both modes; files and copies keep them.
-#![cfg(feature = "contact")]
 
 use nalgebra::Vector3;
 use tumble::{FastSettings, Material, Mode, RigidBodyBuilder, Shape, World};

@@ -1,6 +1,5 @@
 //! `World::contacts` (issue 15): the contacts of the last step with the world's handles, their normals, gaps and
 //! impulses, checked against statics (a resting stack's contacts carry the weight above them).
-#![cfg(feature = "contact")]
 
 use nalgebra::Vector3;
 use tumble::{FastSettings, FastSolver, Material, Mode, RigidBodyBuilder, Shape, Target, World};

@@ -6,7 +6,8 @@
 //! ground's too), dropped, thrown and spun. `TUMBLE_ENERGY_SCENES` (default 150 a mode) sets the count; thousands are
 //! a long local run (`TUMBLE_ENERGY_SCENES=2000 cargo test --release --test energy_law -- --nocapture`). Each mode
 //! prints its count, worst gain and worst penetration, and every scene that fails.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use crate::common;
 use common::{random_shape, Lcg};

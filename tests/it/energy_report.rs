@@ -1,6 +1,5 @@
 //! The report's energy fields against closed forms: `energy_change` (every mode: the change of kinetic plus
 //! potential energy over the calls reported) and `energy_gain` (fast mode: the largest rise over one step).
-#![cfg(feature = "contact")]
 
 use nalgebra::Vector3;
 use tumble::{

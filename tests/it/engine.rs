@@ -1,7 +1,8 @@
 //! The engine layer: runs repeat bit for bit (reruns, one thread or many), options that do not apply are errors,
 //! recording frames does not change fast mode's physics, the plan names exactly the stages that run, and step logs
 //! hold the steps actually taken.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use crate::common;
 use common::{state_bits, Lcg};

@@ -2,7 +2,6 @@
 //! 1e-9 s to 1 s, bodies from 1 mm to 1 km, overlapping starts and fast spins, in both contact modes. Each scene
 //! must end finite or fail with a clean error that leaves the world as it was: never a NaN, a panic or a hang.
 //! `-- --nocapture` prints how each ended.
-#![cfg(feature = "contact")]
 
 use crate::common;
 use common::state_bits;

@@ -3,7 +3,6 @@
 //! sleep off. Every one must run to the end, stay finite, gain no energy between frames beyond what pushing out an
 //! overlap lifts, penetrate less than 1 cm in impacts and 0.5 mm once at rest, and give the same bits on a rerun and
 //! on one thread or two. `TUMBLE_DROPS` (default 8) sets the number of seeds.
-#![cfg(feature = "contact")]
 
 use crate::common;
 use common::{random_drop, state_bits};

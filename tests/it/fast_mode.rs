@@ -2,7 +2,6 @@
 //! stops after v^2 / (2 mu g), stacks and a pyramid stand, mass ratios of 1000 rest without jitter, a bullet does
 //! not pass through a thin wall, energy never grows, a sleeping box wakes when another lands on it, and springs are
 //! semi-implicit Euler at the soft step's substeps.
-#![cfg(feature = "contact")]
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use tumble::{

@@ -2,7 +2,6 @@
 //! workers) gives the same bits on one, two and three threads; what the engine keeps from step to step (its state
 //! in velocity form, each contact pair's points, impulses, friction and colour) survives copies, files and failed
 //! calls bit for bit; and tall walls of cubes stand at every substep count from two up.
-#![cfg(feature = "contact")]
 
 use crate::common;
 

@@ -7,7 +7,6 @@
 //!
 //! CI runs a short, fixed-seed search (1500 programs); `TUMBLE_FUZZ_CASES=20000 cargo test --release --test fuzz`
 //! runs a long one.
-#![cfg(feature = "contact")]
 
 use crate::common;
 use common::state_bits;

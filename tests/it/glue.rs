@@ -3,7 +3,6 @@
 //! located to the time tolerance; the step's discrete form in fast mode), an unloaded glued object that holds, a
 //! struck wall that breaks the same welds at three steps, cracked around the blow, and bad glue refused by name with
 //! nothing added.
-#![cfg(feature = "contact")]
 
 use nalgebra::{Point3, Vector3};
 use tumble::{

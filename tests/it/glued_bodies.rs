@@ -3,7 +3,6 @@
 //! the closed form's load and holding 2-3% below it), a tumbling glued object keeps its pieces' relative poses, the
 //! same bits come on one thread and two, and seeded random glued objects dropped on the ground neither gain
 //! energy over a step nor part.
-#![cfg(feature = "contact")]
 
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 use tumble::{Cells, FastSettings, Glue, Mesh, Mode, RigidBodyBuilder, Shape, World};

@@ -1,7 +1,6 @@
 //! Hand-over between keyframes and physics, in both modes: a keyframed box let go flies on with the velocity and
 //! spin its path had (closed form: the centre of mass on a parabola, the spin kept); a falling ball taken over stays
 //! where it was; bad hand-overs are refused by name and change nothing.
-#![cfg(feature = "contact")]
 
 use nalgebra::{UnitQuaternion, Vector3};
 use tumble::{FastSettings, Keyframes, Mode, RigidBodyBuilder, Shape, World};

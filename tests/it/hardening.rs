@@ -2,7 +2,8 @@
 //! poses, NaN escaping from fast mode, overflowing inputs accepted, time running to infinity, hangs, hidden state
 //! changed by a failed call, handles of another world. A refused or failed call must leave the world exactly as it
 //! was; one that succeeds must leave it finite.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use crate::common;
 use common::state_bits;

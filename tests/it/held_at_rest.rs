@@ -1,7 +1,6 @@
 //! Rest inside a moving island (accurate mode): a box at rest on a plank that a ball rolls along is held while the
 //! ball rolls (its island still moves, so it cannot sleep as a whole), costs no solve, and wakes when the ball
 //! reaches it, moving as it does when nothing is held; a held world saves, loads and copies with the same bits.
-#![cfg(feature = "contact")]
 
 use crate::common;
 

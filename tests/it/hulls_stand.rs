@@ -3,7 +3,6 @@
 //! 2 s the tilt is below 0.01 degree and the penetration within the mode's bound. (parry keeps four vertices of a
 //! face; before the whole face was clipped and the four points chosen to hold the centre of mass, an octagonal
 //! prism on the ground tipped over.)
-#![cfg(feature = "contact")]
 
 use crate::common;
 #[allow(unused_imports)]

@@ -2,7 +2,8 @@
 //! their own contact steps. They give one clock's answers to the contact tolerance on seeded random scatters of 1 to
 //! 40 random shapes (random orientations, spins, densities, friction and restitution), dropped apart and in clusters
 //! that meet, with the same bits on one and two threads and across a save and load.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use crate::common;
 

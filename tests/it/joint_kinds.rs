@@ -1,6 +1,7 @@
 //! The joints that hold some motions and free others, against closed forms: a rope slack until taut, a piston that
 //! slides and turns about its axis, a drive that spins or slides its body up to its speed.
-#![cfg(feature = "contact")]
+// (with joints.rs's scenes, which need clarabel)
+#![cfg(feature = "clarabel")]
 
 use crate::joints::{accurate, fast, G};
 use nalgebra::{Matrix3, Vector3};

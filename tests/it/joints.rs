@@ -1,7 +1,8 @@
 //! Joints against closed forms: a pendulum's period (the elliptic integral), a double pendulum's energy, a hanging
 //! chain's stretch, a hinge's limits, a motor's speed and stall, a weld's hold, a joint whose bodies collide; and
 //! bad joints refused by name. The rope, piston and drive are in `joint_kinds.rs`.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use tumble::{

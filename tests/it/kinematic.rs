@@ -1,6 +1,7 @@
 //! Kinematic bodies: a keyframed paddle sweeps boxes off a table in both modes, following its path to 1e-9 m,
 //! pushing the boxes at its own speed and never pushed back; its settings, files and copies.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use crate::common;
 use common::{random_shape, Lcg};

@@ -1,6 +1,7 @@
 //! Long runs that say and keep: an interrupted run keeps the frames it did and leaves the world at the last of
 //! them, so the next run carries on; a slow accurate run says so once, naming fast mode with its time.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use crate::common;
 use common::random_drop;

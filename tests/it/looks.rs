@@ -1,6 +1,5 @@
 //! Bodies' names and colours: kept by copies, by both file formats and by the hand-editable scene, refused by name
 //! when bad (the world left as it was), and no part of the physics (a world with them steps to the same bits).
-#![cfg(feature = "contact")]
 
 use crate::common;
 

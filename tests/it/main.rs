@@ -1,5 +1,5 @@
-//! The integration tests, linked as one binary: each file a module, those that need collision behind a file-level
-//! `cfg(feature = "contact")`, the seeded scenes they share in `common`.
+//! The integration tests, linked as one binary: each file a module, those that need clarabel's programs behind a file-level
+//! `cfg(feature = "clarabel")`, the seeded scenes they share in `common`.
 
 mod accurate_drops;
 mod accurate_energy;

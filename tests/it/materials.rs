@@ -2,7 +2,8 @@
 //! frictionless keeps its speed, and once given friction decelerates at Coulomb's mu g (mu the geometric mean of
 //! the two surfaces' frictions); copies and files keep the new material; bad values are refused by name and change
 //! nothing.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use nalgebra::Vector3;
 use tumble::{

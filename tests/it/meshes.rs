@@ -2,7 +2,8 @@
 //! a ring tossed onto a peg ends around it, a chair of one mesh stands on its legs; seeded random closed blobs
 //! dropped run clean; a bad mesh is refused with the world unchanged; a world of meshes saves, loads and continues
 //! bit for bit; the plan and the report name the decomposition.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use crate::common;
 

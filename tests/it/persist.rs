@@ -2,7 +2,6 @@
 //! either continues as the original, bit for bit, in both modes (both carry the engine's memory); one loaded from
 //! the scene alone (`to_json_scene`, hand-editable) runs as the original started afresh from the same state; a
 //! hand-written scene loads with its defaults; bad files are refused by name.
-#![cfg(feature = "contact")]
 
 use crate::common;
 

@@ -31,25 +31,23 @@ fn a_particle_world_carries_no_rotation_state() {
     w.add_body(RigidBodyBuilder::fixed(Some(Shape::half_space(Vector3::z()).unwrap()))).unwrap();
     let plan = w.plan();
     assert_eq!(plan.state_len, 6 * 5 + 13, "a static body adds no state");
-    if cfg!(feature = "contact") {
-        for stage in ["collision-detection", "bisection", "impulses", "contact-cone-program"] {
-            assert!(plan.has(stage), "{stage} missing from {plan}");
-        }
-        w.set_mode(tumble::Mode::fast(0.01)).unwrap();
-        let fast = w.plan();
-        assert!(fast.has("contact-soft-step") && fast.has("sleeping") && !fast.has("bisection"), "{fast}");
-        assert!(!fast.has("contact-cone-program"), "the soft step's plan has no cone program: {fast}");
-        let exact = tumble::FastSettings { solver: tumble::FastSolver::exact(), ..tumble::FastSettings::new(0.01) };
-        w.set_mode(tumble::Mode::Fast(exact)).unwrap();
-        let fast = w.plan();
-        assert!(fast.has("contact-cone-program") && !fast.has("contact-soft-step"), "{fast}");
-        w.set_mode(tumble::Mode::default()).unwrap();
-    } else {
-        // Built without the `contact` feature, shapes only give mass: no contact stage, and fast mode is an error
-        // that names the feature.
-        assert!(!plan.has("collision-detection"), "{plan}");
-        let e = w.set_mode(tumble::Mode::fast(0.01)).unwrap_err();
-        assert!(e.to_string().contains("`contact` feature"), "{e}");
+    for stage in ["collision-detection", "bisection", "impulses", "contact-cone-program"] {
+        assert!(plan.has(stage), "{stage} missing from {plan}");
+    }
+    w.set_mode(tumble::Mode::fast(0.01)).unwrap();
+    let fast = w.plan();
+    assert!(fast.has("contact-soft-step") && fast.has("sleeping") && !fast.has("bisection"), "{fast}");
+    assert!(!fast.has("contact-cone-program"), "the soft step's plan has no cone program: {fast}");
+    let exact = tumble::FastSettings { solver: tumble::FastSolver::exact(), ..tumble::FastSettings::new(0.01) };
+    w.set_mode(tumble::Mode::Fast(exact)).unwrap();
+    let fast = w.plan();
+    assert!(fast.has("contact-cone-program") && !fast.has("contact-soft-step"), "{fast}");
+    w.set_mode(tumble::Mode::default()).unwrap();
+    if !cfg!(feature = "clarabel") {
+        // Built without clarabel, the chapter's resting-force QP is refused, naming the feature.
+        let resting = tumble::AccurateSettings { persistent: tumble::Persistent::RestingForces, ..Default::default() };
+        let e = w.set_mode(tumble::Mode::Accurate(resting)).unwrap_err();
+        assert!(e.to_string().contains("`clarabel` feature"), "{e}");
     }
     w.step(0.1).unwrap();
     let z = w.body(b).unwrap().position().z;

@@ -5,7 +5,6 @@
 //! m a = -f and I a / R = f R - c_r m g R, so it slows at a = 5/7 c_r g (friction supplying f = 2/7 c_r m g, within
 //! mu m g), stops at t = 7 v0 / (5 c_r g) after 7 v0^2 / (10 c_r g), and stays; a ball spinning in place about the
 //! normal at w0 slows at c_t m g R / I = 5 c_t g / (2 R) and stops at 2 R w0 / (5 c_t g).
-#![cfg(feature = "contact")]
 
 use nalgebra::Vector3;
 use tumble::{FastSettings, Material, MaterialChange, Mode, RigidBodyBuilder, Shape, Target, World};

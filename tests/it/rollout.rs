@@ -1,6 +1,5 @@
 //! Batches (issue 15): copies of a world run from many states on a thread pool give the runs of the same copies run
 //! one after another, bit for bit, on any number of threads; bad states are refused by index before anything runs.
-#![cfg(feature = "contact")]
 
 use crate::common;
 

@@ -1,6 +1,7 @@
 //! A world's whole state (issue 15): read and put back it continues bit for bit, in every mode; edited it starts
 //! afresh as a new world would; `reset` returns to the start; rows after removals; bad states change nothing.
-#![cfg(feature = "contact")]
+// (accurate mode here lifts sunk contacts apart by the position projection, or uses the chapter's QPs: clarabel's)
+#![cfg(feature = "clarabel")]
 
 use crate::common;
 

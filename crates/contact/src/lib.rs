@@ -55,6 +55,7 @@ mod solver_settings;
 mod spring;
 mod step;
 mod threads;
+mod union_find;
 
 pub use body::BodyState;
 pub use classify::{classify, velocity_tolerance, ContactClass};
@@ -82,3 +83,4 @@ pub use step::{
     free_velocity, velocity_step, BilateralKind, BilateralRow, StepMethod, StepSettings, VelocityProblem, VelocityStep,
 };
 pub use threads::{cores, Workers};
+pub use union_find::UnionFind;

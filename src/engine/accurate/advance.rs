@@ -103,7 +103,7 @@ impl AccurateEngine {
                     system,
                     stages.broken,
                     stages.averages,
-                    Some(&mut *stages.scene),
+                    Some(&mut *stages.collider_set),
                     t,
                     &y,
                 )?;

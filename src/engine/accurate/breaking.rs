@@ -18,11 +18,7 @@ use crate::report::WorldReport;
 use tumble_integrate::{OdeError, StepView};
 
 /// The collider set whose joined pairs a break changes (none without contact).
-#[cfg(feature = "contact")]
-pub(super) type Scene<'a> = Option<&'a mut crate::engine::collider_set::ColliderSet>;
-#[cfg(not(feature = "contact"))]
-pub(super) type Scene<'a> = Option<&'a mut ()>;
-
+pub(super) type ColliderSetRef<'a> = Option<&'a mut crate::engine::collider_set::ColliderSet>;
 /// Most halvings of a break time's bisection (2^-100 of the step).
 const HALVINGS: usize = 100;
 
@@ -163,37 +159,35 @@ pub(super) fn break_overloaded(
     system: &mut AccurateSystem,
     broken: &mut [bool],
     averages: &[JointLoad],
-    scene: Scene<'_>,
+    collider_set: ColliderSetRef<'_>,
     t: f64,
     y: &[f64],
 ) -> Result<Vec<usize>, OdeError> {
     let which = overloaded_at(system, averages, t, y)?;
-    give_broken(system, broken, scene, &which);
+    give_broken(system, broken, collider_set, &which);
     Ok(which)
 }
 
 /// Sets joints `which` broken in `broken` and gives the flags to the model and the collider set.
-pub(super) fn give_broken(system: &mut AccurateSystem, broken: &mut [bool], scene: Scene<'_>, which: &[usize]) {
+pub(super) fn give_broken(
+    system: &mut AccurateSystem,
+    broken: &mut [bool],
+    collider_set: ColliderSetRef<'_>,
+    which: &[usize],
+) {
     if which.is_empty() {
         return;
     }
     for &k in which {
         broken[k] = true;
     }
-    #[cfg(feature = "contact")]
-    crate::engine::breaking::set_broken(&mut system.model, scene, broken).expect("one flag per joint");
-    #[cfg(not(feature = "contact"))]
-    {
-        let _ = scene;
-        system.model.set_broken_joints(broken).expect("one flag per joint");
-    }
+    crate::engine::breaking::set_broken(&mut system.model, collider_set, broken).expect("one flag per joint");
 }
 
 /// Breaks the joints a contact step of `h` takes past their bounds, at the step's end t (booked in `run`); gives
 /// whether any broke. `step` is the second of the step's halves: its loads (the forces its impulses make over it)
 /// are the load at the instant; a joint with a window is judged by its average, brought on by each half's
 /// impulses in turn, and breaks if either half takes it past its bounds.
-#[cfg(feature = "contact")]
 pub(super) fn break_after_step(
     cx: &mut super::contact_stages::ContactStages<'_>,
     system: &mut AccurateSystem,
@@ -221,7 +215,7 @@ pub(super) fn break_after_step(
     which.extend(system.model.overloaded(&judged));
     which.sort_unstable();
     which.dedup();
-    give_broken(system, cx.broken, Some(&mut *cx.scene), &which);
+    give_broken(system, cx.broken, Some(&mut *cx.collider_set), &which);
     if let Some(run) = run {
         which.iter().for_each(|&k| run.break_joint(t, k));
     }

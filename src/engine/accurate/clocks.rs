@@ -139,8 +139,8 @@ fn advance_groups(
         members.iter().for_each(|&k| group_of[k] = g);
     }
     // each collider's group (usize::MAX: a static's, or an actor's in no group)
-    let collider_group: Vec<usize> = (0..cx.scene.colliders.len())
-        .map(|c| cx.scene.actor_of_collider(c).filter(|&a| a < actors).map_or(usize::MAX, |a| group_of[a]))
+    let collider_group: Vec<usize> = (0..cx.collider_set.colliders.len())
+        .map(|c| cx.collider_set.actor_of_collider(c).filter(|&a| a < actors).map_or(usize::MAX, |a| group_of[a]))
         .collect();
     let key_group = |key: &crate::engine::found_contact::ContactKey| {
         let of = |c: u32| collider_group.get(c as usize).copied().unwrap_or(usize::MAX);
@@ -222,9 +222,9 @@ impl Sleep {
     /// Takes the sleep of the actors `members` (increasing) from `group`'s (their advance's), keeping the rest.
     fn take_group(&mut self, group: &Sleep, members: &[usize]) {
         let mine = |k: &usize| members.binary_search(k).is_ok();
-        self.calm_since.retain(|(k, _)| !mine(k));
-        self.calm_since.extend(group.calm_since.iter().filter(|(k, _)| mine(k)).copied());
-        self.calm_since.sort_unstable_by_key(|(k, _)| *k);
+        self.resting_since.retain(|(k, _)| !mine(k));
+        self.resting_since.extend(group.resting_since.iter().filter(|(k, _)| mine(k)).copied());
+        self.resting_since.sort_unstable_by_key(|(k, _)| *k);
         self.islands.retain(|i| !i.iter().any(mine));
         self.islands.extend(group.islands.iter().filter(|i| i.iter().all(mine)).cloned());
         self.held.retain(|k| !mine(k));

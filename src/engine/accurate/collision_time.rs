@@ -29,7 +29,7 @@ pub(super) fn collision_time(
 ) -> Result<Option<f64>, OdeError> {
     let (t0, t1) = (step.t0(), step.t1());
     let delta = cx.settings.contact_distance;
-    let statics = cx.scene.static_poses.clone();
+    let statics = cx.collider_set.static_poses.clone();
     let resting = &cx.memory.resting_keys;
     // In a pair that was already touching at the step's start (a contact within the contact distance), a contact
     // that is not resting (it was opening) collides only once it sinks past 1e-3 of the contact distance
@@ -52,14 +52,14 @@ pub(super) fn collision_time(
     let touching0: BTreeSet<(u32, u32)> = if candidate.is_empty() {
         BTreeSet::new()
     } else {
-        let found0 = cx.scene.pair_contacts(&candidate, poses0, |_, _| delta);
+        let found0 = cx.collider_set.pair_contacts(&candidate, poses0, |_, _| delta);
         let mut touching: BTreeSet<(u32, u32)> =
             found0.iter().filter(|f| f.contact.distance <= delta).map(|f| f.key.colliders).collect();
         // parry's manifolds can leave out a touching piece of a compound (a cylinder at a gap of 1e-9 m from a
         // mesh's piece: no manifold at the step's start, -4e-11 m an ulp of time later, an event at the same time
         // for ever): the pair's distance decides too
         for &(i, j) in &candidate {
-            if !touching.contains(&(i as u32, j as u32)) && cx.scene.pair_distance(i, j, poses0) <= delta {
+            if !touching.contains(&(i as u32, j as u32)) && cx.collider_set.pair_distance(i, j, poses0) <= delta {
                 touching.insert((i as u32, j as u32));
             }
         }
@@ -69,7 +69,7 @@ pub(super) fn collision_time(
     // one geometric contact from step to step) is not a new collision unless it sinks as deep as a drift does.
     let resting_pairs: BTreeSet<(u32, u32)> = resting.iter().map(|k| k.colliders).collect();
     let radius: Vec<f64> =
-        cx.scene.colliders.iter().map(|c| if c.radius.is_finite() { c.radius } else { 0.0 }).collect();
+        cx.collider_set.colliders.iter().map(|c| if c.radius.is_finite() { c.radius } else { 0.0 }).collect();
     let hits = |f: &FoundContact, resting: &BTreeSet<ContactKey>| {
         let depth = if resting_pairs.contains(&f.key.colliders) {
             -delta
@@ -101,7 +101,7 @@ pub(super) fn collision_time(
             cx.report.stages.mark(Stage::Bisection);
             let y = step.state_at(mid)?;
             let poses = actor_poses(step.system().model.layout, &y, &statics);
-            let found = cx.scene.pair_contacts(&fresh, &poses, |_, _| delta);
+            let found = cx.collider_set.pair_contacts(&fresh, &poses, |_, _| delta);
             if found.iter().any(|f| hits(f, &cx.memory.resting_keys)) {
                 hi = mid;
             } else {

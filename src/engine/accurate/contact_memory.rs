@@ -86,7 +86,7 @@ impl ContactMemory {
                 "a resting contact names no actor or collider",
             ),
             (self.resting_keys.iter().all(|k| k.fits(colliders)), "a resting key names no collider"),
-            (touching_fits, "its touching phase does not fit the scene"),
+            (touching_fits, "its touching phase does not fit the collider_set"),
             (self.penetration.is_finite(), "its penetration is not finite"),
             (self.scales.valid(), "its scales are not positive and finite"),
         ];
@@ -116,16 +116,16 @@ impl ContactMemory {
         y: &[f64],
     ) -> Result<ContactMemory, String> {
         let Some(free) = self.touching.as_mut().and_then(|t| t.free.take()) else { return Ok(self) };
-        let frozen = free.frozen;
+        let held_components = free.held_components;
         let template = || {
-            system.frozen.clone_from(&frozen);
+            system.held_components.clone_from(&held_components);
             let built = Integrator::new(system, settings.clone(), t, y);
-            system.frozen.clear();
+            system.held_components.clear();
             built
         };
         let integration = free.integration.into_live(template).map_err(|e| format!("its free flight's {e}"))?;
         if let Some(touching) = self.touching.as_mut() {
-            touching.free = Some(FreeFlight { frozen, integration });
+            touching.free = Some(FreeFlight { held_components, integration });
         }
         Ok(self)
     }

@@ -15,7 +15,7 @@ use tumble_integrate::{Report, Settings};
 /// The colliders and the settings the contact stages work from, with their scratch counters.
 #[derive(Clone)]
 pub(crate) struct ContactRules {
-    pub scene: ColliderSet,
+    pub collider_set: ColliderSet,
     pub settings: AccurateSettings,
     /// clarabel's settings for impulses, resting forces and position corrections.
     pub solver: SolverSettings,
@@ -34,14 +34,14 @@ pub(crate) struct ContactRules {
 impl ContactRules {
     /// The rules of `scene` and the contact memory of a world starting at (t, y).
     pub fn new(
-        scene: ColliderSet,
+        collider_set: ColliderSet,
         settings: AccurateSettings,
         integration: &Settings,
         gravity: f64,
         t: f64,
         y: &[f64],
     ) -> (ContactRules, ContactMemory) {
-        let scales = ContactScales::new(&settings, scene.size(y), gravity);
+        let scales = ContactScales::new(&settings, collider_set.size(y), gravity);
         let memory = ContactMemory {
             resting: None,
             resting_keys: BTreeSet::new(),
@@ -51,7 +51,7 @@ impl ContactRules {
             scales,
         };
         let rules = ContactRules {
-            scene,
+            collider_set,
             settings,
             solver: SolverSettings::default(),
             gravity,
@@ -74,7 +74,7 @@ impl ContactRules {
         divergence_limit: f64,
     ) -> ContactStages<'a> {
         ContactStages {
-            scene: &mut self.scene,
+            collider_set: &mut self.collider_set,
             settings: &self.settings,
             solver: &self.solver,
             gravity: self.gravity,
@@ -95,7 +95,7 @@ impl ContactRules {
 /// What a contact stage works on during an advance: the colliders and settings, the contact memory, the engine's
 /// report, the thread count and the divergence limit.
 pub(crate) struct ContactStages<'a> {
-    pub scene: &'a mut ColliderSet,
+    pub collider_set: &'a mut ColliderSet,
     pub settings: &'a AccurateSettings,
     pub solver: &'a SolverSettings,
     pub gravity: f64,

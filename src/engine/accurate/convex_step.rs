@@ -79,18 +79,18 @@ pub fn every_contact_in_reach(
     h: f64,
 ) -> Result<(Vec<FoundContact>, Vec<FoundContact>), OdeError> {
     let clock = Instant::now();
-    let statics = cx.scene.static_poses.clone();
+    let statics = cx.collider_set.static_poses.clone();
     let poses = actor_poses(model.layout, y, &statics);
-    let mut reach = cx.scene.reach(states, h);
+    let mut reach = cx.collider_set.reach(states, h);
     for (r, s) in reach.iter_mut().zip(states) {
         *r += s.force.norm() * s.inv_mass * h * h;
     }
-    let checks = cx.scene.checks;
-    let every = cx.scene.find(&poses, &reach, cx.settings.contact_distance).map_err(|e| failure(t, e))?;
+    let checks = cx.collider_set.checks;
+    let every = cx.collider_set.find(&poses, &reach, cx.settings.contact_distance).map_err(|e| failure(t, e))?;
     let moving = |f: &FoundContact| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic();
     let found: Vec<FoundContact> = reduce(every.clone(), states).into_iter().filter(moving).collect();
     let every: Vec<FoundContact> = every.into_iter().filter(moving).collect();
-    cx.report.collision_checks += cx.scene.checks - checks;
+    cx.report.collision_checks += cx.collider_set.checks - checks;
     cx.report.stages.mark(Stage::CollisionDetection);
     cx.report.collision_seconds += clock.elapsed().as_secs_f64();
     Ok((found, every))

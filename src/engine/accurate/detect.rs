@@ -72,26 +72,26 @@ fn detect_stages(cx: &mut ContactStages<'_>, step: &mut StepView<'_, AccurateSys
     let (t0, t1) = (step.t0(), step.t1());
     let h = t1 - t0;
     let delta = cx.settings.contact_distance;
-    let statics = cx.scene.static_poses.clone();
+    let statics = cx.collider_set.static_poses.clone();
     let model = &step.system().model;
     let poses0 = actor_poses(model.layout, step.y0(), &statics);
     let poses1 = actor_poses(model.layout, step.y1(), &statics);
     let speeds = speeds(cx, model, step.y0(), step.y1(), &statics);
     // Boxes swept between the ends, grown by how far a curved path can bulge from its chord.
     let margins: Vec<f64> = speeds.iter().map(|(s, bulge)| bulge * h + delta + 1e-12 * s).collect();
-    let checks = cx.scene.checks;
+    let checks = cx.collider_set.checks;
     cx.report.stages.mark(Stage::CollisionDetection);
-    let pairs = cx.scene.swept_pairs(&poses0, &poses1, &margins).map_err(|e| failure(t0, e))?;
+    let pairs = cx.collider_set.swept_pairs(&poses0, &poses1, &margins).map_err(|e| failure(t0, e))?;
     if pairs.is_empty() {
         return Ok(None);
     }
-    let found1 = cx.scene.pair_contacts(&pairs, &poses1, |_, _| delta);
+    let found1 = cx.collider_set.pair_contacts(&pairs, &poses1, |_, _| delta);
     // A resting contact that sank past the contact distance has drifted; any other contact that interpenetrates
     // at all is a collision.
     let drift = drifted(&found1, &cx.memory.resting_keys, delta);
     let collision = collision_time(cx, step, &found1, &poses0)?;
     let pass = pass_through(cx, step, &pairs, &found1, &poses0, &poses1, &speeds)?;
-    cx.report.collision_checks += cx.scene.checks - checks;
+    cx.report.collision_checks += cx.collider_set.checks - checks;
     Ok(earliest(earliest(collision, pass), drift.then_some(t1)))
 }
 
@@ -106,9 +106,9 @@ fn speeds(
     statics: &[Isometry3<f64>],
 ) -> Vec<(f64, f64)> {
     let l = model.layout;
-    let mut radius = vec![0.0f64; cx.scene.actors()];
-    for c in &cx.scene.colliders {
-        let a = cx.scene.index(c.actor);
+    let mut radius = vec![0.0f64; cx.collider_set.actors()];
+    for c in &cx.collider_set.colliders {
+        let a = cx.collider_set.index(c.actor);
         radius[a] = radius[a].max(if c.reach.is_finite() { c.reach } else { 0.0 });
     }
     let mut out = vec![(0.0, 0.0); l.actors() + statics.len()];

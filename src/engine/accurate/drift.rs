@@ -4,13 +4,14 @@
 //! body paying the energy the lift gave it out of its own motion (the contact steps' lifts use it too).
 
 use super::failure::failure;
+use super::qp;
 use super::step_estimate::momentum_rows;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::model::layout::{get3, get_quat, set3, set_quat};
 use crate::model::Model;
 use nalgebra::UnitQuaternion;
 use std::collections::BTreeSet;
-use tumble_contact::{position_correction, BodyState, BodyVelocity, Contact, SolverSettings};
+use tumble_contact::{BodyState, BodyVelocity, Contact, SolverSettings};
 use tumble_integrate::OdeError;
 
 /// Whether a resting contact among `found` has sunk past the contact distance `delta`.
@@ -27,11 +28,12 @@ pub(super) fn correct_drift(
     solver: &SolverSettings,
     t: f64,
 ) -> Result<usize, OdeError> {
-    let shift = position_correction(states, contacts, solver).map_err(|e| failure(t, format!("projection: {e}")))?;
+    let (moves, calls) =
+        qp::projection(states, contacts, solver).map_err(|e| failure(t, format!("projection: {e}")))?;
     let before = y.to_vec();
-    shift_positions(model, y, &shift.moves);
+    shift_positions(model, y, &moves);
     pay_for_the_lift(model, &before, y);
-    Ok(shift.solver_calls)
+    Ok(calls)
 }
 
 /// Takes the energy a lift gave each actor (gravity's potential energy, and the kinetic energy its turn changed) out

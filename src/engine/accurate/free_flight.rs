@@ -100,17 +100,20 @@ pub fn free_flight(
     if involved.iter().all(|i| *i) {
         return Ok(None);
     }
-    let frozen: Vec<usize> =
+    let held_components: Vec<usize> =
         (0..involved.len()).filter(|a| involved[*a]).flat_map(|a| components(system.model.layout, a)).collect();
-    system.frozen = frozen;
+    system.held_components = held_components;
     let result = (|| {
         let settings = cx.free_settings.clone();
         let flight = match free.take() {
-            Some(mut f) if f.frozen == system.frozen => {
+            Some(mut f) if f.held_components == system.held_components => {
                 f.integration.live_mut().set_state(t, y)?;
                 f
             }
-            _ => FreeFlight { frozen: system.frozen.clone(), integration: Integration::new(system, settings, t, y)? },
+            _ => FreeFlight {
+                held_components: system.held_components.clone(),
+                integration: Integration::new(system, settings, t, y)?,
+            },
         };
         let flight = free.insert(flight);
         let integrator = flight.integration.live_mut();
@@ -121,6 +124,6 @@ pub fn free_flight(
         copy_free(&system.model, involved, integrator.state(), &mut out);
         Ok(Some(out))
     })();
-    system.frozen.clear();
+    system.held_components.clear();
     result
 }

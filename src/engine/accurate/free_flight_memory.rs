@@ -8,6 +8,7 @@ use super::integration::Integration;
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct FreeFlight {
     /// The state components held still (those of the touching actors).
-    pub frozen: Vec<usize>,
+    #[serde(rename = "frozen")] // (its name in files)
+    pub held_components: Vec<usize>,
     pub integration: Integration,
 }

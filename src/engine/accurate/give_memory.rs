@@ -15,16 +15,13 @@ impl AccurateEngine {
             broken = vec![false; self.system.model.joints.len()];
         }
         if !(load_averages.is_empty() || load_averages.len() == self.system.model.joints.len()) {
-            return Err("its joints' averaged loads are not the scene's".into());
+            return Err("its joints' averaged loads are not the collider_set's".into());
         }
         if !load_averages.iter().all(|l| l.force.iter().chain(&l.torque).all(|v| v.is_finite())) {
             return Err("a joint's averaged load is not finite".into());
         }
         let dim = self.system.model.layout.dim();
-        #[cfg(feature = "contact")]
-        let (scene, has_contacts) = (self.contacts.as_ref().map(|c| &c.scene), self.contacts.is_some());
-        #[cfg(not(feature = "contact"))]
-        let has_contacts = false;
+        let (collider_set, has_contacts) = (self.contacts.as_ref().map(|c| &c.collider_set), self.contacts.is_some());
         if contact.is_some() != has_contacts {
             return Err(format!("it is the memory of {}, which this world does not run", engine_name(&contact)));
         }
@@ -34,15 +31,13 @@ impl AccurateEngine {
         if integration.is_some() != (dim > 0) {
             return Err("it has an integration where the world has nothing to integrate, or none where it has".into());
         }
-        #[cfg(feature = "contact")]
-        if let (Some(c), Some(scene)) = (&contact, scene) {
-            c.check(scene.actors(), scene.colliders.len(), dim)?;
+        if let (Some(c), Some(collider_set)) = (&contact, collider_set) {
+            c.check(collider_set.actors(), collider_set.colliders.len(), dim)?;
         }
         // a saved integration is given to a copy of the engine's own integrator (made only then)
         let current = self.memory.integration.as_ref();
         let template = || current.map(|i| i.live().clone()).ok_or_else(|| failure(clock, "no integrator".into()));
         let integration = integration.map(|i| i.into_live(template)).transpose()?;
-        #[cfg(feature = "contact")]
         let contact = match (contact, &integration) {
             (Some(c), Some(main)) => {
                 let (t, y) = c
@@ -53,14 +48,11 @@ impl AccurateEngine {
             }
             (c, _) => c,
         };
-        #[cfg(feature = "contact")]
         crate::engine::breaking::set_broken(
             &mut self.system.model,
-            self.contacts.as_mut().map(|c| &mut c.scene),
+            self.contacts.as_mut().map(|c| &mut c.collider_set),
             &broken,
         )?;
-        #[cfg(not(feature = "contact"))]
-        self.system.model.set_broken_joints(&broken)?;
         self.memory = AccurateMemory { clock, integration, contact, broken, load_averages };
         Ok(())
     }

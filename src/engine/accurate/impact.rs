@@ -9,6 +9,7 @@
 use super::contact_stages::ContactStages;
 use super::drift::correct_drift;
 use super::failure::failure;
+use super::qp;
 use super::resting::{RestingContact, RestingContacts};
 use super::system::AccurateSystem;
 use super::touching::start_touching;
@@ -18,7 +19,7 @@ use crate::model::layout::set3;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
 use std::time::Instant;
-use tumble_contact::{collision_impulses, Contact};
+use tumble_contact::Contact;
 use tumble_integrate::{Integrator, OdeError};
 
 /// The impact stage at the integrator's current state: find, impulses, drift correction, resting set.
@@ -32,8 +33,9 @@ pub fn impact(
     let mut y = integ.state().to_vec();
     let mut active = touching_contacts(cx, model, &y, t)?;
     let steps = cx.settings.persistent == Persistent::ContactSteps;
-    // with friction, or joints (which Newton's impulses know nothing of), the convex steps take the impact
-    let joined = model.has_joints() && !active.is_empty();
+    // with friction, or joints (which Newton's impulses know nothing of), or without clarabel (the impulses are its
+    // QP), the convex steps take the impact
+    let joined = (model.has_joints() || !cfg!(feature = "clarabel")) && !active.is_empty();
     if steps && (joined || active.iter().any(|(f, _)| f.contact.friction > 0.0)) {
         cx.memory.resting = None;
         start_touching(cx);
@@ -65,7 +67,7 @@ pub fn impact(
         cx.report.contact_seconds += clock.elapsed().as_secs_f64();
         return Ok(());
     }
-    let statics = cx.scene.static_poses.clone();
+    let statics = cx.collider_set.static_poses.clone();
     let delta = cx.settings.contact_distance;
     if active.iter().any(|(f, _)| f.contact.distance < -delta) {
         let states = contact_states(model, &y, &statics);
@@ -94,13 +96,13 @@ fn touching_contacts(
     t: f64,
 ) -> Result<Vec<(FoundContact, f64)>, OdeError> {
     let clock = Instant::now();
-    let statics = cx.scene.static_poses.clone();
+    let statics = cx.collider_set.static_poses.clone();
     let states = contact_states(model, y, &statics);
     let poses = actor_poses(model.layout, y, &statics);
-    let closing = cx.scene.reach(&states, 2.0 * cx.settings.time_tolerance);
-    let checks = cx.scene.checks;
-    let found = cx.scene.find(&poses, &closing, cx.settings.contact_distance).map_err(|e| failure(t, e))?;
-    cx.report.collision_checks += cx.scene.checks - checks;
+    let closing = cx.collider_set.reach(&states, 2.0 * cx.settings.time_tolerance);
+    let checks = cx.collider_set.checks;
+    let found = cx.collider_set.find(&poses, &closing, cx.settings.contact_distance).map_err(|e| failure(t, e))?;
+    cx.report.collision_checks += cx.collider_set.checks - checks;
     cx.report.stages.mark(Stage::CollisionDetection);
     cx.memory.penetration = found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max);
     cx.report.max_penetration = cx.report.max_penetration.max(cx.memory.penetration);
@@ -125,19 +127,20 @@ fn apply_impulses(
     active: &mut [(FoundContact, f64)],
     t: f64,
 ) -> Result<(), OdeError> {
-    let statics = &cx.scene.static_poses;
+    let statics = &cx.collider_set.static_poses;
     let v_rest = cx.memory.scales.resting_speed;
     let states = contact_states(model, y, statics);
     let contacts: Vec<Contact> = active
         .iter()
         .map(|(f, v)| Contact { restitution: if *v < -v_rest { f.contact.restitution } else { 0.0 }, ..f.contact })
         .collect();
-    let out = collision_impulses(&states, &contacts, cx.solver).map_err(|e| failure(t, format!("impulses: {e}")))?;
+    let (velocities, magnitudes, calls) =
+        qp::impulses(&states, &contacts, cx.solver).map_err(|e| failure(t, format!("impulses: {e}")))?;
     cx.report.stages.mark(Stage::Impulses);
-    cx.report.qp_solves += out.solver_calls;
+    cx.report.qp_solves += calls;
     cx.report.collisions += active.iter().filter(|(_, v)| *v < -v_rest).count();
-    cx.report.impulses += out.magnitudes.iter().filter(|&&j| j > 0.0).count();
-    write_velocities(model, y, &out.velocities);
+    cx.report.impulses += magnitudes.iter().filter(|&&j| j > 0.0).count();
+    write_velocities(model, y, &velocities);
     let states = contact_states(model, y, statics);
     for (f, v) in active.iter_mut() {
         *v = f.contact.relative_normal_velocity(&states);

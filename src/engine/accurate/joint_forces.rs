@@ -221,7 +221,6 @@ pub(crate) fn project_joints(model: &Model, y: &mut [f64], tolerance: f64) -> bo
 /// closes them within the step, motors their speed within their force over h; springs are forces. A dynamic end is
 /// its actor, a fixed end an extra fixed actor numbered from `first_extra` and returned. Each row comes with its
 /// joint's index and B's anchor from B's centre (for the joint's load).
-#[cfg(feature = "contact")]
 pub(crate) fn bilateral_rows(model: &Model, y: &[f64], h: f64, first_extra: usize) -> BilateralRows {
     use tumble_contact::BilateralKind;
     let l = model.layout;
@@ -264,7 +263,6 @@ pub(crate) fn bilateral_rows(model: &Model, y: &[f64], h: f64, first_extra: usiz
 }
 
 /// The joints' rows of a velocity step, the fixed ends' extra actors, and each row's joint with B's anchor.
-#[cfg(feature = "contact")]
 pub(crate) struct BilateralRows {
     pub rows: Vec<tumble_contact::BilateralRow>,
     pub extra: Vec<tumble_contact::BodyState>,

@@ -22,9 +22,9 @@ pub(super) fn deepest(
         every.iter().map(|f| (f.key.colliders.0 as usize, f.key.colliders.1 as usize)).collect();
     let pairs: Vec<(usize, usize)> = pairs.into_iter().collect();
     let poses = crate::model::actor_poses(model.layout, y, statics);
-    let checks = cx.scene.checks;
-    let found = cx.scene.pair_contacts(&pairs, &poses, |_, _| 0.0);
-    cx.report.collision_checks += cx.scene.checks - checks;
+    let checks = cx.collider_set.checks;
+    let found = cx.collider_set.pair_contacts(&pairs, &poses, |_, _| 0.0);
+    cx.report.collision_checks += cx.collider_set.checks - checks;
     found.iter().map(|f| -f.contact.distance).fold(0.0, f64::max)
 }
 

@@ -6,13 +6,7 @@
 use super::integration::Integration;
 use serde::{Deserialize, Serialize};
 
-#[cfg(feature = "contact")]
 pub(crate) use super::contact_memory::ContactMemory;
-
-/// Without the `contact` feature there is no contact memory (the type keeps the format the same in both builds).
-#[cfg(not(feature = "contact"))]
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(crate) enum ContactMemory {}
 
 /// Accurate mode's memory.
 #[derive(Clone, Serialize, Deserialize)]
@@ -52,10 +46,7 @@ impl AccurateMemory {
 
     /// The touching phase's time and state while it keeps its own.
     fn touching_at(&self) -> Option<(f64, &[f64])> {
-        #[cfg(feature = "contact")]
-        return self.contact.as_ref().and_then(|c| c.touching_at());
-        #[cfg(not(feature = "contact"))]
-        None
+        self.contact.as_ref().and_then(|c| c.touching_at())
     }
 }
 

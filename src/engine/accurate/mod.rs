@@ -24,62 +24,39 @@
 //! (`memory.rs`; given back, it is checked and put in place by `give_memory.rs`). The stages fail with
 //! `failure.rs`'s error.
 
-#[cfg(feature = "contact")]
 mod advance;
 mod breaking;
-#[cfg(feature = "contact")]
 mod clocks;
-#[cfg(feature = "contact")]
 mod collision_time;
-#[cfg(feature = "contact")]
 mod contact_memory;
-#[cfg(feature = "contact")]
 mod contact_stages;
-#[cfg(feature = "contact")]
 mod convex_step;
-#[cfg(feature = "contact")]
 mod detect;
-#[cfg(feature = "contact")]
 mod doubled_step;
-#[cfg(feature = "contact")]
 mod drift;
-#[cfg(feature = "contact")]
 mod energy_guard;
 mod failure;
-#[cfg(feature = "contact")]
 mod free_flight;
-#[cfg(feature = "contact")]
 mod free_flight_memory;
 mod give_memory;
-#[cfg(feature = "contact")]
 mod held;
-#[cfg(feature = "contact")]
 mod impact;
 mod integration;
 mod joint_forces;
-#[cfg(feature = "contact")]
 mod late_sink;
 mod memory;
-#[cfg(feature = "contact")]
 mod pass_through;
-#[cfg(feature = "contact")]
+mod qp;
 mod resting;
-#[cfg(feature = "contact")]
 mod sleep;
-#[cfg(feature = "contact")]
 mod slide_limit;
-#[cfg(feature = "contact")]
 mod step_estimate;
-#[cfg(feature = "contact")]
 mod step_judgement;
-#[cfg(feature = "contact")]
 mod sync;
 mod system;
-#[cfg(all(test, feature = "contact"))]
+#[cfg(test)]
 mod tests;
-#[cfg(feature = "contact")]
 mod touching;
-#[cfg(feature = "contact")]
 mod touching_phase;
 
 pub(crate) use memory::{engine_name, AccurateMemory};
@@ -97,7 +74,6 @@ use integration::{within_budget, Integration};
 use tumble_integrate::{Integrator, Settings};
 
 /// Events at one time without progress before the advance gives up (an impact stage that cannot settle).
-#[cfg(feature = "contact")]
 const STUCK: usize = 200;
 
 /// Accurate mode's engine: the integration of its equations of motion and, when colliders can touch, its contact
@@ -108,7 +84,6 @@ pub(crate) struct AccurateEngine {
     system: AccurateSystem,
     settings: Settings,
     /// The colliders and the contact stages' settings; `None` when no two colliders can touch.
-    #[cfg(feature = "contact")]
     contacts: Option<contact_stages::ContactRules>,
     memory: AccurateMemory,
     /// The time tolerance of event times: a joint's break is located to it (as a collision's time is).
@@ -120,10 +95,9 @@ pub(crate) struct AccurateEngine {
 impl AccurateEngine {
     /// The engine of `compiled` from (t, y), with contact stages over `scene` if given.
     #[allow(clippy::too_many_arguments)]
-    #[cfg_attr(not(feature = "contact"), allow(unused_variables))]
     pub fn new(
         compiled: Compiled,
-        #[cfg(feature = "contact")] scene: Option<crate::engine::collider_set::ColliderSet>,
+        collider_set: Option<crate::engine::collider_set::ColliderSet>,
         settings: Settings,
         accurate: AccurateSettings,
         gravity: f64,
@@ -137,25 +111,20 @@ impl AccurateEngine {
         let integration =
             if y.is_empty() { None } else { Some(Integration::new(&mut system, settings.clone(), t, &y)?) };
         // the contact stages book their counters in a report of their own name, the integration in the method's
-        #[cfg(feature = "contact")]
-        let report = WorldReport::new(if scene.is_some() { "accurate" } else { settings.method.name() });
-        #[cfg(not(feature = "contact"))]
-        let report = WorldReport::new(settings.method.name());
-        #[cfg_attr(not(feature = "contact"), allow(unused_mut))]
+        let report = WorldReport::new(if collider_set.is_some() { "accurate" } else { settings.method.name() });
         let mut engine = AccurateEngine {
             core: EngineCore::new(rows, settings.divergence_limit, threads, report),
             system,
             settings,
-            #[cfg(feature = "contact")]
             contacts: None,
             memory: AccurateMemory { clock: t, integration, contact: None, broken, load_averages: Vec::new() },
             time_tolerance: accurate.time_tolerance,
             checkpoint: None,
         };
-        #[cfg(feature = "contact")]
-        if let Some(scene) = scene {
-            engine.system.statics = scene.static_poses.clone();
-            let (rules, memory) = contact_stages::ContactRules::new(scene, accurate, &engine.settings, gravity, t, &y);
+        if let Some(collider_set) = collider_set {
+            engine.system.statics = collider_set.static_poses.clone();
+            let (rules, memory) =
+                contact_stages::ContactRules::new(collider_set, accurate, &engine.settings, gravity, t, &y);
             engine.contacts = Some(rules);
             engine.memory.contact = Some(memory);
         }
@@ -196,10 +165,7 @@ impl AccurateEngine {
 
     /// The accurate-mode settings of the contact stages, if the engine has them.
     fn accurate_settings(&self) -> Option<&AccurateSettings> {
-        #[cfg(feature = "contact")]
-        return self.contacts.as_ref().map(|c| &c.settings);
-        #[cfg(not(feature = "contact"))]
-        None
+        self.contacts.as_ref().map(|c| &c.settings)
     }
 
     /// Integrates to `t_end` (pausing past `pause`) with no contact: the integrator's advance, or for an empty
@@ -314,7 +280,6 @@ impl Engine for AccurateEngine {
             Some(i) => i.live_mut().set_state(t, y)?,
             None => self.memory.clock = t,
         }
-        #[cfg(feature = "contact")]
         if let Some(c) = self.memory.contact.as_mut() {
             c.touching = None;
         }
@@ -332,7 +297,6 @@ impl Engine for AccurateEngine {
         let (t_end, pause) = self.drive_kinematic(t_end, pause)?;
         // (frames past an advance cut short at a keyframe wait for the next call)
         let saves = &saves[..saves.partition_point(|&s| s <= t_end)];
-        #[cfg(feature = "contact")]
         if self.contacts.is_some() {
             return self.advance_with_contacts(t_end, pause, saves, run, budget);
         }
@@ -376,21 +340,18 @@ impl Engine for AccurateEngine {
         if let Some(i) = &mut self.memory.integration {
             i.live_mut().set_divergence_limit(limit);
         }
-        #[cfg(feature = "contact")]
         if let Some(c) = &mut self.contacts {
             c.free_settings.divergence_limit = limit;
         }
     }
 
-    #[cfg(feature = "contact")]
     fn last_contacts(&self) -> Vec<crate::engine::last_contacts::LastContact> {
         self.memory.contact.as_ref().and_then(|c| c.touching.as_ref()).map_or_else(Vec::new, |t| t.last.clone())
     }
 
-    #[cfg(feature = "contact")]
     fn set_material(&mut self, actor: usize, material: crate::Material) {
         if let Some(c) = &mut self.contacts {
-            c.scene.set_material(actor, material);
+            c.collider_set.set_material(actor, material);
         }
         self.wake_all();
     }
@@ -399,7 +360,6 @@ impl Engine for AccurateEngine {
         let method = self.settings.method.name();
         let integrator = self.memory.integration.as_mut().map(|i| i.live_mut());
         let mut r = take_integrator_report(integrator, method);
-        #[cfg(feature = "contact")]
         if let Some(rules) = &mut self.contacts {
             let free = std::mem::replace(&mut rules.free_report, tumble_integrate::Report::empty(method));
             r.stages.add(Stage::Integrate, free.steps);
@@ -441,10 +401,7 @@ impl AccurateEngine {
             return Ok((t_end, pause));
         }
         // (a touching phase keeping its own state is driven in it)
-        #[cfg(feature = "contact")]
         let in_phase = self.memory.contact.as_mut().and_then(|c| c.touching.as_mut()).and_then(|p| p.at.as_mut());
-        #[cfg(not(feature = "contact"))]
-        let in_phase: Option<&mut (f64, Vec<f64>)> = None;
         if let Some((t, y)) = in_phase {
             model.drive_kinematic(*t, y, None);
         } else if let Some(integration) = &mut self.memory.integration {
@@ -459,7 +416,6 @@ impl AccurateEngine {
     }
 
     /// Wakes every sleeping island.
-    #[cfg(feature = "contact")]
     fn wake_all(&mut self) {
         if let Some(touching) = self.memory.contact.as_mut().and_then(|c| c.touching.as_mut()) {
             touching.sleep.wake_all();

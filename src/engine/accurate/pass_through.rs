@@ -29,13 +29,13 @@ pub(super) fn pass_through(
     let (t0, t1) = (step.t0(), step.t1());
     let h = t1 - t0;
     let delta = cx.settings.contact_distance;
-    let statics = cx.scene.static_poses.clone();
+    let statics = cx.collider_set.static_poses.clone();
     let mut event: Option<f64> = None;
     // Passes through: pairs apart at both ends whose distances leave room for a contact in between.
     let touching: BTreeSet<(usize, usize)> =
         found1.iter().map(|f| (f.key.colliders.0 as usize, f.key.colliders.1 as usize)).collect();
     for &(i, j) in pairs.iter().filter(|p| !touching.contains(p)) {
-        let (sa, sb, oa, ob, ia, ib) = cx.scene.shapes(i, j);
+        let (sa, sb, oa, ob, ia, ib) = cx.collider_set.shapes(i, j);
         let (sa, sb) = (sa.clone(), sb.clone());
         let d0 = distance(&sa, &(poses0[ia] * oa), &sb, &(poses0[ib] * ob)).unwrap_or(f64::INFINITY);
         let d1 = distance(&sa, &(poses1[ia] * oa), &sb, &(poses1[ib] * ob)).unwrap_or(f64::INFINITY);

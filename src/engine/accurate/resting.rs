@@ -2,12 +2,13 @@
 //! attached to the bodies that carry them, and the right-hand-side stage that gives them the chapter's QP forces,
 //! so that resting bodies neither sink into nor accelerate away from what holds them.
 
+use super::qp;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::model::layout::add3;
 use crate::model::{actor_poses, Model};
 use nalgebra::{Isometry3, Point3, Vector3};
 use std::time::Instant;
-use tumble_contact::{contact_wrenches, resting_forces, Contact, NormalMotion, SolverSettings};
+use tumble_contact::{Contact, NormalMotion, SolverSettings};
 use tumble_integrate::SystemError;
 
 /// A resting contact held in the frames of its two actors.
@@ -117,10 +118,10 @@ pub(super) fn add_resting_forces(
     if contacts.is_empty() {
         return Ok((0, 0.0));
     }
-    let out =
-        resting_forces(&states, &contacts, solver).map_err(|e| SystemError::new(format!("resting contact: {e}")))?;
+    let (wrenches, calls) = qp::resting_wrenches(&states, &contacts, solver)
+        .map_err(|e| SystemError::new(format!("resting contact: {e}")))?;
     let (l, q) = (model.layout, model.layout.positions());
-    for (k, (force, torque)) in contact_wrenches(&states, &contacts, &out.forces).iter().enumerate() {
+    for (k, (force, torque)) in wrenches.iter().enumerate() {
         if k < l.particles {
             add3(dp, l.pv(k) - q, &(force * model.particles[k].inv_mass));
         } else if k < l.actors() {
@@ -129,5 +130,5 @@ pub(super) fn add_resting_forces(
             add3(dp, l.bl(j) - q, torque);
         }
     }
-    Ok((out.solver_calls, clock.elapsed().as_secs_f64()))
+    Ok((calls, clock.elapsed().as_secs_f64()))
 }

@@ -19,7 +19,8 @@ use tumble_contact::BodyState;
 pub(crate) struct Sleep {
     /// For each actor (particles, then dynamic bodies) touching something, since when it has moved slower than the
     /// resting speed; actors not listed are moving or touch nothing. Ordered by actor.
-    pub calm_since: Vec<(usize, f64)>,
+    #[serde(rename = "calm_since")] // (its name in files)
+    pub resting_since: Vec<(usize, f64)>,
     /// The islands asleep, each its actors in increasing order, the islands in the order they fell asleep.
     pub islands: Vec<Vec<usize>>,
     /// The actors held inside moving islands (`held.rs`), in increasing order. (Absent from files written before
@@ -31,7 +32,7 @@ pub(crate) struct Sleep {
 impl Sleep {
     /// Whether it fits a scene of `actors` moving actors.
     pub fn fits(&self, actors: usize) -> bool {
-        self.calm_since.iter().all(|(a, t)| *a < actors && t.is_finite())
+        self.resting_since.iter().all(|(a, t)| *a < actors && t.is_finite())
             && self.islands.iter().flatten().all(|a| *a < actors)
             && self.held.windows(2).all(|w| w[0] < w[1])
             && self.held.iter().all(|a| *a < actors)
@@ -60,7 +61,7 @@ impl Sleep {
     /// Wakes every island (the state was set, or a material changed).
     pub fn wake_all(&mut self) {
         self.islands.clear();
-        self.calm_since.clear();
+        self.resting_since.clear();
         self.held.clear();
     }
 
@@ -89,7 +90,7 @@ impl Sleep {
                 if other < actors && !self.resting_actor(other) {
                     if let Some(k) = self.islands.iter().position(|i| i.binary_search(&sleeper).is_ok()) {
                         for actor in self.islands.remove(k) {
-                            self.calm_since.retain(|(x, _)| *x != actor);
+                            self.resting_since.retain(|(x, _)| *x != actor);
                         }
                         woke = true;
                     }
@@ -116,14 +117,7 @@ impl Sleep {
         let actors = l.actors();
         let touching = |a: usize| a < actors && !self.resting_actor(a);
         // union-find over the awake touching actors
-        let mut parent: Vec<usize> = (0..actors).collect();
-        fn root(parent: &mut [usize], mut a: usize) -> usize {
-            while parent[a] != a {
-                parent[a] = parent[parent[a]];
-                a = parent[a];
-            }
-            a
-        }
+        let mut sets = tumble_contact::UnionFind::new(actors);
         let mut member = vec![false; actors];
         let pairs = found.iter().map(|f| (f.contact.a, f.contact.b));
         for (a, b) in pairs.clone().chain(links.iter().copied()) {
@@ -133,8 +127,7 @@ impl Sleep {
                 }
             }
             if touching(a) && touching(b) {
-                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-                parent[ra.max(rb)] = ra.min(rb);
+                sets.union(a, b);
             }
         }
         // an island joined to a sleeping actor by a contact stays awake (it is being woken or will be)
@@ -142,23 +135,23 @@ impl Sleep {
         for (a, b) in pairs.chain(links.iter().copied()) {
             for (x, other) in [(a, b), (b, a)] {
                 if touching(x) && other < actors && self.asleep(other) {
-                    blocked[root(&mut parent, x)] = true;
+                    blocked[sets.find(x)] = true;
                 }
             }
         }
-        let calm_since: Vec<(usize, f64)> = (0..actors)
+        let resting_since: Vec<(usize, f64)> = (0..actors)
             .filter(|&a| member[a])
             .filter(|&a| speed(model, y, a) < resting_speed)
             // a kinematic body with moving still to do is never calm
             .filter(|&a| a < l.particles || !model.kinematic_moves_after(a - l.particles, t))
-            .map(|a| (a, self.calm_since.iter().find(|(x, _)| *x == a).map_or(t, |(_, since)| *since)))
+            .map(|a| (a, self.resting_since.iter().find(|(x, _)| *x == a).map_or(t, |(_, since)| *since)))
             .collect();
-        self.calm_since = calm_since;
+        self.resting_since = resting_since;
         // islands in order of their smallest actor; asleep when every member has been calm long enough
         let mut islands: Vec<Vec<usize>> = Vec::new();
         let mut slot = vec![usize::MAX; actors];
         for a in (0..actors).filter(|&a| member[a]) {
-            let r = root(&mut parent, a);
+            let r = sets.find(a);
             if slot[r] == usize::MAX {
                 slot[r] = islands.len();
                 islands.push(Vec::new());
@@ -168,13 +161,13 @@ impl Sleep {
         let mut fell = false;
         let mut holding = Vec::new();
         for island in islands {
-            let r = root(&mut parent, island[0]);
-            let calm = |a: &usize| self.calm_since.iter().any(|(x, since)| x == a && t - since >= sleep_time);
+            let r = sets.find(island[0]);
+            let calm = |a: &usize| self.resting_since.iter().any(|(x, since)| x == a && t - since >= sleep_time);
             if !blocked[r] && island.iter().all(calm) {
                 for &a in &island {
                     zero_velocity(model, y, a);
                 }
-                self.calm_since.retain(|(x, _)| island.binary_search(x).is_err());
+                self.resting_since.retain(|(x, _)| island.binary_search(x).is_err());
                 self.islands.push(island);
                 fell = true;
             } else {
@@ -187,7 +180,7 @@ impl Sleep {
             zero_velocity(model, y, a);
             fell = true;
         }
-        self.calm_since.retain(|(x, _)| !holding.contains(x));
+        self.resting_since.retain(|(x, _)| !holding.contains(x));
         fell
     }
 }

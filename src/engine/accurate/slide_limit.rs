@@ -19,7 +19,7 @@ pub(super) fn slide_limit(cx: &ContactStages<'_>, found: &[FoundContact], states
     let touching = cx.memory.scales.tolerance.max(cx.settings.contact_distance);
     for f in found {
         let (ca, cb) = f.key.colliders;
-        let (ra, rb) = (cx.scene.colliders[ca as usize].radius, cx.scene.colliders[cb as usize].radius);
+        let (ra, rb) = (cx.collider_set.colliders[ca as usize].radius, cx.collider_set.colliders[cb as usize].radius);
         let c = &f.contact;
         if c.distance > touching {
             continue;
@@ -32,7 +32,8 @@ pub(super) fn slide_limit(cx: &ContactStages<'_>, found: &[FoundContact], states
         // a pair that turns against each other brings other points of its shapes into contact (a domino tipping on
         // its edge), which a step's contacts, found at its start, do not hold; a ball's own turn changes nothing (a
         // ball rolling on the floor is not limited), so against a ball the other shape's turn counts
-        let round = |k: u32| matches!(cx.scene.colliders[k as usize].shape, tumble_collide::Shape::Sphere { .. });
+        let round =
+            |k: u32| matches!(cx.collider_set.colliders[k as usize].shape, tumble_collide::Shape::Sphere { .. });
         let (wa, wb) = (states[c.a].angular_velocity, states[c.b].angular_velocity);
         let turn = match (round(ca), round(cb)) {
             (true, true) => 0.0,

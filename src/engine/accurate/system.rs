@@ -14,22 +14,17 @@ pub(crate) struct AccurateSystem {
     pub model: Model,
     /// The resting contacts whose forces the right-hand side adds (`Persistent::RestingForces`), lent by the engine's
     /// memory for each integration.
-    #[cfg(feature = "contact")]
     pub resting: Option<super::resting::RestingContacts>,
     /// The static actors' poses, for the resting forces.
-    #[cfg(feature = "contact")]
     pub statics: Vec<nalgebra::Isometry3<f64>>,
     /// clarabel's settings for the resting forces.
-    #[cfg(feature = "contact")]
     pub solver: tumble_contact::SolverSettings,
     /// Resting-force solves and their wall time since the report was last taken.
-    #[cfg(feature = "contact")]
     pub resting_solves: usize,
-    #[cfg(feature = "contact")]
     pub resting_seconds: f64,
     /// State components whose rates are held at zero (the touching actors, while the others fly free); empty
     /// otherwise.
-    pub frozen: Vec<usize>,
+    pub held_components: Vec<usize>,
 }
 
 impl AccurateSystem {
@@ -37,24 +32,18 @@ impl AccurateSystem {
     pub fn new(model: Model) -> AccurateSystem {
         AccurateSystem {
             model,
-            #[cfg(feature = "contact")]
             resting: None,
-            #[cfg(feature = "contact")]
             statics: Vec::new(),
-            #[cfg(feature = "contact")]
             solver: Default::default(),
-            #[cfg(feature = "contact")]
             resting_solves: 0,
-            #[cfg(feature = "contact")]
             resting_seconds: 0.0,
-            frozen: Vec::new(),
+            held_components: Vec::new(),
         }
     }
 
     /// Adds accurate mode's forces to the p rates `dp`: the joints', then the resting contacts'.
     fn add_forces(&mut self, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
         add_joint_forces(&self.model, y, dp);
-        #[cfg(feature = "contact")]
         if let Some(set) = &self.resting {
             let (solves, seconds) =
                 super::resting::add_resting_forces(&self.model, set, &self.statics, &self.solver, y, dp)?;
@@ -75,7 +64,7 @@ impl OdeSystem for AccurateSystem {
         let q = self.model.layout.positions();
         self.add_forces(y, &mut dy[q..])?;
         self.model.hold_kinematic(&mut dy[q..]);
-        for &k in &self.frozen {
+        for &k in &self.held_components {
             dy[k] = 0.0;
         }
         Ok(())
@@ -102,7 +91,7 @@ impl OdeSystem for AccurateSystem {
         self.model.update_kin(y);
         self.model.position_part(y, dq);
         let q = dq.len();
-        for &k in self.frozen.iter().filter(|k| **k < q) {
+        for &k in self.held_components.iter().filter(|k| **k < q) {
             dq[k] = 0.0;
         }
         Ok(())
@@ -113,7 +102,7 @@ impl OdeSystem for AccurateSystem {
         self.model.force_part(t, y, dp, true)?;
         self.add_forces(y, dp)?;
         let q = self.model.layout.positions();
-        for &k in self.frozen.iter().filter(|k| **k >= q) {
+        for &k in self.held_components.iter().filter(|k| **k >= q) {
             dp[k - q] = 0.0;
         }
         Ok(())

@@ -5,6 +5,7 @@
 
 use super::contact_stages::ContactStages;
 use super::detect::detect;
+#[cfg(feature = "clarabel")] // (the tests of the chapter's QPs)
 use super::impact::impact;
 use super::integration::Integration;
 use super::joint_forces::{project_joints, JOINT_DRIFT};
@@ -12,7 +13,7 @@ use super::system::AccurateSystem;
 use super::AccurateEngine;
 use crate::engine::semi_implicit::Form;
 use crate::engine::state_error::state_difference;
-use crate::mode::{AccurateSettings, Mode, Persistent};
+use crate::mode::{AccurateSettings, Mode};
 use crate::model::layout::{get3, set3};
 use crate::{JointBuilder, Material, ParticleBuilder, RigidBodyBuilder, Shape, World};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -24,11 +25,11 @@ const G: f64 = 9.81;
 /// Accurate mode's engine of world `w` as it is (its own scene and settings).
 fn engine(w: &World) -> AccurateEngine {
     let compiled = w.compile();
-    let scene = w.collider_set(&compiled);
+    let collider_set = w.collider_set(&compiled);
     let y = compiled.rows.pack(&w.particles, &w.bodies);
     let settings = w.settings.clone().divergence_limit(1e12);
     let Mode::Accurate(accurate) = w.mode else { panic!("an accurate world") };
-    AccurateEngine::new(compiled, scene, settings, accurate, w.gravity.norm(), 1, 0.0, y).unwrap()
+    AccurateEngine::new(compiled, collider_set, settings, accurate, w.gravity.norm(), 1, 0.0, y).unwrap()
 }
 
 /// The contact stages' context, the equations of motion and the main integrator of an engine with contact stages.
@@ -86,9 +87,9 @@ fn held_components_have_zero_rates() {
     w.add_particle(ParticleBuilder::new(1.0).velocity(Vector3::new(1.0, 2.0, 3.0))).unwrap();
     let mut e = engine(&w);
     let y = e.memory.state().to_vec();
-    e.system.frozen = (0..6).collect();
+    e.system.held_components = (0..6).collect();
     assert_eq!(rates(&mut e.system, &y), vec![0.0; 6]);
-    e.system.frozen.clear();
+    e.system.held_components.clear();
     assert_eq!(rates(&mut e.system, &y), vec![1.0, 2.0, 3.0, 0.0, 0.0, -G]);
 }
 
@@ -127,11 +128,12 @@ fn resting_cube(material: Material, accurate: AccurateSettings) -> World {
     w
 }
 
+#[cfg(feature = "clarabel")] // the chapter's QPs
 #[test]
 fn resting_forces_carry_a_resting_cubes_weight_inside_the_equations_of_motion() {
     // the chapter's resting contact: at the impact stage the four corners rest; the QP's forces cancel gravity
     let frictionless = Material::new(0.0, 0.0);
-    let accurate = AccurateSettings { persistent: Persistent::RestingForces, ..Default::default() };
+    let accurate = AccurateSettings { persistent: crate::mode::Persistent::RestingForces, ..Default::default() };
     let mut e = engine(&resting_cube(frictionless, accurate));
     let (mut stages, system, integrator) = parts(&mut e);
     impact(&mut stages, system, integrator).unwrap();
@@ -145,6 +147,7 @@ fn resting_forces_carry_a_resting_cubes_weight_inside_the_equations_of_motion() 
     assert!(system.resting_solves >= 1);
 }
 
+#[cfg(feature = "clarabel")] // the chapter's QPs
 #[test]
 fn the_impact_stage_bounces_a_frictionless_ball_at_its_restitution_and_starts_touching_with_friction() {
     for (friction, touching) in [(0.0, false), (0.5, true)] {
@@ -215,10 +218,11 @@ fn a_fast_ball_through_a_thin_wall_within_one_step_is_caught() {
     assert!((t - exact).abs() < 1e-8 && t <= exact, "{t} s, exact {exact} s");
 }
 
+#[cfg(feature = "clarabel")] // the chapter's QPs
 #[test]
 fn drift_correction_lifts_a_sunk_cube_to_zero_gap() {
     let frictionless = Material::new(0.0, 0.0);
-    let accurate = AccurateSettings { persistent: Persistent::RestingForces, ..Default::default() };
+    let accurate = AccurateSettings { persistent: crate::mode::Persistent::RestingForces, ..Default::default() };
     let mut w = resting_cube(frictionless, accurate);
     let (h, b) = w.bodies().nth(1).map(|(h, b)| (h, b.clone())).unwrap();
     w.set_body_state(h, Vector3::new(0.0, 0.0, 0.099), b.orientation(), Vector3::zeros(), Vector3::zeros()).unwrap();
@@ -241,7 +245,7 @@ fn a_convex_step_carries_a_resting_cubes_weight_and_slows_a_sliding_one_at_mu_g(
         let mut e = engine(&w);
         let (mut stages, system, integrator) = parts(&mut e);
         let y = integrator.state().to_vec();
-        let statics = stages.scene.static_poses.clone();
+        let statics = stages.collider_set.static_poses.clone();
         let states = super::convex_step::actors_with_forces(system, &statics, 0.0, &y).unwrap();
         let found =
             super::convex_step::every_contact_in_reach(&mut stages, &system.model, &states, &y, 0.0, h).unwrap().0;
@@ -340,21 +344,21 @@ fn two_states_differ_by_their_largest_position_turn_or_velocity_over_the_step() 
 #[test]
 fn a_contact_memory_that_does_not_fit_is_refused_with_the_reason() {
     let mut e = engine(&resting_cube(Material::default(), AccurateSettings::default()));
-    let (scene, dim) = {
+    let (collider_set, dim) = {
         let c = e.contacts.as_ref().unwrap();
-        ((c.scene.actors(), c.scene.colliders.len()), e.system.model.layout.dim())
+        ((c.collider_set.actors(), c.collider_set.colliders.len()), e.system.model.layout.dim())
     };
     let good = e.memory.contact.clone().unwrap();
-    assert!(good.check(scene.0, scene.1, dim).is_ok());
+    assert!(good.check(collider_set.0, collider_set.1, dim).is_ok());
     let mut bad = good.clone();
     bad.penetration = f64::NAN;
-    assert_eq!(bad.check(scene.0, scene.1, dim).unwrap_err(), "its penetration is not finite");
+    assert_eq!(bad.check(collider_set.0, collider_set.1, dim).unwrap_err(), "its penetration is not finite");
     let mut bad = good.clone();
     bad.scales.tolerance = -1.0;
-    assert_eq!(bad.check(scene.0, scene.1, dim).unwrap_err(), "its scales are not positive and finite");
+    assert_eq!(bad.check(collider_set.0, collider_set.1, dim).unwrap_err(), "its scales are not positive and finite");
     let mut bad = good;
     bad.resting_keys.insert(crate::engine::found_contact::ContactKey { colliders: (0, 99), features: (0, 0) });
-    assert_eq!(bad.check(scene.0, scene.1, dim).unwrap_err(), "a resting key names no collider");
+    assert_eq!(bad.check(collider_set.0, collider_set.1, dim).unwrap_err(), "a resting key names no collider");
     // and the engine refuses it whole: its memory is as it was
     let before = e.memory.state().to_vec();
     let mut memory = e.memory.clone();

@@ -134,7 +134,7 @@ pub fn touching_steps(
     mut run: Option<&mut Run>,
     budget: &mut Budget<'_>,
 ) -> Result<TouchingEnd, OdeError> {
-    let statics = cx.scene.static_poses.clone();
+    let statics = cx.collider_set.static_poses.clone();
     let Some(mut phase) = cx.memory.touching.take() else {
         return Err(failure(t, "contact steps without a touching phase".into()));
     };

@@ -54,7 +54,7 @@ impl TouchingPhase {
             && self.h.is_finite()
             && self.lagged.iter().all(|(k, f)| k.fits(colliders) && f.is_finite())
             && self.last.iter().all(|c| c.a < actors && c.b < actors)
-            && self.free.as_ref().is_none_or(|f| f.frozen.iter().all(|&k| k < dim))
+            && self.free.as_ref().is_none_or(|f| f.held_components.iter().all(|&k| k < dim))
             && self.sleep.fits(actors)
             && self.warm.iter().all(|(k, f)| k.fits(colliders) && f.iter().all(|x| x.is_finite()))
             && self

@@ -21,6 +21,6 @@ pub(super) fn applied_forces(cx: &mut StepContext<'_>) -> Result<Vec<BodyState>,
 
 /// The actors with the forces of the last evaluation (checked finite); sleeping actors are passed as fixed.
 pub(super) fn actors(cx: &StepContext<'_>) -> Result<Vec<BodyState>, WorldError> {
-    let statics = cx.scene.as_deref().map_or(&[][..], |s| &s.static_poses[..]);
+    let statics = cx.collider_set.as_deref().map_or(&[][..], |s| &s.static_poses[..]);
     Ok(cx.model.step_actors(cx.t, &cx.memory.y, cx.dy, statics, cx.memory.sleep.flags())?)
 }

@@ -51,6 +51,6 @@ pub(super) fn break_joints(cx: &mut StepContext<'_>, solved: &Solved, substep: f
         cx.memory.broken[k] = true;
         cx.memory.joint_warm[k] = Default::default();
     }
-    set_broken(cx.model, cx.scene.as_deref_mut(), &cx.memory.broken).expect("one flag per joint");
+    set_broken(cx.model, cx.collider_set.as_deref_mut(), &cx.memory.broken).expect("one flag per joint");
     broken
 }

@@ -10,7 +10,7 @@ use crate::report::WorldReport;
 /// What a stage works on: the engine's parts for one step of `h` from time `t`.
 pub(super) struct StepContext<'a> {
     pub model: &'a mut Model,
-    pub scene: Option<&'a mut ColliderSet>,
+    pub collider_set: Option<&'a mut ColliderSet>,
     pub settings: &'a FastSettings,
     pub memory: &'a mut FastMemory,
     /// The rates of the step's force evaluation (scratch kept by the engine).

@@ -22,11 +22,11 @@ pub(super) fn find_contacts(
     states: &mut Vec<BodyState>,
     h: f64,
 ) -> Result<Vec<FoundContact>, WorldError> {
-    if cx.scene.is_none() {
+    if cx.collider_set.is_none() {
         return Ok(Vec::new());
     }
     let clock = Instant::now();
-    let checks = cx.scene.as_deref().map_or(0, |s| s.checks);
+    let checks = cx.collider_set.as_deref().map_or(0, |s| s.checks);
     let dynamic = cx.memory.sleep.len();
     let mut found = search(cx, states, h)?;
     let woke = match &cx.memory.pairs {
@@ -38,8 +38,8 @@ pub(super) fn find_contacts(
         *states = actors(cx)?;
         found = search(cx, states, h)?;
     }
-    let scene = cx.scene.as_deref_mut().expect("checked above");
-    cx.report.collision_checks += scene.checks - checks;
+    let collider_set = cx.collider_set.as_deref_mut().expect("checked above");
+    cx.report.collision_checks += collider_set.checks - checks;
     cx.report.stages.mark(Stage::CollisionDetection);
     cx.report.collision_seconds += clock.elapsed().as_secs_f64();
     found.retain(|f| states[f.contact.a].is_dynamic() || states[f.contact.b].is_dynamic());
@@ -53,17 +53,17 @@ pub(super) fn find_contacts(
 /// One search of the step's contacts at the actors' sleep as it is.
 fn search(cx: &mut StepContext<'_>, states: &[BodyState], h: f64) -> Result<Vec<FoundContact>, WorldError> {
     let t = cx.t;
-    let scene = cx.scene.as_deref_mut().expect("a scene");
+    let collider_set = cx.collider_set.as_deref_mut().expect("a collider_set");
     for a in 0..cx.memory.sleep.len() {
-        scene.inert[a] = cx.memory.sleep.asleep(a);
+        collider_set.idle[a] = cx.memory.sleep.asleep(a);
     }
-    let poses = scene.poses(&cx.memory.y);
+    let poses = collider_set.poses(&cx.memory.y);
     let reach = (h, cx.settings.margin);
     match cx.memory.pairs.as_mut() {
         Some(store) => {
-            scene.keep_closing(&poses, states, reach, store, cx.threads).map_err(|e| failure(t, e))?;
+            collider_set.keep_closing(&poses, states, reach, store, cx.threads).map_err(|e| failure(t, e))?;
             Ok(Vec::new())
         }
-        None => scene.find_closing(&poses, states, reach).map_err(|e| failure(t, e)),
+        None => collider_set.find_closing(&poses, states, reach).map_err(|e| failure(t, e)),
     }
 }

@@ -93,12 +93,12 @@ impl FastMemory {
             (self.y.iter().all(|v| v.is_finite()) && self.origin.is_finite(), "its state is not finite"),
             (self.sleep.fits(fit.actors), "its sleep does not fit the actors"),
             (self.previous.keys().all(keys_fit), "a contact names no collider"),
-            (self.joint_warm.len() == fit.joints, "its joints are not the scene's"),
-            (self.broken.len() == fit.joints, "its broken joints are not the scene's"),
+            (self.joint_warm.len() == fit.joints, "its joints are not the collider_set's"),
+            (self.broken.len() == fit.joints, "its broken joints are not the collider_set's"),
             (self.joint_warm.iter().all(|j| j.0.iter().all(|p| p.is_finite())), "a joint's impulse is not finite"),
             (
                 self.load_averages.is_empty() || self.load_averages.len() == fit.joints,
-                "its joints' averaged loads are not the scene's",
+                "its joints' averaged loads are not the collider_set's",
             ),
             (
                 self.load_averages.iter().all(|l| l.force.iter().chain(&l.torque).all(|v| v.is_finite())),

@@ -60,7 +60,7 @@ const MAX_STEPS: f64 = 1e7;
 pub(crate) struct FastEngine {
     core: EngineCore,
     model: Model,
-    scene: Option<ColliderSet>,
+    collider_set: Option<ColliderSet>,
     settings: FastSettings,
     memory: FastMemory,
     /// The rates of the last force evaluation (scratch).
@@ -78,7 +78,7 @@ pub(crate) struct FastEngine {
 impl FastEngine {
     pub fn new(
         compiled: Compiled,
-        scene: Option<ColliderSet>,
+        collider_set: Option<ColliderSet>,
         t: f64,
         y: Vec<f64>,
         settings: FastSettings,
@@ -87,7 +87,7 @@ impl FastEngine {
     ) -> Self {
         let Compiled { model, rows } = compiled;
         let actors = model.layout.actors();
-        let keeps_pairs = keeps_pairs(scene.is_some(), &settings);
+        let keeps_pairs = keeps_pairs(collider_set.is_some(), &settings);
         let mut own = y.clone();
         model.to_velocities(&y, &mut own);
         let memory = FastMemory {
@@ -110,7 +110,7 @@ impl FastEngine {
             checkpoint: None,
             core: EngineCore::new(rows, divergence_limit, threads, WorldReport::new(method_name(&settings))),
             model,
-            scene,
+            collider_set,
             settings,
             memory,
         }
@@ -145,7 +145,7 @@ impl FastEngine {
         let (t, t_next) = (self.time(), self.time_at(self.memory.steps + 1));
         StepContext {
             model: &mut self.model,
-            scene: self.scene.as_mut(),
+            collider_set: self.collider_set.as_mut(),
             settings: &self.settings,
             memory: &mut self.memory,
             dy: &mut self.dy,
@@ -165,7 +165,7 @@ impl FastEngine {
 
     /// Puts the memory's broken joints into the model and the collider set.
     fn give_broken(&mut self) -> Result<(), String> {
-        crate::engine::breaking::set_broken(&mut self.model, self.scene.as_mut(), &self.memory.broken)
+        crate::engine::breaking::set_broken(&mut self.model, self.collider_set.as_mut(), &self.memory.broken)
     }
 
     /// A step of h, and its error estimate: the same step taken as two halves from the same start (time, state,
@@ -209,10 +209,10 @@ impl FastEngine {
         memory::Fit {
             dim: self.memory.y.len(),
             actors,
-            all_actors: self.scene.as_ref().map_or(actors, |sc| sc.actors()),
-            colliders: self.scene.as_ref().map_or(0, |sc| sc.colliders.len()),
+            all_actors: self.collider_set.as_ref().map_or(actors, |sc| sc.actors()),
+            colliders: self.collider_set.as_ref().map_or(0, |sc| sc.colliders.len()),
             joints: self.model.joints.len(),
-            keeps_pairs: keeps_pairs(self.scene.is_some(), &self.settings),
+            keeps_pairs: keeps_pairs(self.collider_set.is_some(), &self.settings),
         }
     }
 }
@@ -312,7 +312,7 @@ impl Engine for FastEngine {
     }
 
     fn own_stages(&self) -> Vec<Stage> {
-        Self::planned(&self.settings, self.memory.y.len(), self.scene.is_some(), self.model.has_joints())
+        Self::planned(&self.settings, self.memory.y.len(), self.collider_set.is_some(), self.model.has_joints())
     }
 
     fn memory(&self) -> EngineMemory {
@@ -340,8 +340,8 @@ impl Engine for FastEngine {
                     m.broken = vec![false; self.model.joints.len()];
                 }
                 m.check(self.fit())?;
-                if let (Some(kept), Some(scene)) = (m.pairs.as_mut(), &self.scene) {
-                    kept.rebuild(scene.actors(), |a| scene.movable(a))?;
+                if let (Some(kept), Some(collider_set)) = (m.pairs.as_mut(), &self.collider_set) {
+                    kept.rebuild(collider_set.actors(), |a| collider_set.movable(a))?;
                 }
                 self.memory = *m;
                 self.energy = None;
@@ -364,8 +364,8 @@ impl Engine for FastEngine {
     }
 
     fn set_material(&mut self, actor: usize, material: crate::Material) {
-        if let Some(scene) = &mut self.scene {
-            scene.set_material(actor, material);
+        if let Some(collider_set) = &mut self.collider_set {
+            collider_set.set_material(actor, material);
         }
     }
 

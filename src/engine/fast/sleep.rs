@@ -8,40 +8,33 @@ use crate::model::layout::set3;
 use crate::model::Model;
 use nalgebra::Vector3;
 
-/// Who sleeps, and how long each awake actor has been still.
+/// Who sleeps, and how long each awake actor has been resting (slower than the sleep speed).
 #[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub(crate) struct Sleep {
     asleep: Vec<bool>,
-    still: Vec<f64>,
+    #[serde(rename = "still")] // (its name in files)
+    resting_for: Vec<f64>,
 }
 
 /// Groups of dynamic actors (indices below `n`) joined by contacts (their actor pairs), as a root per actor.
 fn groups(touching: impl Iterator<Item = (usize, usize)>, n: usize) -> Vec<usize> {
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut x: usize) -> usize {
-        while parent[x] != x {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        x
+    let mut sets = tumble_contact::UnionFind::new(n);
+    for (a, b) in touching.filter(|&(a, b)| a < n && b < n) {
+        sets.union(a, b);
     }
-    for (a, b) in touching {
-        if a < n && b < n {
-            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-            parent[ra] = rb;
-        }
-    }
-    (0..n).map(|x| root(&mut parent, x)).collect()
+    (0..n).map(|x| sets.find(x)).collect()
 }
 
 impl Sleep {
     /// Whether it fits `actors` actors.
     pub fn fits(&self, actors: usize) -> bool {
-        self.asleep.len() == actors && self.still.len() == actors && self.still.iter().all(|s| s.is_finite())
+        self.asleep.len() == actors
+            && self.resting_for.len() == actors
+            && self.resting_for.iter().all(|s| s.is_finite())
     }
 
     pub fn new(actors: usize) -> Self {
-        Sleep { asleep: vec![false; actors], still: vec![0.0; actors] }
+        Sleep { asleep: vec![false; actors], resting_for: vec![0.0; actors] }
     }
 
     /// Number of dynamic actors.
@@ -84,7 +77,7 @@ impl Sleep {
         for i in 0..n {
             if self.asleep[i] && mixed[root[i]] == (true, true) {
                 self.asleep[i] = false;
-                self.still[i] = 0.0;
+                self.resting_for[i] = 0.0;
                 woke = true;
             }
         }
@@ -98,13 +91,13 @@ impl Sleep {
         let n = self.asleep.len();
         for i in 0..n {
             if !self.asleep[i] {
-                self.still[i] = if speeds[i] < s.sleep_speed { self.still[i] + h } else { 0.0 };
+                self.resting_for[i] = if speeds[i] < s.sleep_speed { self.resting_for[i] + h } else { 0.0 };
             }
         }
         let root = groups(touching, n);
         let mut ready = vec![true; n];
         for i in 0..n {
-            if !self.asleep[i] && self.still[i] < s.sleep_time {
+            if !self.asleep[i] && self.resting_for[i] < s.sleep_time {
                 ready[root[i]] = false;
             }
         }

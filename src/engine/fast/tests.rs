@@ -23,9 +23,9 @@ const H: f64 = 1.0 / 240.0;
 /// The fast engine of world `w` as it is (the world's own rules for its scene), with `settings`.
 fn engine(w: &World, settings: FastSettings) -> FastEngine {
     let compiled = w.compile();
-    let scene = w.collider_set(&compiled);
+    let collider_set = w.collider_set(&compiled);
     let y = compiled.rows.pack(&w.particles, &w.bodies);
-    FastEngine::new(compiled, scene, 0.0, y, settings, 1, 1e12)
+    FastEngine::new(compiled, collider_set, 0.0, y, settings, 1, 1e12)
 }
 
 /// A 0.2 m cube of 500 kg/m^3 (4 kg) resting on a ground at z = 0, its faces on the axes, and its handle.

@@ -15,7 +15,7 @@ pub(super) fn update_sleep(
     found: &[FoundContact],
     h: f64,
 ) {
-    let (true, Some(scene)) = (cx.settings.sleep, cx.scene.as_deref()) else { return };
+    let (true, Some(collider_set)) = (cx.settings.sleep, cx.collider_set.as_deref()) else { return };
     // jointed bodies do not sleep (sleep groups bodies by their contacts alone)
     if cx.model.has_joints() {
         return;
@@ -25,7 +25,7 @@ pub(super) fn update_sleep(
         .zip(v)
         .map(|(s, v)| BodyState { velocity: v.linear, angular_velocity: v.angular, ..*s })
         .collect();
-    let mut speeds = scene.reach(&moved, 1.0);
+    let mut speeds = collider_set.reach(&moved, 1.0);
     // a kinematic body with moving still to do is never still
     let p = cx.model.layout.particles;
     for j in (0..cx.model.bodies.len()).filter(|&j| cx.model.kinematic_moves_after(j, cx.t_next)) {

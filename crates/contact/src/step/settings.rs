@@ -66,6 +66,9 @@ impl StepSettings {
         if !(self.velocity_scale.is_finite() && self.velocity_scale >= 0.0) {
             return Err(ContactError::invalid("velocity_scale", "must be finite and >= 0"));
         }
+        if self.method == StepMethod::Clarabel && !cfg!(feature = "clarabel") {
+            return Err(ContactError::invalid("method", "clarabel needs the `clarabel` feature"));
+        }
         self.solver.check()
     }
 }
