@@ -6,6 +6,7 @@ use crate::keyframes::Keyframes;
 use crate::look::Look;
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion, Vector3};
 use std::sync::Arc;
+use tumble_collide::rotated_tensor;
 use tumble_collide::Shape;
 
 pub(crate) use crate::body_builder::still;
@@ -82,7 +83,7 @@ impl RigidBody {
     /// World inertia tensor I(t) = R I_body R^T.
     pub fn world_inertia(&self) -> Matrix3<f64> {
         let r = self.orientation.to_rotation_matrix();
-        r.matrix() * self.inertia * r.matrix().transpose()
+        rotated_tensor(r.matrix(), &self.inertia)
     }
     /// Centre-of-mass position x.
     pub fn position(&self) -> Vector3<f64> {
@@ -129,7 +130,7 @@ impl RigidBody {
             return Vector3::zeros();
         }
         let r = self.orientation.to_rotation_matrix();
-        r.matrix() * self.inv_inertia * r.matrix().transpose() * self.angular_momentum
+        rotated_tensor(r.matrix(), &self.inv_inertia) * self.angular_momentum
     }
     /// Velocity of a world point r attached to the body: w x (r - x) + v.
     pub fn point_velocity(&self, r: Vector3<f64>) -> Vector3<f64> {

@@ -10,6 +10,7 @@ use crate::look::Look;
 use crate::mesh_shape::MeshShape;
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 use std::sync::Arc;
+use tumble_collide::rotated_tensor;
 use tumble_collide::Shape;
 
 /// Describes a rigid body to add.
@@ -248,7 +249,7 @@ impl RigidBodyBuilder {
             (Vector3::zeros(), Vector3::zeros())
         } else {
             let r = self.orientation.to_rotation_matrix();
-            (mass * self.velocity, r.matrix() * inertia * r.matrix().transpose() * self.angular_velocity)
+            (mass * self.velocity, rotated_tensor(r.matrix(), &inertia) * self.angular_velocity)
         };
         let position = if by_origin { self.position - self.orientation * offset } else { self.position };
         limits::vector("position", &position, limits::COORDINATE, "m")?;

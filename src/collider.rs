@@ -3,6 +3,7 @@
 
 use crate::error::WorldError;
 use nalgebra::{Isometry3, Matrix3, Vector3};
+use tumble_collide::rotated_tensor;
 use tumble_collide::{MassProperties, Shape};
 
 /// A shape attached to a body, posed in the body frame (origin at the centre of mass).
@@ -208,7 +209,7 @@ pub(crate) fn compound_mass(parts: &[(Shape, Isometry3<f64>)], density: f64) -> 
     for (p, pose) in &props {
         let r = pose.rotation.to_rotation_matrix();
         let d = (**pose * nalgebra::Point3::from(p.local_com)).coords - com;
-        inertia += r.matrix() * p.inertia * r.matrix().transpose()
+        inertia += rotated_tensor(r.matrix(), &p.inertia)
             + (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * p.mass;
     }
     Ok(MassProperties { mass, local_com: com, inertia: 0.5 * (inertia + inertia.transpose()) })

@@ -17,6 +17,7 @@ pub(crate) mod collider_set;
 mod contact_pairs;
 mod contact_reduction;
 mod core;
+mod failure;
 pub(crate) mod fast;
 pub(crate) mod found_contact;
 mod frames;

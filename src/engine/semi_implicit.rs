@@ -7,6 +7,7 @@
 use crate::model::layout::{get3, get_quat, set3, set_quat};
 use crate::model::{BodyProps, Model};
 use nalgebra::{UnitQuaternion, Vector3};
+use tumble_collide::rotated_tensor;
 use tumble_contact::{BodyVelocity, SoftStep};
 
 /// What a state's rows after the positions hold: momenta (the world's state, accurate mode's) or velocities (fast
@@ -128,10 +129,10 @@ fn turned_momentum(
     w: &nalgebra::Vector3<f64>,
 ) -> nalgebra::Vector3<f64> {
     let r0 = q0.to_rotation_matrix().into_inner();
-    let mut momentum = r0 * b.inertia * r0.transpose() * w;
+    let mut momentum = rotated_tensor(&r0, &b.inertia) * w;
     let r1 = q1.to_rotation_matrix().into_inner();
     let before = 0.5 * momentum.dot(w);
-    let after = 0.5 * momentum.dot(&(r1 * b.inv_inertia * r1.transpose() * momentum));
+    let after = 0.5 * momentum.dot(&(rotated_tensor(&r1, &b.inv_inertia) * momentum));
     if after > before && after > 0.0 {
         momentum *= (before / after).sqrt();
     }

@@ -5,6 +5,7 @@
 use crate::model::layout::{get3, get_quat, Layout};
 use crate::model::Model;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
+use tumble_collide::rotated_tensor;
 use tumble_contact::BodyState;
 use tumble_integrate::OdeError;
 
@@ -67,8 +68,8 @@ impl Model {
                 out.push(BodyState { velocity: k.velocity, angular_velocity: k.omega, ..BodyState::fixed(x) });
                 continue;
             }
-            let inertia = k.rot * b.inertia * k.rot.transpose();
-            let inv_inertia = k.rot * b.inv_inertia * k.rot.transpose();
+            let inertia = rotated_tensor(&k.rot, &b.inertia);
+            let inv_inertia = rotated_tensor(&k.rot, &b.inv_inertia);
             let mut s = BodyState { inv_mass: 1.0 / b.mass, inertia, inv_inertia, ..BodyState::fixed(x) };
             s.velocity = k.velocity;
             s.angular_velocity = k.omega;

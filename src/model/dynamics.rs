@@ -9,6 +9,7 @@ use crate::model::layout::{add3, get3, get_quat, set3};
 use crate::model::{BodyKin, CompiledLoad, End, JacobianKind, Model, On};
 use crate::plan::Stage;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use tumble_collide::rotated_tensor;
 use tumble_integrate::{JacobianStructure, Split, SystemError};
 
 /// Quaternions further than this from unit length are renormalised after a step.
@@ -19,7 +20,7 @@ impl Model {
     pub(crate) fn body_kin(&self, y: &[f64], j: usize) -> BodyKin {
         let (l, b) = (self.layout, &self.bodies[j]);
         let rot = UnitQuaternion::new_normalize(get_quat(y, l.bq(j))).to_rotation_matrix().into_inner();
-        let inv_inertia = rot * b.inv_inertia * rot.transpose();
+        let inv_inertia = rotated_tensor(&rot, &b.inv_inertia);
         BodyKin { rot, omega: inv_inertia * get3(y, l.bl(j)), velocity: get3(y, l.bp(j)) * b.inv_mass }
     }
 

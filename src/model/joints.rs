@@ -6,6 +6,7 @@
 use crate::model::layout::{get3, get_quat};
 use crate::model::Model;
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
+use tumble_collide::rotated_tensor;
 use tumble_contact::{joint_rows, JointConstraint, JointFrame, JointRow, RowKind};
 
 /// Where a joint end is.
@@ -86,7 +87,7 @@ impl Model {
                     inv_inertia: if b.kinematic.is_some() {
                         Matrix3::zeros()
                     } else {
-                        k.rot * b.inv_inertia * k.rot.transpose()
+                        rotated_tensor(&k.rot, &b.inv_inertia)
                     },
                 }
             }

@@ -12,6 +12,7 @@ use crate::limits;
 use crate::spring::BodyHandle;
 use nalgebra::{Isometry3, Matrix3, Vector3};
 use std::sync::Arc;
+use tumble_collide::rotated_tensor;
 
 impl World {
     /// Lets kinematic body `body` go: from the world's time it is a dynamic body of its shapes at `density` (kg/m^3;
@@ -49,7 +50,7 @@ impl World {
         b.position = position.coords;
         b.orientation = frame.rotation;
         b.momentum = props.mass * (v + w.cross(&(frame.rotation * com)));
-        b.angular_momentum = r.matrix() * props.inertia * r.matrix().transpose() * w;
+        b.angular_momentum = rotated_tensor(r.matrix(), &props.inertia) * w;
         b.kinematic = None;
         self.retire_engine();
         self.record_body_start(body);

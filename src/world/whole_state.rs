@@ -12,6 +12,7 @@ use crate::report::WorldReport;
 use crate::spring::{BodyHandle, ParticleHandle};
 use nalgebra::{UnitQuaternion, Vector3};
 use std::sync::{Arc, Mutex};
+use tumble_collide::rotated_tensor;
 
 /// Every particle's and body's state (static bodies included, at their rows) and the time. Bodies carry momenta,
 /// the state the equations of motion integrate (linear momentum M v, angular momentum I(t) w in world axes), so
@@ -248,7 +249,7 @@ impl World {
             }
             row("body_momenta", k, limits::vector("body_momenta", &(p / b.mass), limits::SPEED, "m/s (p / m)"))?;
             let r = q.to_rotation_matrix();
-            let w = r.matrix() * b.inv_inertia * r.matrix().transpose() * l;
+            let w = rotated_tensor(r.matrix(), &b.inv_inertia) * l;
             let reason = "rad/s (I^-1 L)";
             row("body_angular_momenta", k, limits::vector("body_angular_momenta", &w, limits::SPEED, reason))?;
         }

@@ -57,7 +57,7 @@ pub use convex_hull::ConvexHull;
 pub use decompose::{Decomposed, Decomposition, MAX_DECOMPOSED_TRIANGLES};
 pub use error::{ShapeError, LENGTH};
 pub use fracture::{shared_faces, Cells, SharedFace, MAX_PIECES};
-pub use mass::MassProperties;
+pub use mass::{rotated_tensor, MassProperties};
 pub use mesh_file::UpAxis;
 pub use motion::Motion;
 pub use polyhedron::Polyhedron;

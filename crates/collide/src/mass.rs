@@ -48,7 +48,7 @@ impl Shape {
                 return Ok(MassProperties {
                     mass: p.mass(),
                     local_com: Vector3::zeros(),
-                    inertia: r * i * r.transpose(),
+                    inertia: rotated_tensor(&r, &i),
                 });
             }
             Shape::ConvexHull(h) => h.polyhedron.mass_properties(density),
@@ -68,6 +68,12 @@ impl Shape {
             inertia: 0.5 * (inertia + inertia.transpose()),
         })
     }
+}
+
+/// A body-frame tensor (an inertia or its inverse) expressed in the frame rotated by `r` from it: R T R^T. The one
+/// place the world inertia of a turned body is formed.
+pub fn rotated_tensor(r: &Matrix3<f64>, tensor: &Matrix3<f64>) -> Matrix3<f64> {
+    r * tensor * r.transpose()
 }
 
 #[cfg(test)]

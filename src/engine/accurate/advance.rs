@@ -2,10 +2,10 @@
 //! call), then repeatedly contact steps while bodies touch, or the integrator to the next event (a joint that
 //! breaks there let go of) and its impact stage; each event recorded, and a time that events cannot leave is an error.
 
-use super::failure::failure;
 use super::integration::within_budget;
 use super::{breaking, clocks, detect, impact, mechanical_energy, touching, AccurateEngine, AccurateMemory, STUCK};
 use crate::engine::budget::Budget;
+use crate::engine::failure::failure;
 use crate::engine::frames::FrameCursor;
 use crate::error::WorldError;
 use crate::run::Run;

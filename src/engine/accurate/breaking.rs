@@ -9,9 +9,9 @@
 //! output (the load taken linear between a few points, the exponential integrated exactly; a break located on it
 //! as above); in the touching phase by each step's impulses.
 
-use super::failure::failure;
 use super::joint_forces::joint_forces;
 use super::system::AccurateSystem;
+use crate::engine::failure::failure;
 use crate::model::breaking::JointLoad;
 use crate::plan::Stage;
 use crate::report::WorldReport;

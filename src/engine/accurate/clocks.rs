@@ -14,13 +14,13 @@
 
 use super::contact_stages::ContactStages;
 use super::convex_step::{actors_with_forces, every_contact_in_reach};
-use super::failure::failure;
 use super::free_flight::{copy_free, links};
 use super::sleep::Sleep;
 use super::sync::next_sync;
 use super::system::AccurateSystem;
 use super::touching::{touching_steps, Until};
 use super::touching_phase::TouchingPhase;
+use crate::engine::failure::failure;
 use crate::engine::frames::FrameCursor;
 use crate::engine::Budget;
 use crate::run::Run;

@@ -8,11 +8,11 @@
 //! beyond the first guess.
 
 use super::contact_stages::ContactStages;
-use super::failure::failure;
 use super::joint_forces::{bilateral_rows, project_joints, BilateralRows, JOINT_DRIFT};
 use super::system::AccurateSystem;
 use crate::engine::bounce_scale::{body_kinetic, largest_keeping_energy, moving_bodies};
 use crate::engine::contact_reduction::reduce;
+use crate::engine::failure::failure;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::engine::semi_implicit::{update_positions, Form};
 use crate::model::breaking::JointLoad;

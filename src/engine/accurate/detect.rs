@@ -6,9 +6,9 @@
 use super::collision_time::collision_time;
 use super::contact_stages::ContactStages;
 use super::drift::drifted;
-use super::failure::failure;
 use super::pass_through::pass_through;
 use super::system::AccurateSystem;
+use crate::engine::failure::failure;
 use crate::model::layout::get3;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;

@@ -3,9 +3,9 @@
 //! impact stage moves the bodies back to zero gap by the smallest position change (a position-level LCP), each
 //! body paying the energy the lift gave it out of its own motion (the contact steps' lifts use it too).
 
-use super::failure::failure;
 use super::qp;
 use super::step_estimate::momentum_rows;
+use crate::engine::failure::failure;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::model::layout::{get3, get_quat, set3, set_quat};
 use crate::model::Model;

@@ -2,9 +2,9 @@
 //! checked against the engine (its joints, its time, its integrations, its contact memory against the scene), its
 //! saved integrations made live on the engine's own integrator, and then put in place; on an error nothing changes.
 
-use super::failure::failure;
 use super::memory::{engine_name, AccurateMemory};
 use super::AccurateEngine;
+use crate::engine::failure::failure;
 
 impl AccurateEngine {
     /// Puts `memory` in place after checking it against the engine: every integration made live (one read from a

@@ -8,17 +8,18 @@
 
 use super::contact_stages::ContactStages;
 use super::drift::correct_drift;
-use super::failure::failure;
 use super::qp;
 use super::resting::{RestingContact, RestingContacts};
 use super::system::AccurateSystem;
 use super::touching::start_touching;
+use crate::engine::failure::failure;
 use crate::engine::found_contact::FoundContact;
 use crate::mode::Persistent;
 use crate::model::layout::set3;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
 use std::time::Instant;
+use tumble_collide::rotated_tensor;
 use tumble_contact::Contact;
 use tumble_integrate::{Integrator, OdeError};
 
@@ -170,6 +171,6 @@ fn write_velocities(model: &Model, y: &mut [f64], v: &[tumble_contact::BodyVeloc
         let k = &model.kin[j];
         let a = l.body_actor(j);
         set3(y, l.bp(j), &(v[a].linear * b.mass));
-        set3(y, l.bl(j), &(k.rot * b.inertia * k.rot.transpose() * v[a].angular));
+        set3(y, l.bl(j), &(rotated_tensor(&k.rot, &b.inertia) * v[a].angular));
     }
 }

@@ -35,7 +35,6 @@ mod detect;
 mod doubled_step;
 mod drift;
 mod energy_guard;
-mod failure;
 mod free_flight;
 mod free_flight_memory;
 mod give_memory;

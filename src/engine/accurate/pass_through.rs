@@ -3,8 +3,8 @@
 //! searched along the step's dense output by a distance-bounded bisection (`tumble_collide::first_contact`).
 
 use super::contact_stages::ContactStages;
-use super::failure::failure;
 use super::system::AccurateSystem;
+use crate::engine::failure::failure;
 use crate::engine::found_contact::FoundContact;
 use crate::model::actor_poses;
 use crate::plan::Stage;

@@ -3,7 +3,7 @@
 //! substep), and the actors as the contact solve sees them, sleeping ones fixed.
 
 use super::context::StepContext;
-use super::failure::failure;
+use crate::engine::failure::failure;
 use crate::mode::FastSolver;
 use crate::WorldError;
 use tumble_contact::BodyState;

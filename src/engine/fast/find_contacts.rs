@@ -8,7 +8,7 @@
 
 use super::applied_forces::actors;
 use super::context::StepContext;
-use super::failure::failure;
+use crate::engine::failure::failure;
 use crate::engine::found_contact::FoundContact;
 use crate::error::WorldError;
 use crate::plan::Stage;
@@ -64,6 +64,6 @@ fn search(cx: &mut StepContext<'_>, states: &[BodyState], h: f64) -> Result<Vec<
             collider_set.keep_closing(&poses, states, reach, store, cx.threads).map_err(|e| failure(t, e))?;
             Ok(Vec::new())
         }
-        None => collider_set.find_closing(&poses, states, reach).map_err(|e| failure(t, e)),
+        None => collider_set.find_closing(&poses, states, reach).map_err(|e| failure(t, e).into()),
     }
 }

@@ -14,7 +14,6 @@ mod applied_forces;
 mod bounce_limiter;
 mod breaking;
 mod context;
-mod failure;
 mod find_contacts;
 mod glued;
 mod glued_loads;

@@ -8,8 +8,8 @@
 //! undamped spring gained energy at any step, and the cloth drape diverged).
 
 use super::context::StepContext;
-use super::failure::failure;
 use super::glued::{Balance, Glued, WeldLoads};
+use crate::engine::failure::failure;
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
 use crate::model::joints::JointEnd;

@@ -5,9 +5,9 @@
 
 use super::bounce_limiter::limit_bounce_energy;
 use super::context::StepContext;
-use super::failure::failure;
 use super::solver::Solver;
 use super::warm_start::known_impulses;
+use crate::engine::failure::failure;
 use crate::engine::found_contact::FoundContact;
 use crate::engine::last_contacts::LastContact;
 use crate::error::WorldError;
@@ -30,7 +30,7 @@ pub(super) fn solve_velocities(
     let clock = Instant::now();
     let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();
     let FastSolver::Exact { erp, friction } = cx.settings.solver else {
-        return Err(failure(cx.t, "the exact solver's stage without the exact solver".into()));
+        return Err(failure(cx.t, "the exact solver's stage without the exact solver".into()).into());
     };
     let mut settings = StepSettings {
         erp,

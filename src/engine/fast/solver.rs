@@ -2,7 +2,7 @@
 //! with lagged friction or Anitescu's cone, counting its clarabel calls. The velocity stage (`solve_velocities.rs`)
 //! and the bounce limiter (`bounce_limiter.rs`) solve with it.
 
-use super::failure::failure;
+use crate::engine::failure::failure;
 use crate::error::WorldError;
 use crate::mode::FastFriction;
 use tumble_contact::{velocity_step, BodyState, Contact, StepSettings, VelocityProblem, VelocityStep};

@@ -1,4 +1,5 @@
-//! An accurate-mode stage's failure, said as the integrator's error (a system error at time t).
+//! A stage's failure, said as the integrator's error (a system error at time t): accurate mode's as it is, fast mode's
+//! as the world's simulation error it converts to.
 
 use tumble_integrate::OdeError;
 
