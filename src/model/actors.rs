@@ -3,7 +3,7 @@
 //! first, then dynamic bodies, then static bodies, in both lists.
 
 use crate::model::layout::{get3, get_quat, Layout};
-use crate::model::Model;
+use crate::model::{Kinematics, Model};
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
 use tumble_collide::rotated_tensor;
 use tumble_contact::BodyState;
@@ -35,9 +35,10 @@ pub(crate) struct StateOptions<'a> {
 
 impl Model {
     /// The actors as tumble-contact sees them in state y, with the applied forces of `dp` (the p rates, after the
-    /// positions), using the body kinematics of the last right-hand side (`kin`, which must be at y).
+    /// positions), using the body kinematics `kin` of y (those the forces were evaluated with).
     pub(crate) fn contact_states(
         &self,
+        kin: &Kinematics,
         y: &[f64],
         dp: &[f64],
         statics: &[Isometry3<f64>],
@@ -62,7 +63,7 @@ impl Model {
                 out.push(BodyState::fixed(x));
                 continue;
             }
-            let k = &self.kin[j];
+            let k = &kin[j];
             if b.kinematic.is_some() {
                 // immovable, and moving along its path
                 out.push(BodyState { velocity: k.velocity, angular_velocity: k.omega, ..BodyState::fixed(x) });
@@ -89,6 +90,7 @@ impl Model {
     /// Euler's gyroscopic term cancelled (the step carries angular momentum), the `asleep` actors fixed.
     pub(crate) fn step_actors(
         &self,
+        kin: &Kinematics,
         t: f64,
         y: &[f64],
         dy: &[f64],
@@ -99,6 +101,6 @@ impl Model {
             return Err(OdeError::NonFinite { t, what: "force", index });
         }
         let options = StateOptions { asleep, cancel_gyroscopic: true };
-        Ok(self.contact_states(y, &dy[self.layout.positions()..], statics, options))
+        Ok(self.contact_states(kin, y, &dy[self.layout.positions()..], statics, options))
     }
 }

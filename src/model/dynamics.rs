@@ -6,30 +6,15 @@
 
 use crate::load::{TargetState, Wrench};
 use crate::model::layout::{add3, get3, get_quat, set3};
-use crate::model::{BodyKin, CompiledLoad, End, JacobianKind, Model, On};
+use crate::model::{BodyKin, CompiledLoad, End, JacobianKind, Kinematics, Model, On};
 use crate::plan::Stage;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use tumble_collide::rotated_tensor;
 use tumble_integrate::{JacobianStructure, Split, SystemError};
 
 /// Quaternions further than this from unit length are renormalised after a step.
 const NORM_DRIFT: f64 = 1e-12;
 
 impl Model {
-    /// A body's kinematics from the state (its quaternion normalised first).
-    pub(crate) fn body_kin(&self, y: &[f64], j: usize) -> BodyKin {
-        let (l, b) = (self.layout, &self.bodies[j]);
-        let rot = UnitQuaternion::new_normalize(get_quat(y, l.bq(j))).to_rotation_matrix().into_inner();
-        let inv_inertia = rotated_tensor(&rot, &b.inv_inertia);
-        BodyKin { rot, omega: inv_inertia * get3(y, l.bl(j)), velocity: get3(y, l.bp(j)) * b.inv_mass }
-    }
-
-    pub(crate) fn update_kin(&mut self, y: &[f64]) {
-        for j in 0..self.bodies.len() {
-            self.kin[j] = self.body_kin(y, j);
-        }
-    }
-
     /// Position and velocity of a spring end, and for a body end its lever arm (world axes); `kin` holds the
     /// bodies' kinematics at `y`.
     pub(crate) fn end_state(
@@ -50,14 +35,14 @@ impl Model {
         }
     }
 
-    /// dq/dt into `dq` (the first `layout.positions()` rates), from the kinematics of `update_kin`.
-    pub(crate) fn position_part(&mut self, y: &[f64], dq: &mut [f64]) {
+    /// dq/dt into `dq` (the first `layout.positions()` rates), from the kinematics `kin` of y.
+    pub(crate) fn position_part(&mut self, kin: &Kinematics, y: &[f64], dq: &mut [f64]) {
         let l = self.layout;
         if l.bodies > 0 {
             self.stage_runs.mark(Stage::Rotation);
         }
         dq[..3 * l.particles].copy_from_slice(&y[l.pv(0)..l.pv(0) + 3 * l.particles]);
-        for (j, k) in self.kin.iter().enumerate() {
+        for (j, k) in kin.0.iter().enumerate() {
             set3(dq, l.bx(j), &k.velocity);
             let q = get_quat(y, l.bq(j));
             let dq_j = Quaternion::from_imag(k.omega) * q * 0.5;
@@ -84,10 +69,17 @@ impl Model {
         }
     }
 
-    /// dp/dt into `dp` (the rates after the positions), from the kinematics of `update_kin`: all forces and torques,
+    /// dp/dt into `dp` (the rates after the positions), from the kinematics `kin` of y: all forces and torques,
     /// or with `springs` false all but the springs' and the particles' anchor pulls (fast mode's soft step evaluates
     /// those itself, `engine/fast/soft_solve.rs`).
-    pub(crate) fn force_part(&mut self, t: f64, y: &[f64], dp: &mut [f64], springs: bool) -> Result<(), SystemError> {
+    pub(crate) fn force_part(
+        &mut self,
+        kin: &Kinematics,
+        t: f64,
+        y: &[f64],
+        dp: &mut [f64],
+        springs: bool,
+    ) -> Result<(), SystemError> {
         self.counters.evaluations += 1;
         let (l, q) = (self.layout, self.layout.positions());
         self.mark_force_stages();
@@ -100,15 +92,15 @@ impl Model {
             set3(dp, l.pv(i) - q, &a);
         }
         for (j, b) in self.bodies.iter().enumerate() {
-            let k = &self.kin[j];
+            let k = &kin[j];
             set3(dp, l.bp(j) - q, &(self.gravity * b.mass - k.velocity * b.linear_damping));
             set3(dp, l.bl(j) - q, &(-k.omega * b.angular_damping));
         }
         let counted = if springs { &self.springs[..] } else { &[] };
         self.counters.spring_evaluations += counted.len();
         for s in counted {
-            let (pa, va, arm_a) = self.end_state(&self.kin, y, s.a);
-            let (pb, vb, arm_b) = self.end_state(&self.kin, y, s.b);
+            let (pa, va, arm_a) = self.end_state(&kin.0, y, s.a);
+            let (pb, vb, arm_b) = self.end_state(&kin.0, y, s.b);
             let Some(f) = s.law.force(&pa, &va, &pb, &vb) else { continue };
             self.apply(dp, end_on(s.a), &f, arm_a);
             self.apply(dp, end_on(s.b), &-f, arm_b);
@@ -118,7 +110,7 @@ impl Model {
                 CompiledLoad::Force { on, force, at } => {
                     self.counters.load_evaluations += 1;
                     let arm = match (on, at) {
-                        (On::Body(j), Some(local)) => Some(self.kin[*j].rot * local),
+                        (On::Body(j), Some(local)) => Some(kin[*j].rot * local),
                         _ => None,
                     };
                     self.apply(dp, Some(*on), force, arm);
@@ -129,7 +121,7 @@ impl Model {
                 }
                 CompiledLoad::Callback { on, callback } => {
                     self.counters.callback_calls += 1;
-                    let state = self.target_state(y, *on);
+                    let state = self.target_state(kin, y, *on);
                     let mut f = callback.lock().map_err(|_| SystemError::new("a force callback panicked earlier"))?;
                     let w: Wrench = f(t, &state).map_err(SystemError::new)?;
                     drop(f);
@@ -153,7 +145,7 @@ impl Model {
         }
     }
 
-    fn target_state(&self, y: &[f64], on: On) -> TargetState {
+    fn target_state(&self, kin: &Kinematics, y: &[f64], on: On) -> TargetState {
         let l = self.layout;
         match on {
             On::Particle(i) => TargetState {
@@ -164,23 +156,30 @@ impl Model {
             },
             On::Body(j) => TargetState {
                 position: get3(y, l.bx(j)),
-                velocity: self.kin[j].velocity,
+                velocity: kin[j].velocity,
                 orientation: UnitQuaternion::new_normalize(get_quat(y, l.bq(j))),
-                angular_velocity: self.kin[j].omega,
+                angular_velocity: kin[j].omega,
             },
         }
     }
 }
 
 impl Model {
-    /// The right-hand side into `dy` (kinematics updated to y), with the springs' forces or (`springs` false)
+    /// The right-hand side into `dy`, with the springs' forces or (`springs` false)
     /// without them and the particles' anchor pulls: fast mode's soft step evaluates those at every substep
-    /// (`engine/fast/soft_solve.rs`), the rest once a step.
-    pub(crate) fn rates(&mut self, t: f64, y: &[f64], dy: &mut [f64], springs: bool) -> Result<(), SystemError> {
-        self.update_kin(y);
+    /// (`engine/fast/soft_solve.rs`), the rest once a step. Returns the kinematics of y it used.
+    pub(crate) fn rates(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        springs: bool,
+    ) -> Result<Kinematics, SystemError> {
+        let kin = self.kinematics(y);
         let (dq, dp) = dy.split_at_mut(self.layout.positions());
-        self.position_part(y, dq);
-        self.force_part(t, y, dp, springs)
+        self.position_part(&kin, y, dq);
+        self.force_part(&kin, t, y, dp, springs)?;
+        Ok(kin)
     }
 
     /// Puts every quaternion of y back on unit length if it drifted; returns whether any changed.

@@ -8,8 +8,11 @@ mod energy;
 mod jacobian;
 pub(crate) mod joints;
 mod kinematic;
+pub(crate) mod kinematics;
 pub(crate) mod layout;
 mod velocities;
+
+pub(crate) use kinematics::{BodyKin, Kinematics};
 
 pub(crate) use actors::actor_poses;
 
@@ -76,14 +79,6 @@ pub(crate) enum CompiledLoad {
     Callback { on: On, callback: ForceCallback },
 }
 
-/// A body's rotation, angular and linear velocity at the current right-hand side.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct BodyKin {
-    pub rot: Matrix3<f64>,
-    pub omega: Vector3<f64>,
-    pub velocity: Vector3<f64>,
-}
-
 /// How many times each force loop ran (a loop over nothing is never entered).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ForceCounters {
@@ -126,7 +121,6 @@ pub(crate) struct Model {
     pub bodies: Vec<BodyProps>,
     pub springs: Vec<CompiledSpring>,
     pub loads: Vec<CompiledLoad>,
-    pub kin: Vec<BodyKin>,
     pub counters: ForceCounters,
     /// How many times each term of the equations of motion ran.
     pub stage_runs: StageCounts,
@@ -241,10 +235,6 @@ pub(crate) fn compile(
     let mut model = Model {
         layout,
         gravity,
-        kin: vec![
-            BodyKin { rot: Matrix3::identity(), omega: Vector3::zeros(), velocity: Vector3::zeros() };
-            body_props.len()
-        ],
         particles: particle_props,
         bodies: body_props,
         springs: compiled_springs,

@@ -4,7 +4,7 @@
 //! (`to_momenta`), and it is made from the world's when the world sets it (`to_velocities`).
 
 use crate::model::layout::{get3, get_quat, set3};
-use crate::model::{BodyKin, Model};
+use crate::model::{Kinematics, Model};
 use nalgebra::UnitQuaternion;
 use tumble_integrate::SystemError;
 
@@ -33,24 +33,22 @@ impl Model {
     }
 
     /// The applied forces of a state in velocity form (`force_part`'s, into the p rates of `dy`; the q rates are
-    /// left as they are), with the body kinematics read from it.
+    /// left as they are), with the body kinematics read from it; returns those kinematics.
     pub(crate) fn velocity_forces(
         &mut self,
         t: f64,
         y: &[f64],
         dy: &mut [f64],
         springs: bool,
-    ) -> Result<(), SystemError> {
+    ) -> Result<Kinematics, SystemError> {
         let l = self.layout;
         if l.bodies > 0 {
             self.stage_runs.mark(crate::plan::Stage::Rotation);
         }
-        for j in 0..l.bodies {
-            let rot = UnitQuaternion::new_normalize(get_quat(y, l.bq(j))).to_rotation_matrix().into_inner();
-            self.kin[j] = BodyKin { rot, omega: get3(y, l.bl(j)), velocity: get3(y, l.bp(j)) };
-        }
+        let kin = self.velocity_kinematics(y);
         let q = l.positions();
-        self.force_part(t, y, &mut dy[q..], springs)
+        self.force_part(&kin, t, y, &mut dy[q..], springs)?;
+        Ok(kin)
     }
 
     /// The kinetic energy of a state in velocity form: 1/2 m v^2 + 1/2 w . I(q) w (kinematic bodies carry none).

@@ -63,7 +63,8 @@ pub(crate) fn actors_with_forces(
 ) -> Result<Vec<BodyState>, OdeError> {
     let mut dy = vec![0.0; y.len()];
     system.rhs(t, y, &mut dy).map_err(|e| failure(t, e.to_string()))?;
-    system.model.step_actors(t, y, &dy, statics, &[])
+    // the kinematics the right-hand side used (the same function of y)
+    system.model.step_actors(&system.model.kinematics(y), t, y, &dy, statics, &[])
 }
 
 /// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed times h,

@@ -149,26 +149,25 @@ fn apply_impulses(
     Ok(())
 }
 
-/// The actors in state y without applied forces (the kinematics updated to y first).
+/// The actors in state y without applied forces.
 fn contact_states(
     model: &mut Model,
     y: &[f64],
     statics: &[nalgebra::Isometry3<f64>],
 ) -> Vec<tumble_contact::BodyState> {
-    model.update_kin(y);
     let dp = vec![0.0; y.len() - model.layout.positions()];
-    model.contact_states(y, &dp, statics, Default::default())
+    model.contact_states(&model.kinematics(y), y, &dp, statics, Default::default())
 }
 
 /// Writes the velocities of tumble-contact's bodies into state y (momenta for bodies).
 #[allow(clippy::needless_range_loop)]
 fn write_velocities(model: &Model, y: &mut [f64], v: &[tumble_contact::BodyVelocity]) {
-    let l = model.layout;
+    let (l, kin) = (model.layout, model.kinematics(y));
     for i in 0..l.particles {
         set3(y, l.pv(i), &v[i].linear);
     }
     for (j, b) in model.bodies.iter().enumerate() {
-        let k = &model.kin[j];
+        let k = &kin[j];
         let a = l.body_actor(j);
         set3(y, l.bp(j), &(v[a].linear * b.mass));
         set3(y, l.bl(j), &(rotated_tensor(&k.rot, &b.inertia) * v[a].angular));

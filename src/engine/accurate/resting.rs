@@ -5,7 +5,7 @@
 use super::qp;
 use crate::engine::found_contact::{ContactKey, FoundContact};
 use crate::model::layout::add3;
-use crate::model::{actor_poses, Model};
+use crate::model::{actor_poses, Kinematics, Model};
 use nalgebra::{Isometry3, Point3, Vector3};
 use std::time::Instant;
 use tumble_contact::{Contact, NormalMotion, SolverSettings};
@@ -101,6 +101,7 @@ impl RestingContact {
 /// solver calls and the seconds they took.
 pub(super) fn add_resting_forces(
     model: &Model,
+    kin: &Kinematics,
     set: &RestingContacts,
     statics: &[Isometry3<f64>],
     solver: &SolverSettings,
@@ -112,7 +113,7 @@ pub(super) fn add_resting_forces(
     }
     let clock = Instant::now();
     let poses = actor_poses(model.layout, y, statics);
-    let states = model.contact_states(y, dp, statics, Default::default());
+    let states = model.contact_states(kin, y, dp, statics, Default::default());
     let contacts: Vec<Contact> =
         set.contacts.iter().map(|r| r.place(&poses)).filter(|(_, gap)| *gap <= set.reach).map(|(c, _)| c).collect();
     if contacts.is_empty() {

@@ -5,7 +5,7 @@
 //! Fast mode steps the model's equations itself and pays for none of this.
 
 use super::joint_forces::{add_joint_forces, project_joints, JOINT_DRIFT};
-use crate::model::Model;
+use crate::model::{Kinematics, Model};
 use tumble_integrate::{JacobianStructure, OdeSystem, Split, SystemError};
 
 /// The model with accurate mode's additions.
@@ -42,11 +42,11 @@ impl AccurateSystem {
     }
 
     /// Adds accurate mode's forces to the p rates `dp`: the joints', then the resting contacts'.
-    fn add_forces(&mut self, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
+    fn add_forces(&mut self, kin: &Kinematics, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
         add_joint_forces(&self.model, y, dp);
         if let Some(set) = &self.resting {
             let (solves, seconds) =
-                super::resting::add_resting_forces(&self.model, set, &self.statics, &self.solver, y, dp)?;
+                super::resting::add_resting_forces(&self.model, kin, set, &self.statics, &self.solver, y, dp)?;
             self.resting_solves += solves;
             self.resting_seconds += seconds;
         }
@@ -60,9 +60,9 @@ impl OdeSystem for AccurateSystem {
     }
 
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
-        self.model.rates(t, y, dy, true)?;
+        let kin = self.model.rates(t, y, dy, true)?;
         let q = self.model.layout.positions();
-        self.add_forces(y, &mut dy[q..])?;
+        self.add_forces(&kin, y, &mut dy[q..])?;
         self.model.hold_kinematic(&mut dy[q..]);
         for &k in &self.held_components {
             dy[k] = 0.0;
@@ -88,8 +88,8 @@ impl OdeSystem for AccurateSystem {
     }
 
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
-        self.model.update_kin(y);
-        self.model.position_part(y, dq);
+        let kin = self.model.kinematics(y);
+        self.model.position_part(&kin, y, dq);
         let q = dq.len();
         for &k in self.held_components.iter().filter(|k| **k < q) {
             dq[k] = 0.0;
@@ -98,9 +98,9 @@ impl OdeSystem for AccurateSystem {
     }
 
     fn velocity_rate(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
-        self.model.update_kin(y);
-        self.model.force_part(t, y, dp, true)?;
-        self.add_forces(y, dp)?;
+        let kin = self.model.kinematics(y);
+        self.model.force_part(&kin, t, y, dp, true)?;
+        self.add_forces(&kin, y, dp)?;
         let q = self.model.layout.positions();
         for &k in self.held_components.iter().filter(|k| **k >= q) {
             dp[k - q] = 0.0;

@@ -15,12 +15,12 @@ pub(super) fn applied_forces(cx: &mut StepContext<'_>) -> Result<Vec<BodyState>,
     let t = cx.t;
     let model = &mut cx.model;
     let springs = matches!(cx.settings.solver, FastSolver::Exact { .. });
-    model.velocity_forces(t, &cx.memory.y, cx.dy, springs).map_err(|e| failure(t, e.to_string()))?;
+    cx.kin = model.velocity_forces(t, &cx.memory.y, cx.dy, springs).map_err(|e| failure(t, e.to_string()))?;
     actors(cx)
 }
 
 /// The actors with the forces of the last evaluation (checked finite); sleeping actors are passed as fixed.
 pub(super) fn actors(cx: &StepContext<'_>) -> Result<Vec<BodyState>, WorldError> {
     let statics = cx.collider_set.as_deref().map_or(&[][..], |s| &s.static_poses[..]);
-    Ok(cx.model.step_actors(cx.t, &cx.memory.y, cx.dy, statics, cx.memory.sleep.flags())?)
+    Ok(cx.model.step_actors(&cx.kin, cx.t, &cx.memory.y, cx.dy, statics, cx.memory.sleep.flags())?)
 }

@@ -37,7 +37,7 @@ use crate::engine::semi_implicit::Form;
 use crate::engine::{Budget, Engine, EngineCore, EngineMemory};
 use crate::error::WorldError;
 use crate::mode::{FastSettings, FastSolver};
-use crate::model::{Compiled, Model};
+use crate::model::{Compiled, Kinematics, Model};
 use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
@@ -148,6 +148,7 @@ impl FastEngine {
             settings: &self.settings,
             memory: &mut self.memory,
             dy: &mut self.dy,
+            kin: Kinematics::default(),
             energy: &mut self.energy,
             report: &mut self.core.report,
             threads: self.core.threads,

@@ -154,7 +154,7 @@ pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Link
         }
         let mut place = |end: End| match end {
             End::Particle(i) => (i, Vector3::zeros()),
-            End::Body(j, local) => (l.body_actor(j), model.kin[j].rot * local),
+            End::Body(j, local) => (l.body_actor(j), cx.kin[j].rot * local),
             End::Point(p) => (fixed(Point3::from(p)), Vector3::zeros()),
         };
         let ((a, ra), (b, rb)) = (place(s.a), place(s.b));
