@@ -6,7 +6,7 @@ use super::budget::Budget;
 use super::core::EngineCore;
 use super::memory::EngineMemory;
 use crate::error::WorldError;
-use crate::model::{Model, Rows};
+use crate::model::{Model, Rows, Tally};
 use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
@@ -20,7 +20,8 @@ pub(crate) trait Engine: Send {
 
     /// The compiled model.
     fn model(&self) -> &Model;
-    fn model_mut(&mut self) -> &mut Model;
+    /// What the equations of motion did since the report was last taken.
+    fn tally_mut(&mut self) -> &mut Tally;
 
     /// Current time.
     fn time(&self) -> f64;
@@ -125,9 +126,9 @@ impl dyn Engine {
     /// What the engine's work since the last call cost (its own, the force loops, the stages), reset to zero.
     pub fn take_report(&mut self) -> WorldReport {
         let mut r = self.take_own_report();
-        let model = self.model_mut();
-        r.forces = std::mem::take(&mut model.counters);
-        r.stages += std::mem::take(&mut model.stage_runs);
+        let tally = std::mem::take(self.tally_mut());
+        r.forces = tally.forces;
+        r.stages += tally.stages;
         r
     }
 }

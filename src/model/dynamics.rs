@@ -6,7 +6,7 @@
 
 use crate::load::{TargetState, Wrench};
 use crate::model::layout::{add3, get3, get_quat, set3};
-use crate::model::{BodyKin, CompiledLoad, End, JacobianKind, Kinematics, Model, On};
+use crate::model::{BodyKin, CompiledLoad, End, JacobianKind, Kinematics, Model, On, Tally};
 use crate::plan::Stage;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use tumble_integrate::{JacobianStructure, Split, SystemError};
@@ -36,10 +36,10 @@ impl Model {
     }
 
     /// dq/dt into `dq` (the first `layout.positions()` rates), from the kinematics `kin` of y.
-    pub(crate) fn position_part(&mut self, kin: &Kinematics, y: &[f64], dq: &mut [f64]) {
+    pub(crate) fn position_part(&self, tally: &mut Tally, kin: &Kinematics, y: &[f64], dq: &mut [f64]) {
         let l = self.layout;
         if l.bodies > 0 {
-            self.stage_runs.mark(Stage::Rotation);
+            tally.stages.mark(Stage::Rotation);
         }
         dq[..3 * l.particles].copy_from_slice(&y[l.pv(0)..l.pv(0) + 3 * l.particles]);
         for (j, k) in kin.0.iter().enumerate() {
@@ -73,16 +73,17 @@ impl Model {
     /// or with `springs` false all but the springs' and the particles' anchor pulls (fast mode's soft step evaluates
     /// those itself, `engine/fast/soft_solve.rs`).
     pub(crate) fn force_part(
-        &mut self,
+        &self,
+        tally: &mut Tally,
         kin: &Kinematics,
         t: f64,
         y: &[f64],
         dp: &mut [f64],
         springs: bool,
     ) -> Result<(), SystemError> {
-        self.counters.evaluations += 1;
+        tally.forces.evaluations += 1;
         let (l, q) = (self.layout, self.layout.positions());
-        self.mark_force_stages();
+        self.mark_force_stages(tally);
         for (i, p) in self.particles.iter().enumerate() {
             let mut a = self.gravity;
             if p.damping != 0.0 || (springs && p.stiffness != 0.0) {
@@ -97,7 +98,7 @@ impl Model {
             set3(dp, l.bl(j) - q, &(-k.omega * b.angular_damping));
         }
         let counted = if springs { &self.springs[..] } else { &[] };
-        self.counters.spring_evaluations += counted.len();
+        tally.forces.spring_evaluations += counted.len();
         for s in counted {
             let (pa, va, arm_a) = self.end_state(&kin.0, y, s.a);
             let (pb, vb, arm_b) = self.end_state(&kin.0, y, s.b);
@@ -108,7 +109,7 @@ impl Model {
         for load in &self.loads {
             match load {
                 CompiledLoad::Force { on, force, at } => {
-                    self.counters.load_evaluations += 1;
+                    tally.forces.load_evaluations += 1;
                     let arm = match (on, at) {
                         (On::Body(j), Some(local)) => Some(kin[*j].rot * local),
                         _ => None,
@@ -116,11 +117,11 @@ impl Model {
                     self.apply(dp, Some(*on), force, arm);
                 }
                 CompiledLoad::Torque { body, torque } => {
-                    self.counters.load_evaluations += 1;
+                    tally.forces.load_evaluations += 1;
                     add3(dp, l.bl(*body) - q, torque);
                 }
                 CompiledLoad::Callback { on, callback } => {
-                    self.counters.callback_calls += 1;
+                    tally.forces.callback_calls += 1;
                     let state = self.target_state(kin, y, *on);
                     let mut f = callback.lock().map_err(|_| SystemError::new("a force callback panicked earlier"))?;
                     let w: Wrench = f(t, &state).map_err(SystemError::new)?;
@@ -137,10 +138,10 @@ impl Model {
     }
 
     /// Counts one run of each force term present (the loops below enter only these).
-    fn mark_force_stages(&mut self) {
+    fn mark_force_stages(&self, tally: &mut Tally) {
         for &stage in &self.terms {
             if stage != Stage::Rotation {
-                self.stage_runs.mark(stage);
+                tally.stages.mark(stage);
             }
         }
     }
@@ -169,7 +170,8 @@ impl Model {
     /// without them and the particles' anchor pulls: fast mode's soft step evaluates those at every substep
     /// (`engine/fast/soft_solve.rs`), the rest once a step. Returns the kinematics of y it used.
     pub(crate) fn rates(
-        &mut self,
+        &self,
+        tally: &mut Tally,
         t: f64,
         y: &[f64],
         dy: &mut [f64],
@@ -177,8 +179,8 @@ impl Model {
     ) -> Result<Kinematics, SystemError> {
         let kin = self.kinematics(y);
         let (dq, dp) = dy.split_at_mut(self.layout.positions());
-        self.position_part(&kin, y, dq);
-        self.force_part(&kin, t, y, dp, springs)?;
+        self.position_part(tally, &kin, y, dq);
+        self.force_part(tally, &kin, t, y, dp, springs)?;
         Ok(kin)
     }
 

@@ -175,8 +175,8 @@ mod tests {
             let mut ym = y.clone();
             yp[c] += 1e-6;
             ym[c] -= 1e-6;
-            model.rates(0.0, &yp, &mut fp, true).unwrap();
-            model.rates(0.0, &ym, &mut fm, true).unwrap();
+            model.rates(&mut Default::default(), 0.0, &yp, &mut fp, true).unwrap();
+            model.rates(&mut Default::default(), 0.0, &ym, &mut fm, true).unwrap();
             for r in 0..n {
                 fd[(r, c)] = (fp[r] - fm[r]) / 2e-6;
             }

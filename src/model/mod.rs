@@ -94,6 +94,15 @@ pub struct ForceCounters {
     pub projections: usize,
 }
 
+/// What the equations of motion did since an engine last took it: the force loops' counts and the terms that ran.
+/// The engine that evaluates them owns it (accurate mode's system, fast mode's engine) and hands it to each
+/// evaluation; the model keeps no count.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Tally {
+    pub forces: ForceCounters,
+    pub stages: StageCounts,
+}
+
 impl std::ops::AddAssign for ForceCounters {
     fn add_assign(&mut self, o: Self) {
         self.evaluations += o.evaluations;
@@ -121,9 +130,6 @@ pub(crate) struct Model {
     pub bodies: Vec<BodyProps>,
     pub springs: Vec<CompiledSpring>,
     pub loads: Vec<CompiledLoad>,
-    pub counters: ForceCounters,
-    /// How many times each term of the equations of motion ran.
-    pub stage_runs: StageCounts,
     /// The terms present (`stages()`, computed once).
     pub terms: Vec<Stage>,
     pub jacobian: JacobianKind,
@@ -239,8 +245,6 @@ pub(crate) fn compile(
         bodies: body_props,
         springs: compiled_springs,
         loads: compiled_loads,
-        counters: ForceCounters::default(),
-        stage_runs: StageCounts::default(),
         terms: Vec::new(),
         jacobian: if layout.bodies > 0 || has_callbacks { JacobianKind::Colored } else { JacobianKind::Analytic },
         definite_springs: false,

@@ -4,7 +4,7 @@
 //! (`to_momenta`), and it is made from the world's when the world sets it (`to_velocities`).
 
 use crate::model::layout::{get3, get_quat, set3};
-use crate::model::{Kinematics, Model};
+use crate::model::{Kinematics, Model, Tally};
 use nalgebra::UnitQuaternion;
 use tumble_integrate::SystemError;
 
@@ -35,7 +35,8 @@ impl Model {
     /// The applied forces of a state in velocity form (`force_part`'s, into the p rates of `dy`; the q rates are
     /// left as they are), with the body kinematics read from it; returns those kinematics.
     pub(crate) fn velocity_forces(
-        &mut self,
+        &self,
+        tally: &mut Tally,
         t: f64,
         y: &[f64],
         dy: &mut [f64],
@@ -43,11 +44,11 @@ impl Model {
     ) -> Result<Kinematics, SystemError> {
         let l = self.layout;
         if l.bodies > 0 {
-            self.stage_runs.mark(crate::plan::Stage::Rotation);
+            tally.stages.mark(crate::plan::Stage::Rotation);
         }
         let kin = self.velocity_kinematics(y);
         let q = l.positions();
-        self.force_part(&kin, t, y, &mut dy[q..], springs)?;
+        self.force_part(tally, &kin, t, y, &mut dy[q..], springs)?;
         Ok(kin)
     }
 

@@ -24,9 +24,9 @@ const HALVINGS: usize = 100;
 
 /// Each joint's load at (t, y): the rows' forces the right-hand side gives there.
 pub(super) fn loads_at(system: &mut AccurateSystem, t: f64, y: &[f64]) -> Result<Vec<JointLoad>, OdeError> {
-    let model = &mut system.model;
+    let model = &system.model;
     let mut dy = vec![0.0; y.len()];
-    model.rates(t, y, &mut dy, true).map_err(|e| failure(t, e.to_string()))?;
+    model.rates(&mut system.tally, t, y, &mut dy, true).map_err(|e| failure(t, e.to_string()))?;
     let q = model.layout.positions();
     let mut loads = vec![JointLoad::default(); model.joints.len()];
     let model = &system.model;

@@ -65,7 +65,7 @@ use super::budget::Budget;
 use super::{Engine, EngineCore, EngineMemory};
 use crate::error::WorldError;
 use crate::mode::AccurateSettings;
-use crate::model::{Compiled, Model};
+use crate::model::{Compiled, Model, Tally};
 use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
@@ -260,8 +260,8 @@ impl Engine for AccurateEngine {
         &self.system.model
     }
 
-    fn model_mut(&mut self) -> &mut Model {
-        &mut self.system.model
+    fn tally_mut(&mut self) -> &mut Tally {
+        &mut self.system.tally
     }
 
     fn time(&self) -> f64 {

@@ -5,7 +5,7 @@
 //! Fast mode steps the model's equations itself and pays for none of this.
 
 use super::joint_forces::{add_joint_forces, project_joints, JOINT_DRIFT};
-use crate::model::{Kinematics, Model};
+use crate::model::{Kinematics, Model, Tally};
 use tumble_integrate::{JacobianStructure, OdeSystem, Split, SystemError};
 
 /// The model with accurate mode's additions.
@@ -25,6 +25,8 @@ pub(crate) struct AccurateSystem {
     /// State components whose rates are held at zero (the touching actors, while the others fly free); empty
     /// otherwise.
     pub held_components: Vec<usize>,
+    /// What the equations of motion did since the report was last taken.
+    pub tally: Tally,
 }
 
 impl AccurateSystem {
@@ -38,6 +40,7 @@ impl AccurateSystem {
             resting_solves: 0,
             resting_seconds: 0.0,
             held_components: Vec::new(),
+            tally: Tally::default(),
         }
     }
 
@@ -60,7 +63,7 @@ impl OdeSystem for AccurateSystem {
     }
 
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
-        let kin = self.model.rates(t, y, dy, true)?;
+        let kin = self.model.rates(&mut self.tally, t, y, dy, true)?;
         let q = self.model.layout.positions();
         self.add_forces(&kin, y, &mut dy[q..])?;
         self.model.hold_kinematic(&mut dy[q..]);
@@ -89,7 +92,7 @@ impl OdeSystem for AccurateSystem {
 
     fn position_rate(&mut self, _t: f64, y: &[f64], dq: &mut [f64]) -> Result<(), SystemError> {
         let kin = self.model.kinematics(y);
-        self.model.position_part(&kin, y, dq);
+        self.model.position_part(&mut self.tally, &kin, y, dq);
         let q = dq.len();
         for &k in self.held_components.iter().filter(|k| **k < q) {
             dq[k] = 0.0;
@@ -99,7 +102,7 @@ impl OdeSystem for AccurateSystem {
 
     fn velocity_rate(&mut self, t: f64, y: &[f64], dp: &mut [f64]) -> Result<(), SystemError> {
         let kin = self.model.kinematics(y);
-        self.model.force_part(&kin, t, y, dp, true)?;
+        self.model.force_part(&mut self.tally, &kin, t, y, dp, true)?;
         self.add_forces(&kin, y, dp)?;
         let q = self.model.layout.positions();
         for &k in self.held_components.iter().filter(|k| **k >= q) {
@@ -118,7 +121,7 @@ impl OdeSystem for AccurateSystem {
             changed = true;
         }
         if changed {
-            self.model.counters.projections += 1;
+            self.tally.forces.projections += 1;
         }
         changed
     }

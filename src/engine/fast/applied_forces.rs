@@ -13,9 +13,9 @@ use tumble_contact::BodyState;
 /// (`soft_solve.rs`).
 pub(super) fn applied_forces(cx: &mut StepContext<'_>) -> Result<Vec<BodyState>, WorldError> {
     let t = cx.t;
-    let model = &mut cx.model;
     let springs = matches!(cx.settings.solver, FastSolver::Exact { .. });
-    cx.kin = model.velocity_forces(t, &cx.memory.y, cx.dy, springs).map_err(|e| failure(t, e.to_string()))?;
+    cx.kin =
+        cx.model.velocity_forces(cx.tally, t, &cx.memory.y, cx.dy, springs).map_err(|e| failure(t, e.to_string()))?;
     actors(cx)
 }
 

@@ -4,7 +4,7 @@
 use super::memory::FastMemory;
 use crate::engine::collider_set::ColliderSet;
 use crate::mode::FastSettings;
-use crate::model::{Kinematics, Model};
+use crate::model::{Kinematics, Model, Tally};
 use crate::report::WorldReport;
 
 /// What a stage works on: the engine's parts for one step of `h` from time `t`.
@@ -17,6 +17,8 @@ pub(super) struct StepContext<'a> {
     pub dy: &'a mut Vec<f64>,
     /// The bodies' kinematics at the step's start, from its force evaluation (`applied_forces`).
     pub kin: Kinematics,
+    /// What the equations of motion did, for the engine's report.
+    pub tally: &'a mut Tally,
     /// The energy of the state where the last step ended (kept by the engine; none once the state was set).
     pub energy: &'a mut Option<f64>,
     pub report: &'a mut WorldReport,

@@ -37,7 +37,7 @@ use crate::engine::semi_implicit::Form;
 use crate::engine::{Budget, Engine, EngineCore, EngineMemory};
 use crate::error::WorldError;
 use crate::mode::{FastSettings, FastSolver};
-use crate::model::{Compiled, Kinematics, Model};
+use crate::model::{Compiled, Kinematics, Model, Tally};
 use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
@@ -64,6 +64,8 @@ pub(crate) struct FastEngine {
     memory: FastMemory,
     /// The rates of the last force evaluation (scratch).
     dy: Vec<f64>,
+    /// What the equations of motion did since the report was last taken.
+    tally: Tally,
     /// The energy of the state where the last step ended, for the next step's report (none once the state or the
     /// memory was set).
     energy: Option<f64>,
@@ -104,6 +106,7 @@ impl FastEngine {
         };
         FastEngine {
             dy: vec![0.0; memory.y.len()],
+            tally: Tally::default(),
             energy: None,
             published: y,
             checkpoint: None,
@@ -149,6 +152,7 @@ impl FastEngine {
             memory: &mut self.memory,
             dy: &mut self.dy,
             kin: Kinematics::default(),
+            tally: &mut self.tally,
             energy: &mut self.energy,
             report: &mut self.core.report,
             threads: self.core.threads,
@@ -230,8 +234,8 @@ impl Engine for FastEngine {
         &self.model
     }
 
-    fn model_mut(&mut self) -> &mut Model {
-        &mut self.model
+    fn tally_mut(&mut self) -> &mut Tally {
+        &mut self.tally
     }
 
     fn time(&self) -> f64 {

@@ -91,7 +91,7 @@ pub(super) fn soft_solve(
         (loads, peaks) = g.loads(cx.model, &cx.memory.y, &balance);
         g.spread(&mut out, states, first);
     }
-    cx.model.counters.spring_evaluations += springs.len() * settings.substeps;
+    cx.tally.forces.spring_evaluations += springs.len() * settings.substeps;
     for (&k, impulse) in holding.iter().zip(&out.joint_impulses) {
         cx.memory.joint_warm[k] = *impulse;
     }
