@@ -34,7 +34,7 @@ pub(super) fn find_contacts(
         None => cx.memory.sleep.wake_touched(found.iter().map(|f| (f.contact.a, f.contact.b)), dynamic),
     };
     if woke {
-        // The woken actors' own contacts (with the floor under them, say) were left out as inert: find again.
+        // The woken actors' own contacts (with the floor under them, say) were left out as idle: find again.
         *states = actors(cx)?;
         found = search(cx, states, h)?;
     }

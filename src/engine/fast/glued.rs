@@ -15,23 +15,13 @@
 //! are rows as any joint's. A contact between two glued objects is weighed by B's object's window, so two objects
 //! glued with different windows that touch each other judge A's welds by B's weights.
 
+use super::glued_parts::{Compound, WeldArm};
 use crate::model::breaking::JointLoad;
 use crate::model::joints::JointEnd;
 use crate::model::{End, Model};
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::collections::BTreeMap;
 use tumble_contact::{BodyState, BodyVelocity, JointKind, SoftManifold};
-
-/// One glued object solved as a body.
-pub(super) struct Compound {
-    /// Its pieces (actor indices, in order) and the welds that bind them (joint indices, in order).
-    pub members: Vec<usize>,
-    pub welds: Vec<usize>,
-    /// The compound body at the step's start.
-    pub state: BodyState,
-    /// The break window its breakable welds share (0: judged at the instant, or none breaks).
-    pub window: f64,
-}
 
 /// The clusters solved as bodies this step, and which compound each actor is in.
 pub(super) struct Glued {
@@ -265,37 +255,6 @@ pub(super) type WeldLoads = BTreeMap<usize, JointLoad>;
 
 /// A wrench: linear and angular parts.
 type Wrench = (Vector3<f64>, Vector3<f64>);
-
-/// A weld as the load solve sees it: its joint, its pieces (by place among the members), where its anchor is
-/// (world, at the step's start) and its stiffness to force and to torque (`WeldArm::of`).
-pub(super) struct WeldArm {
-    pub joint: usize,
-    pub a: usize,
-    pub b: usize,
-    pub point: Point3<f64>,
-    pub stiffness: (f64, f64),
-}
-
-impl WeldArm {
-    fn of(model: &Model, y: &[f64], k: usize, members: &[usize]) -> WeldArm {
-        let j = &model.joints[k];
-        let (ea, eb) = (model.end_state_of(y, j.a), model.end_state_of(y, j.b));
-        let p = model.layout.particles;
-        let place = |end: JointEnd| match end {
-            JointEnd::Body(i) => members.binary_search(&(p + i)).expect("a member"),
-            JointEnd::Fixed(_) => unreachable!("a weld between bodies"),
-        };
-        // a glued face of area A and radius r = sqrt(A / pi) holds a force sigma A and a torque sigma A r / 4; as a
-        // layer of glue it is as stiff to a force as its area and to a torque as its area's second moment, A r^2 / 4
-        // (up to a common factor): from the bounds, F and 4 T^2 / F. A weld without bounds: 1 and 1.
-        let stiffness = j
-            .breaking
-            .filter(|b| b.force > 0.0 && b.torque > 0.0)
-            .map_or((1.0, 1.0), |b| (b.force, 4.0 * b.torque * b.torque / b.force));
-        let point = Point3::from(eb.x + model.anchor_b(k, &(ea, eb)));
-        WeldArm { joint: k, a: place(j.a), b: place(j.b), point, stiffness }
-    }
-}
 
 /// What the welds must give each member over the step (linear, and angular about its centre at the step's start),
 /// before the object's own acceleration is shared out (`glued_loads::balance`): its turning's needs (the

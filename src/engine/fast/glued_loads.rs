@@ -7,7 +7,7 @@
 //! wrenches are first made to balance, which they do but for rounding and the turn over the step), solved by
 //! conjugate gradients with a diagonal preconditioner from zero.
 
-use super::glued::{Compound, WeldArm};
+use super::glued_parts::{Compound, WeldArm};
 use nalgebra::Vector3;
 use tumble_contact::BodyState;
 
@@ -139,7 +139,7 @@ fn balance(compound: &Compound, states: &[BodyState], needed: &mut [Wrench]) {
 #[cfg(test)]
 mod tests {
     use super::least_loads;
-    use crate::engine::fast::glued::{Compound, WeldArm};
+    use crate::engine::fast::glued_parts::{Compound, WeldArm};
     use nalgebra::{Matrix3, Point3, Vector3};
     use tumble_contact::BodyState;
 

@@ -17,6 +17,7 @@ mod context;
 mod find_contacts;
 mod glued;
 mod glued_loads;
+mod glued_parts;
 mod memory;
 mod sleep;
 mod soft_solve;
