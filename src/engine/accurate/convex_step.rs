@@ -22,7 +22,7 @@ use nalgebra::Vector3;
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 use tumble_contact::{free_velocity, velocity_step, BodyState, Contact, ContactError, StepSettings, VelocityProblem};
-use tumble_integrate::{OdeError, OdeSystem};
+use tumble_integrate::OdeError;
 
 /// Most solves of one step's lagged-friction fixed point.
 const LAGGED_ITERATIONS: usize = 3;
@@ -62,9 +62,8 @@ pub(crate) fn actors_with_forces(
     y: &[f64],
 ) -> Result<Vec<BodyState>, OdeError> {
     let mut dy = vec![0.0; y.len()];
-    system.rhs(t, y, &mut dy).map_err(|e| failure(t, e.to_string()))?;
-    // the kinematics the right-hand side used (the same function of y)
-    system.model.step_actors(&system.model.kinematics(y), t, y, &dy, statics, &[])
+    let kin = system.rates(t, y, &mut dy).map_err(|e| failure(t, e.to_string()))?;
+    system.model.step_actors(&kin, t, y, &dy, statics, &[])
 }
 
 /// The contacts a step of h from state y may meet: pairs within the distance they can close in h (speed times h,

@@ -57,12 +57,9 @@ impl AccurateSystem {
     }
 }
 
-impl OdeSystem for AccurateSystem {
-    fn dim(&self) -> usize {
-        self.model.layout.dim()
-    }
-
-    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
+impl AccurateSystem {
+    /// The right-hand side into `dy`, returning the kinematics of y it used (for the contact steps' actors).
+    pub fn rates(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<Kinematics, SystemError> {
         let kin = self.model.rates(&mut self.tally, t, y, dy, true)?;
         let q = self.model.layout.positions();
         self.add_forces(&kin, y, &mut dy[q..])?;
@@ -70,7 +67,17 @@ impl OdeSystem for AccurateSystem {
         for &k in &self.held_components {
             dy[k] = 0.0;
         }
-        Ok(())
+        Ok(kin)
+    }
+}
+
+impl OdeSystem for AccurateSystem {
+    fn dim(&self) -> usize {
+        self.model.layout.dim()
+    }
+
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), SystemError> {
+        self.rates(t, y, dy).map(|_| ())
     }
 
     fn jacobian_structure(&self) -> JacobianStructure {
