@@ -12,6 +12,7 @@ use crate::model::layout::Layout;
 use crate::particle::Particle;
 use crate::spring::BodyHandle;
 use nalgebra::{Isometry3, Vector3};
+use std::sync::Arc;
 use tumble_collide::{contacts, Aabb, ContactKind, Shape, SortAndSweep};
 
 /// Who carries a collider: actors are numbered particles first, then dynamic bodies, then static bodies, which is
@@ -43,7 +44,8 @@ pub(crate) struct ColliderEntry {
 #[derive(Clone)]
 pub(crate) struct ColliderSet {
     pub colliders: Vec<ColliderEntry>,
-    pub static_poses: Vec<Isometry3<f64>>,
+    /// The static actors' poses, shared with the stages that read them while they change the set.
+    pub static_poses: Arc<[Isometry3<f64>]>,
     pub layout: Layout,
     broad: SortAndSweep,
     /// Narrow-phase pair tests so far.
@@ -131,7 +133,7 @@ impl ColliderSet {
             .collect();
         Some(ColliderSet {
             colliders,
-            static_poses,
+            static_poses: static_poses.into(),
             layout,
             broad: SortAndSweep::new(),
             checks: 0,

@@ -5,7 +5,7 @@
 use crate::body::BodyState;
 use crate::contact::Contact;
 use crate::jacobian::{rows, Row};
-use crate::lcp::Triplets;
+use crate::lcp_problem::Triplets;
 
 /// The normal rows of the contacts `which`, grouped by the body they touch.
 pub(crate) struct NormalSystem {

@@ -3,6 +3,8 @@
 //! min 1/2 f^T A f + q^T f subject to f >= 0.
 
 use crate::error::ContactError;
+use crate::lcp_problem::{residual, Triplets};
+use crate::polish::polish;
 use crate::solver_settings::SolverSettings;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus};
@@ -25,55 +27,6 @@ pub(crate) fn clarabel_settings(
         .map_err(|e| ContactError::Solver { problem, status: format!("settings: {e}"), iterations: 0 })
 }
 
-/// A symmetric matrix by its upper-triangle entries (i <= j; repeats add up).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Triplets {
-    pub n: usize,
-    pub rows: Vec<usize>,
-    pub cols: Vec<usize>,
-    pub vals: Vec<f64>,
-}
-
-impl Triplets {
-    pub fn new(n: usize) -> Self {
-        Triplets { n, ..Default::default() }
-    }
-
-    /// Adds v at (i, j) of the symmetric matrix (stored at the upper of (i, j), (j, i)).
-    pub fn add(&mut self, i: usize, j: usize, v: f64) {
-        self.rows.push(i.min(j));
-        self.cols.push(i.max(j));
-        self.vals.push(v);
-    }
-
-    /// y = A x.
-    pub fn mul(&self, x: &[f64]) -> Vec<f64> {
-        let mut y = vec![0.0; self.n];
-        for ((&i, &j), &v) in self.rows.iter().zip(&self.cols).zip(&self.vals) {
-            y[i] += v * x[j];
-            if i != j {
-                y[j] += v * x[i];
-            }
-        }
-        y
-    }
-
-    /// The diagonal.
-    pub fn diagonal(&self) -> Vec<f64> {
-        let mut d = vec![0.0; self.n];
-        for ((&i, &j), &v) in self.rows.iter().zip(&self.cols).zip(&self.vals) {
-            if i == j {
-                d[i] += v;
-            }
-        }
-        d
-    }
-
-    pub fn csc(&self) -> CscMatrix<f64> {
-        CscMatrix::new_from_triplets(self.n, self.n, self.rows.clone(), self.cols.clone(), self.vals.clone())
-    }
-}
-
 /// A solved complementarity problem.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct LcpSolution {
@@ -81,17 +34,6 @@ pub(crate) struct LcpSolution {
     pub w: Vec<f64>,
     pub iterations: u32,
     pub residual: f64,
-}
-
-/// The relative complementarity residual of (f, w = A f + q): the largest of -f_i / F, -w_i / W and |f_i w_i| / (F W),
-/// with W the largest of |q| and |A f|, and F the largest of the forces and of |q_i| / A_ii (the force that would
-/// cancel q_i alone), so that an all-zero answer is measured on the problem's own scale.
-pub(crate) fn residual(f: &[f64], w: &[f64], q: &[f64], diagonal: &[f64]) -> f64 {
-    let big = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let natural = q.iter().zip(diagonal).filter(|(_, &d)| d > 0.0).fold(0.0f64, |m, (qi, d)| m.max(qi.abs() / d));
-    let fs = big(f).max(natural).max(f64::MIN_POSITIVE);
-    let ws = big(q).max(big(w)).max(f64::MIN_POSITIVE);
-    f.iter().zip(w).map(|(&fi, &wi)| (-fi / fs).max(-wi / ws).max((fi * wi).abs() / (fs * ws))).fold(0.0, f64::max)
 }
 
 /// Whether clarabel's answer may be used, subject to the caller's own residual check: a solution, or an iterate it
@@ -185,12 +127,12 @@ pub(crate) fn solve(
     }
     let mut scaled = a.clone();
     scaled.vals.iter_mut().for_each(|v| *v /= a_scale);
-    let p = scaled.csc();
+    let p = CscMatrix::new_from_triplets(scaled.n, scaled.n, scaled.rows, scaled.cols, scaled.vals);
     let q_unit: Vec<f64> = q.iter().map(|v| v / q_scale).collect();
     // f >= 0 as -f + s = 0, s in the nonnegative cone.
     let neg_identity = CscMatrix::new(n, n, (0..=n).collect(), (0..n).collect(), vec![-1.0; n]);
     let cones = [NonnegativeConeT(n)];
-    let ((f, w), residual, iterations) = with_retries(settings, problem, |s| {
+    let ((f, w), interior, iterations) = with_retries(settings, problem, |s| {
         let mut solver =
             DefaultSolver::new(&p, &q_unit, &neg_identity, &vec![0.0; n], &cones, clarabel_settings(s, problem)?)
                 .map_err(|e| ContactError::Solver { problem, status: format!("{e:?}"), iterations: 0 })?;
@@ -204,12 +146,12 @@ pub(crate) fn solve(
         let r = residual(&f, &w, q, &diagonal);
         Ok(((f, w), r, sol.iterations))
     })?;
-    let ((f, w), worst) = match crate::polish::polish(a, q, &f, &w) {
+    let ((f, w), worst) = match polish(a, q, &f, &w) {
         Some((pf, pw)) => {
-            let r = self::residual(&pf, &pw, q, &diagonal);
+            let r = residual(&pf, &pw, q, &diagonal);
             ((pf, pw), r)
         }
-        None => ((f, w), residual),
+        None => ((f, w), interior),
     };
     Ok(LcpSolution { f, w, iterations, residual: worst })
 }

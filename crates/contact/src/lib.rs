@@ -12,6 +12,8 @@
 //! it; the relative normal velocity n . (v_B - v_A) is positive when the bodies part.
 //!
 //! ```
+//! # #[cfg(feature = "clarabel")]
+//! # fn main() -> Result<(), tumble_contact::ContactError> {
 //! use nalgebra::{Matrix3, Point3, Vector3};
 //! use tumble_contact::{resting_forces, BodyState, Contact, SolverSettings};
 //!
@@ -25,7 +27,10 @@
 //! let out = resting_forces(&[ground, block], &corners, &SolverSettings::default())?;
 //! assert!((out.forces.iter().sum::<f64>() - 2.0 * 9.81).abs() < 1e-9);
 //! assert!(out.forces.iter().all(|f| (f - 2.0 * 9.81 / 4.0).abs() < 1e-6));
-//! # Ok::<(), tumble_contact::ContactError>(())
+//! # Ok(())
+//! # }
+//! # #[cfg(not(feature = "clarabel"))]
+//! # fn main() {} // resting_forces is clarabel's
 //! ```
 
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -42,6 +47,8 @@ mod jacobian;
 mod joint;
 #[cfg(feature = "clarabel")]
 mod lcp;
+#[cfg(feature = "clarabel")]
+mod lcp_problem;
 #[cfg(feature = "clarabel")]
 mod polish;
 #[cfg(feature = "clarabel")]

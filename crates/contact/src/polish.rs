@@ -3,7 +3,7 @@
 //! solver's tolerance, and vary smoothly with the state while the active set stays: what an error-controlled
 //! integrator needs from forces inside its right-hand side, above all with a light body under a heavy one.
 
-use crate::lcp::{residual, Triplets};
+use crate::lcp_problem::{residual, Triplets};
 use nalgebra::{DMatrix, DVector};
 
 /// Active sets larger than this are left as the interior point gave them (the dense eigendecomposition is O(n^3):

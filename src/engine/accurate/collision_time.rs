@@ -9,6 +9,7 @@ use crate::model::actor_poses;
 use crate::plan::Stage;
 use nalgebra::Isometry3;
 use std::collections::BTreeSet;
+use std::sync::Arc;
 use tumble_integrate::{OdeError, StepView};
 
 /// How far parry's manifolds of a touching pair can jump from one instant to the next, as a share of the two shapes'
@@ -29,7 +30,7 @@ pub(super) fn collision_time(
 ) -> Result<Option<f64>, OdeError> {
     let (t0, t1) = (step.t0(), step.t1());
     let delta = cx.settings.contact_distance;
-    let statics = cx.collider_set.static_poses.clone();
+    let statics = Arc::clone(&cx.collider_set.static_poses);
     let resting = &cx.memory.resting_keys;
     // In a pair that was already touching at the step's start (a contact within the contact distance), a contact
     // that is not resting (it was opening) collides only once it sinks past 1e-3 of the contact distance

@@ -20,6 +20,7 @@ use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
 use nalgebra::Vector3;
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
 use std::time::Instant;
 use tumble_contact::{free_velocity, velocity_step, BodyState, Contact, ContactError, StepSettings, VelocityProblem};
 use tumble_integrate::OdeError;
@@ -79,7 +80,7 @@ pub fn every_contact_in_reach(
     h: f64,
 ) -> Result<(Vec<FoundContact>, Vec<FoundContact>), OdeError> {
     let clock = Instant::now();
-    let statics = cx.collider_set.static_poses.clone();
+    let statics = Arc::clone(&cx.collider_set.static_poses);
     let poses = actor_poses(model.layout, y, &statics);
     let mut reach = cx.collider_set.reach(states, h);
     for (r, s) in reach.iter_mut().zip(states) {

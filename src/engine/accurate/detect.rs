@@ -13,6 +13,7 @@ use crate::model::layout::get3;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
 use nalgebra::Isometry3;
+use std::sync::Arc;
 use std::time::Instant;
 use tumble_integrate::{OdeError, StepView};
 
@@ -72,7 +73,7 @@ fn detect_stages(cx: &mut ContactStages<'_>, step: &mut StepView<'_, AccurateSys
     let (t0, t1) = (step.t0(), step.t1());
     let h = t1 - t0;
     let delta = cx.settings.contact_distance;
-    let statics = cx.collider_set.static_poses.clone();
+    let statics = Arc::clone(&cx.collider_set.static_poses);
     let model = &step.system().model;
     let poses0 = actor_poses(model.layout, step.y0(), &statics);
     let poses1 = actor_poses(model.layout, step.y1(), &statics);

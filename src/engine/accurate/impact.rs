@@ -18,6 +18,7 @@ use crate::mode::Persistent;
 use crate::model::layout::set3;
 use crate::model::{actor_poses, Model};
 use crate::plan::Stage;
+use std::sync::Arc;
 use std::time::Instant;
 use tumble_collide::rotated_tensor;
 use tumble_contact::Contact;
@@ -68,7 +69,7 @@ pub fn impact(
         cx.report.contact_seconds += clock.elapsed().as_secs_f64();
         return Ok(());
     }
-    let statics = cx.collider_set.static_poses.clone();
+    let statics = Arc::clone(&cx.collider_set.static_poses);
     let delta = cx.settings.contact_distance;
     if active.iter().any(|(f, _)| f.contact.distance < -delta) {
         let states = contact_states(model, &y, &statics);
@@ -97,7 +98,7 @@ fn touching_contacts(
     t: f64,
 ) -> Result<Vec<(FoundContact, f64)>, OdeError> {
     let clock = Instant::now();
-    let statics = cx.collider_set.static_poses.clone();
+    let statics = Arc::clone(&cx.collider_set.static_poses);
     let states = contact_states(model, y, &statics);
     let poses = actor_poses(model.layout, y, &statics);
     let closing = cx.collider_set.reach(&states, 2.0 * cx.settings.time_tolerance);

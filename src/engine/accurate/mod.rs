@@ -70,6 +70,7 @@ use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
 use integration::{within_budget, Integration};
+use std::sync::Arc;
 use tumble_integrate::{Integrator, Settings};
 
 /// Events at one time without progress before the advance gives up (an impact stage that cannot settle).
@@ -121,7 +122,7 @@ impl AccurateEngine {
             checkpoint: None,
         };
         if let Some(collider_set) = collider_set {
-            engine.system.statics = collider_set.static_poses.clone();
+            engine.system.statics = Arc::clone(&collider_set.static_poses);
             let (rules, memory) =
                 contact_stages::ContactRules::new(collider_set, accurate, &engine.settings, gravity, t, &y);
             engine.contacts = Some(rules);

@@ -10,6 +10,7 @@ use crate::model::actor_poses;
 use crate::plan::Stage;
 use nalgebra::Isometry3;
 use std::collections::BTreeSet;
+use std::sync::Arc;
 use tumble_collide::{distance, first_contact, ShapeError, ToiMethod, ToiOptions};
 use tumble_integrate::{OdeError, StepView};
 
@@ -29,7 +30,7 @@ pub(super) fn pass_through(
     let (t0, t1) = (step.t0(), step.t1());
     let h = t1 - t0;
     let delta = cx.settings.contact_distance;
-    let statics = cx.collider_set.static_poses.clone();
+    let statics = Arc::clone(&cx.collider_set.static_poses);
     let mut event: Option<f64> = None;
     // Passes through: pairs apart at both ends whose distances leave room for a contact in between.
     let touching: BTreeSet<(usize, usize)> =

@@ -16,7 +16,7 @@ pub(crate) struct AccurateSystem {
     /// memory for each integration.
     pub resting: Option<super::resting::RestingContacts>,
     /// The static actors' poses, for the resting forces.
-    pub statics: Vec<nalgebra::Isometry3<f64>>,
+    pub statics: std::sync::Arc<[nalgebra::Isometry3<f64>]>,
     /// clarabel's settings for the resting forces.
     pub solver: tumble_contact::SolverSettings,
     /// Resting-force solves and their wall time since the report was last taken.
@@ -35,7 +35,7 @@ impl AccurateSystem {
         AccurateSystem {
             model,
             resting: None,
-            statics: Vec::new(),
+            statics: std::sync::Arc::new([]),
             solver: Default::default(),
             resting_solves: 0,
             resting_seconds: 0.0,

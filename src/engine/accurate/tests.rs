@@ -18,6 +18,7 @@ use crate::model::layout::{get3, set3};
 use crate::{JointBuilder, Material, ParticleBuilder, RigidBodyBuilder, Shape, World};
 use nalgebra::{UnitQuaternion, Vector3};
 use std::collections::BTreeMap;
+use std::sync::Arc;
 use tumble_integrate::{Integrator, OdeSystem, Settings};
 
 const G: f64 = 9.81;
@@ -245,7 +246,7 @@ fn a_convex_step_carries_a_resting_cubes_weight_and_slows_a_sliding_one_at_mu_g(
         let mut e = engine(&w);
         let (mut stages, system, integrator) = parts(&mut e);
         let y = integrator.state().to_vec();
-        let statics = stages.collider_set.static_poses.clone();
+        let statics = Arc::clone(&stages.collider_set.static_poses);
         let states = super::convex_step::actors_with_forces(system, &statics, 0.0, &y).unwrap();
         let found =
             super::convex_step::every_contact_in_reach(&mut stages, &system.model, &states, &y, 0.0, h).unwrap().0;

@@ -44,6 +44,7 @@ use crate::engine::state_error::state_difference;
 use crate::engine::Budget;
 use crate::run::Run;
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
 use tumble_integrate::OdeError;
 
 /// Steps tried (accepted or rejected) over which the touching phase's progress is watched.
@@ -134,7 +135,7 @@ pub fn touching_steps(
     mut run: Option<&mut Run>,
     budget: &mut Budget<'_>,
 ) -> Result<TouchingEnd, OdeError> {
-    let statics = cx.collider_set.static_poses.clone();
+    let statics = Arc::clone(&cx.collider_set.static_poses);
     let Some(mut phase) = cx.memory.touching.take() else {
         return Err(failure(t, "contact steps without a touching phase".into()));
     };
