@@ -1,8 +1,5 @@
-//! Fast mode's contact pairs kept across steps: each collider pair that touched keeps, from one step to the next,
-//! its manifold in its bodies' frames, which of its points the reduction chose, and its contacts as the soft step
-//! solves them (`SoftManifold`: the points, their impulses, which start the next step, and the pair's colour in the
-//! constraint graph, taken when the pair begins to touch and given back when it ends), in one list sorted by pair
-//! that a step's search walks forward (the broad phase gives the pairs sorted): no map of keys, no sort.
+//! One collider pair kept across steps: its manifold in its bodies' frames, which of its points the reduction chose,
+//! and its contacts as the soft step solves them.
 //!
 //! A pair of polyhedral colliders whose relative pose has moved less than `REUSE_DISTANCE` (1 mm, or 5% of the
 //! smaller one's size if less) and turned less than `REUSE_TURN` (2 degrees) since its manifold was computed (Jolt's
@@ -19,12 +16,11 @@
 use crate::collider::Material;
 use crate::engine::contact_reduction::{deepest, MAX_POINTS};
 use crate::engine::found_contact::{contact_point, feature_code, FoundContact};
-use crate::engine::last_contacts::LastContact;
 use nalgebra::{Isometry3, Matrix4, Point3, Unit, Vector3};
 use smallvec::SmallVec;
 use std::sync::Arc;
 use tumble_collide::{ContactKind, Shape, ShapeContact};
-use tumble_contact::{BodyState, ColourGraph, SoftManifold, SoftPoint, MANIFOLD_POINTS, UNCOLOURED};
+use tumble_contact::{SoftManifold, SoftPoint, MANIFOLD_POINTS};
 
 /// The relative motion up to which a manifold is reused (m), and as a fraction of the smaller collider's bounding
 /// radius if that is less.
@@ -84,7 +80,7 @@ pub(crate) struct Pair {
     /// may touch in several planes, four points each; one manifold is held in place, so that copying the memory
     /// allocates nothing for it), and each point's features in the same order (what names it from one step to the
     /// next). A manifold left without points keeps its colour until `ContactPairs::close` gives it back.
-    contacts: SmallVec<[SoftManifold; 1]>,
+    pub(super) contacts: SmallVec<[SoftManifold; 1]>,
     features: SmallVec<[(u64, u64); MAX_POINTS]>,
     /// This step's search: the manifold's points carried (when it has a manifold).
     #[serde(skip)]
@@ -138,30 +134,6 @@ pub(crate) enum Found {
     Computed,
 }
 
-/// The pairs kept across steps, sorted by pair, and the colours their contacts hold in the constraint graph (a
-/// function of the pairs' colours, rebuilt from them where a memory is given back, `rebuild`).
-#[derive(serde::Serialize, serde::Deserialize, Debug, Default)]
-pub(crate) struct ContactPairs {
-    pairs: Vec<Pair>,
-    /// The pairs of bodies asleep (or asleep on static ones), sorted: kept as they were, not searched or solved, so
-    /// that an island woken finds its contacts with their impulses (a woken pile started from none sags).
-    resting: Vec<Pair>,
-    #[serde(skip)]
-    graph: ColourGraph,
-}
-
-impl Clone for ContactPairs {
-    fn clone(&self) -> Self {
-        ContactPairs { pairs: self.pairs.clone(), resting: self.resting.clone(), graph: self.graph.clone() }
-    }
-
-    fn clone_from(&mut self, o: &Self) {
-        self.pairs.clone_from(&o.pairs);
-        self.resting.clone_from(&o.resting);
-        self.graph.clone_from(&o.graph);
-    }
-}
-
 /// Whether a pair of these shapes keeps the reduction's choice while it carries the same points: not a decomposed
 /// mesh, whose contact planes (one a piece) are each reduced with the centres of mass they hold, which its pieces'
 /// tumbling moves (kept, a seeded mesh drop penetrated 10.3 mm, past the 1 cm bound it keeps when chosen afresh).
@@ -174,13 +146,37 @@ fn polyhedral(s: &Shape) -> bool {
 }
 
 impl Pair {
-    fn new(pair: (usize, usize)) -> Pair {
+    pub fn new(pair: (usize, usize)) -> Pair {
         Pair { pair, manifold: None, chosen: None, contacts: SmallVec::new(), features: SmallVec::new(), carried: None }
     }
 
     /// The collider pair.
     pub fn pair(&self) -> (usize, usize) {
         self.pair
+    }
+
+    /// Whether it fits a scene of `colliders` colliders: its colliders in range, a kept choice within its manifold,
+    /// its contacts' impulses and features in order.
+    pub fn fits(&self, colliders: usize) -> bool {
+        let choice_fits = match (&self.chosen, &self.manifold) {
+            (None, _) => true,
+            (Some(c), Some(m)) => {
+                let n = m.points.len() as u32;
+                c.carried.iter().all(|&k| k < n)
+                    && c.kept.iter().all(|&k| (k as usize) < c.carried.len())
+                    && c.deepest < c.carried.len()
+            }
+            (Some(_), None) => false,
+        };
+        let fits = |m: &SoftManifold| m.count <= MANIFOLD_POINTS && m.colour <= tumble_contact::OVERFLOW;
+        let contacts_fit = self.contacts.iter().all(fits)
+            && self.features.len() == self.contacts.iter().map(|m| m.count).sum::<usize>();
+        self.pair.0 < colliders && self.pair.1 < colliders && choice_fits && contacts_fit
+    }
+
+    /// Whether it keeps a manifold to reuse.
+    pub fn has_manifold(&self) -> bool {
+        self.manifold.is_some()
     }
 
     /// The pair's contacts (shapes and world poses given, radii their bounding radii) within `prediction`, into `out`
@@ -344,189 +340,6 @@ impl Pair {
     }
 }
 
-impl ContactPairs {
-    /// The last step's entries of `pairs` (sorted), moved out, a fresh one for a pair new this step (a resting one
-    /// back if its bodies woke); of the rest (their boxes no longer overlap, or their bodies sleep), those that
-    /// `rest` says sleep are kept resting, the others dropped, their colours given back (`moves` says which actors
-    /// take colours: those a sweep moves). `close` puts them back. A step whose pairs are the last step's, with
-    /// nothing resting woken, takes them as they are.
-    pub fn open(
-        &mut self,
-        pairs: &[(usize, usize)],
-        moves: impl Fn(usize) -> bool,
-        rest: impl Fn((usize, usize)) -> bool,
-    ) -> Vec<Pair> {
-        if self.resting.iter().any(|p| !rest(p.pair)) {
-            let (woken, resting): (Vec<Pair>, Vec<Pair>) =
-                std::mem::take(&mut self.resting).into_iter().partition(|p| !rest(p.pair));
-            self.resting = resting;
-            self.pairs = merged(std::mem::take(&mut self.pairs), woken);
-        }
-        if self.pairs.len() == pairs.len() && self.pairs.iter().zip(pairs).all(|(p, &q)| p.pair == q) {
-            return std::mem::take(&mut self.pairs);
-        }
-        let mut kept = std::mem::take(&mut self.pairs).into_iter().peekable();
-        let (graph, mut asleep) = (&mut self.graph, Vec::new());
-        let mut leave = |p: Pair| {
-            if rest(p.pair) && !p.contacts.is_empty() {
-                asleep.push(p);
-            } else {
-                for m in &p.contacts {
-                    graph.remove(m.colour, (m.a, moves(m.a)), (m.b, moves(m.b)));
-                }
-            }
-        };
-        let mut out: Vec<Pair> = pairs
-            .iter()
-            .map(|&pair| {
-                while let Some(gone) = kept.next_if(|p| p.pair < pair) {
-                    leave(gone);
-                }
-                kept.next_if(|p| p.pair == pair).unwrap_or_else(|| Pair::new(pair))
-            })
-            .collect();
-        kept.for_each(leave);
-        if !asleep.is_empty() {
-            self.resting = merged(std::mem::take(&mut self.resting), asleep);
-        }
-        out.shrink_to_fit();
-        out
-    }
-
-    /// Ends a step's search: its pairs (as `open` gave them, in order) become the ones kept, those with neither
-    /// contacts nor a manifold dropped; a pair whose contacts ended gives back its colour, and one whose contacts
-    /// began takes one, in pair order (`actors` says how many actors the graph has, `moves` which take colours).
-    pub fn close(&mut self, mut pairs: Vec<Pair>, actors: usize, moves: impl Fn(usize) -> bool) {
-        if self.graph.len() != actors {
-            self.graph = ColourGraph::new(actors);
-        }
-        for m in pairs.iter_mut().flat_map(|p| p.contacts.iter_mut()) {
-            if m.count == 0 && m.colour != UNCOLOURED {
-                self.graph.remove(m.colour, (m.a, moves(m.a)), (m.b, moves(m.b)));
-                m.colour = UNCOLOURED;
-            }
-        }
-        for p in pairs.iter_mut() {
-            p.contacts.retain(|m| m.count > 0);
-            for m in p.contacts.iter_mut() {
-                if m.colour == UNCOLOURED {
-                    m.colour = self.graph.add((m.a, moves(m.a)), (m.b, moves(m.b)));
-                }
-            }
-        }
-        pairs.retain(|p| p.manifold.is_some() || !p.contacts.is_empty());
-        self.pairs = pairs;
-    }
-
-    /// The graph of `actors` actors rebuilt from the pairs' colours (`moves` says which actors take them): after a
-    /// memory is given back. An error if two pairs of one colour share an actor that moves.
-    pub fn rebuild(&mut self, actors: usize, moves: impl Fn(usize) -> bool) -> Result<(), String> {
-        let mut graph = ColourGraph::new(actors);
-        for m in self.pairs.iter().chain(&self.resting).flat_map(|p| &p.contacts) {
-            if m.colour == UNCOLOURED {
-                continue;
-            }
-            let (a, b) = ((m.a, moves(m.a)), (m.b, moves(m.b)));
-            if m.a >= actors || m.b >= actors || !graph.fits(m.colour, a, b) {
-                return Err("two of its contact pairs of one colour share a body".into());
-            }
-            graph.take(m.colour, a, b);
-        }
-        self.graph = graph;
-        Ok(())
-    }
-
-    /// The contacts the soft step solves: every pair's that has points and a body that moves in `states` (the step's
-    /// actors, sleeping ones fixed).
-    pub fn manifolds<'a>(&'a mut self, states: &[BodyState]) -> Vec<&'a mut SoftManifold> {
-        let moving = |m: &SoftManifold| states[m.a].is_dynamic() || states[m.b].is_dynamic();
-        self.pairs.iter_mut().flat_map(|p| p.contacts.iter_mut()).filter(|m| m.count > 0 && moving(m)).collect()
-    }
-
-    /// The actor pairs of every pair with contacts, resting ones too.
-    pub fn touching(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.pairs.iter().chain(&self.resting).filter_map(|p| p.contacts.first()).map(|m| (m.a, m.b))
-    }
-
-    /// The deepest overlap among the contacts (0 if none overlaps).
-    pub fn penetration(&self) -> f64 {
-        self.pairs.iter().flat_map(|p| &p.contacts).flat_map(|m| m.points()).map(|c| -c.gap).fold(0.0, f64::max)
-    }
-
-    /// The last step's contacts (a step of `step` s), with their impulses over it.
-    pub fn last_contacts(&self, step: f64) -> Vec<LastContact> {
-        let mut out = Vec::new();
-        for m in self.pairs.iter().flat_map(|p| &p.contacts) {
-            out.extend(m.points().iter().map(|c| LastContact {
-                a: m.a,
-                b: m.b,
-                point: c.point,
-                normal: c.normal,
-                gap: c.gap,
-                impulse: c.step_normal,
-                step,
-            }));
-        }
-        out
-    }
-
-    /// Whether it fits a scene of `colliders` colliders: pairs in range and sorted, every kept choice within its
-    /// manifold, impulses in order.
-    pub fn fits(&self, colliders: usize) -> bool {
-        let choice_fits = |p: &Pair| match (&p.chosen, &p.manifold) {
-            (None, _) => true,
-            (Some(c), Some(m)) => {
-                let n = m.points.len() as u32;
-                c.carried.iter().all(|&k| k < n)
-                    && c.kept.iter().all(|&k| (k as usize) < c.carried.len())
-                    && c.deepest < c.carried.len()
-            }
-            (Some(_), None) => false,
-        };
-        let contacts_fit = |p: &Pair| {
-            let fits = |m: &SoftManifold| m.count <= MANIFOLD_POINTS && m.colour <= tumble_contact::OVERFLOW;
-            p.contacts.iter().all(fits) && p.features.len() == p.contacts.iter().map(|m| m.count).sum::<usize>()
-        };
-        let fits = |pairs: &[Pair]| {
-            pairs.iter().all(|c| c.pair.0 < colliders && c.pair.1 < colliders && choice_fits(c) && contacts_fit(c))
-                && pairs.windows(2).all(|w| w[0].pair < w[1].pair)
-        };
-        fits(&self.pairs) && fits(&self.resting)
-    }
-
-    /// Contact points kept, in all.
-    #[cfg(test)]
-    pub fn kept_points(&self) -> usize {
-        self.pairs.iter().chain(&self.resting).flat_map(|p| &p.contacts).map(|m| m.count).sum()
-    }
-}
-
-/// Two lists of pairs sorted by pair (and sharing none) merged into one.
-fn merged(a: Vec<Pair>, b: Vec<Pair>) -> Vec<Pair> {
-    if b.is_empty() {
-        return a;
-    }
-    let mut out = Vec::with_capacity(a.len() + b.len());
-    let (mut a, mut b) = (a.into_iter().peekable(), b.into_iter().peekable());
-    loop {
-        let next = match (a.peek(), b.peek()) {
-            (Some(x), Some(y)) => {
-                if x.pair < y.pair {
-                    a.next()
-                } else {
-                    b.next()
-                }
-            }
-            (Some(_), None) => a.next(),
-            (None, _) => b.next(),
-        };
-        match next {
-            Some(p) => out.push(p),
-            None => return out,
-        }
-    }
-}
-
 /// The contacts of `candidates` within reach (the `Some`s), into `out`, and, if `choosing`, their places among the
 /// candidates.
 fn within_reach(
@@ -560,5 +373,5 @@ fn carry(l: &Local, (a, b): &(Matrix4<f64>, Matrix4<f64>), prediction: f64) -> O
 }
 
 #[cfg(test)]
-#[path = "contact_pairs_tests.rs"]
+#[path = "pair_tests.rs"]
 mod tests;
