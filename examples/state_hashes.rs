@@ -9,7 +9,8 @@
 //! ```
 //!
 //! Only the public API is used, so the same file runs on any version that has it. `--quick` leaves out the
-//! slowest scenes.
+//! slowest scenes; a scene's name as an argument runs only the scenes whose names hold it; `--dump` also prints
+//! every body's final pose in full, to measure how far apart two builds whose hashes differ have moved.
 
 #[path = "../tests/it/common/mod.rs"]
 mod common;
@@ -292,6 +293,7 @@ fn all_scenes() -> Vec<Scene> {
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
+    let dump = std::env::args().any(|a| a == "--dump");
     let only: Option<String> = std::env::args().skip(1).find(|a| !a.starts_with("--"));
     for s in all_scenes() {
         if (quick && s.slow) || only.as_ref().is_some_and(|o| !s.name.contains(o.as_str())) {
@@ -310,6 +312,16 @@ fn main() {
                 hash_state(&mut state, &w);
             }
             hash_report(&mut counters, &w);
+            if dump {
+                // the final poses in full, to measure how far two builds whose hashes differ have moved apart
+                for (_, b) in w.bodies() {
+                    let (x, q) = (b.position(), b.orientation());
+                    println!(
+                        "  pose {:.17e} {:.17e} {:.17e} {:.17e} {:.17e} {:.17e} {:.17e}",
+                        x.x, x.y, x.z, q.w, q.i, q.j, q.k
+                    );
+                }
+            }
             println!(
                 "{:<34} threads {threads}  state {:016x}  counters {:016x}  {outcome}",
                 s.name, state.0, counters.0

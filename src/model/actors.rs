@@ -23,29 +23,20 @@ pub(crate) fn actor_poses(l: Layout, y: &[f64], statics: &[Isometry3<f64>]) -> V
     out
 }
 
-/// Which actors a contact stage sees, and how.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct StateOptions<'a> {
-    /// Actors passed as fixed (asleep), by index; shorter than the actors means the rest are awake.
-    pub asleep: &'a [bool],
-    /// Add Euler's gyroscopic term back into the torque: a time step that conserves angular momentum
-    /// (w* = I^-1 (L + h tau)) must not have tumble-contact's explicit -w x I w, which pumps energy into a fast spin.
-    pub cancel_gyroscopic: bool,
-}
-
 impl Model {
     /// The actors as tumble-contact sees them in state y, with the applied forces of `dp` (the p rates, after the
-    /// positions), using the body kinematics `kin` of y (those the forces were evaluated with).
+    /// positions), using the body kinematics `kin` of y (those the forces were evaluated with); the actors `asleep`
+    /// says (by index; shorter than the actors means the rest are awake) are passed as fixed.
     pub(crate) fn contact_states(
         &self,
         kin: &Kinematics,
         y: &[f64],
         dp: &[f64],
         statics: &[Isometry3<f64>],
-        options: StateOptions<'_>,
+        asleep: &[bool],
     ) -> Vec<BodyState> {
         let (l, q) = (self.layout, self.layout.positions());
-        let asleep = |a: usize| options.asleep.get(a).copied().unwrap_or(false);
+        let asleep = |a: usize| asleep.get(a).copied().unwrap_or(false);
         let mut out = Vec::with_capacity(l.actors() + statics.len());
         for (i, p) in self.particles.iter().enumerate() {
             let x = Point3::from(get3(y, l.px(i)));
@@ -76,9 +67,6 @@ impl Model {
             s.angular_velocity = k.omega;
             s.force = get3(dp, l.bp(j) - q);
             s.torque = get3(dp, l.bl(j) - q);
-            if options.cancel_gyroscopic {
-                s.torque += k.omega.cross(&(inertia * k.omega));
-            }
             out.push(s);
         }
         out.extend(statics.iter().map(|p| BodyState::fixed(Point3::from(p.translation.vector))));
@@ -86,8 +74,9 @@ impl Model {
     }
 
     /// The actors of a time step from state y and the rates `dy` of its force evaluation (fast mode's steps,
-    /// accurate mode's contact steps): the forces checked finite (an error names the first rate that is not),
-    /// Euler's gyroscopic term cancelled (the step carries angular momentum), the `asleep` actors fixed.
+    /// accurate mode's contact steps): the forces checked finite (an error names the first rate that is not), the
+    /// `asleep` actors fixed. (The steps carry angular momentum: tumble-contact's settings leave Euler's gyroscopic
+    /// term out.)
     pub(crate) fn step_actors(
         &self,
         kin: &Kinematics,
@@ -100,7 +89,6 @@ impl Model {
         if let Some(index) = dy.iter().position(|v| !v.is_finite()) {
             return Err(OdeError::NonFinite { t, what: "force", index });
         }
-        let options = StateOptions { asleep, cancel_gyroscopic: true };
-        Ok(self.contact_states(kin, y, &dy[self.layout.positions()..], statics, options))
+        Ok(self.contact_states(kin, y, &dy[self.layout.positions()..], statics, asleep))
     }
 }

@@ -72,8 +72,19 @@ impl BodyState {
     pub fn free_point_acceleration(&self, p: &Point3<f64>) -> Vector3<f64> {
         let r = p - self.position;
         let w = self.angular_velocity;
-        let w_dot = self.inv_inertia * (self.torque - w.cross(&(self.inertia * w)));
+        let w_dot = self.free_angular_acceleration(true);
         self.force * self.inv_mass + w_dot.cross(&r) + w.cross(&w.cross(&r))
+    }
+
+    /// The angular acceleration under the applied torque alone: I^-1 (tau - w x I w) by Euler's equations with the
+    /// `gyroscopic` term, I^-1 tau without it (the rate of a time step that carries angular momentum, L + h tau).
+    pub fn free_angular_acceleration(&self, gyroscopic: bool) -> Vector3<f64> {
+        let w = self.angular_velocity;
+        if gyroscopic {
+            self.inv_inertia * (self.torque - w.cross(&(self.inertia * w)))
+        } else {
+            self.inv_inertia * self.torque
+        }
     }
 
     /// Checks every number is finite, the inverse mass >= 0, and the inertia tensors symmetric, with a dynamic

@@ -54,8 +54,7 @@ pub(crate) struct ConvexStep {
     pub first_half_loads: Vec<JointLoad>,
 }
 
-/// The actors at state y with the applied forces of the equations of motion (gyroscopic term cancelled: the step
-/// carries angular momentum), and the forces' finiteness checked.
+/// The actors at state y with the applied forces of the equations of motion, and the forces' finiteness checked.
 pub(crate) fn actors_with_forces(
     system: &mut AccurateSystem,
     statics: &[nalgebra::Isometry3<f64>],
@@ -115,7 +114,8 @@ pub fn convex_step(
 ) -> Result<Option<ConvexStep>, OdeError> {
     let mut next = y.to_vec();
     if found.is_empty() && model.joints.is_empty() {
-        let v: Vec<_> = states.iter().map(|b| free_velocity(b, h)).collect();
+        let free = StepSettings::new(h);
+        let v: Vec<_> = states.iter().map(|b| free_velocity(b, &free)).collect();
         update_positions(model, &mut next, &v, h, Form::Momenta, |_| true);
         return Ok(Some(ConvexStep {
             y: next,

@@ -157,7 +157,7 @@ fn contact_states(
     statics: &[nalgebra::Isometry3<f64>],
 ) -> Vec<tumble_contact::BodyState> {
     let dp = vec![0.0; y.len() - model.layout.positions()];
-    model.contact_states(&model.kinematics(y), y, &dp, statics, Default::default())
+    model.contact_states(&model.kinematics(y), y, &dp, statics, &[])
 }
 
 /// Writes the velocities of tumble-contact's bodies into state y (momenta for bodies).

@@ -113,7 +113,7 @@ pub(super) fn add_resting_forces(
     }
     let clock = Instant::now();
     let poses = actor_poses(model.layout, y, statics);
-    let states = model.contact_states(kin, y, dp, statics, Default::default());
+    let states = model.contact_states(kin, y, dp, statics, &[]);
     let contacts: Vec<Contact> =
         set.contacts.iter().map(|r| r.place(&poses)).filter(|(_, gap)| *gap <= set.reach).map(|(c, _)| c).collect();
     if contacts.is_empty() {

@@ -25,7 +25,8 @@ pub(super) fn solve_velocities(
 ) -> Result<Vec<BodyVelocity>, WorldError> {
     if found.is_empty() {
         cx.memory.previous.clear();
-        return Ok(states.iter().map(|b| free_velocity(b, h)).collect());
+        let free = StepSettings::new(h);
+        return Ok(states.iter().map(|b| free_velocity(b, &free)).collect());
     }
     let clock = Instant::now();
     let contacts: Vec<Contact> = found.iter().map(|f| f.contact).collect();

@@ -339,7 +339,7 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
                 }
             }
             let local = |b: usize| slots[b];
-            let movers = members.iter().map(|&b| Mover::new(&bodies[b])).collect();
+            let movers = members.iter().map(|&b| Mover::new(&bodies[b], settings.gyroscopic)).collect();
             let mut group = Group::new(movers, bodies, &views, &spec.manifolds, local, spec.converge, &decays);
             for set in &spec.joints {
                 let placed = set.iter().map(|&k| {
@@ -406,7 +406,7 @@ pub fn soft_solve<M: BorrowMut<SoftManifold> + Send>(
     // bodies in no group (and static ones) move on their own, by the same substeps
     for (b, body) in bodies.iter().enumerate() {
         let v = velocities[b].unwrap_or_else(|| {
-            let mut m = Mover::new(body);
+            let mut m = Mover::new(body, settings.gyroscopic);
             m.free(h, settings.substeps);
             out.displacements[b] = m.dp;
             out.rotations[b] = m.dq;

@@ -24,20 +24,16 @@ pub(crate) struct Mover {
 }
 
 impl Mover {
-    pub fn new(b: &BodyState) -> Mover {
+    /// The body's mover, its free motion with Euler's gyroscopic term if `gyroscopic` (`SoftSettings::gyroscopic`).
+    pub fn new(b: &BodyState, gyroscopic: bool) -> Mover {
         let dynamic = b.is_dynamic();
-        let w = b.angular_velocity;
         Mover {
             inv_mass: b.inv_mass,
             inv_inertia: b.inv_inertia,
             v: b.velocity,
-            w,
+            w: b.angular_velocity,
             accel: if dynamic { b.force * b.inv_mass } else { Vector3::zeros() },
-            angular_accel: if dynamic {
-                b.inv_inertia * (b.torque - w.cross(&(b.inertia * w)))
-            } else {
-                Vector3::zeros()
-            },
+            angular_accel: if dynamic { b.free_angular_acceleration(gyroscopic) } else { Vector3::zeros() },
             dp: Vector3::zeros(),
             dq: UnitQuaternion::identity(),
             turn: Matrix3::identity(),

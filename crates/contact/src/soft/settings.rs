@@ -1,5 +1,5 @@
 //! The soft step's settings: substeps, sweeps, the contact and joint springs' stiffness and damping, push-out
-//! speed, bounce threshold and threads.
+//! speed, bounce threshold, threads and the gyroscopic switch.
 
 use crate::error::ContactError;
 
@@ -28,6 +28,9 @@ pub struct SoftSettings {
     pub joint_hertz: f64,
     /// Damping ratio of that pull (>= 0); 2 by default.
     pub joint_damping_ratio: f64,
+    /// Whether a body's free motion takes Euler's gyroscopic term explicitly (as the velocity step's
+    /// `StepSettings::gyroscopic`); off by default: the substeps carry angular momentum.
+    pub gyroscopic: bool,
 }
 
 impl Default for SoftSettings {
@@ -42,6 +45,7 @@ impl Default for SoftSettings {
             threads: 0,
             joint_hertz: f64::INFINITY,
             joint_damping_ratio: 2.0,
+            gyroscopic: false,
         }
     }
 }

@@ -82,7 +82,7 @@ pub(crate) fn bias(c: &Contact, bodies: &[BodyState], s: &StepSettings) -> f64 {
         // The bounce at the step's start, then what the applied forces do to the normal velocity over the rest of
         // the step: a ball bouncing with e = 1 then keeps its energy to O(h^2) instead of gaining m g h v.
         let moved = |k: usize| {
-            let f = super::problem::free_velocity(&bodies[k], h);
+            let f = super::problem::free_velocity(&bodies[k], s);
             BodyState { velocity: f.linear, angular_velocity: f.angular, ..bodies[k] }
         };
         let (a, b) = (moved(c.a), moved(c.b));

@@ -1,6 +1,7 @@
 //! What one velocity step solves and what it gives back: the bodies, contacts, friction bounds and joint rows
 //! (`VelocityProblem`, `BilateralRow`), the outcome (`VelocityStep`), and each body's free velocity.
 
+use super::settings::StepSettings;
 use crate::body::BodyState;
 use crate::contact::Contact;
 use crate::error::ContactError;
@@ -39,16 +40,16 @@ pub struct VelocityStep {
 /// Contacts of an island that one unit of `VelocityStep::solver_work` stands for.
 pub const CONTACTS_A_UNIT: usize = 8;
 
-/// The velocity a body would have after a step of `h` under its applied force and torque alone (explicit gyroscopic
-/// term); a static body keeps its velocity.
-pub fn free_velocity(b: &BodyState, h: f64) -> BodyVelocity {
+/// The velocity a body would have after a step of `s.dt` under its applied force and torque alone (with the
+/// explicit gyroscopic term if `s.gyroscopic`); a static body keeps its velocity.
+pub fn free_velocity(b: &BodyState, s: &StepSettings) -> BodyVelocity {
     if !b.is_dynamic() {
         return BodyVelocity { linear: b.velocity, angular: b.angular_velocity };
     }
-    let w = b.angular_velocity;
+    let h = s.dt;
     BodyVelocity {
         linear: b.velocity + b.force * (b.inv_mass * h),
-        angular: w + b.inv_inertia * (b.torque - w.cross(&(b.inertia * w))) * h,
+        angular: b.angular_velocity + b.free_angular_acceleration(s.gyroscopic) * h,
     }
 }
 

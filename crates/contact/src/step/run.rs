@@ -55,7 +55,7 @@ fn step(
         }
         _ => bilateral,
     };
-    let mut velocities: Vec<BodyVelocity> = bodies.iter().map(|b| free_velocity(b, settings.dt)).collect();
+    let mut velocities: Vec<BodyVelocity> = bodies.iter().map(|b| free_velocity(b, settings)).collect();
     let mut normal_impulses = vec![0.0; contacts.len()];
     let mut friction_impulses = vec![Vector3::zeros(); contacts.len()];
     let mut joint_impulses = vec![0.0; bilateral.len()];

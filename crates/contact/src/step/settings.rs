@@ -25,6 +25,10 @@ pub struct StepSettings {
     /// Threads the islands are solved on: 0 (the default) uses one per core; 1 stays on the calling thread. The
     /// answer is the same bit for bit whatever the count (islands are independent and come back in order).
     pub threads: usize,
+    /// Whether a body's free velocity takes Euler's gyroscopic term explicitly, w + h I^-1 (tau - w x I w); off by
+    /// default: the step then carries angular momentum (L + h tau), as tumble's engines want (an explicit term
+    /// pumps energy into a fast spin about an unstable axis).
+    pub gyroscopic: bool,
 }
 
 /// How a velocity step's islands are solved.
@@ -50,6 +54,7 @@ impl StepSettings {
             velocity_scale: 0.0,
             method: StepMethod::Newton,
             threads: 0,
+            gyroscopic: false,
         }
     }
 

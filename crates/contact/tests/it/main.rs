@@ -3,6 +3,7 @@
 mod common;
 mod errors;
 mod friction;
+mod gyroscopic;
 mod impulses;
 mod joint_rows;
 mod manifold_impulses;

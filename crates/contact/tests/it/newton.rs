@@ -167,7 +167,7 @@ fn the_joint_rows_impulses_balance_each_bodys_momentum_with_the_contacts() {
             let out = solve(&island, method);
             assert_eq!(out.joint_impulses.len(), island.joints.len());
             for (k, body) in island.bodies.iter().enumerate().filter(|(_, b)| b.is_dynamic()) {
-                let free = tumble_contact::free_velocity(body, H);
+                let free = tumble_contact::free_velocity(body, &StepSettings::new(H));
                 let mut linear = (out.velocities[k].linear - free.linear) / body.inv_mass;
                 let mut angular = body.inertia * (out.velocities[k].angular - free.angular);
                 for (i, c) in island.contacts.iter().enumerate() {
