@@ -2,20 +2,13 @@
 //! and the report of what the run cost.
 
 use crate::model::layout::{get3, get_quat};
-use crate::model::Model;
+use crate::model::{Model, ResolvedBody};
 use crate::report::WorldReport;
 use crate::spring::{BodyHandle, ParticleHandle};
 use nalgebra::{Point3, UnitQuaternion, Vector3};
 
 /// The frame interval of a run when none is given (s): 60 frames a second.
 pub const DEFAULT_FRAME_INTERVAL: f64 = 1.0 / 60.0;
-
-/// Where a body's frame data comes from: the state (dynamic) or its fixed pose (static).
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum BodySource {
-    Dynamic(usize),
-    Static(Vector3<f64>, UnitQuaternion<f64>),
-}
 
 /// Frames of a run. Particles and bodies appear in the order of `particles` and `bodies` (all bodies, static
 /// ones included, in the world's order). Per-frame arrays are flat: frame-major, then object, then component.
@@ -60,14 +53,14 @@ pub struct Run {
     /// Whether the run was interrupted (its control stopped it, Ctrl-C in Python): its frames are those done, and
     /// the world was left at the last of them.
     pub interrupted: bool,
-    pub(crate) sources: Vec<BodySource>,
+    pub(crate) sources: Vec<ResolvedBody>,
 }
 
 impl Run {
     pub(crate) fn new(
         particles: Vec<ParticleHandle>,
         bodies: Vec<BodyHandle>,
-        sources: Vec<BodySource>,
+        sources: Vec<ResolvedBody>,
         method: &'static str,
     ) -> Self {
         Run {
@@ -129,7 +122,7 @@ impl Run {
         self.particle_velocities.extend_from_slice(&y[l.pv(0)..l.pv(0) + 3 * l.particles]);
         for source in &self.sources {
             let (x, q, v, w) = match *source {
-                BodySource::Dynamic(j) => match &model.bodies[j].kinematic {
+                ResolvedBody::Dynamic(j) => match &model.bodies[j].kinematic {
                     // a kinematic body is on its path (frames between steps are interpolated, its path exact)
                     Some(path) => {
                         let (pose, (v, w)) = (path.pose_at(t), path.velocity_at(t));
@@ -140,7 +133,7 @@ impl Run {
                         (get3(y, l.bx(j)), UnitQuaternion::new_normalize(get_quat(y, l.bq(j))), k.velocity, k.omega)
                     }
                 },
-                BodySource::Static(x, q) => (x, q, Vector3::zeros(), Vector3::zeros()),
+                ResolvedBody::Fixed(p) => (p.translation.vector, p.rotation, Vector3::zeros(), Vector3::zeros()),
             };
             self.body_positions.extend_from_slice(x.as_slice());
             self.body_orientations.extend_from_slice(&[q.w, q.i, q.j, q.k]);

@@ -1,14 +1,14 @@
-//! What every engine holds besides its model and memory: the rows of its state (which particle and body each block
+//! What every engine holds besides its model and memory: its state's handles (which particle and body each index
 //! is), the divergence limit set where it was built, the contact solves' thread count, and the report of its work
 //! since the report was last taken.
 
-use crate::model::Rows;
+use crate::model::StateHandles;
 use crate::report::WorldReport;
 
 /// The part every engine has.
 #[derive(Clone)]
 pub(crate) struct EngineCore {
-    pub rows: Rows,
+    pub handles: StateHandles,
     /// A state component larger than this is divergence: the step fails instead of running on to overflow.
     pub divergence_limit: f64,
     /// Threads for the contact solves (0: one per core); the answers do not depend on it.
@@ -18,7 +18,7 @@ pub(crate) struct EngineCore {
 }
 
 impl EngineCore {
-    pub fn new(rows: Rows, divergence_limit: f64, threads: usize, report: WorldReport) -> Self {
-        EngineCore { rows, divergence_limit, threads, report }
+    pub fn new(handles: StateHandles, divergence_limit: f64, threads: usize, report: WorldReport) -> Self {
+        EngineCore { handles, divergence_limit, threads, report }
     }
 }

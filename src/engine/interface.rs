@@ -6,7 +6,7 @@ use super::budget::Budget;
 use super::core::EngineCore;
 use super::memory::EngineMemory;
 use crate::error::WorldError;
-use crate::model::{Model, Rows, Tally};
+use crate::model::{Model, StateHandles, Tally};
 use crate::plan::Stage;
 use crate::report::WorldReport;
 use crate::run::Run;
@@ -108,9 +108,9 @@ impl dyn Engine {
         stages
     }
 
-    /// The rows of the state: which particle and body each block is.
-    pub fn rows(&self) -> &Rows {
-        &self.core().rows
+    /// The state's handles: which particle and body each index is.
+    pub fn handles(&self) -> &StateHandles {
+        &self.core().handles
     }
 
     /// The size past which a state component is divergence, set where the engine was built.

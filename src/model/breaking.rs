@@ -5,8 +5,8 @@
 
 use crate::model::joints::CompiledJoint;
 use crate::model::joints::EndState;
-use crate::model::joints::JointEnd;
 use crate::model::Model;
+use crate::model::ResolvedBody;
 use nalgebra::Vector3;
 use tumble_contact::JointRow;
 
@@ -154,7 +154,9 @@ impl Model {
         let mut sets = tumble_contact::UnionFind::new(l.actors());
         let mut members = BTreeSet::new();
         for &k in joints {
-            let (JointEnd::Body(a), JointEnd::Body(b)) = (self.joints[k].a, self.joints[k].b) else { continue };
+            let (ResolvedBody::Dynamic(a), ResolvedBody::Dynamic(b)) = (self.joints[k].a, self.joints[k].b) else {
+                continue;
+            };
             let (a, b) = (l.body_actor(a), l.body_actor(b));
             sets.union(a, b);
             members.extend([a, b]);
@@ -171,7 +173,7 @@ impl Model {
     pub(crate) fn joined_pairs(&self) -> Vec<(usize, usize)> {
         let l = self.layout;
         let bodies = |j: &CompiledJoint| match (j.a, j.b) {
-            (JointEnd::Body(a), JointEnd::Body(b)) => Some((l.body_actor(a), l.body_actor(b))),
+            (ResolvedBody::Dynamic(a), ResolvedBody::Dynamic(b)) => Some((l.body_actor(a), l.body_actor(b))),
             _ => None,
         };
         let mut joined: Vec<(usize, usize)> = self

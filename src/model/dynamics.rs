@@ -6,7 +6,7 @@
 
 use crate::load::{TargetState, Wrench};
 use crate::model::layout::{add3, get3, get_quat, set3};
-use crate::model::{BodyKin, CompiledLoad, End, JacobianKind, Kinematics, Model, On, Tally};
+use crate::model::{BodyKin, CompiledLoad, JacobianKind, Kinematics, Model, ResolvedAttachment, ResolvedTarget, Tally};
 use crate::plan::Stage;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use tumble_integrate::{JacobianStructure, Split, SystemError};
@@ -21,17 +21,17 @@ impl Model {
         &self,
         kin: &[BodyKin],
         y: &[f64],
-        end: End,
+        end: ResolvedAttachment,
     ) -> (Vector3<f64>, Vector3<f64>, Option<Vector3<f64>>) {
         let l = self.layout;
         match end {
-            End::Particle(i) => (get3(y, l.px(i)), get3(y, l.pv(i)), None),
-            End::Body(j, local) => {
+            ResolvedAttachment::Particle(i) => (get3(y, l.px(i)), get3(y, l.pv(i)), None),
+            ResolvedAttachment::Body(j, local) => {
                 let k = &kin[j];
                 let r = k.rot * local;
                 (get3(y, l.bx(j)) + r, k.velocity + k.omega.cross(&r), Some(r))
             }
-            End::Point(p) => (p, Vector3::zeros(), None),
+            ResolvedAttachment::Point(p) => (p, Vector3::zeros(), None),
         }
     }
 
@@ -55,11 +55,11 @@ impl Model {
     }
 
     /// Adds a force (and its torque about the centre of mass for a body point) to the p rates.
-    fn apply(&self, dp: &mut [f64], end: Option<On>, f: &Vector3<f64>, arm: Option<Vector3<f64>>) {
+    fn apply(&self, dp: &mut [f64], end: Option<ResolvedTarget>, f: &Vector3<f64>, arm: Option<Vector3<f64>>) {
         let (l, q) = (self.layout, self.layout.positions());
         match end {
-            Some(On::Particle(i)) => add3(dp, l.pv(i) - q, &(f * self.particles[i].inv_mass)),
-            Some(On::Body(j)) => {
+            Some(ResolvedTarget::Particle(i)) => add3(dp, l.pv(i) - q, &(f * self.particles[i].inv_mass)),
+            Some(ResolvedTarget::Body(j)) => {
                 add3(dp, l.bp(j) - q, f);
                 if let Some(r) = arm {
                     add3(dp, l.bl(j) - q, &r.cross(f));
@@ -111,7 +111,7 @@ impl Model {
                 CompiledLoad::Force { on, force, at } => {
                     tally.forces.load_evaluations += 1;
                     let arm = match (on, at) {
-                        (On::Body(j), Some(local)) => Some(kin[*j].rot * local),
+                        (ResolvedTarget::Body(j), Some(local)) => Some(kin[*j].rot * local),
                         _ => None,
                     };
                     self.apply(dp, Some(*on), force, arm);
@@ -127,7 +127,7 @@ impl Model {
                     let w: Wrench = f(t, &state).map_err(SystemError::new)?;
                     drop(f);
                     self.apply(dp, Some(*on), &w.force, None);
-                    if let On::Body(j) = on {
+                    if let ResolvedTarget::Body(j) = on {
                         add3(dp, l.bl(*j) - q, &w.torque);
                     }
                 }
@@ -146,16 +146,16 @@ impl Model {
         }
     }
 
-    fn target_state(&self, kin: &Kinematics, y: &[f64], on: On) -> TargetState {
+    fn target_state(&self, kin: &Kinematics, y: &[f64], on: ResolvedTarget) -> TargetState {
         let l = self.layout;
         match on {
-            On::Particle(i) => TargetState {
+            ResolvedTarget::Particle(i) => TargetState {
                 position: get3(y, l.px(i)),
                 velocity: get3(y, l.pv(i)),
                 orientation: UnitQuaternion::identity(),
                 angular_velocity: Vector3::zeros(),
             },
-            On::Body(j) => TargetState {
+            ResolvedTarget::Body(j) => TargetState {
                 position: get3(y, l.bx(j)),
                 velocity: kin[j].velocity,
                 orientation: UnitQuaternion::new_normalize(get_quat(y, l.bq(j))),
@@ -232,10 +232,10 @@ impl Model {
 }
 
 /// The object a spring end pushes on (fixed points push on nothing).
-fn end_on(e: End) -> Option<On> {
+fn end_on(e: ResolvedAttachment) -> Option<ResolvedTarget> {
     match e {
-        End::Particle(i) => Some(On::Particle(i)),
-        End::Body(j, _) => Some(On::Body(j)),
-        End::Point(_) => None,
+        ResolvedAttachment::Particle(i) => Some(ResolvedTarget::Particle(i)),
+        ResolvedAttachment::Body(j, _) => Some(ResolvedTarget::Body(j)),
+        ResolvedAttachment::Point(_) => None,
     }
 }

@@ -23,7 +23,7 @@ impl Model {
         self.actor_kinetic(y, actor, &momentum_form)
     }
 
-    /// The kinetic energy of state y, each body's from `body(props, its linear row, its angular row turned into the
+    /// The kinetic energy of state y, each body's from `body(props, its linear block, its angular block turned into the
     /// body's frame)`: the particles' 1/2 m v^2 and the bodies' (kinematic bodies carry none).
     pub(super) fn kinetic(
         &self,

@@ -8,7 +8,7 @@
 //! (Choi and Ko, 2002), so every spring block is negative semidefinite and the step dissipates.
 
 use crate::model::layout::get3;
-use crate::model::{End, Model};
+use crate::model::{Model, ResolvedAttachment};
 use nalgebra::{Matrix3, Vector3};
 use tumble_contact::{SpringLaw, COINCIDENT};
 
@@ -30,9 +30,9 @@ impl Model {
                 None => (Matrix3::zeros(), Matrix3::zeros()),
             };
             for (row, row_sign) in [(s.a, 1.0), (s.b, -1.0)] {
-                let End::Particle(ir) = row else { continue };
+                let ResolvedAttachment::Particle(ir) = row else { continue };
                 for (col, col_sign) in [(s.a, 1.0), (s.b, -1.0)] {
-                    let End::Particle(ic) = col else { continue };
+                    let ResolvedAttachment::Particle(ic) = col else { continue };
                     let scale = row_sign * col_sign * self.particles[ir].inv_mass;
                     for r in 0..3 {
                         for c in 0..3 {
@@ -53,23 +53,23 @@ impl Model {
     }
 
     /// Position and velocity of a particle or fixed spring end.
-    fn end_pv(&self, y: &[f64], e: End) -> (Vector3<f64>, Vector3<f64>) {
+    fn end_pv(&self, y: &[f64], e: ResolvedAttachment) -> (Vector3<f64>, Vector3<f64>) {
         match e {
-            End::Particle(i) => (get3(y, self.layout.px(i)), get3(y, self.layout.pv(i))),
-            End::Point(p) => (p, Vector3::zeros()),
-            End::Body(..) => unreachable!("analytic Jacobians are for worlds without bodies"),
+            ResolvedAttachment::Particle(i) => (get3(y, self.layout.px(i)), get3(y, self.layout.pv(i))),
+            ResolvedAttachment::Point(p) => (p, Vector3::zeros()),
+            ResolvedAttachment::Body(..) => unreachable!("analytic Jacobians are for worlds without bodies"),
         }
     }
 
     /// Rows written and columns read by each object: a particle's force rows are its velocity rows and its state
     /// its position and velocity; a body's force rows are P and L and its state x, q, P, L.
-    fn rows_cols(&self, e: End) -> (Vec<usize>, Vec<usize>) {
+    fn rows_cols(&self, e: ResolvedAttachment) -> (Vec<usize>, Vec<usize>) {
         let l = self.layout;
         match e {
-            End::Particle(i) => {
+            ResolvedAttachment::Particle(i) => {
                 ((l.pv(i)..l.pv(i) + 3).collect(), (l.px(i)..l.px(i) + 3).chain(l.pv(i)..l.pv(i) + 3).collect())
             }
-            End::Body(j, _) => (
+            ResolvedAttachment::Body(j, _) => (
                 (l.bp(j)..l.bp(j) + 3).chain(l.bl(j)..l.bl(j) + 3).collect(),
                 (l.bx(j)..l.bx(j) + 3)
                     .chain(l.bq(j)..l.bq(j) + 4)
@@ -77,7 +77,7 @@ impl Model {
                     .chain(l.bl(j)..l.bl(j) + 3)
                     .collect(),
             ),
-            End::Point(_) => (Vec::new(), Vec::new()),
+            ResolvedAttachment::Point(_) => (Vec::new(), Vec::new()),
         }
     }
 
@@ -95,11 +95,11 @@ impl Model {
             for k in 0..3 {
                 block(&[l.px(i) + k], &[l.pv(i) + k]);
             }
-            let (rows, cols) = self.rows_cols(End::Particle(i));
+            let (rows, cols) = self.rows_cols(ResolvedAttachment::Particle(i));
             block(&rows, &cols);
         }
         for j in 0..l.bodies {
-            let (rows, cols) = self.rows_cols(End::Body(j, Vector3::zeros()));
+            let (rows, cols) = self.rows_cols(ResolvedAttachment::Body(j, Vector3::zeros()));
             block(&rows, &cols);
             let x_rows: Vec<usize> = (l.bx(j)..l.bx(j) + 3).collect();
             block(&x_rows, &(l.bp(j)..l.bp(j) + 3).collect::<Vec<_>>());
@@ -191,6 +191,6 @@ mod tests {
 
     fn compiled_y(w: &crate::World) -> Vec<f64> {
         let c = w.compile();
-        c.rows.pack(w.particles_arena(), w.bodies_arena())
+        c.handles.pack(w.particles_arena(), w.bodies_arena())
     }
 }

@@ -1,29 +1,20 @@
-//! Joints in the compiled model: each end resolved to a dynamic body's row or a fixed pose (the world, a static
+//! Joints in the compiled model: each end resolved to a dynamic body's index or a fixed pose (the world, a static
 //! body), the joint's frame at a state, its rows there and their errors. The engines solve the rows their own way:
 //! accurate mode as forces in its equations of motion and a projection after each step
 //! (`engine/accurate/joint_forces.rs`), fast mode's soft step as rows of its substeps (`engine/fast/soft_solve.rs`).
 
 use crate::model::layout::{get3, get_quat};
-use crate::model::Model;
+use crate::model::{Model, ResolvedBody};
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 use tumble_collide::rotated_tensor;
 use tumble_contact::{joint_rows, JointConstraint, JointFrame, JointRow, RowKind};
-
-/// Where a joint end is.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum JointEnd {
-    /// A dynamic body (its row among the bodies).
-    Body(usize),
-    /// A fixed pose: the world (identity) or a static body.
-    Fixed(Isometry3<f64>),
-}
 
 /// A joint resolved against the model: its ends, what it holds in each end's frame, and the solver's joint (whose
 /// bodies and frame are filled in where it is used).
 #[derive(Clone, Debug)]
 pub(crate) struct CompiledJoint {
-    pub a: JointEnd,
-    pub b: JointEnd,
+    pub a: ResolvedBody,
+    pub b: ResolvedBody,
     pub anchor_a: Vector3<f64>,
     pub anchor_b: Vector3<f64>,
     pub axis_a: Vector3<f64>,
@@ -71,9 +62,9 @@ impl CompiledJoint {
 
 impl Model {
     /// An end's state at y (the body kinematics of y computed afresh).
-    pub(crate) fn end_state_of(&self, y: &[f64], end: JointEnd) -> EndState {
+    pub(crate) fn end_state_of(&self, y: &[f64], end: ResolvedBody) -> EndState {
         match end {
-            JointEnd::Body(j) => {
+            ResolvedBody::Dynamic(j) => {
                 let l = self.layout;
                 let k = self.body_kin(y, j);
                 let b = &self.bodies[j];
@@ -91,7 +82,7 @@ impl Model {
                     },
                 }
             }
-            JointEnd::Fixed(p) => EndState {
+            ResolvedBody::Fixed(p) => EndState {
                 x: p.translation.vector,
                 q: p.rotation,
                 v: Vector3::zeros(),
@@ -144,21 +135,15 @@ impl Model {
     }
 }
 
-/// The world's joints resolved against the model's bodies (`b_index`: a dynamic body's row).
+/// The world's joints resolved against the model's bodies (`b_index`: a dynamic body's index).
 pub(crate) fn compile_joints(
     joints: &crate::handle::Arena<crate::joint::Joint>,
     bodies: &crate::handle::Arena<crate::body::RigidBody>,
     b_index: &std::collections::HashMap<crate::spring::BodyHandle, usize>,
 ) -> Vec<CompiledJoint> {
     let end = |h: Option<crate::spring::BodyHandle>| match h {
-        None => JointEnd::Fixed(Isometry3::identity()),
-        Some(h) => match b_index.get(&h) {
-            Some(&j) => JointEnd::Body(j),
-            None => {
-                let b = bodies.get(h).expect("validated on insertion");
-                JointEnd::Fixed(Isometry3::from_parts(b.position.into(), b.orientation))
-            }
-        },
+        None => ResolvedBody::Fixed(Isometry3::identity()),
+        Some(h) => ResolvedBody::of(bodies.get(h).expect("validated on insertion"), b_index.get(&h).copied()),
     };
     joints
         .iter()

@@ -1,4 +1,4 @@
-//! Kinematic bodies in the state: their rows hold the pose their path gives and the velocities it moves on at
+//! Kinematic bodies in the state: their blocks of the state hold the pose their path gives and the velocities it moves on at
 //! (P = v, L = w: the model gives them mass and inertia 1), their rates of momentum are zero, and each engine drives
 //! them onto their path: accurate mode at every keyframe (where the velocities change, so its integration stops
 //! there), fast mode at every step (with the velocities that take them to the path's pose at the step's end).

@@ -23,7 +23,7 @@ use crate::model::layout::{get3, get_quat, set3, set_quat, Layout};
 use crate::particle::Particle;
 use crate::plan::{Stage, StageCounts};
 use crate::spring::{Attachment, BodyHandle, ParticleHandle, Spring};
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
 use tumble_contact::SpringLaw;
 
@@ -44,39 +44,59 @@ pub(crate) struct BodyProps {
     pub inv_inertia: Matrix3<f64>,
     pub linear_damping: f64,
     pub angular_damping: f64,
-    /// A kinematic body's path: its state rows hold its velocities (mass and inertia 1 in the model's
+    /// A kinematic body's path: its blocks of the state hold its velocities (mass and inertia 1 in the model's
     /// kinematics, so P = v and L = w) and its rates of momentum are zero; the contact and joint solves see it as
     /// immovable and moving.
     pub kinematic: Option<std::sync::Arc<crate::keyframes::Keyframes>>,
 }
 
-/// A spring end resolved to a state index, or to a fixed world point (static bodies included).
+/// A spring end (`Attachment`) resolved against the model: a particle or a dynamic body (a point of it, in its frame
+/// about the centre of mass) by its index, or a fixed world point (a static body's points included).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum End {
+pub(crate) enum ResolvedAttachment {
     Particle(usize),
     Body(usize, Vector3<f64>),
     Point(Vector3<f64>),
 }
 
+/// A body resolved against the model: a dynamic body by its index (its pose is in the state), or a fixed pose (a
+/// static body's, or the world's: the identity). A joint's ends and a run's bodies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum ResolvedBody {
+    Dynamic(usize),
+    Fixed(Isometry3<f64>),
+}
+
+impl ResolvedBody {
+    /// `body`, dynamic at `index` if it has one, else fixed where it is (a static body).
+    pub fn of(body: &RigidBody, index: Option<usize>) -> ResolvedBody {
+        match index {
+            Some(j) => ResolvedBody::Dynamic(j),
+            None => ResolvedBody::Fixed(body.pose()),
+        }
+    }
+}
+
 /// A spring between two resolved ends.
 #[derive(Clone)]
 pub(crate) struct CompiledSpring {
-    pub a: End,
-    pub b: End,
+    pub a: ResolvedAttachment,
+    pub b: ResolvedAttachment,
     pub law: SpringLaw,
 }
 
+/// What a load acts on (`Target`) resolved against the model: a particle or a dynamic body by its index.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum On {
+pub(crate) enum ResolvedTarget {
     Particle(usize),
     Body(usize),
 }
 
 #[derive(Clone)]
 pub(crate) enum CompiledLoad {
-    Force { on: On, force: Vector3<f64>, at: Option<Vector3<f64>> },
+    Force { on: ResolvedTarget, force: Vector3<f64>, at: Option<Vector3<f64>> },
     Torque { body: usize, torque: Vector3<f64> },
-    Callback { on: On, callback: ForceCallback },
+    Callback { on: ResolvedTarget, callback: ForceCallback },
 }
 
 /// How many times each force loop ran (a loop over nothing is never entered).
@@ -140,18 +160,18 @@ pub(crate) struct Model {
     pub joints: Vec<joints::CompiledJoint>,
 }
 
-/// The handles of a state's rows: particles and dynamic bodies in state order.
+/// The state's handles: which particle and dynamic body each index of the state is, in state order.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Rows {
+pub(crate) struct StateHandles {
     pub particles: Vec<ParticleHandle>,
     pub bodies: Vec<BodyHandle>,
 }
 
-/// A compiled model with the handles of its rows.
+/// A compiled model with its state's handles.
 #[derive(Clone)]
 pub(crate) struct Compiled {
     pub model: Model,
-    pub rows: Rows,
+    pub handles: StateHandles,
 }
 
 pub(crate) fn compile(
@@ -168,16 +188,16 @@ pub(crate) fn compile(
     let b_index: HashMap<BodyHandle, usize> = body_handles.iter().enumerate().map(|(i, &h)| (h, i)).collect();
     let layout = Layout { particles: particle_handles.len(), bodies: body_handles.len() };
     let end = |a: &Attachment| match *a {
-        Attachment::Particle(h) => End::Particle(p_index[&h]),
+        Attachment::Particle(h) => ResolvedAttachment::Particle(p_index[&h]),
         Attachment::Body(h, local) => match b_index.get(&h) {
-            Some(&j) => End::Body(j, local),
-            None => End::Point(bodies.get(h).expect("validated on insertion").world_point(local)),
+            Some(&j) => ResolvedAttachment::Body(j, local),
+            None => ResolvedAttachment::Point(bodies.get(h).expect("validated on insertion").world_point(local)),
         },
-        Attachment::Point(p) => End::Point(p),
+        Attachment::Point(p) => ResolvedAttachment::Point(p),
     };
     let on = |t: Target| match t {
-        Target::Particle(h) => On::Particle(p_index[&h]),
-        Target::Body(h) => On::Body(b_index[&h]),
+        Target::Particle(h) => ResolvedTarget::Particle(p_index[&h]),
+        Target::Body(h) => ResolvedTarget::Body(b_index[&h]),
     };
     let particle_props: Vec<ParticleProps> = particles
         .iter()
@@ -252,7 +272,7 @@ pub(crate) fn compile(
         joints: joints::compile_joints(joints, bodies, &b_index),
     };
     model.terms = model.stages();
-    Compiled { model, rows: Rows { particles: particle_handles, bodies: body_handles } }
+    Compiled { model, handles: StateHandles { particles: particle_handles, bodies: body_handles } }
 }
 
 impl Model {
@@ -283,7 +303,7 @@ impl Model {
             let mut out = vec![false; self.bodies.len()];
             for (_, j) in self.holding_joints() {
                 for end in [j.a, j.b] {
-                    if let joints::JointEnd::Body(i) = end {
+                    if let ResolvedBody::Dynamic(i) = end {
                         out[i] = true;
                     }
                 }
@@ -315,8 +335,8 @@ impl Model {
     }
 }
 
-impl Rows {
-    /// The layout of a state of these rows.
+impl StateHandles {
+    /// The layout of a state of these particles and bodies.
     pub fn layout(&self) -> Layout {
         Layout { particles: self.particles.len(), bodies: self.bodies.len() }
     }

@@ -1,5 +1,5 @@
 //! A state in velocity form, fast mode's own: the positions and orientations of y, with each body's velocity and
-//! angular velocity where y has its momenta (particles' rows are velocities in both). Fast mode steps it without
+//! angular velocity where y has its momenta (particles' blocks are velocities in both). Fast mode steps it without
 //! turning velocities into momenta and back; the world's state (momenta) is made from it when the world reads it
 //! (`to_momenta`), and it is made from the world's when the world sets it (`to_velocities`).
 
@@ -10,7 +10,7 @@ use tumble_integrate::SystemError;
 
 impl Model {
     /// The world's state (momenta) of a state in velocity form, into `out`: P = m v, L = I(q) w (a kinematic body's
-    /// rows are its velocities in both forms).
+    /// blocks are its velocities in both forms).
     pub(crate) fn to_momenta(&self, y: &[f64], out: &mut [f64]) {
         out.copy_from_slice(y);
         let l = self.layout;

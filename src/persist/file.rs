@@ -1,6 +1,7 @@
 //! The scene file: what a saved world holds, as serde types. The same structure is written as readable JSON (a
 //! person can write one by hand: most fields have defaults) and, after a versioned header, as compact binary.
-//! Rows: springs and loads name particles and bodies by their place in the file's lists (the world's rows).
+//! Places: springs, loads and joints name particles and bodies by their place in the file's lists (the order of the
+//! world's `particles()` and `bodies()`), as the world names them by handle.
 
 use crate::collider::Material;
 use crate::mode::Mode;
@@ -254,10 +255,10 @@ pub struct KeyframesFile {
 /// A spring's end.
 #[derive(Serialize, Deserialize, Debug, Clone)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum EndFile {
-    /// The particle of this row.
+pub enum AttachmentFile {
+    /// The particle at this place.
     Particle(usize),
-    /// A point of the body of this row, in its frame (relative to its centre of mass).
+    /// A point of the body at this place, in its frame (relative to its centre of mass).
     Body { body: usize, anchor: [f64; 3] },
     /// A fixed point of space.
     Point([f64; 3]),
@@ -267,8 +268,8 @@ pub enum EndFile {
 #[derive(Serialize, Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct SpringFile {
-    pub a: EndFile,
-    pub b: EndFile,
+    pub a: AttachmentFile,
+    pub b: AttachmentFile,
     #[serde(default = "one")]
     pub stiffness: f64,
     #[serde(default)]
@@ -298,7 +299,7 @@ fn x_axis() -> [f64; 3] {
     [1.0, 0.0, 0.0]
 }
 
-/// A joint between the bodies of rows `a` and `b` (absent: the world, whose anchor is a world point).
+/// A joint between the bodies at places `a` and `b` (absent: the world, whose anchor is a world point).
 #[derive(Serialize, Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct JointFile {

@@ -19,7 +19,7 @@ use tumble_collide::{Decomposed, Mesh, Shape};
 fn at(list: &'static str, path: String) -> impl Fn(WorldError) -> WorldError {
     move |e| match e {
         WorldError::InvalidArgument { name, reason } => WorldError::invalid(list, format!("{path}.{name}: {reason}")),
-        WorldError::UnknownHandle { name, .. } => WorldError::invalid(list, format!("{path}.{name}: no such row")),
+        WorldError::UnknownHandle { name, .. } => WorldError::invalid(list, format!("{path}.{name}: no such place")),
         other => other,
     }
 }
@@ -224,18 +224,18 @@ pub(crate) fn world_from(f: &SceneFile) -> Result<World, WorldError> {
         bodies.push(h);
     }
     let particle = |list: &'static str, path: &str, i: usize| {
-        particles.get(i).copied().ok_or_else(|| WorldError::invalid(list, format!("{path}: no particle of row {i}")))
+        particles.get(i).copied().ok_or_else(|| WorldError::invalid(list, format!("{path}: no particle at place {i}")))
     };
     let body = |list: &'static str, path: &str, i: usize| {
-        bodies.get(i).copied().ok_or_else(|| WorldError::invalid(list, format!("{path}: no body of row {i}")))
+        bodies.get(i).copied().ok_or_else(|| WorldError::invalid(list, format!("{path}: no body at place {i}")))
     };
     for (k, s) in f.springs.iter().enumerate() {
-        let end = |e: &EndFile, side: &str| -> Result<Attachment, WorldError> {
+        let end = |e: &AttachmentFile, side: &str| -> Result<Attachment, WorldError> {
             let path = format!("springs[{k}].{side}");
             Ok(match e {
-                EndFile::Particle(i) => Attachment::Particle(particle("springs", &path, *i)?),
-                EndFile::Body { body: i, anchor } => Attachment::Body(body("springs", &path, *i)?, v3(*anchor)),
-                EndFile::Point(p) => Attachment::Point(v3(*p)),
+                AttachmentFile::Particle(i) => Attachment::Particle(particle("springs", &path, *i)?),
+                AttachmentFile::Body { body: i, anchor } => Attachment::Body(body("springs", &path, *i)?, v3(*anchor)),
+                AttachmentFile::Point(p) => Attachment::Point(v3(*p)),
             })
         };
         let mut builder =

@@ -141,7 +141,7 @@ fn restore_memory(world: &mut World, saved: Option<SavedEngine>) -> Result<(), W
     // the engine's state unpacked, or were set and packed into it, quaternions normalized on the way), to the
     // rounding; a memory of another time or another motion is refused.
     let engine = world.engine.as_ref().expect("built above");
-    let packed = engine.rows().pack(&world.particles, &world.bodies);
+    let packed = engine.handles().pack(&world.particles, &world.bodies);
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
     let same = engine.state().len() == packed.len()
         && engine.state().iter().zip(&packed).all(|(a, b)| close(*a, *b))

@@ -52,8 +52,8 @@ pub(crate) fn shape_file(s: &Shape) -> ShapeFile {
 /// The scene file of the world as it is. A world with force callbacks cannot be written (they are code): the
 /// error names `loads`.
 pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
-    let particle_rows: BTreeMap<u32, usize> = w.particles.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
-    let body_rows: BTreeMap<u32, usize> = w.bodies.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
+    let particle_places: BTreeMap<u32, usize> = w.particles.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
+    let body_places: BTreeMap<u32, usize> = w.bodies.iter().zip(0..).map(|((h, _), k)| (h.index(), k)).collect();
     let particles = w
         .particles
         .iter()
@@ -126,9 +126,9 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
         })
         .collect();
     let end = |a: &Attachment| match a {
-        Attachment::Particle(h) => EndFile::Particle(particle_rows[&h.index()]),
-        Attachment::Body(h, anchor) => EndFile::Body { body: body_rows[&h.index()], anchor: v3(anchor) },
-        Attachment::Point(p) => EndFile::Point(v3(p)),
+        Attachment::Particle(h) => AttachmentFile::Particle(particle_places[&h.index()]),
+        Attachment::Body(h, anchor) => AttachmentFile::Body { body: body_places[&h.index()], anchor: v3(anchor) },
+        Attachment::Point(p) => AttachmentFile::Point(v3(p)),
     };
     let springs = w
         .springs
@@ -142,8 +142,8 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
         })
         .collect();
     let target = |t: &Target| match t {
-        Target::Particle(h) => TargetFile::Particle(particle_rows[&h.index()]),
-        Target::Body(h) => TargetFile::Body(body_rows[&h.index()]),
+        Target::Particle(h) => TargetFile::Particle(particle_places[&h.index()]),
+        Target::Body(h) => TargetFile::Body(body_places[&h.index()]),
     };
     let loads = w
         .loads
@@ -153,7 +153,7 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
                 Ok(LoadFile::Force { target: target(t), force: v3(force), at: at.as_ref().map(v3) })
             }
             Load::Torque { body, torque } => {
-                Ok(LoadFile::Torque { body: body_rows[&body.index()], torque: v3(torque) })
+                Ok(LoadFile::Torque { body: body_places[&body.index()], torque: v3(torque) })
             }
             Load::Callback { .. } => Err(WorldError::invalid(
                 "loads",
@@ -161,7 +161,7 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
             )),
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let row = |h: Option<crate::spring::BodyHandle>| h.map(|h| body_rows[&h.index()]);
+    let place = |h: Option<crate::spring::BodyHandle>| h.map(|h| body_places[&h.index()]);
     let joints = w
         .joints
         .iter()
@@ -173,8 +173,8 @@ pub(crate) fn scene_file(w: &World) -> Result<SceneFile, WorldError> {
             };
             JointFile {
                 kind,
-                a: row(s.a),
-                b: row(s.b),
+                a: place(s.a),
+                b: place(s.b),
                 anchor_a: v3(&s.anchor_a),
                 anchor_b: v3(&s.anchor_b),
                 axis: v3(&s.axis),

@@ -30,15 +30,15 @@ impl World {
     /// step, and after any change of structure or state.
     pub fn contacts(&self) -> Vec<ContactInfo> {
         if let (Some(e), false) = (&self.engine, self.state_changed) {
-            let rows = e.rows();
+            let handles = e.handles();
             let statics: Vec<crate::spring::BodyHandle> =
                 self.bodies.iter().filter(|(_, b)| b.is_static).map(|(h, _)| h).collect();
-            let (np, nb) = (rows.particles.len(), rows.bodies.len());
+            let (np, nb) = (handles.particles.len(), handles.bodies.len());
             let actor = |i: usize| {
                 if i < np {
-                    Target::Particle(rows.particles[i])
+                    Target::Particle(handles.particles[i])
                 } else if i < np + nb {
-                    Target::Body(rows.bodies[i - np])
+                    Target::Body(handles.bodies[i - np])
                 } else {
                     Target::Body(statics[i - np - nb])
                 }

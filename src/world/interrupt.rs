@@ -3,7 +3,8 @@
 //! next call carries on from there. A failure is not an interrupt: after one the world is back where the call began.
 
 use super::World;
-use crate::run::{BodySource, Run};
+use crate::model::ResolvedBody;
+use crate::run::Run;
 
 impl World {
     /// Puts the world at `run`'s last frame (the engine already back at the call's start and dropped here) and
@@ -19,7 +20,7 @@ impl World {
             }
         }
         for (j, &h) in run.bodies.iter().enumerate() {
-            let (BodySource::Dynamic(_), Some(b)) = (run.sources[j], self.bodies.get_mut(h)) else { continue };
+            let (ResolvedBody::Dynamic(_), Some(b)) = (run.sources[j], self.bodies.get_mut(h)) else { continue };
             b.position = run.body_position(last, j);
             b.orientation = run.body_orientation(last, j);
             let (v, w) = (run.body_velocity(last, j), run.body_angular_velocity(last, j));

@@ -60,11 +60,11 @@ impl World {
     /// The index of a particle or body among the engine's actors (particles, then dynamic bodies, then static
     /// bodies), if the world has an engine.
     fn actor_of(&self, target: Target) -> Option<usize> {
-        let rows = self.engine.as_ref()?.rows();
-        let (np, nb) = (rows.particles.len(), rows.bodies.len());
+        let handles = self.engine.as_ref()?.handles();
+        let (np, nb) = (handles.particles.len(), handles.bodies.len());
         match target {
-            Target::Particle(h) => rows.particles.iter().position(|&p| p == h),
-            Target::Body(h) => rows.bodies.iter().position(|&b| b == h).map(|j| np + j).or_else(|| {
+            Target::Particle(h) => handles.particles.iter().position(|&p| p == h),
+            Target::Body(h) => handles.bodies.iter().position(|&b| b == h).map(|j| np + j).or_else(|| {
                 let statics = self.bodies.iter().filter(|(_, b)| b.is_static);
                 statics.map(|(s, _)| s).position(|s| s == h).map(|s| np + nb + s)
             }),

@@ -131,7 +131,7 @@ impl World {
             Some(e) if !self.state_changed => f(e.model(), e.state()),
             _ => {
                 let c = self.compile();
-                let y = c.rows.pack(&self.particles, &self.bodies);
+                let y = c.handles.pack(&self.particles, &self.bodies);
                 f(&c.model, &y)
             }
         }

@@ -10,8 +10,9 @@ use crate::engine::{Budget, Engine, EngineSpec};
 use crate::error::WorldError;
 use crate::limits;
 use crate::model::Compiled;
+use crate::model::ResolvedBody;
 use crate::report::WorldReport;
-use crate::run::{BodySource, Run};
+use crate::run::Run;
 use crate::spring::{BodyHandle, ParticleHandle};
 
 /// Most frames a run may record.
@@ -42,7 +43,7 @@ impl World {
             compiled.model.layout,
             &self.particles,
             &self.bodies,
-            &compiled.rows.bodies,
+            &compiled.handles.bodies,
             self.combine,
         )?;
         // bodies a joint joins directly do not collide with each other
@@ -53,7 +54,7 @@ impl World {
     /// A new engine for the world as it is.
     fn build_engine(&self) -> Result<Box<dyn Engine>, WorldError> {
         let compiled = self.compile();
-        let y = compiled.rows.pack(&self.particles, &self.bodies);
+        let y = compiled.handles.pack(&self.particles, &self.bodies);
         // The divergence limit is relative to the state's own scale: its largest component, and the momenta that
         // gravity alone gives the bodies in a second (a kilometre-sized body's momentum is large from the start).
         let lift = 1.0 + self.gravity.norm();
@@ -75,7 +76,7 @@ impl World {
             None => self.build_engine()?,
             Some(mut e) => {
                 if self.state_changed {
-                    let y = e.rows().pack(&self.particles, &self.bodies);
+                    let y = e.handles().pack(&self.particles, &self.bodies);
                     if let Err(err) = e.set_state(self.time, &y) {
                         self.engine = Some(e);
                         return Err(err);
@@ -101,7 +102,7 @@ impl World {
     /// Writes the engine's state into the particles and bodies.
     pub(crate) fn store_state(&mut self) {
         if let Some(e) = &self.engine {
-            e.rows().unpack(e.state(), &mut self.particles, &mut self.bodies);
+            e.handles().unpack(e.state(), &mut self.particles, &mut self.bodies);
             for ((_, j), c) in self.joints.iter_mut().zip(&e.model().joints) {
                 j.broken = c.broken;
             }
@@ -287,13 +288,10 @@ impl World {
     /// An empty run of this world's particles and bodies (all bodies, static ones at their fixed poses).
     fn new_run(&self) -> Run {
         let c = self.compile();
-        let sources: Vec<BodySource> = self
+        let sources: Vec<ResolvedBody> = self
             .bodies
             .iter()
-            .map(|(h, b)| match c.rows.bodies.iter().position(|&d| d == h) {
-                Some(j) => BodySource::Dynamic(j),
-                None => BodySource::Static(b.position, b.orientation),
-            })
+            .map(|(h, b)| ResolvedBody::of(b, c.handles.bodies.iter().position(|&d| d == h)))
             .collect();
         let particles: Vec<ParticleHandle> = self.particles.iter().map(|(h, _)| h).collect();
         let bodies: Vec<BodyHandle> = self.bodies.iter().map(|(h, _)| h).collect();

@@ -1,9 +1,10 @@
 //! The workspace's module graphs and public names, read from the sources: no crate has an import cycle, and each
 //! public type name is defined once across the crates.
 //!
-//! A module's edges are its `use` lines (those outside an inline `#[cfg(test)]` module), each followed to the module that
-//! defines the name: a `use` of a name another module imports or re-exports goes on to where that name comes from.
-//! A `pub use` is a module's facade, not something it uses, so it makes no edge of its own.
+//! A module's edges are its `use` lines (those outside an inline `#[cfg(test)]` module) and the `crate::` and
+//! `super::` paths its code names, each followed to the module that defines the name: a `use` of a name another
+//! module imports or re-exports goes on to where that name comes from. A `pub use` is a module's facade, not
+//! something it uses, so it makes no edge of its own.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -104,6 +105,7 @@ impl Crate {
             let here = module_of(src, f);
             let text = code(&std::fs::read_to_string(f).unwrap());
             let mut imports = Vec::new();
+            let mut uses = Vec::new();
             let mut rest = text.as_str();
             while let Some(i) = rest.find("use ") {
                 let before = rest[..i].trim_end_matches(' ');
@@ -113,6 +115,8 @@ impl Crate {
                 let is_use = at_start && (lead.is_empty() || lead.starts_with("pub"));
                 let Some(end) = rest[i..].find(';') else { break };
                 if is_use {
+                    let at = text.len() - rest.len() + i;
+                    uses.push(at..at + end);
                     for (path, name) in expand(&rest[i + 4..i + end]) {
                         if let Some(abs) = absolute(&here, &path, &names) {
                             imports.push((name, abs, lead.starts_with("pub")));
@@ -120,6 +124,11 @@ impl Crate {
                     }
                 }
                 rest = &rest[i + 4..];
+            }
+            for path in paths_in_code(&text, &uses) {
+                if let Some(abs) = absolute(&here, &path, &names) {
+                    imports.push((String::from("::path"), abs, false));
+                }
             }
             modules.insert(here, imports);
         }
@@ -156,6 +165,27 @@ impl Crate {
         }
         edges
     }
+}
+
+/// The `crate::` and `super::` paths written in code outside the `use` statements (spans `uses`): a call or a type
+/// named by its path depends on its module as an import does.
+fn paths_in_code(text: &str, uses: &[std::ops::Range<usize>]) -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    for start in ["crate::", "super::"] {
+        for (i, _) in text.match_indices(start) {
+            let before = text[..i].chars().next_back();
+            if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':' || c == '$')
+                || uses.iter().any(|u| u.contains(&i))
+            {
+                continue;
+            }
+            let tail = &text[i..];
+            let len = tail.find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':')).unwrap_or(tail.len());
+            let segs: Vec<String> = tail[..len].split("::").filter(|s| !s.is_empty()).map(String::from).collect();
+            out.push(segs);
+        }
+    }
+    out
 }
 
 /// `path` as seen from module `here`, from the crate root; None for another crate's.
@@ -271,6 +301,18 @@ fn the_cycle_check_follows_imports_to_their_definers() {
     modules.insert(b.clone(), imp(&b, "super::A", false));
     let krate = Crate { modules };
     assert_eq!(cycles(&krate.edges()), vec![vec![a, b]], "a uses B and b uses A, both through lib's re-exports");
+}
+
+/// Paths in code make edges as `use` lines do: a call by `crate::` or `super::` path is found, one inside a `use`
+/// statement, a macro's `$crate::` or a longer name ending in `crate` is not.
+#[test]
+fn paths_named_in_code_are_found() {
+    let text = "use crate::a::X;\nfn f() { crate::b::g(); super::c::H::new(); $crate::d::i(); my_crate::e(); }";
+    let uses = [0..text.find(';').unwrap()];
+    let found = paths_in_code(text, &uses);
+    let want: Vec<Vec<String>> =
+        vec![vec!["crate".into(), "b".into(), "g".into()], vec!["super".into(), "c".into(), "H".into(), "new".into()]];
+    assert_eq!(found, want);
 }
 
 #[test]

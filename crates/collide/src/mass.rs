@@ -2,20 +2,10 @@
 
 use crate::convert::{from_parry, matrix_from_parry, to_parry};
 use crate::error::ShapeError;
+use crate::mass_properties::{rotated_tensor, MassProperties};
 use crate::shape::Shape;
 use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, Shape as ParryShape};
-
-/// Mass, centre of mass and inertia tensor about the centre of mass, in the shape's frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MassProperties {
-    /// Mass.
-    pub mass: f64,
-    /// Centre of mass in the shape's frame.
-    pub local_com: Vector3<f64>,
-    /// Inertia tensor about the centre of mass, axes of the shape's frame.
-    pub inertia: Matrix3<f64>,
-}
 
 impl Shape {
     /// Mass properties at `density` (> 0). Static-only shapes (triangle mesh, half-space) have none. They are
@@ -68,12 +58,6 @@ impl Shape {
             inertia: 0.5 * (inertia + inertia.transpose()),
         })
     }
-}
-
-/// A body-frame tensor (an inertia or its inverse) expressed in the frame rotated by `r` from it: R T R^T. The one
-/// place the world inertia of a turned body is formed.
-pub fn rotated_tensor(r: &Matrix3<f64>, tensor: &Matrix3<f64>) -> Matrix3<f64> {
-    r * tensor * r.transpose()
 }
 
 #[cfg(test)]

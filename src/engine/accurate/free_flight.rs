@@ -12,9 +12,9 @@ use super::integration::Integration;
 use super::system::AccurateSystem;
 use crate::engine::budget::Budget;
 use crate::engine::found_contact::FoundContact;
-use crate::model::joints::JointEnd;
 use crate::model::layout::Layout;
-use crate::model::{End, Model};
+use crate::model::ResolvedBody;
+use crate::model::{Model, ResolvedAttachment};
 use tumble_integrate::OdeError;
 
 /// Which actors (particles, then dynamic bodies) take part in a step with the contacts `found`: those of a
@@ -49,14 +49,14 @@ pub(crate) fn involved(model: &Model, found: &[&[FoundContact]]) -> Vec<bool> {
 /// The pairs of actors (particles, then dynamic bodies) joined by a spring or a joint.
 pub(crate) fn links(model: &Model) -> Vec<(usize, usize)> {
     let l = model.layout;
-    let actor = |e: &End| match *e {
-        End::Particle(i) => Some(i),
-        End::Body(j, _) => Some(l.body_actor(j)),
-        End::Point(_) => None,
+    let actor = |e: &ResolvedAttachment| match *e {
+        ResolvedAttachment::Particle(i) => Some(i),
+        ResolvedAttachment::Body(j, _) => Some(l.body_actor(j)),
+        ResolvedAttachment::Point(_) => None,
     };
-    let joint_actor = |e: &JointEnd| match *e {
-        JointEnd::Body(j) => Some(l.body_actor(j)),
-        JointEnd::Fixed(_) => None,
+    let joint_actor = |e: &ResolvedBody| match *e {
+        ResolvedBody::Dynamic(j) => Some(l.body_actor(j)),
+        ResolvedBody::Fixed(_) => None,
     };
     let springs = model.springs.iter().map(|s| (actor(&s.a), actor(&s.b)));
     let joints = model.holding_joints().map(|(_, j)| (joint_actor(&j.a), joint_actor(&j.b)));

@@ -8,9 +8,10 @@
 //! limit: an inelastic stop), each as the least change in the mass metric. The contact steps hold the same rows in
 //! their convex programs (`bilateral_rows`).
 
-use crate::model::joints::{EndState, JointEnd};
+use crate::model::joints::EndState;
 use crate::model::layout::{add3, get3, get_quat, set_quat};
 use crate::model::Model;
+use crate::model::ResolvedBody;
 use nalgebra::{DMatrix, UnitQuaternion, Vector3};
 use tumble_contact::{delassus, BoundedSolve, JointRow, RowKind, RowPart};
 
@@ -26,10 +27,10 @@ pub(crate) const JOINT_DRIFT: f64 = 1e-12;
 
 /// The rows' K = J M^-1 J^T (rows of `rows`, over the ends of their joints).
 fn row_matrix(model: &Model, rows: &[(usize, JointRow)], ends: &[(EndState, EndState)]) -> DMatrix<f64> {
-    let part = |end: JointEnd, e: &EndState, lin: Vector3<f64>, ang: Vector3<f64>| RowPart {
+    let part = |end: ResolvedBody, e: &EndState, lin: Vector3<f64>, ang: Vector3<f64>| RowPart {
         body: match end {
-            JointEnd::Body(i) => Some(i),
-            JointEnd::Fixed(_) => None,
+            ResolvedBody::Dynamic(i) => Some(i),
+            ResolvedBody::Fixed(_) => None,
         },
         inv_mass: e.inv_mass,
         lin,
@@ -61,11 +62,11 @@ fn row_speed(r: &JointRow, (a, b): &(EndState, EndState)) -> f64 {
 /// `offset`.
 fn push_row(model: &Model, dp: &mut [f64], offset: usize, j: usize, r: &JointRow, lambda: f64) {
     let (l, cj) = (model.layout, &model.joints[j]);
-    if let JointEnd::Body(i) = cj.a {
+    if let ResolvedBody::Dynamic(i) = cj.a {
         add3(dp, l.bp(i) - offset, &(-r.lin * lambda));
         add3(dp, l.bl(i) - offset, &(r.ang_a * lambda));
     }
-    if let JointEnd::Body(i) = cj.b {
+    if let ResolvedBody::Dynamic(i) = cj.b {
         add3(dp, l.bp(i) - offset, &(r.lin * lambda));
         add3(dp, l.bl(i) - offset, &(r.ang_b * lambda));
     }
@@ -118,13 +119,13 @@ pub(crate) fn joint_forces(
         return;
     }
     // each end's acceleration under the forces so far (Euler's equations, L from the state)
-    let accel = |e: JointEnd, s: &EndState, dp: &[f64]| match e {
-        JointEnd::Body(i) => {
+    let accel = |e: ResolvedBody, s: &EndState, dp: &[f64]| match e {
+        ResolvedBody::Dynamic(i) => {
             let f = get3(dp, l.bp(i) - q);
             let tau = get3(dp, l.bl(i) - q);
             (f * s.inv_mass, s.inv_inertia * (tau - s.w.cross(&get3(y, l.bl(i)))))
         }
-        JointEnd::Fixed(_) => (Vector3::zeros(), Vector3::zeros()),
+        ResolvedBody::Fixed(_) => (Vector3::zeros(), Vector3::zeros()),
     };
     let n = solved.len();
     let (mut want, mut bounds) = (vec![0.0; n], Vec::with_capacity(n));
@@ -178,7 +179,7 @@ pub(crate) fn project_joints(model: &Model, y: &mut [f64], tolerance: f64) -> bo
         for ((j, r), &d) in off.iter().zip(delta.iter()) {
             let cj = &model.joints[*j];
             for (end, lin, ang, s) in [(cj.a, -r.lin, r.ang_a, &ends[*j].0), (cj.b, r.lin, r.ang_b, &ends[*j].1)] {
-                if let JointEnd::Body(i) = end {
+                if let ResolvedBody::Dynamic(i) = end {
                     add3(y, l.bx(i), &(lin * (d * s.inv_mass)));
                     let turn = UnitQuaternion::from_scaled_axis(s.inv_inertia * ang * d);
                     let qn = turn * UnitQuaternion::new_normalize(get_quat(y, l.bq(i)));
@@ -227,9 +228,9 @@ pub(crate) fn bilateral_rows(model: &Model, y: &[f64], h: f64, first_extra: usiz
     let (mut out, mut extra, mut owners) = (Vec::new(), Vec::new(), Vec::new());
     let mut scratch = Vec::new();
     for (k, cj) in model.holding_joints() {
-        let mut index = |end: JointEnd| match end {
-            JointEnd::Body(j) => l.body_actor(j),
-            JointEnd::Fixed(p) => {
+        let mut index = |end: ResolvedBody| match end {
+            ResolvedBody::Dynamic(j) => l.body_actor(j),
+            ResolvedBody::Fixed(p) => {
                 extra.push(tumble_contact::BodyState::fixed(nalgebra::Point3::from(p.translation.vector)));
                 first_extra + extra.len() - 1
             }

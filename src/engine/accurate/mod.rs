@@ -105,7 +105,7 @@ impl AccurateEngine {
         t: f64,
         y: Vec<f64>,
     ) -> Result<Self, WorldError> {
-        let Compiled { model, rows } = compiled;
+        let Compiled { model, handles } = compiled;
         let broken = model.broken_joints();
         let mut system = AccurateSystem::new(model);
         let integration =
@@ -113,7 +113,7 @@ impl AccurateEngine {
         // the contact stages book their counters in a report of their own name, the integration in the method's
         let report = WorldReport::new(if collider_set.is_some() { "accurate" } else { settings.method.name() });
         let mut engine = AccurateEngine {
-            core: EngineCore::new(rows, settings.divergence_limit, threads, report),
+            core: EngineCore::new(handles, settings.divergence_limit, threads, report),
             system,
             settings,
             contacts: None,

@@ -27,7 +27,7 @@ const G: f64 = 9.81;
 fn engine(w: &World) -> AccurateEngine {
     let compiled = w.compile();
     let collider_set = w.collider_set(&compiled);
-    let y = compiled.rows.pack(&w.particles, &w.bodies);
+    let y = compiled.handles.pack(&w.particles, &w.bodies);
     let settings = w.settings.clone().divergence_limit(1e12);
     let Mode::Accurate(accurate) = w.mode else { panic!("an accurate world") };
     AccurateEngine::new(compiled, collider_set, settings, accurate, w.gravity.norm(), 1, 0.0, y).unwrap()

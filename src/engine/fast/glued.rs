@@ -17,8 +17,8 @@
 
 use super::glued_parts::{Compound, WeldArm};
 use crate::model::breaking::JointLoad;
-use crate::model::joints::JointEnd;
-use crate::model::{End, Model};
+use crate::model::ResolvedBody;
+use crate::model::{Model, ResolvedAttachment};
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::collections::BTreeMap;
 use tumble_contact::{BodyState, BodyVelocity, JointKind, SoftManifold};
@@ -36,7 +36,7 @@ fn is_glue(model: &Model, k: usize) -> bool {
         && j.cluster
         && j.joint.kind == JointKind::Weld
         && j.joint.softness.is_none()
-        && matches!((j.a, j.b), (JointEnd::Body(_), JointEnd::Body(_)))
+        && matches!((j.a, j.b), (ResolvedBody::Dynamic(_), ResolvedBody::Dynamic(_)))
 }
 
 impl Glued {
@@ -44,9 +44,9 @@ impl Glued {
     /// when there are none.
     pub fn find(model: &Model, states: &[BodyState]) -> Option<Glued> {
         let p = model.layout.particles;
-        let body = |end: JointEnd| match end {
-            JointEnd::Body(j) => Some(p + j),
-            JointEnd::Fixed(_) => None,
+        let body = |end: ResolvedBody| match end {
+            ResolvedBody::Dynamic(j) => Some(p + j),
+            ResolvedBody::Fixed(_) => None,
         };
         let glue: Vec<usize> = (0..model.joints.len()).filter(|&k| is_glue(model, k)).collect();
         if glue.is_empty() {
@@ -60,7 +60,7 @@ impl Glued {
             .flatten()
             .collect();
         held.extend(model.springs.iter().flat_map(|s| [s.a, s.b]).filter_map(|e| match e {
-            End::Body(j, _) => Some(p + j),
+            ResolvedAttachment::Body(j, _) => Some(p + j),
             _ => None,
         }));
         // each cluster's pieces, and its welds (in order)
@@ -93,8 +93,8 @@ impl Glued {
     pub fn solves(&self, model: &Model, k: usize) -> bool {
         let p = model.layout.particles;
         match model.joints[k].a {
-            JointEnd::Body(j) => is_glue(model, k) && self.of_actor.contains_key(&(p + j)),
-            JointEnd::Fixed(_) => false,
+            ResolvedBody::Dynamic(j) => is_glue(model, k) && self.of_actor.contains_key(&(p + j)),
+            ResolvedBody::Fixed(_) => false,
         }
     }
 

@@ -87,7 +87,7 @@ impl FastEngine {
         threads: usize,
         divergence_limit: f64,
     ) -> Self {
-        let Compiled { model, rows } = compiled;
+        let Compiled { model, handles } = compiled;
         let actors = model.layout.actors();
         let keeps_pairs = keeps_pairs(collider_set.is_some(), &settings);
         let mut own = y.clone();
@@ -111,7 +111,7 @@ impl FastEngine {
             energy: None,
             published: y,
             checkpoint: None,
-            core: EngineCore::new(rows, divergence_limit, threads, WorldReport::new(method_name(&settings))),
+            core: EngineCore::new(handles, divergence_limit, threads, WorldReport::new(method_name(&settings))),
             model,
             collider_set,
             settings,

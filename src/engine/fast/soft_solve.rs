@@ -12,8 +12,8 @@ use super::glued::{Balance, Glued, WeldLoads};
 use crate::engine::failure::failure;
 use crate::error::WorldError;
 use crate::mode::SoftSolver;
-use crate::model::joints::JointEnd;
-use crate::model::End;
+use crate::model::ResolvedAttachment;
+use crate::model::ResolvedBody;
 use crate::plan::Stage;
 use nalgebra::{Point3, Vector3};
 use std::collections::BTreeMap;
@@ -133,17 +133,17 @@ pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Link
     let mut joints = Vec::with_capacity(model.joints.len());
     for (_, cj) in model.holding_joints() {
         let (ea, eb) = (model.end_state_of(&cx.memory.y, cj.a), model.end_state_of(&cx.memory.y, cj.b));
-        let mut index = |end: JointEnd| match end {
-            JointEnd::Body(j) => l.body_actor(j),
-            JointEnd::Fixed(p) => fixed(Point3::from(p.translation.vector)),
+        let mut index = |end: ResolvedBody| match end {
+            ResolvedBody::Dynamic(j) => l.body_actor(j),
+            ResolvedBody::Fixed(p) => fixed(Point3::from(p.translation.vector)),
         };
         let (a, b) = (index(cj.a), index(cj.b));
         joints.push(JointConstraint { a, b, frame: cj.frame(&ea, &eb), ..cj.joint });
     }
-    let actor = |end: End| match end {
-        End::Particle(i) => Some(i),
-        End::Body(j, _) => Some(l.body_actor(j)),
-        End::Point(_) => None,
+    let actor = |end: ResolvedAttachment| match end {
+        ResolvedAttachment::Particle(i) => Some(i),
+        ResolvedAttachment::Body(j, _) => Some(l.body_actor(j)),
+        ResolvedAttachment::Point(_) => None,
     };
     let mut springs = Vec::with_capacity(model.springs.len());
     for s in &model.springs {
@@ -152,10 +152,10 @@ pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Link
         if !(moves(a) || moves(b)) || (a.is_some() && a == b) {
             continue;
         }
-        let mut place = |end: End| match end {
-            End::Particle(i) => (i, Vector3::zeros()),
-            End::Body(j, local) => (l.body_actor(j), cx.kin[j].rot * local),
-            End::Point(p) => (fixed(Point3::from(p)), Vector3::zeros()),
+        let mut place = |end: ResolvedAttachment| match end {
+            ResolvedAttachment::Particle(i) => (i, Vector3::zeros()),
+            ResolvedAttachment::Body(j, local) => (l.body_actor(j), cx.kin[j].rot * local),
+            ResolvedAttachment::Point(p) => (fixed(Point3::from(p)), Vector3::zeros()),
         };
         let ((a, ra), (b, rb)) = (place(s.a), place(s.b));
         springs.push(SoftSpring { a, b, ra, rb, law: s.law });

@@ -24,7 +24,7 @@ const H: f64 = 1.0 / 240.0;
 fn engine(w: &World, settings: FastSettings) -> FastEngine {
     let compiled = w.compile();
     let collider_set = w.collider_set(&compiled);
-    let y = compiled.rows.pack(&w.particles, &w.bodies);
+    let y = compiled.handles.pack(&w.particles, &w.bodies);
     FastEngine::new(compiled, collider_set, 0.0, y, settings, 1, 1e12)
 }
 
