@@ -10,7 +10,7 @@
 //!
 //! Only the public API is used, so the same file runs on any version that has it. `--quick` leaves out the
 //! slowest scenes; a scene's name as an argument runs only the scenes whose names hold it; `--dump` also prints
-//! every body's final pose in full, to measure how far apart two builds whose hashes differ have moved.
+//! every body's pose after each step in full, to measure how far apart two builds whose hashes differ have moved.
 
 #[path = "../tests/it/common/mod.rs"]
 mod common;
@@ -310,18 +310,17 @@ fn main() {
                     break;
                 }
                 hash_state(&mut state, &w);
-            }
-            hash_report(&mut counters, &w);
-            if dump {
-                // the final poses in full, to measure how far two builds whose hashes differ have moved apart
-                for (_, b) in w.bodies() {
-                    let (x, q) = (b.position(), b.orientation());
-                    println!(
-                        "  pose {:.17e} {:.17e} {:.17e} {:.17e} {:.17e} {:.17e} {:.17e}",
-                        x.x, x.y, x.z, q.w, q.i, q.j, q.k
-                    );
+                if dump {
+                    // every body's pose in full after each step, to measure how far apart two builds whose hashes
+                    // differ have moved, and from when
+                    for (_, b) in w.bodies() {
+                        let (x, q) = (b.position(), b.orientation());
+                        let pose = [x.x, x.y, x.z, q.w, q.i, q.j, q.k].map(|v| format!("{v:.17e}")).join(" ");
+                        println!("  pose t {:.6} {pose}", w.time());
+                    }
                 }
             }
+            hash_report(&mut counters, &w);
             println!(
                 "{:<34} threads {threads}  state {:016x}  counters {:016x}  {outcome}",
                 s.name, state.0, counters.0
