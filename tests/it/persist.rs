@@ -205,7 +205,7 @@ fn bad_files_are_refused_by_name() {
     let (name, reason) = refused(&format!(
         r#"{{{head}, "particles": [{{}}], "springs": [{{"a": {{"particle": 0}}, "b": {{"particle": 3}}}}]}}"#
     ));
-    assert!(name == "springs" && reason.contains("springs[0].b") && reason.contains("row 3"), "{reason}");
+    assert!(name == "springs" && reason.contains("springs[0].b") && reason.contains("place 3"), "{reason}");
     let (name, reason) = refused(&format!(r#"{{{head}, "time": 1e300}}"#));
     assert_eq!(name, "time", "{reason}");
 
