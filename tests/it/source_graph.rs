@@ -308,8 +308,8 @@ fn the_cycle_check_follows_imports_to_their_definers() {
 #[test]
 fn paths_named_in_code_are_found() {
     let text = "use crate::a::X;\nfn f() { crate::b::g(); super::c::H::new(); $crate::d::i(); my_crate::e(); }";
-    let uses = [0..text.find(';').unwrap()];
-    let found = paths_in_code(text, &uses);
+    let use_statement = 0..text.find(';').unwrap();
+    let found = paths_in_code(text, std::slice::from_ref(&use_statement));
     let want: Vec<Vec<String>> =
         vec![vec!["crate".into(), "b".into(), "g".into()], vec!["super".into(), "c".into(), "H".into(), "new".into()]];
     assert_eq!(found, want);
