@@ -77,7 +77,7 @@ impl ColliderSet {
     }
 
     /// Fast mode's contacts of a step of h kept in `store` (the soft step's): each pair within reach
-    /// (`closing_pairs`) reuses its manifold if it barely moved (`contact_pairs.rs`), else computes it, reduces it
+    /// (`closing_pairs`) reuses its manifold if it barely moved (`contact_pairs/pair.rs`), else computes it, reduces it
     /// and sets its contacts, warm-started from its last ones; pairs begin and end in the constraint graph. The
     /// pairs are shared out among `threads` workers.
     pub fn keep_closing(

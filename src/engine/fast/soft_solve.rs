@@ -1,6 +1,6 @@
 //! Fast mode, third stage with the soft solver: new velocities and poses from Catto's soft step (tumble-contact's
 //! `soft_solve`: substeps, soft contacts in hertz, Coulomb friction) over the contacts the engine keeps by collider
-//! pair (`contact_pairs.rs`), each started from its impulses of the last step (matched by features; a contact new
+//! pair (`contact_pairs/`), each started from its impulses of the last step (matched by features; a contact new
 //! to a pair that touched takes the pair's mean), its impulses kept in it for the next step. The substeps move the
 //! bodies themselves, so this stage also gives the poses.
 //! Joints, springs and the particles' anchor pulls go in as the soft step's links: the springs are evaluated at
@@ -33,7 +33,7 @@ pub(super) struct Solved {
     pub glued_peaks: WeldLoads,
 }
 
-/// The soft step of h for the actors `states` with the contacts the engine keeps (`contact_pairs.rs`), their
+/// The soft step of h for the actors `states` with the contacts the engine keeps (`contact_pairs/`), their
 /// impulses kept in them for the next step; glued objects solved as one body each (`glued.rs`).
 pub(super) fn soft_solve(
     cx: &mut StepContext<'_>,
