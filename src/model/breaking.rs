@@ -3,10 +3,8 @@
 //! right-hand side or convex program, fast mode's soft step) and break joints here; a broken joint gives no rows
 //! and no longer keeps its bodies from colliding.
 
-use crate::model::joints::CompiledJoint;
 use crate::model::joints::EndState;
 use crate::model::Model;
-use crate::model::ResolvedBody;
 use nalgebra::Vector3;
 use tumble_contact::JointRow;
 
@@ -154,10 +152,7 @@ impl Model {
         let mut sets = tumble_contact::UnionFind::new(l.actors());
         let mut members = BTreeSet::new();
         for &k in joints {
-            let (ResolvedBody::Dynamic(a), ResolvedBody::Dynamic(b)) = (self.joints[k].a, self.joints[k].b) else {
-                continue;
-            };
-            let (a, b) = (l.body_actor(a), l.body_actor(b));
+            let Some((a, b)) = self.joints[k].actors(l) else { continue };
             sets.union(a, b);
             members.extend([a, b]);
         }
@@ -172,14 +167,10 @@ impl Model {
     /// pair of bodies one piece of holding cluster joints binds (`JointBuilder::cluster`), sorted, each once.
     pub(crate) fn joined_pairs(&self) -> Vec<(usize, usize)> {
         let l = self.layout;
-        let bodies = |j: &CompiledJoint| match (j.a, j.b) {
-            (ResolvedBody::Dynamic(a), ResolvedBody::Dynamic(b)) => Some((l.body_actor(a), l.body_actor(b))),
-            _ => None,
-        };
         let mut joined: Vec<(usize, usize)> = self
             .holding_joints()
             .filter(|(_, j)| !j.collide)
-            .filter_map(|(_, j)| bodies(j))
+            .filter_map(|(_, j)| j.actors(l))
             .map(|(a, b)| (a.min(b), a.max(b)))
             .collect();
         let cluster: Vec<usize> = self.holding_joints().filter(|(_, j)| j.cluster).map(|(k, _)| k).collect();

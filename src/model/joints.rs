@@ -3,7 +3,7 @@
 //! accurate mode as forces in its equations of motion and a projection after each step
 //! (`engine/accurate/joint_forces.rs`), fast mode's soft step as rows of its substeps (`engine/fast/soft_solve.rs`).
 
-use crate::model::layout::{get3, get_quat};
+use crate::model::layout::{get3, get_quat, Layout};
 use crate::model::{Model, ResolvedBody};
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 use tumble_collide::rotated_tensor;
@@ -47,6 +47,11 @@ pub(crate) struct EndState {
 type Rows = (Vec<(usize, JointRow)>, Vec<(EndState, EndState)>);
 
 impl CompiledJoint {
+    /// Its two ends' actor indices, when both are dynamic bodies.
+    pub fn actors(&self, l: Layout) -> Option<(usize, usize)> {
+        self.a.actor(l).zip(self.b.actor(l))
+    }
+
     /// The joint's frame with its ends at `a` and `b`.
     pub fn frame(&self, a: &EndState, b: &EndState) -> JointFrame {
         JointFrame {

@@ -59,6 +59,17 @@ pub(crate) enum ResolvedAttachment {
     Point(Vector3<f64>),
 }
 
+impl ResolvedAttachment {
+    /// The actor it is on (a particle or a dynamic body), if any.
+    pub fn actor(&self, l: Layout) -> Option<usize> {
+        match *self {
+            ResolvedAttachment::Particle(i) => Some(i),
+            ResolvedAttachment::Body(j, _) => Some(l.body_actor(j)),
+            ResolvedAttachment::Point(_) => None,
+        }
+    }
+}
+
 /// A body resolved against the model: a dynamic body by its index (its pose is in the state), or a fixed pose (a
 /// static body's, or the world's: the identity). A joint's ends and a run's bodies.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -74,6 +85,19 @@ impl ResolvedBody {
             Some(j) => ResolvedBody::Dynamic(j),
             None => ResolvedBody::Fixed(body.pose()),
         }
+    }
+
+    /// The dynamic body's index, if it is one.
+    pub fn dynamic(&self) -> Option<usize> {
+        match *self {
+            ResolvedBody::Dynamic(j) => Some(j),
+            ResolvedBody::Fixed(_) => None,
+        }
+    }
+
+    /// The dynamic body's actor index, if it is one.
+    pub fn actor(&self, l: Layout) -> Option<usize> {
+        self.dynamic().map(|j| l.body_actor(j))
     }
 }
 

@@ -13,8 +13,7 @@ use super::system::AccurateSystem;
 use crate::engine::budget::Budget;
 use crate::engine::found_contact::FoundContact;
 use crate::model::layout::Layout;
-use crate::model::ResolvedBody;
-use crate::model::{Model, ResolvedAttachment};
+use crate::model::Model;
 use tumble_integrate::OdeError;
 
 /// Which actors (particles, then dynamic bodies) take part in a step with the contacts `found`: those of a
@@ -49,17 +48,8 @@ pub(crate) fn involved(model: &Model, found: &[&[FoundContact]]) -> Vec<bool> {
 /// The pairs of actors (particles, then dynamic bodies) joined by a spring or a joint.
 pub(crate) fn links(model: &Model) -> Vec<(usize, usize)> {
     let l = model.layout;
-    let actor = |e: &ResolvedAttachment| match *e {
-        ResolvedAttachment::Particle(i) => Some(i),
-        ResolvedAttachment::Body(j, _) => Some(l.body_actor(j)),
-        ResolvedAttachment::Point(_) => None,
-    };
-    let joint_actor = |e: &ResolvedBody| match *e {
-        ResolvedBody::Dynamic(j) => Some(l.body_actor(j)),
-        ResolvedBody::Fixed(_) => None,
-    };
-    let springs = model.springs.iter().map(|s| (actor(&s.a), actor(&s.b)));
-    let joints = model.holding_joints().map(|(_, j)| (joint_actor(&j.a), joint_actor(&j.b)));
+    let springs = model.springs.iter().map(|s| (s.a.actor(l), s.b.actor(l)));
+    let joints = model.holding_joints().map(|(_, j)| (j.a.actor(l), j.b.actor(l)));
     springs.chain(joints).filter_map(|(a, b)| Some((a?, b?))).collect()
 }
 

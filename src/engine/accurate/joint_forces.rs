@@ -28,10 +28,7 @@ pub(crate) const JOINT_DRIFT: f64 = 1e-12;
 /// The rows' K = J M^-1 J^T (rows of `rows`, over the ends of their joints).
 fn row_matrix(model: &Model, rows: &[(usize, JointRow)], ends: &[(EndState, EndState)]) -> DMatrix<f64> {
     let part = |end: ResolvedBody, e: &EndState, lin: Vector3<f64>, ang: Vector3<f64>| RowPart {
-        body: match end {
-            ResolvedBody::Dynamic(i) => Some(i),
-            ResolvedBody::Fixed(_) => None,
-        },
+        body: end.dynamic(),
         inv_mass: e.inv_mass,
         lin,
         ang,

@@ -17,8 +17,8 @@
 
 use super::glued_parts::{Compound, WeldArm};
 use crate::model::breaking::JointLoad;
+use crate::model::Model;
 use crate::model::ResolvedBody;
-use crate::model::{Model, ResolvedAttachment};
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::collections::BTreeMap;
 use tumble_contact::{BodyState, BodyVelocity, JointKind, SoftManifold};
@@ -43,11 +43,7 @@ impl Glued {
     /// The clusters of `model` that can be solved as bodies, with the actors `states` at the step's start; `None`
     /// when there are none.
     pub fn find(model: &Model, states: &[BodyState]) -> Option<Glued> {
-        let p = model.layout.particles;
-        let body = |end: ResolvedBody| match end {
-            ResolvedBody::Dynamic(j) => Some(p + j),
-            ResolvedBody::Fixed(_) => None,
-        };
+        let l = model.layout;
         let glue: Vec<usize> = (0..model.joints.len()).filter(|&k| is_glue(model, k)).collect();
         if glue.is_empty() {
             return None;
@@ -56,20 +52,17 @@ impl Glued {
         let mut held: Vec<usize> = model
             .holding_joints()
             .filter(|&(k, _)| !is_glue(model, k))
-            .flat_map(|(_, j)| [body(j.a), body(j.b)])
+            .flat_map(|(_, j)| [j.a.actor(l), j.b.actor(l)])
             .flatten()
             .collect();
-        held.extend(model.springs.iter().flat_map(|s| [s.a, s.b]).filter_map(|e| match e {
-            ResolvedAttachment::Body(j, _) => Some(p + j),
-            _ => None,
-        }));
+        held.extend(model.springs.iter().flat_map(|s| [s.a.actor(l), s.b.actor(l)]).flatten());
         // each cluster's pieces, and its welds (in order)
         let pieces = model.pieces_bound_by(&glue);
         let piece_of: BTreeMap<usize, usize> =
             pieces.iter().enumerate().flat_map(|(i, piece)| piece.iter().map(move |&a| (a, i))).collect();
         let mut clusters: Vec<(Vec<usize>, Vec<usize>)> = pieces.into_iter().map(|piece| (piece, Vec::new())).collect();
         for &k in &glue {
-            clusters[piece_of[&body(model.joints[k].a).expect("a body")]].1.push(k);
+            clusters[piece_of[&model.joints[k].a.actor(l).expect("a body")]].1.push(k);
         }
         let mut glued = Glued { compounds: Vec::new(), of_actor: BTreeMap::new() };
         for (members, welds) in clusters {
@@ -91,11 +84,8 @@ impl Glued {
 
     /// Whether joint `k` is a weld solved inside a compound (not as rows).
     pub fn solves(&self, model: &Model, k: usize) -> bool {
-        let p = model.layout.particles;
-        match model.joints[k].a {
-            ResolvedBody::Dynamic(j) => is_glue(model, k) && self.of_actor.contains_key(&(p + j)),
-            ResolvedBody::Fixed(_) => false,
-        }
+        let a = model.joints[k].a.actor(model.layout);
+        a.is_some_and(|a| is_glue(model, k) && self.of_actor.contains_key(&a))
     }
 
     /// The actors the soft step solves: `actors` with each compound's pieces fixed where they are (nothing

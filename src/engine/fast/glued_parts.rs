@@ -31,9 +31,8 @@ impl WeldArm {
     pub fn of(model: &Model, y: &[f64], k: usize, members: &[usize]) -> WeldArm {
         let j = &model.joints[k];
         let (ea, eb) = (model.end_state_of(y, j.a), model.end_state_of(y, j.b));
-        let place = |end: ResolvedBody| match end {
-            ResolvedBody::Dynamic(i) => members.binary_search(&model.layout.body_actor(i)).expect("a member"),
-            ResolvedBody::Fixed(_) => unreachable!("a weld between bodies"),
+        let place = |end: ResolvedBody| {
+            members.binary_search(&end.actor(model.layout).expect("a weld between bodies")).expect("a member")
         };
         // a glued face of area A and radius r = sqrt(A / pi) holds a force sigma A and a torque sigma A r / 4; as a
         // layer of glue it is as stiff to a force as its area and to a torque as its area's second moment, A r^2 / 4

@@ -140,14 +140,9 @@ pub(super) fn links_at_start(cx: &StepContext<'_>, states: &[BodyState]) -> Link
         let (a, b) = (index(cj.a), index(cj.b));
         joints.push(JointConstraint { a, b, frame: cj.frame(&ea, &eb), ..cj.joint });
     }
-    let actor = |end: ResolvedAttachment| match end {
-        ResolvedAttachment::Particle(i) => Some(i),
-        ResolvedAttachment::Body(j, _) => Some(l.body_actor(j)),
-        ResolvedAttachment::Point(_) => None,
-    };
     let mut springs = Vec::with_capacity(model.springs.len());
     for s in &model.springs {
-        let (a, b) = (actor(s.a), actor(s.b));
+        let (a, b) = (s.a.actor(l), s.b.actor(l));
         let moves = |x: Option<usize>| x.is_some_and(|x| states[x].is_dynamic());
         if !(moves(a) || moves(b)) || (a.is_some() && a == b) {
             continue;
